@@ -1,0 +1,12 @@
+// The arwb subcommands. Each takes the arguments after its own name and returns the process exit status;
+// each prints its own usage on --help and a one-line error naming the bad argument otherwise.
+#pragma once
+
+namespace arwb {
+
+int cmd_detect(int argc, char** argv);
+int cmd_markers(int argc, char** argv);
+int cmd_synth(int argc, char** argv);
+int cmd_bench(int argc, char** argv);
+
+}  // namespace arwb

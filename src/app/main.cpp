@@ -1,0 +1,51 @@
+// arwb: the ArUco Workbench binary. `arwb <subcommand> ...`; see `arwb --help`.
+#include "app/commands.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string_view>
+
+namespace {
+
+struct Subcommand {
+  const char* name;
+  int (*run)(int, char**);
+  const char* summary;
+};
+
+constexpr Subcommand kSubcommands[] = {
+    {"detect", arwb::cmd_detect, "detect markers in images, folders or videos (--json: one line per frame)"},
+    {"markers", arwb::cmd_markers, "write marker PNGs, or a printable PDF/SVG sheet at true size"},
+    {"synth", arwb::cmd_synth, "make synthetic photographs of markers with a truth.jsonl"},
+    {"bench", arwb::cmd_bench, "compare arwb with OpenCV aruco and AprilTag on a synthetic set"},
+};
+
+void usage(std::FILE* to) {
+  std::fprintf(to, "usage: arwb <subcommand> [options]\n\nsubcommands:\n");
+  for (const auto& s : kSubcommands) std::fprintf(to, "  %-8s %s\n", s.name, s.summary);
+  std::fprintf(to, "\n`arwb <subcommand> --help` describes each one.\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    usage(argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  std::string_view name = argv[1];
+  for (const auto& s : kSubcommands) {
+    if (name == s.name) {
+      try {
+        return s.run(argc - 2, argv + 2);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "arwb %s: %s\n", s.name, e.what());
+        return 1;
+      }
+    }
+  }
+  std::fprintf(stderr, "arwb: unknown subcommand '%s'\n", argv[1]);
+  usage(stderr);
+  return 2;
+}

@@ -1,0 +1,35 @@
+// Shared helpers for the test binaries: temporary folders and running the arwb binary.
+#pragma once
+#include <filesystem>
+#include <string>
+
+namespace arwb::test {
+
+// A fresh empty folder under the system temp dir, removed when the object goes.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::string str(const std::string& name = "") const { return name.empty() ? path_.string() : (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct RunResult {
+  int status = -1;      // exit status of the process
+  std::string out;      // its stdout
+  std::string err;      // its stderr
+};
+
+// Runs the arwb binary with the arguments given as one shell-quoted string.
+RunResult run_arwb(const std::string& args);
+
+// Writes bytes to a file.
+void write_file(const std::string& path, const std::string& bytes);
+std::string read_file(const std::string& path);
+
+}  // namespace arwb::test
