@@ -1,0 +1,72 @@
+// The detector's parameters: one table (name, default, range, unit, help) that the YAML presets, the GUI
+// sliders and the Lua API all read. A parameter's name is the same everywhere; its unit is in its name where
+// it has one (_px, _rate of the image or perimeter, _cells).
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+struct DetectorParams {
+  // acquisition
+  int resize_width = 0;              // 0: keep the frame's size
+  int resize_height = 0;
+  // adaptive_threshold
+  int threshold_window_px = 0;       // filled from the table's defaults by the constructor
+  double threshold_offset = 0;
+  // size_filter
+  double min_perimeter_px = 0;
+  double max_perimeter_rate = 0;
+  // quad_fit
+  double polygon_epsilon_rate = 0;
+  double min_side_rate = 0;
+  int min_border_distance_px = 0;
+  // nested_filter
+  double min_marker_distance_rate = 0;
+  // perspective_removal
+  int warp_cell_px = 0;
+  double warp_margin_rate = 0;
+  // otsu
+  double otsu_min_stddev = 0;
+  // border_check
+  double border_max_error_rate = 0;
+  // identification
+  double error_correction_rate = 0;
+  // corner_refinement
+  int corner_refinement = 0;         // 0 off, 1 on
+  int subpix_window_px = 0;
+  int subpix_max_iterations = 0;
+  double subpix_epsilon_px = 0;
+
+  DetectorParams();  // every field at its table default
+};
+
+struct ParamInfo {
+  const char* name;
+  const char* stage;   // the pipeline stage it belongs to (same names as the trace)
+  const char* unit;    // "px", "rate", "" ...
+  double default_value;
+  double min_value;
+  double max_value;
+  bool integer;
+  const char* help;    // one line: what raising it trades
+  int DetectorParams::*int_field;
+  double DetectorParams::*double_field;
+};
+
+// The table, in pipeline order.
+std::span<const ParamInfo> param_table();
+const ParamInfo* find_param(const std::string& name);
+
+double get_param(const DetectorParams& p, const ParamInfo& info);
+// Sets a value; false and a message naming the parameter, value and range when out of range or not an integer.
+bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::string* error = nullptr);
+
+// YAML presets (OpenCV FileStorage YAML): a map of name: value. Loading checks every key against the table:
+// unknown names and out-of-range values are errors naming the file and the key; nothing is changed then.
+bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors);
+bool save_params_yaml(const std::string& path, const DetectorParams& p, std::string* error = nullptr);
+
+}  // namespace arwb
