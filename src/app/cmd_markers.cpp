@@ -1,5 +1,252 @@
+// arwb markers: makes markers to use. A folder gets one PNG per marker, for documents, screens and test scenes; a
+// .pdf or .svg file gets A4 sheets with the markers at a true physical size, which calibration and pose estimation
+// rely on, plus a measuring bar to prove the printer kept that size.
 #include "app/commands.hpp"
+#include "app/marker_sheet.hpp"
+#include "core/dictionary.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
 namespace arwb {
-int cmd_markers(int, char**) { std::fprintf(stderr, "arwb markers: not built yet\n"); return 2; }
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kMinPx = 1, kMaxPx = 1000;
+
+std::string format_g(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+struct MarkerOptions {
+  std::string dict = "ARUCO_ORIGINAL";
+  std::string ids = "0-9";
+  std::string out;
+  std::string size_mm = "50";
+  std::string px = "20";
+  bool help = false;
+};
+
+void usage(std::FILE* to) {
+  // The dictionary names, wrapped under the option's description.
+  std::string dicts, line;
+  for (const auto& n : dictionary_names()) {
+    if (!line.empty() && line.size() + n.size() + 2 > 90) {
+      dicts += line + ",\n                  ";
+      line.clear();
+    }
+    line += (line.empty() ? "" : ", ") + n;
+  }
+  dicts += line;
+  std::fprintf(to,
+               "usage: arwb markers [--dict NAME] [--ids LIST] --out DIR|FILE.pdf|FILE.svg [--size-mm MM] [--px N]\n"
+               "\n"
+               "Writes markers as PNG images or as printable A4 sheets at true size.\n"
+               "\n"
+               "  --dict NAME     dictionary, case-insensitive (default ARUCO_ORIGINAL):\n"
+               "                  %s\n"
+               "  --ids LIST      ids such as 0-49 or 3,7,10-12 (default 0-9)\n"
+               "  --out DIR       one PNG per marker, DIR/<dict>_<id>.png (id in 4 digits), with a one-cell\n"
+               "                  white quiet zone; DIR is created if needed\n"
+               "  --out FILE.pdf  A4 pages of markers at --size-mm, each in a one-cell quiet zone with a cut\n"
+               "                  outline and a label, and a 100 mm bar to check that the printer did not scale\n"
+               "  --out FILE.svg  the same as SVG, one file per page: FILE.svg, FILE-2.svg, ...\n"
+               "  --size-mm MM    sheets: the outer black edge of each marker, %g..%g and small enough to fit\n"
+               "                  on the page with its quiet zone (default 50)\n"
+               "  --px N          PNGs: pixels per cell, %d..%d (default 20)\n",
+               dicts.c_str(), kSheetMinMarkerMm, kSheetMaxMarkerMm, kMinPx, kMaxPx);
+}
+
+int fail(int status, const std::string& message) {
+  std::fprintf(stderr, "arwb markers: %s\n", message.c_str());
+  return status;
+}
+
+// Accepts "--name value" and "--name=value"; nullopt and an error for anything else.
+std::optional<MarkerOptions> parse_args(int argc, char** argv, std::string* error) {
+  MarkerOptions o;
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      o.help = true;
+      continue;
+    }
+    std::optional<std::string> inline_value;
+    if (const size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+      inline_value = arg.substr(eq + 1);
+      arg.resize(eq);
+    }
+    std::string* target = arg == "--dict"      ? &o.dict
+                          : arg == "--ids"     ? &o.ids
+                          : arg == "--out"     ? &o.out
+                          : arg == "--size-mm" ? &o.size_mm
+                          : arg == "--px"      ? &o.px
+                                               : nullptr;
+    if (!target) {
+      *error = (arg.rfind("-", 0) == 0 ? "unknown option '" : "unexpected argument '") + std::string(argv[i]) + "'";
+      return std::nullopt;
+    }
+    if (inline_value) {
+      *target = *inline_value;
+    } else if (i + 1 < argc) {
+      *target = argv[++i];
+    } else {
+      *error = "option " + arg + " needs a value";
+      return std::nullopt;
+    }
+  }
+  return o;
+}
+
+// A whole string as a number of type T, or nullopt.
+template <typename T>
+std::optional<T> parse_number(std::string_view s) {
+  T v{};
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+  return v;
+}
+
+// "0-49", "3,7,10-12": ids in the order given, each once; every id must exist in the dictionary.
+std::optional<std::vector<int>> parse_ids(std::string_view spec, const Dictionary& dict, std::string* error) {
+  const long long size = dict.size();
+  const std::string range = dict.name() + " has ids 0-" + std::to_string(size - 1);
+  std::vector<int> ids;
+  std::vector<bool> seen(static_cast<size_t>(size), false);
+  size_t pos = 0;
+  while (true) {
+    const size_t comma = std::min(spec.find(',', pos), spec.size());
+    const std::string_view item = spec.substr(pos, comma - pos);
+    // Unsigned parsing rejects signs, so "-3" or "3--5" cannot slip through as a range.
+    const size_t dash = item.find('-');
+    const auto first = parse_number<unsigned long long>(item.substr(0, dash));
+    const auto last = dash == std::string_view::npos ? first : parse_number<unsigned long long>(item.substr(dash + 1));
+    if (!first || !last) {
+      *error = "bad id list '" + std::string(spec) + "' at '" + std::string(item) + "' (expected e.g. 0-49 or 3,7,10-12)";
+      return std::nullopt;
+    }
+    if (*first > *last) {
+      *error = "bad id range '" + std::string(item) + "' in --ids (the first id is larger than the last)";
+      return std::nullopt;
+    }
+    for (const unsigned long long id : {*first, *last})
+      if (id >= static_cast<unsigned long long>(size)) {
+        *error = "id " + std::to_string(id) + " is outside the dictionary: " + range;
+        return std::nullopt;
+      }
+    for (auto id = *first; id <= *last; ++id)
+      if (!seen[id]) {
+        seen[id] = true;
+        ids.push_back(static_cast<int>(id));
+      }
+    if (comma == spec.size()) break;
+    pos = comma + 1;
+  }
+  return ids;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+
+// One PNG per marker with a one-cell white quiet zone, since a detector needs white around the black border.
+int write_pngs(const Dictionary& dict, const std::vector<int>& ids, int px, const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    return fail(1, "cannot write PNGs to '" + dir + "': it exists and is not a folder");
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir, ec))
+    return fail(1, "cannot create folder '" + dir + "': " + (ec ? ec.message() : "unknown reason"));
+  int side = 0;
+  for (int id : ids) {
+    cv::Mat img;
+    cv::copyMakeBorder(dict.render(id, px), img, px, px, px, px, cv::BORDER_CONSTANT, cv::Scalar(255));
+    side = img.cols;
+    char name[32];
+    std::snprintf(name, sizeof name, "_%04d.png", id);
+    const std::string file = (fs::path(dir) / (dict.name() + name)).string();
+    bool ok = false;
+    try {
+      ok = cv::imwrite(file, img);
+    } catch (const cv::Exception&) {
+      ok = false;
+    }
+    if (!ok) return fail(1, "cannot write '" + file + "'");
+  }
+  std::printf("wrote %zu %s marker%s (%dx%d px) to %s\n", ids.size(), dict.name().c_str(), ids.size() == 1 ? "" : "s",
+              side, side, dir.c_str());
+  return 0;
+}
+
+int write_sheet(const Dictionary& dict, const std::vector<int>& ids, double size_mm, SheetFormat format,
+                const std::string& path) {
+  SheetResult r;
+  try {
+    r = write_marker_sheet(dict, ids, size_mm, format, path);
+  } catch (const std::invalid_argument& e) {
+    return fail(2, e.what());
+  } catch (const std::runtime_error& e) {
+    return fail(1, e.what());
+  }
+  std::string files = r.files.front();
+  if (r.files.size() == 2) files += ", " + r.files.back();
+  if (r.files.size() > 2) files += ", " + r.files[1] + " ... " + r.files.back();
+  std::printf("wrote %d page%s (%zu %s marker%s, %g mm) to %s\n", r.pages, r.pages == 1 ? "" : "s", ids.size(),
+              dict.name().c_str(), ids.size() == 1 ? "" : "s", size_mm, files.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int cmd_markers(int argc, char** argv) {
+  std::string error;
+  const auto opts = parse_args(argc, argv, &error);
+  if (!opts) return fail(2, error + " (see arwb markers --help)");
+  if (opts->help) {
+    usage(stdout);
+    return 0;
+  }
+  if (opts->out.empty()) return fail(2, "--out is required: a folder for PNGs, or a .pdf or .svg file");
+
+  const auto dict = dictionary_by_name(opts->dict, &error);
+  if (!dict) return fail(2, error);
+  const auto ids = parse_ids(opts->ids, *dict, &error);
+  if (!ids) return fail(2, error);
+
+  const auto size_mm = parse_number<double>(opts->size_mm);
+  if (!size_mm || !(*size_mm >= kSheetMinMarkerMm && *size_mm <= kSheetMaxMarkerMm))
+    return fail(2, "--size-mm " + opts->size_mm + " is not a size from " + format_g(kSheetMinMarkerMm) + " to " +
+                       format_g(kSheetMaxMarkerMm) + " mm");
+  const auto px = parse_number<int>(opts->px);
+  if (!px || *px < kMinPx || *px > kMaxPx)
+    return fail(2, "--px " + opts->px + " is not a number of pixels from " + std::to_string(kMinPx) + " to " +
+                       std::to_string(kMaxPx));
+
+  const std::string ext = lower_extension(opts->out);
+  if (ext != ".pdf" && ext != ".svg") return write_pngs(*dict, *ids, *px, opts->out);
+
+  if (!sheet_layout(*size_mm, dict->marker_size()).fits())
+    return fail(2, "--size-mm " + opts->size_mm + " does not fit on an A4 page: with a one-cell quiet zone and " +
+                       format_g(kSheetMarginMm) + " mm margins, " + dict->name() + " markers can be at most " +
+                       format_g(max_sheet_marker_mm(dict->marker_size())) + " mm");
+  return write_sheet(*dict, *ids, *size_mm, ext == ".pdf" ? SheetFormat::pdf : SheetFormat::svg, opts->out);
+}
+
 }  // namespace arwb

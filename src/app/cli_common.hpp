@@ -1,0 +1,41 @@
+// Argument handling shared by the subcommands: options are `--name value` or `--name=value`; every option a
+// command does not ask for is reported as unknown, so a typo never passes silently.
+#pragma once
+
+#include "core/dictionary.hpp"
+
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+class Args {
+ public:
+  Args(int argc, char** argv);
+  bool flag(const std::string& name);  // present without a value
+  std::string value(const std::string& name, const std::string& fallback);
+  int int_value(const std::string& name, int fallback, int lo, int hi);
+  double double_value(const std::string& name, double fallback, double lo, double hi);
+  // Arguments that are not options (or everything after "--").
+  std::vector<std::string> positional();
+  // False when a value was bad or an option was not asked for; then fail() prints the reasons.
+  bool ok();
+  int fail(const char* command, const char* usage);
+
+ private:
+  std::vector<std::string> items_;
+  std::vector<bool> used_;
+  std::vector<std::string> errors_;
+  std::set<std::string> known_;
+  int find(const std::string& name);
+};
+
+// "NAME[,NAME...]" of dictionaries: predefined names (case-insensitive) or YAML files (ending .yml/.yaml).
+std::optional<std::vector<Dictionary>> parse_dictionaries(const std::string& list, std::string* error);
+
+// "0-49", "3,7,10-12": ids within [0, limit). nullopt and a message naming the bad part otherwise.
+std::optional<std::vector<int>> parse_id_list(const std::string& list, int limit, std::string* error);
+
+}  // namespace arwb
