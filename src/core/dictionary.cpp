@@ -1,7 +1,7 @@
 #include "core/dictionary.hpp"
 
 #include <opencv2/aruco.hpp>
-#include <opencv2/core/persistence.hpp>
+#include <opencv2/core.hpp>
 
 #include <algorithm>
 #include <bit>

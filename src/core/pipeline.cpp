@@ -391,17 +391,84 @@ int correction_budget(const Dictionary& dict, const DetectorParams& p) {
 
 // [SECTION] corner_refinement
 
+namespace {
+
+double sample_bilinear(const cv::Mat& grey, double x, double y) {
+  x = std::clamp(x, 0.0, double(grey.cols - 1));
+  y = std::clamp(y, 0.0, double(grey.rows - 1));
+  const int x0 = std::min(int(x), grey.cols - 2 < 0 ? 0 : grey.cols - 2);
+  const int y0 = std::min(int(y), grey.rows - 2 < 0 ? 0 : grey.rows - 2);
+  const int x1 = std::min(x0 + 1, grey.cols - 1), y1 = std::min(y0 + 1, grey.rows - 1);
+  const double fx = x - x0, fy = y - y0;
+  const uint8_t* r0 = grey.ptr<uint8_t>(y0);
+  const uint8_t* r1 = grey.ptr<uint8_t>(y1);
+  const double top = r0[x0] + fx * (r0[x1] - r0[x0]);
+  const double bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
+  return top + fy * (bottom - top);
+}
+
+}  // namespace
+
 void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
+  // Each side of the marker is the edge between its black border (inside) and the white quiet zone (outside).
+  // Along the side, profiles across the edge locate it to a fraction of a pixel (the centroid of the rising
+  // gradient, which sits on the edge for any symmetric blur); a line is fitted through those points and the
+  // corners are where neighbouring lines meet. A corner that would move more than half a cell keeps its place.
   double min_side = 1e18;
-  for (int i = 0; i < 4; ++i) min_side = std::min(min_side, double(cv::norm(corners[size_t(i)] - corners[size_t((i + 1) % 4)])));
-  // The window must stay inside the corner's border cell, or the inner cells' edges pull the corner in.
+  for (int i = 0; i < 4; ++i)
+    min_side = std::min(min_side, double(cv::norm(corners[size_t(i)] - corners[size_t((i + 1) % 4)])));
   const double cell = min_side / cells;
-  const int half = std::clamp(static_cast<int>(cell * 0.5), 1, p.subpix_window_px);
-  std::vector<cv::Point2f> pts(corners.begin(), corners.end());
-  cv::cornerSubPix(grey, pts, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, p.subpix_max_iterations,
-                                    p.subpix_epsilon_px));
-  for (int i = 0; i < 4; ++i) corners[size_t(i)] = pts[size_t(i)];
+  const double reach = std::clamp(0.6 * cell, 1.5, double(p.subpix_window_px) + 1.0);
+  const double step = 0.5;
+  const int samples = static_cast<int>(std::lround(2 * reach / step)) + 1;
+  cv::Point2f centre(0, 0);
+  for (const auto& c : corners) centre += c * 0.25f;
+
+  cv::Vec3d lines[4];  // a x + b y = c, (a, b) unit
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d a = corners[size_t(i)], b = corners[size_t((i + 1) % 4)];
+    const cv::Point2d dir = (b - a) / cv::norm(b - a);
+    cv::Point2d normal(dir.y, -dir.x);
+    if (normal.dot(cv::Point2d(centre) - a) > 0) normal = -normal;  // outward
+    const int count = std::clamp(static_cast<int>(cv::norm(b - a) / 3), 6, 16);
+    std::vector<cv::Point2d> pts;
+    std::vector<double> profile(static_cast<size_t>(samples));
+    for (int k = 0; k < count; ++k) {
+      const double t = 0.12 + 0.76 * (k + 0.5) / count;  // away from the corners
+      const cv::Point2d base = a + (b - a) * t;
+      for (int j = 0; j < samples; ++j) {
+        const cv::Point2d q = base + normal * (-reach + j * step);
+        profile[size_t(j)] = sample_bilinear(grey, q.x, q.y);
+      }
+      double wsum = 0, xsum = 0, lo = 1e9, hi = -1e9;
+      for (int j = 0; j + 1 < samples; ++j) {
+        const double g = profile[size_t(j + 1)] - profile[size_t(j)];
+        lo = std::min(lo, profile[size_t(j)]);
+        hi = std::max(hi, profile[size_t(j)]);
+        if (g <= 0) continue;
+        wsum += g;
+        xsum += g * (-reach + (j + 0.5) * step);
+      }
+      if (wsum <= 0 || hi - lo < 10) continue;  // no edge here (occluded, glare)
+      pts.push_back(base + normal * (xsum / wsum));
+    }
+    if (pts.size() < 3) return;  // not enough edge to trust: keep the corners as they are
+    cv::Vec4f line;
+    std::vector<cv::Point2f> ptsf(pts.begin(), pts.end());
+    cv::fitLine(ptsf, line, cv::DIST_L2, 0, 0.01, 0.01);
+    const double la = -line[1], lb = line[0];
+    lines[i] = cv::Vec3d(la, lb, la * line[2] + lb * line[3]);
+  }
+  Quad refined = corners;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Vec3d &l1 = lines[(i + 3) % 4], &l2 = lines[i];  // corner i joins side i-1 and side i
+    const double det = l1[0] * l2[1] - l1[1] * l2[0];
+    if (std::abs(det) < 1e-9) return;
+    const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det), float((l1[0] * l2[2] - l1[2] * l2[0]) / det));
+    if (cv::norm(c - corners[size_t(i)]) > 0.5 * cell) return;
+    refined[size_t(i)] = c;
+  }
+  corners = refined;
 }
 
 }  // namespace arwb::stages

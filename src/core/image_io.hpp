@@ -1,0 +1,84 @@
+// Reading images from paths a user names (`arwb detect PATH...`, the workbench's file dialogs).
+//
+// Input is untrusted: a path may be missing, a folder, a video, a renamed text file, a truncated download or a
+// crafted header declaring billions of pixels. Nothing here throws or crashes on such input, and nothing
+// allocates for pixels before the header's dimensions have been checked against limits. Each problem becomes
+// one message naming the file and the reason, so a caller can report it and go on with its other paths.
+//
+// Formats are recognised by their first bytes (magic), never by the file name's extension.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+// Longest side load_image accepts, whatever max_pixels says: beyond it rows alone get unreasonably long.
+inline constexpr int kMaxImageSide = 32768;
+// Default pixel budget of load_image (100 megapixels, about 300 MB once decoded as 8-bit BGR).
+inline constexpr int64_t kDefaultMaxPixels = 100'000'000;
+
+enum class PathKind { missing, image, video, folder, other };
+const char* to_string(PathKind kind);
+
+// What a path is, decided by the file system and, for regular files, by their first bytes:
+//   image:  PNG, JPEG, BMP, TIFF (also BigTIFF), WebP, PBM/PGM/PPM (P1..P6);
+//   video:  MP4/MOV (ISO base media "ftyp", QuickTime "moov"/"mdat"/"wide"), AVI, MKV/WebM, MPEG-TS, MPEG-PS;
+//   folder: a directory (symbolic links are followed);
+//   other:  anything else, including GIF, HEIF/AVIF, JPEG 2000 and OpenEXR (load_image does not read those),
+//           unreadable files and device files;
+//   missing: nothing at that path.
+PathKind classify_path(const std::string& path);
+
+struct ImageHeader {
+  std::string format;  // "PNG", "JPEG", "BMP", "TIFF", "WebP", "PBM", "PGM" or "PPM"
+  int width = 0;       // always > 0 in a header read_image_header returns
+  int height = 0;
+};
+
+// Reads only the header of an image file: its format and dimensions (PNG IHDR; JPEG's first SOFn frame header;
+// BMP info header, a negative height meaning top-down; PNM header tokens and comments; TIFF's first IFD;
+// WebP's VP8/VP8L/VP8X chunk). Reads only as far as the header goes, typically a few kilobytes, and holds at
+// most 64 KiB of the file at a time, however large the file or the size it declares.
+// On failure returns nullopt and, if error is given, sets it to the reason without the path, e.g.
+// "no such file", "not an image (unknown signature)", "truncated header", "invalid header (...)".
+// The dimensions are not checked against any limit here.
+std::optional<ImageHeader> read_image_header(const std::string& path, std::string* error = nullptr);
+
+struct LoadedImage {
+  cv::Mat image;      // empty on failure
+  std::string error;  // "<path>: <reason>" on failure, empty on success
+  bool ok() const { return error.empty(); }
+};
+
+// Loads an image for processing. In order, each failure giving error "<path>: <reason>":
+//   the path exists ("no such file"), is a regular file ("is a directory", "not a regular file"), is not empty
+//   ("empty file (0 bytes)"), has a supported image signature ("not an image (unknown signature)",
+//   "not an image (video: MP4/MOV)", "unsupported image format (GIF)"), a readable header ("truncated header",
+//   "invalid header (...)") whose dimensions are within limits ("declares 60000x60000 pixels, more than the
+//   limit of 100000000", "declares 40000x16 pixels, a side longer than the limit of 32768"), a file size
+//   plausible for those dimensions; then the whole file is read once into memory and checked to be complete
+//   ("truncated image data (...)": a JPEG must reach its end-of-image marker, a PNG its IEND chunk, binary
+//   PNM/uncompressed BMP/WebP must hold the bytes their headers declare), and decoded with cv::imdecode
+//   ("corrupt or truncated image data" when OpenCV fails or returns an empty image).
+// flags are those of cv::imread. max_pixels bounds width*height before any pixel memory is allocated.
+// Never throws for bad input; decoder libraries may still print warnings on stderr.
+LoadedImage load_image(const std::string& path, int flags = cv::IMREAD_COLOR, int64_t max_pixels = kDefaultMaxPixels);
+
+// The images directly in a folder (not in its subfolders), recognised by signature as classify_path does,
+// as paths "<folder>/<name>" sorted by name (plain std::string comparison, so "B.png" before "a.png").
+// Names starting with '.' are ignored, and so are subfolders. Other files are appended to *skipped, in name
+// order, as "<path>: skipped, not an image", or with a more specific reason where there is one
+// ("skipped, not an image (video: MP4/MOV)", "skipped, unsupported image format (GIF)", "skipped, empty file
+// (0 bytes)", "skipped, cannot open (...)"); they are not errors. If the folder itself cannot be listed, returns an empty list
+// and sets *error to "<folder>: <reason>" ("no such folder", "not a folder", "cannot list (...)"); otherwise
+// *error is cleared.
+std::vector<std::string> list_images(const std::string& folder, std::vector<std::string>* skipped = nullptr,
+                                     std::string* error = nullptr);
+
+}  // namespace arwb
