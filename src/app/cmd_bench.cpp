@@ -19,7 +19,7 @@ namespace arwb {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: arwb bench [DIR] [--dict NAME[,NAME...]] [--count N] [--seed S] [--reps R] [--json]\n"
+    "usage: arwb bench [DIR] [--dict NAME[,NAME...]] [--params FILE.yml] [--count N] [--seed S] [--reps R] [--json]\n"
     "\n"
     "Runs arwb, OpenCV 4.6 cv::aruco::detectMarkers (default parameters) and, for AprilTag families, AprilTag 3\n"
     "(default parameters) on one thread over the same images, and prints per resolution: median ms per frame,\n"
@@ -91,7 +91,16 @@ int cmd_bench(int argc, char** argv) {
   const int count = args.int_value("--count", 90, 1, 100000);
   const int seed = args.int_value("--seed", 1, 0, 2147483647);
   const int reps = args.int_value("--reps", 3, 1, 100);
+  const std::string params_path = args.value("--params", "");
   if (!args.ok()) return args.fail("arwb bench", kUsage);
+  DetectorParams params;
+  if (!params_path.empty()) {
+    std::vector<std::string> errors;
+    if (!load_params_yaml(params_path, params, &errors)) {
+      for (const auto& e : errors) std::fprintf(stderr, "arwb bench: --params %s\n", e.c_str());
+      return 2;
+    }
+  }
   const std::vector<std::string> pos = args.positional();
   if (pos.size() > 1) {
     std::fprintf(stderr, "arwb bench: one DIR at most\n%s", kUsage);
@@ -138,7 +147,7 @@ int cmd_bench(int argc, char** argv) {
     } else {
       used = {*dictionary_by_name(set_name.substr(10))};
     }
-    const Detector arwb_det(used);
+    const Detector arwb_det(used, params);
     std::vector<std::pair<std::string, DetectFn>> detectors;
     detectors.emplace_back("arwb", [&arwb_det](const cv::Mat& img) {
       PeerResult r;

@@ -177,7 +177,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         t0 = now;
       };
       const int cells = n + 2;
-      cv::Mat warp = stages::remove_perspective(grey, quad, cells, p);
+      Quad q = quad;
+      stages::refine_corners(grey, q, cells, p);
+      cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
       lap(0);
       r.reached = 1;
       const stages::OtsuResult o = stages::otsu(warp);
@@ -237,8 +239,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
             r.reached = 5;
             r.dict_index = nearest_dict;
             r.match = nearest;
-            for (int j = 0; j < 4; ++j) r.corners[size_t(j)] = quad[size_t((j + nearest.rotation) % 4)];
-            if (p.corner_refinement) stages::refine_corners(grey, r.corners, cells, p);
+            for (int j = 0; j < 4; ++j) r.corners[size_t(j)] = q[size_t((j + nearest.rotation) % 4)];
             lap(5);
           }
         }

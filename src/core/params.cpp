@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 
 namespace arwb {
 namespace {
@@ -110,7 +112,17 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
   DetectorParams next = out;
   bool ok = true;
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
+    // OpenCV's reader wants a "%YAML:1.0" first line; plain YAML as people write it gets one added.
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+      report("cannot read");
+      return false;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    if (yaml.rfind("%YAML", 0) != 0) yaml = "%YAML:1.0\n---\n" + yaml;
+    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) {
       report("cannot open as a YAML parameter file");
       return false;
