@@ -162,9 +162,11 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   for (const auto& d : dictionaries_)
     if (std::find(sizes.begin(), sizes.end(), d.marker_size()) == sizes.end()) sizes.push_back(d.marker_size());
 
-  std::vector<Reading> readings(live.size());
+  // readings[i] belongs to quads[i]; a quad merged into an outer one is read only when the outer one is no marker
+  // (a white quiet zone on a grey page makes a quad one cell outside the marker).
+  std::vector<Reading> readings(quads.size());
   auto read_one = [&](size_t k) {
-    const Quad& quad = quads[size_t(live[k])].quad;
+    const Quad& quad = quads[k].quad;
     Reading best;
     best.reached = -1;
     for (int n : sizes) {
@@ -251,24 +253,34 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   };
 
   const int nthreads = std::clamp(threads, 1, 64);
-  if (nthreads == 1 || live.size() < 2) {
-    for (size_t k = 0; k < live.size(); ++k) read_one(k);
-  } else {
+  auto read_all = [&](const std::vector<int>& which) {
+    if (nthreads == 1 || which.size() < 2) {
+      for (int k : which) read_one(size_t(k));
+      return;
+    }
     std::atomic<size_t> next{0};
     auto worker = [&] {
-      for (size_t k; (k = next.fetch_add(1)) < live.size();) read_one(k);
+      for (size_t i; (i = next.fetch_add(1)) < which.size();) read_one(size_t(which[i]));
     };
     std::vector<std::thread> pool;
-    for (int i = 1; i < std::min<int>(nthreads, int(live.size())); ++i) pool.emplace_back(worker);
+    for (int i = 1; i < std::min<int>(nthreads, int(which.size())); ++i) pool.emplace_back(worker);
     worker();
     for (auto& th : pool) th.join();
-  }
+  };
+  read_all(live);
+  std::vector<int> retry;
+  for (int i = 0; i < int(quads.size()); ++i)
+    if (replaced_by[size_t(i)] >= 0 && readings[size_t(replaced_by[size_t(i)])].reached != 5) retry.push_back(i);
+  read_all(retry);
+  std::vector<int> read = live;
+  read.insert(read.end(), retry.begin(), retry.end());
 
   if (timed) {
     // Counts: how many readings entered each per-candidate stage and how many left it.
     std::array<int, kCandidateStageCount + 1> entered{};
     std::array<double, kCandidateStageCount> ms{};
-    for (const auto& r : readings) {
+    for (int k : read) {
+      const Reading& r = readings[size_t(k)];
       for (int s = 0; s < kCandidateStageCount; ++s) ms[size_t(s)] += r.ms[size_t(s)];
       // reached: 1 warped, 2 past otsu, 3 border rejected, 4 identification tried, 5 identified
       entered[0]++;
@@ -285,8 +297,8 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
 
   // Step 3: duplicates. The same id seen twice, or a marker inside another marker, keeps the larger one.
   std::vector<size_t> accepted;
-  for (size_t k = 0; k < readings.size(); ++k)
-    if (readings[k].reached == 5) accepted.push_back(k);
+  for (int k : read)
+    if (readings[size_t(k)].reached == 5) accepted.push_back(size_t(k));
   auto perimeter = [](const Quad& q) {
     double s = 0;
     for (int i = 0; i < 4; ++i) s += cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)]);
@@ -342,8 +354,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   close_stage(Stage::duplicates, int(accepted.size()), int(kept.size()));
 
   if (timed) {
-    for (size_t k = 0; k < readings.size(); ++k) {
-      const int rec = quads[size_t(live[k])].record;
+    for (int ki : read) {
+      const size_t k = size_t(ki);
+      const int rec = quads[k].record;
       if (rec < 0) continue;
       CandidateRecord& dst = t.candidates[size_t(rec)];
       CandidateRecord& src = readings[k].record;
@@ -361,7 +374,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         dst.fate = Rejection{Stage::duplicates, "", 0, 0, dup_reason[k]};
     }
     for (int mi = 0; mi < int(kept.size()); ++mi) {
-      const int rec = quads[size_t(live[kept[size_t(mi)]])].record;
+      const int rec = quads[kept[size_t(mi)]].record;
       if (rec >= 0) t.candidates[size_t(rec)].marker = mi;
     }
     if (full) t.contours = std::move(contours);

@@ -20,7 +20,7 @@ const ParamInfo kTable[] = {
              "Width the frame is resized to before detection; 0 keeps it. Smaller is faster, loses small markers."),
     ARWB_INT(resize_height, "acquisition", "px", 0, 0, 8192,
              "Height the frame is resized to; 0 keeps the aspect ratio of resize_width (or the frame's size)."),
-    ARWB_INT(threshold_window_px, "adaptive_threshold", "px", 21, 3, 201,
+    ARWB_INT(threshold_window_px, "adaptive_threshold", "px", 17, 3, 201,
              "Side of the square whose mean each pixel is compared with (odd). Larger keeps thick borders whole, "
              "smaller separates touching dark regions."),
     ARWB_DBL(threshold_offset, "adaptive_threshold", "grey", 7, 0, 100,

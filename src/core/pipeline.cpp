@@ -16,8 +16,8 @@ std::string fmt(const char* f, double a, double b) {
   return buf;
 }
 
-Rejection reject(Stage s, std::string param, double value, double limit, std::string message) {
-  return Rejection{s, std::move(param), value, limit, std::move(message)};
+Rejection reject(Stage s, std::string_view param, double value, double limit, std::string message) {
+  return Rejection{s, param, value, limit, std::move(message)};
 }
 
 }  // namespace
@@ -329,7 +329,9 @@ OtsuResult otsu(const cv::Mat& warp) {
   const double mean = sum / total;
   r.stddev = std::sqrt(std::max(0.0, sum_sq / total - mean * mean));
   // Maximise the between-class variance w0 w1 (m0 - m1)^2.
+  // Two-level images tie over a whole range of thresholds; the middle of the tie is the natural cut.
   double w0 = 0, sum0 = 0, best = -1;
+  int last_best = 0;
   for (int t = 0; t < 256; ++t) {
     w0 += r.histogram[size_t(t)];
     sum0 += double(t) * r.histogram[size_t(t)];
@@ -338,11 +340,14 @@ OtsuResult otsu(const cv::Mat& warp) {
     if (w1 == 0) break;
     const double m0 = sum0 / w0, m1 = (sum - sum0) / w1;
     const double between = w0 * w1 * (m0 - m1) * (m0 - m1);
-    if (between > best) {
+    if (between > best * (1 + 1e-12)) {
       best = between;
-      r.threshold = t;
+      r.threshold = last_best = t;
+    } else if (between >= best * (1 - 1e-12)) {
+      last_best = t;
     }
   }
+  r.threshold = (r.threshold + last_best) / 2;
   return r;
 }
 
@@ -418,7 +423,7 @@ void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const Detecto
   for (int i = 0; i < 4; ++i)
     min_side = std::min(min_side, double(cv::norm(corners[size_t(i)] - corners[size_t((i + 1) % 4)])));
   const double cell = min_side / cells;
-  const double reach = std::clamp(0.6 * cell, 1.5, double(p.subpix_window_px) + 1.0);
+  const double reach = std::clamp(0.6 * cell, 2.5, double(p.subpix_window_px) + 1.0);
   const double step = 0.5;
   const int samples = static_cast<int>(std::lround(2 * reach / step)) + 1;
   cv::Point2f centre(0, 0);
@@ -465,7 +470,7 @@ void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const Detecto
     const double det = l1[0] * l2[1] - l1[1] * l2[0];
     if (std::abs(det) < 1e-9) return;
     const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det), float((l1[0] * l2[2] - l1[2] * l2[0]) / det));
-    if (cv::norm(c - corners[size_t(i)]) > 0.5 * cell) return;
+    if (cv::norm(c - corners[size_t(i)]) > std::max(cell, 2.0)) return;
     refined[size_t(i)] = c;
   }
   corners = refined;

@@ -91,6 +91,18 @@ Quad project_square(cv::Point2d centre, double side_px, double roll_deg, double 
 
 namespace {
 
+// Some dictionaries hold markers that equal themselves or another marker when turned (ARUCO_ORIGINAL's id 1023
+// reads the same upside down): no detector can tell their orientation, so the truth would be a coin toss.
+bool unambiguous(const Dictionary& d, int id) {
+  const uint64_t code = d.code(id);
+  for (int k = 1; k < 4; ++k)
+    if (d.code(id, k) == code) return false;
+  for (int other = 0; other < d.size(); ++other)
+    for (int k = 0; k < 4; ++k)
+      if (other != id && d.code(other, k) == code) return false;
+  return true;
+}
+
 // A code that no dictionary in use would accept, even with a few bits wrong.
 uint64_t decoy_code(cv::RNG& rng, const std::vector<Dictionary>& dicts, int n) {
   for (;;) {
@@ -187,7 +199,8 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     for (int i = 0; i < 4; ++i) min_edge = std::min(min_edge, double(cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)])));
     if (min_edge < 2.0 * (d.marker_size() + 2)) continue;
     taken.push_back(box);
-    const int id = rng.uniform(0, d.size());
+    int id = rng.uniform(0, d.size());
+    while (!unambiguous(d, id)) id = (id + 1) % d.size();
     const int black = opt.effects ? rng.uniform(0, 60) : 0;
     const int white = opt.effects ? rng.uniform(170, 256) : 255;
     draw_marker(out.image, d, id, q, 1.0, 4, black, white);
