@@ -2,6 +2,7 @@
 #include "app/commands.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string_view>
@@ -30,6 +31,9 @@ void usage(std::FILE* to) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // FFmpeg's own log lines ("moov atom not found") would duplicate arwb's one-line messages; a user can
+  // still ask for them by setting the variable.
+  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
