@@ -10,6 +10,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <functional>
@@ -134,6 +135,8 @@ int cmd_bench(int argc, char** argv) {
   }
 
   std::vector<Row> rows;
+  // What recording the trace costs, on the first set's 640x480 images: median ms at each level.
+  std::array<std::vector<double>, 3> trace_ms;
   for (const auto& [set_name, items] : sets) {
     // Detectors for the dictionaries the truth uses (or --dict for a folder without markers).
     std::vector<Dictionary> used = *dicts;
@@ -177,6 +180,20 @@ int cmd_bench(int argc, char** argv) {
     detectors.emplace_back("opencv", combine(ocv));
     if (!april.empty() && april.size() == used.size()) detectors.emplace_back("apriltag", combine(april));
 
+    if (trace_ms[0].empty())
+      for (const auto& item : items) {
+        if (item.image.cols != 640 || item.image.rows != 480) continue;
+        for (int level = 0; level < 3; ++level) {
+          double best = 1e18;
+          for (int r = 0; r < reps; ++r) {
+            FrameTrace t;
+            const auto t0 = std::chrono::steady_clock::now();
+            arwb_det.detect(item.image, &t, static_cast<TraceLevel>(level));
+            best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          }
+          trace_ms[size_t(level)].push_back(best);
+        }
+      }
     std::map<std::string, std::map<std::string, Tally>> by_res;  // resolution -> detector -> tally
     for (const auto& item : items) {
       const std::string res = std::to_string(item.image.cols) + "x" + std::to_string(item.image.rows);
@@ -235,7 +252,13 @@ int cmd_bench(int argc, char** argv) {
             out += std::string(",\"time_ratio_") + peer + "\":" + json::number(median(t.ms) / median(p->tally.ms), 3);
       out += "}";
     }
-    std::printf("%s]}\n", out.c_str());
+    out += "]";
+    if (!trace_ms[0].empty())
+      out += ",\"trace_cost_640x480\":{\"images\":" + std::to_string(trace_ms[0].size()) +
+             ",\"off_ms\":" + json::number(median(trace_ms[0])) + ",\"summary_ms\":" + json::number(median(trace_ms[1])) +
+             ",\"full_ms\":" + json::number(median(trace_ms[2])) +
+             ",\"full_over_off\":" + json::number(median(trace_ms[2]) / median(trace_ms[0])) + "}";
+    std::printf("%s}\n", out.c_str());
     return 0;
   }
   std::string last_set;
@@ -264,6 +287,10 @@ int cmd_bench(int argc, char** argv) {
                 t.false_pos_empty, t.empty_images,
                 t.corner_n ? json::number(t.corner_err / t.corner_n, 3).c_str() : "-", ratio.c_str());
   }
+  if (!trace_ms[0].empty())
+    std::printf("\ntrace cost at 640x480 (%zu images, median ms): off %.2f, summary %.2f (%.2fx), full %.2f (%.2fx)\n",
+                trace_ms[0].size(), median(trace_ms[0]), median(trace_ms[1]), median(trace_ms[1]) / median(trace_ms[0]),
+                median(trace_ms[2]), median(trace_ms[2]) / median(trace_ms[0]));
   return 0;
 }
 

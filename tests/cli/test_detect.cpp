@@ -207,7 +207,8 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* det : {"\"detector\":\"arwb\"", "\"detector\":\"opencv\"", "\"detector\":\"apriltag\"",
                           "\"resolution\":\"640x480\"", "\"resolution\":\"1920x1080\"", "\"resolution\":\"all\"",
-                          "\"time_ratio_opencv\":", "\"time_ratio_apriltag\":", "\"corner_error_px\":"})
+                          "\"time_ratio_opencv\":", "\"time_ratio_apriltag\":", "\"corner_error_px\":",
+                          "\"trace_cost_640x480\":{\"images\":2,", "\"full_over_off\":"})
     EXPECT_NE(r.out.find(det), std::string::npos) << det;
   // arwb finds the markers of its own synthetic set.
   const std::regex arwb_all("\"resolution\":\"all\",\"detector\":\"arwb\",\"images\":6,\"median_ms\":[0-9.]+,"
