@@ -1,5 +1,6 @@
 #include "app/cli_common.hpp"
 
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -79,6 +80,7 @@ double Args::double_value(const std::string& name, double fallback, double lo, d
 
 std::vector<std::string> Args::positional() {
   std::vector<std::string> out;
+  ok();  // unknown options are errors, not file names
   for (size_t i = 0; i < items_.size(); ++i) {
     if (used_[i]) continue;
     if (items_[i].rfind("-", 0) == 0 && items_[i].size() > 1) continue;  // an option nobody asked for
@@ -86,6 +88,11 @@ std::vector<std::string> Args::positional() {
     out.push_back(items_[i]);
   }
   return out;
+}
+
+bool Args::no_positional() {
+  for (const auto& p : positional()) errors_.push_back("unexpected argument '" + p + "'");
+  return errors_.empty();
 }
 
 bool Args::ok() {
@@ -97,10 +104,19 @@ bool Args::ok() {
   return errors_.empty();
 }
 
-int Args::fail(const char* command, const char* usage) {
-  for (const auto& e : errors_) std::fprintf(stderr, "%s: %s\n", command, e.c_str());
-  std::fprintf(stderr, "%s", usage);
+int Args::fail(const char* command) {
+  // One line: the first problem, and where to read more.
+  std::fprintf(stderr, "%s: %s (see %s --help)\n", command, errors_.empty() ? "bad arguments" : errors_[0].c_str(),
+               command);
   return 2;
+}
+
+bool load_params_option(const std::string& path, const char* command, DetectorParams& p) {
+  if (path.empty()) return true;
+  std::vector<std::string> errors;
+  if (load_params_yaml(path, p, &errors)) return true;
+  for (const auto& e : errors) std::fprintf(stderr, "%s: --params %s\n", command, e.c_str());
+  return false;
 }
 
 std::optional<std::vector<Dictionary>> parse_dictionaries(const std::string& list, std::string* error) {
@@ -121,32 +137,55 @@ std::optional<std::vector<Dictionary>> parse_dictionaries(const std::string& lis
   return out;
 }
 
-std::optional<std::vector<int>> parse_id_list(const std::string& list, int limit, std::string* error) {
+namespace {
+
+// A whole string as a number of type T, or nullopt.
+template <typename T>
+std::optional<T> parse_number(std::string_view s) {
+  T v{};
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+std::optional<std::vector<int>> parse_id_list(std::string_view spec, const Dictionary& dict, std::string* error) {
+  const long long size = dict.size();
+  const std::string range = dict.name() + " has ids 0-" + std::to_string(size - 1);
   std::vector<int> ids;
-  std::stringstream ss(list);
-  std::string part;
-  auto bad = [&](const std::string& why) -> std::optional<std::vector<int>> {
-    if (error) *error = why;
-    return std::nullopt;
-  };
-  while (std::getline(ss, part, ',')) {
-    if (part.empty()) continue;
-    const size_t dash = part.find('-', 1);
-    char* end = nullptr;
-    const long a = std::strtol(part.c_str(), &end, 10);
-    long b = a;
-    if (dash != std::string::npos) {
-      if (end != part.c_str() + dash) return bad("'" + part + "' is not an id or a range like 0-49");
-      b = std::strtol(part.c_str() + dash + 1, &end, 10);
+  std::vector<bool> seen(static_cast<size_t>(size), false);
+  size_t pos = 0;
+  while (true) {
+    const size_t comma = std::min(spec.find(',', pos), spec.size());
+    const std::string_view item = spec.substr(pos, comma - pos);
+    // Unsigned parsing rejects signs, so "-3" or "3--5" cannot slip through as a range.
+    const size_t dash = item.find('-');
+    const auto first = parse_number<unsigned long long>(item.substr(0, dash));
+    const auto last = dash == std::string_view::npos ? first : parse_number<unsigned long long>(item.substr(dash + 1));
+    if (!first || !last) {
+      *error = "bad id list '" + std::string(spec) + "' at '" + std::string(item) + "' (expected e.g. 0-49 or 3,7,10-12)";
+      return std::nullopt;
     }
-    if (*end || end == part.c_str()) return bad("'" + part + "' is not an id or a range like 0-49");
-    if (b < a) return bad("range '" + part + "' runs backwards");
-    if (a < 0 || b >= limit)
-      return bad("id " + std::to_string(a < 0 ? a : b) + " is outside 0.." + std::to_string(limit - 1));
-    for (long id = a; id <= b; ++id) ids.push_back(static_cast<int>(id));
+    if (*first > *last) {
+      *error = "bad id range '" + std::string(item) + "' in --ids (the first id is larger than the last)";
+      return std::nullopt;
+    }
+    for (const unsigned long long id : {*first, *last})
+      if (id >= static_cast<unsigned long long>(size)) {
+        *error = "id " + std::to_string(id) + " is outside the dictionary: " + range;
+        return std::nullopt;
+      }
+    for (auto id = *first; id <= *last; ++id)
+      if (!seen[id]) {
+        seen[id] = true;
+        ids.push_back(static_cast<int>(id));
+      }
+    if (comma == spec.size()) break;
+    pos = comma + 1;
   }
-  if (ids.empty()) return bad("no ids in '" + list + "'");
   return ids;
 }
+
 
 }  // namespace arwb

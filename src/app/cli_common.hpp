@@ -3,10 +3,12 @@
 #pragma once
 
 #include "core/dictionary.hpp"
+#include "core/params.hpp"
 
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace arwb {
@@ -20,9 +22,11 @@ class Args {
   double double_value(const std::string& name, double fallback, double lo, double hi);
   // Arguments that are not options (or everything after "--").
   std::vector<std::string> positional();
-  // False when a value was bad or an option was not asked for; then fail() prints the reasons.
+  // For commands that take none: each one is an error ("unexpected argument 'x'"). True when there were none.
+  bool no_positional();
+  // False when a value was bad or an option was not asked for; then fail() prints the first reason in one line.
   bool ok();
-  int fail(const char* command, const char* usage);
+  int fail(const char* command);
 
  private:
   std::vector<std::string> items_;
@@ -35,7 +39,12 @@ class Args {
 // "NAME[,NAME...]" of dictionaries: predefined names (case-insensitive) or YAML files (ending .yml/.yaml).
 std::optional<std::vector<Dictionary>> parse_dictionaries(const std::string& list, std::string* error);
 
-// "0-49", "3,7,10-12": ids within [0, limit). nullopt and a message naming the bad part otherwise.
-std::optional<std::vector<int>> parse_id_list(const std::string& list, int limit, std::string* error);
+// --params FILE.yml: loads the preset into p (an empty path changes nothing). On problems prints each as
+// "<command>: --params <file>: <problem>" and returns false, leaving p as it was.
+bool load_params_option(const std::string& path, const char* command, DetectorParams& p);
+
+// "0-49", "3,7,10-12": ids in the order given, each once, all in the dictionary. nullopt and a message naming the
+// bad part (and the dictionary's range) otherwise.
+std::optional<std::vector<int>> parse_id_list(std::string_view spec, const Dictionary& dict, std::string* error);
 
 }  // namespace arwb

@@ -93,15 +93,9 @@ int cmd_bench(int argc, char** argv) {
   const int seed = args.int_value("--seed", 1, 0, 2147483647);
   const int reps = args.int_value("--reps", 3, 1, 100);
   const std::string params_path = args.value("--params", "");
-  if (!args.ok()) return args.fail("arwb bench", kUsage);
+  if (!args.ok()) return args.fail("arwb bench");
   DetectorParams params;
-  if (!params_path.empty()) {
-    std::vector<std::string> errors;
-    if (!load_params_yaml(params_path, params, &errors)) {
-      for (const auto& e : errors) std::fprintf(stderr, "arwb bench: --params %s\n", e.c_str());
-      return 2;
-    }
-  }
+  if (!load_params_option(params_path, "arwb bench", params)) return 2;
   const std::vector<std::string> pos = args.positional();
   if (pos.size() > 1) {
     std::fprintf(stderr, "arwb bench: one DIR at most\n%s", kUsage);

@@ -120,7 +120,7 @@ int cmd_detect(int argc, char** argv) {
   const std::string dict_arg = args.value("--dict", "ARUCO_ORIGINAL");
   const std::string params_path = args.value("--params", "");
   const int threads = args.int_value("--threads", 1, 1, 64);
-  if (!args.ok()) return args.fail("arwb detect", kUsage);
+  if (!args.ok()) return args.fail("arwb detect");
   std::vector<std::string> paths = args.positional();
   if (paths.empty()) {
     std::fprintf(stderr, "arwb detect: no PATH given\n%s", kUsage);
@@ -134,13 +134,7 @@ int cmd_detect(int argc, char** argv) {
     return 2;
   }
   DetectorParams params;
-  if (!params_path.empty()) {
-    std::vector<std::string> errors;
-    if (!load_params_yaml(params_path, params, &errors)) {
-      for (const auto& e : errors) std::fprintf(stderr, "arwb detect: --params %s\n", e.c_str());
-      return 2;
-    }
-  }
+  if (!load_params_option(params_path, "arwb detect", params)) return 2;
   cv::setNumThreads(threads);
   const Detector det(std::move(*dicts), params);
 

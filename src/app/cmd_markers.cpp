@@ -1,6 +1,7 @@
 // arwb markers: makes markers to use. A folder gets one PNG per marker, for documents, screens and test scenes; a
 // .pdf or .svg file gets A4 sheets with the markers at a true physical size, which calibration and pose estimation
 // rely on, plus a measuring bar to prove the printer kept that size.
+#include "app/cli_common.hpp"
 #include "app/commands.hpp"
 #include "app/marker_sheet.hpp"
 #include "core/dictionary.hpp"
@@ -32,15 +33,6 @@ std::string format_g(double v) {
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
-
-struct MarkerOptions {
-  std::string dict = "ARUCO_ORIGINAL";
-  std::string ids = "0-9";
-  std::string out;
-  std::string size_mm = "50";
-  std::string px = "20";
-  bool help = false;
-};
 
 void usage(std::FILE* to) {
   // The dictionary names, wrapped under the option's description.
@@ -75,89 +67,6 @@ void usage(std::FILE* to) {
 int fail(int status, const std::string& message) {
   std::fprintf(stderr, "arwb markers: %s\n", message.c_str());
   return status;
-}
-
-// Accepts "--name value" and "--name=value"; nullopt and an error for anything else.
-std::optional<MarkerOptions> parse_args(int argc, char** argv, std::string* error) {
-  MarkerOptions o;
-  for (int i = 0; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      o.help = true;
-      continue;
-    }
-    std::optional<std::string> inline_value;
-    if (const size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-      inline_value = arg.substr(eq + 1);
-      arg.resize(eq);
-    }
-    std::string* target = arg == "--dict"      ? &o.dict
-                          : arg == "--ids"     ? &o.ids
-                          : arg == "--out"     ? &o.out
-                          : arg == "--size-mm" ? &o.size_mm
-                          : arg == "--px"      ? &o.px
-                                               : nullptr;
-    if (!target) {
-      *error = (arg.rfind("-", 0) == 0 ? "unknown option '" : "unexpected argument '") + std::string(argv[i]) + "'";
-      return std::nullopt;
-    }
-    if (inline_value) {
-      *target = *inline_value;
-    } else if (i + 1 < argc) {
-      *target = argv[++i];
-    } else {
-      *error = "option " + arg + " needs a value";
-      return std::nullopt;
-    }
-  }
-  return o;
-}
-
-// A whole string as a number of type T, or nullopt.
-template <typename T>
-std::optional<T> parse_number(std::string_view s) {
-  T v{};
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
-  return v;
-}
-
-// "0-49", "3,7,10-12": ids in the order given, each once; every id must exist in the dictionary.
-std::optional<std::vector<int>> parse_ids(std::string_view spec, const Dictionary& dict, std::string* error) {
-  const long long size = dict.size();
-  const std::string range = dict.name() + " has ids 0-" + std::to_string(size - 1);
-  std::vector<int> ids;
-  std::vector<bool> seen(static_cast<size_t>(size), false);
-  size_t pos = 0;
-  while (true) {
-    const size_t comma = std::min(spec.find(',', pos), spec.size());
-    const std::string_view item = spec.substr(pos, comma - pos);
-    // Unsigned parsing rejects signs, so "-3" or "3--5" cannot slip through as a range.
-    const size_t dash = item.find('-');
-    const auto first = parse_number<unsigned long long>(item.substr(0, dash));
-    const auto last = dash == std::string_view::npos ? first : parse_number<unsigned long long>(item.substr(dash + 1));
-    if (!first || !last) {
-      *error = "bad id list '" + std::string(spec) + "' at '" + std::string(item) + "' (expected e.g. 0-49 or 3,7,10-12)";
-      return std::nullopt;
-    }
-    if (*first > *last) {
-      *error = "bad id range '" + std::string(item) + "' in --ids (the first id is larger than the last)";
-      return std::nullopt;
-    }
-    for (const unsigned long long id : {*first, *last})
-      if (id >= static_cast<unsigned long long>(size)) {
-        *error = "id " + std::to_string(id) + " is outside the dictionary: " + range;
-        return std::nullopt;
-      }
-    for (auto id = *first; id <= *last; ++id)
-      if (!seen[id]) {
-        seen[id] = true;
-        ids.push_back(static_cast<int>(id));
-      }
-    if (comma == spec.size()) break;
-    pos = comma + 1;
-  }
-  return ids;
 }
 
 std::string lower_extension(const std::string& path) {
@@ -216,37 +125,33 @@ int write_sheet(const Dictionary& dict, const std::vector<int>& ids, double size
 }  // namespace
 
 int cmd_markers(int argc, char** argv) {
-  std::string error;
-  const auto opts = parse_args(argc, argv, &error);
-  if (!opts) return fail(2, error + " (see arwb markers --help)");
-  if (opts->help) {
+  Args args(argc, argv);
+  if (args.flag("--help") || args.flag("-h")) {
     usage(stdout);
     return 0;
   }
-  if (opts->out.empty()) return fail(2, "--out is required: a folder for PNGs, or a .pdf or .svg file");
+  const std::string dict_name = args.value("--dict", "ARUCO_ORIGINAL");
+  const std::string id_spec = args.value("--ids", "0-9");
+  const std::string out = args.value("--out", "");
+  const double size_mm = args.double_value("--size-mm", 50, kSheetMinMarkerMm, kSheetMaxMarkerMm);
+  const int px = args.int_value("--px", 20, kMinPx, kMaxPx);
+  if (!args.ok() || !args.no_positional()) return args.fail("arwb markers");
+  if (out.empty()) return fail(2, "--out is required: a folder for PNGs, or a .pdf or .svg file");
 
-  const auto dict = dictionary_by_name(opts->dict, &error);
+  std::string error;
+  const auto dict = dictionary_by_name(dict_name, &error);
   if (!dict) return fail(2, error);
-  const auto ids = parse_ids(opts->ids, *dict, &error);
+  const auto ids = parse_id_list(id_spec, *dict, &error);
   if (!ids) return fail(2, error);
 
-  const auto size_mm = parse_number<double>(opts->size_mm);
-  if (!size_mm || !(*size_mm >= kSheetMinMarkerMm && *size_mm <= kSheetMaxMarkerMm))
-    return fail(2, "--size-mm " + opts->size_mm + " is not a size from " + format_g(kSheetMinMarkerMm) + " to " +
-                       format_g(kSheetMaxMarkerMm) + " mm");
-  const auto px = parse_number<int>(opts->px);
-  if (!px || *px < kMinPx || *px > kMaxPx)
-    return fail(2, "--px " + opts->px + " is not a number of pixels from " + std::to_string(kMinPx) + " to " +
-                       std::to_string(kMaxPx));
+  const std::string ext = lower_extension(out);
+  if (ext != ".pdf" && ext != ".svg") return write_pngs(*dict, *ids, px, out);
 
-  const std::string ext = lower_extension(opts->out);
-  if (ext != ".pdf" && ext != ".svg") return write_pngs(*dict, *ids, *px, opts->out);
-
-  if (!sheet_layout(*size_mm, dict->marker_size()).fits())
-    return fail(2, "--size-mm " + opts->size_mm + " does not fit on an A4 page: with a one-cell quiet zone and " +
+  if (!sheet_layout(size_mm, dict->marker_size()).fits())
+    return fail(2, "--size-mm " + format_g(size_mm) + " does not fit on an A4 page: with a one-cell quiet zone and " +
                        format_g(kSheetMarginMm) + " mm margins, " + dict->name() + " markers can be at most " +
                        format_g(max_sheet_marker_mm(dict->marker_size())) + " mm");
-  return write_sheet(*dict, *ids, *size_mm, ext == ".pdf" ? SheetFormat::pdf : SheetFormat::svg, opts->out);
+  return write_sheet(*dict, *ids, size_mm, ext == ".pdf" ? SheetFormat::pdf : SheetFormat::svg, out);
 }
 
 }  // namespace arwb

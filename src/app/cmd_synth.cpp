@@ -33,7 +33,7 @@ int cmd_synth(int argc, char** argv) {
   const int seed = args.int_value("--seed", 1, 0, 2147483647);
   const std::string dict_arg = args.value("--dict", "ARUCO_ORIGINAL");
   const std::string size_arg = args.value("--size", "mixed");
-  if (!args.ok() || !args.positional().empty()) return args.fail("arwb synth", kUsage);
+  if (!args.ok() || !args.no_positional()) return args.fail("arwb synth");
   if (out.empty()) {
     std::fprintf(stderr, "arwb synth: --out DIR is required\n%s", kUsage);
     return 2;
