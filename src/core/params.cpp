@@ -33,8 +33,9 @@ const ParamInfo kTable[] = {
     ARWB_DBL(polygon_epsilon_rate, "quad_fit", "rate", 0.03, 0.005, 0.2,
              "Polygon approximation tolerance as a fraction of the contour's perimeter. Higher accepts rounder "
              "or blurrier quads, and more clutter."),
-    ARWB_DBL(min_side_rate, "quad_fit", "rate", 0.05, 0, 0.25,
-             "Shortest quad side allowed, as a fraction of its perimeter: drops slivers."),
+    ARWB_DBL(min_side_rate, "quad_fit", "rate", 0.1, 0, 0.25,
+             "Shortest quad side allowed, as a fraction of its perimeter. 0.1 still admits a square tilted 75 "
+             "degrees away; lower admits slivers such as thin outlined frames, which read as ARUCO_ORIGINAL 1023."),
     ARWB_INT(min_border_distance_px, "quad_fit", "px", 3, 0, 100,
              "Quads with a corner closer than this to the image edge are dropped (they are usually cut off)."),
     ARWB_DBL(min_marker_distance_rate, "nested_filter", "rate", 0.05, 0, 1,
