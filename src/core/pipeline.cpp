@@ -282,13 +282,32 @@ std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorPar
 
 // [SECTION] perspective_removal
 
+namespace {
+
+// Bilinear interpolation at (x, y), pixel centres at integers, clamped to the image.
+double sample_bilinear(const cv::Mat& grey, double x, double y) {
+  x = std::clamp(x, 0.0, double(grey.cols - 1));
+  y = std::clamp(y, 0.0, double(grey.rows - 1));
+  const int x0 = std::min(int(x), grey.cols - 2 < 0 ? 0 : grey.cols - 2);
+  const int y0 = std::min(int(y), grey.rows - 2 < 0 ? 0 : grey.rows - 2);
+  const int x1 = std::min(x0 + 1, grey.cols - 1), y1 = std::min(y0 + 1, grey.rows - 1);
+  const double fx = x - x0, fy = y - y0;
+  const uint8_t* r0 = grey.ptr<uint8_t>(y0);
+  const uint8_t* r1 = grey.ptr<uint8_t>(y1);
+  const double top = r0[x0] + fx * (r0[x1] - r0[x0]);
+  const double bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
+  return top + fy * (bottom - top);
+}
+
+}  // namespace
+
+
 cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, const DetectorParams& p) {
   const int side = cells * p.warp_cell_px;
   const float s = static_cast<float>(side);
   const cv::Point2f square[4] = {{0, 0}, {s, 0}, {s, s}, {0, s}};
   const cv::Matx33d H = cv::getPerspectiveTransform(square, quad.data());
   cv::Mat warp(side, side, CV_8UC1);
-  const int maxx = grey.cols - 1, maxy = grey.rows - 1;
   for (int v = 0; v < side; ++v) {
     uint8_t* row = warp.ptr<uint8_t>(v);
     const double y = v + 0.5;
@@ -297,16 +316,7 @@ cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, con
       const double w = H(2, 0) * x + H(2, 1) * y + H(2, 2);
       const double px = (H(0, 0) * x + H(0, 1) * y + H(0, 2)) / w;
       const double py = (H(1, 0) * x + H(1, 1) * y + H(1, 2)) / w;
-      // Bilinear, clamped to the image.
-      const double cx = std::clamp(px, 0.0, double(maxx)), cy = std::clamp(py, 0.0, double(maxy));
-      const int x0 = std::min(int(cx), maxx - (maxx > 0)), y0 = std::min(int(cy), maxy - (maxy > 0));
-      const double fx = cx - x0, fy = cy - y0;
-      const uint8_t* r0 = grey.ptr<uint8_t>(y0);
-      const uint8_t* r1 = grey.ptr<uint8_t>(std::min(y0 + 1, maxy));
-      const int x1 = std::min(x0 + 1, maxx);
-      const double top = r0[x0] + fx * (r0[x1] - r0[x0]);
-      const double bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
-      row[u] = static_cast<uint8_t>(top + fy * (bottom - top) + 0.5);
+      row[u] = static_cast<uint8_t>(sample_bilinear(grey, px, py) + 0.5);
     }
   }
   return warp;
@@ -396,23 +406,6 @@ int correction_budget(const Dictionary& dict, const DetectorParams& p) {
 
 // [SECTION] corner_refinement
 
-namespace {
-
-double sample_bilinear(const cv::Mat& grey, double x, double y) {
-  x = std::clamp(x, 0.0, double(grey.cols - 1));
-  y = std::clamp(y, 0.0, double(grey.rows - 1));
-  const int x0 = std::min(int(x), grey.cols - 2 < 0 ? 0 : grey.cols - 2);
-  const int y0 = std::min(int(y), grey.rows - 2 < 0 ? 0 : grey.rows - 2);
-  const int x1 = std::min(x0 + 1, grey.cols - 1), y1 = std::min(y0 + 1, grey.rows - 1);
-  const double fx = x - x0, fy = y - y0;
-  const uint8_t* r0 = grey.ptr<uint8_t>(y0);
-  const uint8_t* r1 = grey.ptr<uint8_t>(y1);
-  const double top = r0[x0] + fx * (r0[x1] - r0[x0]);
-  const double bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
-  return top + fy * (bottom - top);
-}
-
-}  // namespace
 
 void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
   // Each side of the marker is the edge between its black border (inside) and the white quiet zone (outside).
