@@ -111,6 +111,13 @@ int Args::fail(const char* command) {
   return 2;
 }
 
+std::optional<std::vector<Dictionary>> dictionaries_option(const std::string& list, const char* command) {
+  std::string err;
+  auto dicts = parse_dictionaries(list, &err);
+  if (!dicts) std::fprintf(stderr, "%s: --dict %s\n", command, err.c_str());
+  return dicts;
+}
+
 bool load_params_option(const std::string& path, const char* command, DetectorParams& p) {
   if (path.empty()) return true;
   std::vector<std::string> errors;

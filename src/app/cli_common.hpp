@@ -39,6 +39,9 @@ class Args {
 // "NAME[,NAME...]" of dictionaries: predefined names (case-insensitive) or YAML files (ending .yml/.yaml).
 std::optional<std::vector<Dictionary>> parse_dictionaries(const std::string& list, std::string* error);
 
+// --dict NAME[,NAME...]: the dictionaries, or nullopt after printing "<command>: --dict <problem>".
+std::optional<std::vector<Dictionary>> dictionaries_option(const std::string& list, const char* command);
+
 // --params FILE.yml: loads the preset into p (an empty path changes nothing). On problems prints each as
 // "<command>: --params <file>: <problem>" and returns false, leaving p as it was.
 bool load_params_option(const std::string& path, const char* command, DetectorParams& p);

@@ -98,19 +98,20 @@ int cmd_bench(int argc, char** argv) {
   if (!load_params_option(params_path, "arwb bench", params)) return 2;
   const std::vector<std::string> pos = args.positional();
   if (pos.size() > 1) {
-    std::fprintf(stderr, "arwb bench: one DIR at most\n%s", kUsage);
+    std::fprintf(stderr, "arwb bench: one DIR at most (see arwb bench --help)\n");
     return 2;
   }
-  std::string err;
-  auto dicts = parse_dictionaries(dict_arg, &err);
-  if (!dicts) {
-    std::fprintf(stderr, "arwb bench: --dict: %s\n", err.c_str());
-    return 2;
-  }
+  const auto dicts = dictionaries_option(dict_arg, "arwb bench");
+  if (!dicts) return 2;
   cv::setNumThreads(1);  // every detector on one thread
 
-  // The sets: one per dictionary, or the folder's.
-  std::vector<std::pair<std::string, std::vector<SetItem>>> sets;
+  // The sets: one per dictionary, or the folder's, each with the dictionaries its detectors search.
+  struct Set {
+    std::string name;
+    std::vector<SetItem> items;
+    std::vector<Dictionary> dicts;
+  };
+  std::vector<Set> sets;
   if (pos.size() == 1) {
     std::vector<std::string> errors;
     auto items = read_set(pos[0], &errors);
@@ -119,31 +120,26 @@ int cmd_bench(int argc, char** argv) {
       std::fprintf(stderr, "arwb bench: %s: no usable images\n", pos[0].c_str());
       return 1;
     }
-    sets.emplace_back(pos[0], std::move(*items));
+    // The dictionaries the truth uses (--dict for a folder without markers).
+    std::vector<Dictionary> used;
+    for (const auto& it : *items)
+      for (const auto& m : it.truth)
+        if (std::none_of(used.begin(), used.end(), [&](const Dictionary& d) { return d.name() == m.dict; }))
+          if (auto d = dictionary_by_name(m.dict)) used.push_back(*d);
+    if (used.empty()) used = *dicts;
+    sets.push_back({pos[0], std::move(*items), std::move(used)});
   } else {
     for (const Dictionary& d : *dicts) {
       std::vector<SetItem> items;
       for (int i = 0; i < count; ++i) items.push_back(make_set_item({d}, mixed_sizes(), uint64_t(seed), i));
-      sets.emplace_back("synthetic " + d.name(), std::move(items));
+      sets.push_back({"synthetic " + d.name(), std::move(items), {d}});
     }
   }
 
   std::vector<Row> rows;
   // What recording the trace costs, on the first set's 640x480 images: median ms at each level.
   std::array<std::vector<double>, 3> trace_ms;
-  for (const auto& [set_name, items] : sets) {
-    // Detectors for the dictionaries the truth uses (or --dict for a folder without markers).
-    std::vector<Dictionary> used = *dicts;
-    if (pos.size() == 1) {
-      used.clear();
-      for (const auto& it : items)
-        for (const auto& m : it.truth)
-          if (std::none_of(used.begin(), used.end(), [&](const Dictionary& d) { return d.name() == m.dict; }))
-            if (auto d = dictionary_by_name(m.dict)) used.push_back(*d);
-      if (used.empty()) used = *dicts;
-    } else {
-      used = {*dictionary_by_name(set_name.substr(10))};
-    }
+  for (const auto& [set_name, items, used] : sets) {
     const Detector arwb_det(used, params);
     std::vector<std::pair<std::string, DetectFn>> detectors;
     detectors.emplace_back("arwb", [&arwb_det](const cv::Mat& img) {

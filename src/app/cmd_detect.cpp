@@ -123,16 +123,12 @@ int cmd_detect(int argc, char** argv) {
   if (!args.ok()) return args.fail("arwb detect");
   std::vector<std::string> paths = args.positional();
   if (paths.empty()) {
-    std::fprintf(stderr, "arwb detect: no PATH given\n%s", kUsage);
+    std::fprintf(stderr, "arwb detect: no PATH given (see arwb detect --help)\n");
     return 2;
   }
 
-  std::string err;
-  auto dicts = parse_dictionaries(dict_arg, &err);
-  if (!dicts) {
-    std::fprintf(stderr, "arwb detect: --dict: %s\n", err.c_str());
-    return 2;
-  }
+  const auto dicts = dictionaries_option(dict_arg, "arwb detect");
+  if (!dicts) return 2;
   DetectorParams params;
   if (!load_params_option(params_path, "arwb detect", params)) return 2;
   cv::setNumThreads(threads);

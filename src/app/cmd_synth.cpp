@@ -35,7 +35,7 @@ int cmd_synth(int argc, char** argv) {
   const std::string size_arg = args.value("--size", "mixed");
   if (!args.ok() || !args.no_positional()) return args.fail("arwb synth");
   if (out.empty()) {
-    std::fprintf(stderr, "arwb synth: --out DIR is required\n%s", kUsage);
+    std::fprintf(stderr, "arwb synth: --out DIR is required (see arwb synth --help)\n");
     return 2;
   }
   std::vector<cv::Size> sizes = mixed_sizes();
@@ -49,12 +49,8 @@ int cmd_synth(int argc, char** argv) {
     }
     sizes = {cv::Size(w, h)};
   }
-  std::string err;
-  auto dicts = parse_dictionaries(dict_arg, &err);
-  if (!dicts) {
-    std::fprintf(stderr, "arwb synth: --dict: %s\n", err.c_str());
-    return 2;
-  }
+  const auto dicts = dictionaries_option(dict_arg, "arwb synth");
+  if (!dicts) return 2;
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
   std::ofstream truth(out + "/truth.jsonl");
