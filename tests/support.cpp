@@ -18,16 +18,25 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, ec);
 }
 
-RunResult run_arwb(const std::string& args) {
+namespace {
+RunResult run_arwb_with_prefix(const std::string& prefix, const std::string& args) {
   TempDir tmp;
   std::string out = tmp.str("out.txt"), err = tmp.str("err.txt");
-  std::string cmd = std::string("'") + ARWB_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+  std::string cmd = prefix + "'" + ARWB_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
   int raw = std::system(cmd.c_str());
   RunResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
   r.out = read_file(out);
   r.err = read_file(err);
   return r;
+}
+}  // namespace
+
+RunResult run_arwb(const std::string& args) { return run_arwb_with_prefix("", args); }
+
+RunResult run_arwb_window(const std::string& args) {
+  // -a picks a free display number, so GUI tests can run in parallel.
+  return run_arwb_with_prefix("xvfb-run -a -s '-screen 0 1600x900x24' ", args);
 }
 
 void write_file(const std::string& path, const std::string& bytes) {

@@ -28,6 +28,10 @@ struct RunResult {
 // Runs the arwb binary with the arguments given as one shell-quoted string.
 RunResult run_arwb(const std::string& args);
 
+// Runs the arwb binary in a virtual X display (xvfb-run, 1600x900, Mesa's software OpenGL), for the
+// workbench window's tests.
+RunResult run_arwb_window(const std::string& args);
+
 // Writes bytes to a file.
 void write_file(const std::string& path, const std::string& bytes);
 std::string read_file(const std::string& path);

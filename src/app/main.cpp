@@ -1,5 +1,7 @@
-// arwb: the ArUco Workbench binary. `arwb <subcommand> ...`; see `arwb --help`.
+// arwb: the ArUco Workbench binary. `arwb [options]` opens the workbench window; `arwb <subcommand> ...` runs a
+// command-line tool. See `arwb --help`.
 #include "app/commands.hpp"
+#include "app/workbench.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -23,7 +25,11 @@ constexpr Subcommand kSubcommands[] = {
 };
 
 void usage(std::FILE* to) {
-  std::fprintf(to, "usage: arwb <subcommand> [options]\n\nsubcommands:\n");
+  std::fprintf(to,
+               "usage: arwb [--source synthetic|camera:N|PATH] [--frames N] [--screenshot FILE.png] [--stats] ...\n"
+               "       arwb <subcommand> [options]\n\n"
+               "Without a subcommand, arwb opens the workbench window (`arwb --source x --help` lists its options).\n\n"
+               "subcommands:\n");
   for (const auto& s : kSubcommands) std::fprintf(to, "  %-8s %s\n", s.name, s.summary);
   std::fprintf(to, "\n`arwb <subcommand> --help` describes each one.\n");
 }
@@ -34,9 +40,18 @@ int main(int argc, char** argv) {
   // FFmpeg's own log lines ("moov atom not found") would duplicate arwb's one-line messages; a user can
   // still ask for them by setting the variable.
   setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
-  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
-    usage(argc < 2 ? stderr : stdout);
-    return argc < 2 ? 2 : 0;
+  if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+    usage(stdout);
+    return 0;
+  }
+  // No subcommand, or options first: the workbench.
+  if (argc < 2 || argv[1][0] == '-') {
+    try {
+      return arwb::cmd_workbench(argc - 1, argv + 1);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "arwb: %s\n", e.what());
+      return 1;
+    }
   }
   std::string_view name = argv[1];
   for (const auto& s : kSubcommands) {

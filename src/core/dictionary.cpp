@@ -214,4 +214,74 @@ std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::str
   }
 }
 
+// [SECTION] dictionary explorer
+
+namespace {
+
+// Calls f(a, b, rotation, distance) for every explorer entry, a ascending, then b ascending from a (itself first).
+// The four rotations of all codes sit in one flat array so the inner loop is four XOR-popcounts on adjacent words.
+template <class F>
+void for_each_pair(const Dictionary& d, F&& f) {
+  const int n = d.size();
+  std::vector<uint64_t> rot(size_t(n) * 4);
+  for (int id = 0; id < n; ++id)
+    for (int k = 0; k < 4; ++k) rot[size_t(id) * 4 + size_t(k)] = d.code(id, k);
+  for (int a = 0; a < n; ++a) {
+    const uint64_t ca = rot[size_t(a) * 4];
+    int best = 65, best_k = 1;
+    for (int k = 1; k < 4; ++k) {
+      const int dist = std::popcount(ca ^ rot[size_t(a) * 4 + size_t(k)]);
+      if (dist < best) {
+        best = dist;
+        best_k = k;
+      }
+    }
+    f(a, a, best_k, best);
+    for (int b = a + 1; b < n; ++b) {
+      const uint64_t* rb = &rot[size_t(b) * 4];
+      best = std::popcount(ca ^ rb[0]);
+      best_k = 0;
+      for (int k = 1; k < 4; ++k) {
+        const int dist = std::popcount(ca ^ rb[k]);
+        if (dist < best) {
+          best = dist;
+          best_k = k;
+        }
+      }
+      f(a, b, best_k, best);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<int> distance_histogram(const Dictionary& d) {
+  std::vector<int> hist(size_t(d.bit_count()) + 1, 0);
+  for_each_pair(d, [&](int, int, int, int dist) { ++hist[size_t(dist)]; });
+  return hist;
+}
+
+std::vector<DictPair> closest_pairs(const Dictionary& d, int max_pairs) {
+  std::vector<DictPair> out;
+  if (max_pairs <= 0 || d.size() == 0) return out;
+  // Two passes instead of keeping every entry (500 000 for 1000 ids): the histogram gives the distance at which
+  // the list fills up; the second pass keeps everything closer and, at that distance, the first entries in (a, b)
+  // order, which is the order the visit produces.
+  const std::vector<int> hist = distance_histogram(d);
+  int cutoff = 0;
+  long long below = 0;  // entries closer than cutoff
+  while (cutoff < int(hist.size()) - 1 && below + hist[size_t(cutoff)] < max_pairs) below += hist[size_t(cutoff++)];
+  long long room_at_cutoff = max_pairs - below;
+  out.reserve(size_t(std::min<long long>(max_pairs, below + hist[size_t(cutoff)])));
+  for_each_pair(d, [&](int a, int b, int rotation, int dist) {
+    if (dist < cutoff || (dist == cutoff && room_at_cutoff-- > 0)) out.push_back({a, b, rotation, dist});
+  });
+  std::sort(out.begin(), out.end(), [](const DictPair& x, const DictPair& y) {
+    if (x.distance != y.distance) return x.distance < y.distance;
+    if (x.a != y.a) return x.a < y.a;
+    return x.b < y.b;
+  });
+  return out;
+}
+
 }  // namespace arwb

@@ -72,4 +72,22 @@ std::optional<Dictionary> dictionary_by_name(std::string_view name, std::string*
 // A custom dictionary in OpenCV's YAML format (nmarkers, markersize, maxCorrectionBits, marker_0 ...).
 std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::string* error = nullptr);
 
+// [SECTION] dictionary explorer: which markers are hardest to tell apart.
+
+// One entry of the explorer: markers a and b (a < b), or a marker against its own rotations (a == b). distance is
+// the smallest Hamming distance over rotations, reached with b turned `rotation` quarter-turns clockwise
+// (code(a, 0) against code(b, rotation); lowest rotation on ties, 1..3 when a == b).
+struct DictPair {
+  int a = -1, b = -1;
+  int rotation = 0;
+  int distance = 0;
+};
+
+// The max_pairs entries with the smallest distance, sorted by distance, then a, then b. Entries are every pair
+// a < b and every marker against itself turned (rotation 1..3). The first entry's distance is min_distance().
+std::vector<DictPair> closest_pairs(const Dictionary& d, int max_pairs);
+// Over the same entries: element k counts those at distance k (size bit_count() + 1). The first non-zero
+// element is at min_distance(); the counts sum to n (n - 1) / 2 + n.
+std::vector<int> distance_histogram(const Dictionary& d);
+
 }  // namespace arwb

@@ -41,6 +41,7 @@ struct DetectorParams {
   double subpix_epsilon_px = 0;
 
   DetectorParams();  // every field at its table default
+  bool operator==(const DetectorParams&) const = default;
 };
 
 struct ParamInfo {

@@ -89,8 +89,6 @@ Quad project_square(cv::Point2d centre, double side_px, double roll_deg, double 
 
 // [SECTION] photographs
 
-namespace {
-
 // Some dictionaries hold markers that equal themselves or another marker when turned (ARUCO_ORIGINAL's id 1023
 // reads the same upside down): no detector can tell their orientation, so the truth would be a coin toss.
 bool unambiguous(const Dictionary& d, int id) {
@@ -102,6 +100,8 @@ bool unambiguous(const Dictionary& d, int id) {
       if (other != id && d.code(other, k) == code) return false;
   return true;
 }
+
+namespace {
 
 // A code that no dictionary in use would accept, even with a few bits wrong.
 uint64_t decoy_code(cv::RNG& rng, const std::vector<Dictionary>& dicts, int n) {

@@ -34,6 +34,10 @@ void draw_marker(cv::Mat& canvas, const Dictionary& dict, int id, const Quad& co
 Quad project_square(cv::Point2d centre, double side_px, double roll_deg, double tilt_x_deg, double tilt_y_deg,
                     double focal_px);
 
+// False when marker `id` reads the same as itself turned, or as another marker in some rotation: its id or
+// orientation cannot be told, so synthetic scenes skip it.
+bool unambiguous(const Dictionary& dict, int id);
+
 struct SynthOptions {
   cv::Size size{640, 480};
   std::vector<Dictionary> dictionaries;   // markers are drawn from these, in turn

@@ -1,0 +1,36 @@
+// The workbench window: GLFW + OpenGL 3.3 core + Dear ImGui. The UI thread draws the latest finished frame from
+// the Engine (src/app/engine.hpp) through the panels in ui/, forwards the user's edits to the engine, and carries
+// out the panels' requests (snapshots, presets, the parameter sweep, marker sheets).
+#pragma once
+
+#include "app/engine.hpp"
+
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+struct WorkbenchOptions {
+  EngineConfig engine;
+  int frames = 0;                 // > 0: draw this many UI frames, then exit (scripted runs, tests)
+  std::string screenshot;         // write the window to this PNG before exiting
+  bool stats = false;             // print one JSON line of figures at exit
+  bool verbose = false;           // every log line to stderr, not only warnings and errors
+  cv::Size window{1600, 900};
+  bool presentation = false;
+  std::string config_dir;         // layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)
+  std::string snapshot_dir = "snapshots";
+  std::string tour_path;          // default assets/teaching/tour.txt
+  // Scripted actions for tests and demos: "N:verb[=arg]" run at UI frame N. Verbs: open=PANEL, close=PANEL,
+  // source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX, region=X,Y,W,H, sweep, tour,
+  // presentation, preset=FILE, peers.
+  std::vector<std::string> actions;
+};
+
+// Runs until the window closes (or `frames` are drawn). Returns the exit status.
+int run_workbench(const WorkbenchOptions& options);
+
+// The `arwb [options]` entry point with no subcommand.
+int cmd_workbench(int argc, char** argv);
+
+}  // namespace arwb

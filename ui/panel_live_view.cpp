@@ -1,0 +1,237 @@
+// Live view: the working frame with the detector's overlays. Accepted markers in green with corner 0 marked and
+// their id; rejected candidates in the colour of the stage that dropped them; the ledger's hovered row in
+// yellow. Left-click selects a candidate for the inspector; with the region tool on, a left-drag marks the
+// rectangle for "Why not detected?".
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace arwb::ui {
+
+namespace {
+
+struct LiveViewState {
+  bool dragging = false;
+  ImVec2 drag_from{0, 0};
+};
+
+void overlay_candidates(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+  const FrameTrace& t = ctx.frame->trace;
+  const View& v = ctx.view;
+  const float s = ctx.scale;
+  for (size_t i = 0; i < t.candidates.size(); ++i) {
+    const CandidateRecord& c = t.candidates[i];
+    if (c.fate.stage == Stage::accepted) continue;
+    if (!v.show_rejected || !v.show_rejected_stage[static_cast<size_t>(c.fate.stage)]) continue;
+    // Contours rejected by size are many and tiny; draw them thin so the quads stand out.
+    const ImU32 col = stage_colour(c.fate.stage, 0.85f);
+    if (c.has_quad) {
+      draw_quad(dl, m, c.quad, col, 1.5f * s);
+    } else {
+      dl->AddRect(m.to_screen(static_cast<float>(c.bbox.x) - 0.5f, static_cast<float>(c.bbox.y) - 0.5f),
+                  m.to_screen(static_cast<float>(c.bbox.br().x) - 0.5f, static_cast<float>(c.bbox.br().y) - 0.5f),
+                  stage_colour(c.fate.stage, 0.5f), 0, 0, 1.0f);
+    }
+  }
+}
+
+void overlay_markers(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+  const float s = ctx.scale;
+  for (const Marker& mk : ctx.frame->trace.markers) {
+    draw_quad(dl, m, mk.corners, accepted_colour(), 2.5f * s, true);
+    cv::Point2f c(0, 0);
+    for (const auto& p : mk.corners) c += p * 0.25f;
+    char label[96];
+    std::snprintf(label, sizeof label, "%d %s", mk.id, mk.dict.c_str());
+    const ImVec2 at = m.to_screen(c);
+    const ImVec2 sz = ImGui::CalcTextSize(label);
+    dl->AddRectFilled({at.x - sz.x * 0.5f - 3, at.y - sz.y * 0.5f - 1}, {at.x + sz.x * 0.5f + 3, at.y + sz.y * 0.5f + 1},
+                      IM_COL32(0, 0, 0, 170));
+    dl->AddText({at.x - sz.x * 0.5f, at.y - sz.y * 0.5f}, accepted_colour(), label);
+  }
+}
+
+void overlay_peers(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+  for (const PeerDetections& p : ctx.frame->peers) {
+    const bool opencv = p.name == "opencv_aruco";
+    if (opencv ? !ctx.view.show_peer_opencv : !ctx.view.show_peer_apriltag) continue;
+    const ImU32 col = opencv ? IM_COL32(255, 120, 255, 255) : IM_COL32(80, 200, 255, 255);
+    for (const Marker& mk : p.markers) {
+      // Dashed look: corners only, so the peers' outlines do not hide arwb's.
+      ImVec2 pts[4];
+      for (int i = 0; i < 4; ++i) pts[i] = m.to_screen(mk.corners[static_cast<size_t>(i)]);
+      for (int i = 0; i < 4; ++i) {
+        const ImVec2 a = pts[i], b = pts[(i + 1) % 4];
+        dl->AddLine(a, {a.x + (b.x - a.x) * 0.3f, a.y + (b.y - a.y) * 0.3f}, col, 2.0f * ctx.scale);
+        dl->AddLine({b.x + (a.x - b.x) * 0.3f, b.y + (a.y - b.y) * 0.3f}, b, col, 2.0f * ctx.scale);
+      }
+    }
+  }
+}
+
+void overlay_truth(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+  for (const TruthMarker& tm : ctx.frame->truth) {
+    for (const auto& p : tm.corners) {
+      const ImVec2 s = m.to_screen(p);
+      dl->AddCircle(s, 4.0f * ctx.scale, IM_COL32(255, 255, 255, 220), 12, 1.5f);
+    }
+  }
+}
+
+// The candidate under the mouse: the smallest quad (or bbox) that contains the point.
+int candidate_at(const FrameTrace& t, cv::Point2f p) {
+  int best = -1;
+  double best_area = 1e30;
+  for (size_t i = 0; i < t.candidates.size(); ++i) {
+    const CandidateRecord& c = t.candidates[i];
+    if (!c.has_quad) continue;
+    std::vector<cv::Point2f> q(c.quad.begin(), c.quad.end());
+    if (cv::pointPolygonTest(q, p, false) < 0) continue;
+    const double area = std::abs(cv::contourArea(q));
+    if (area < best_area) {
+      best_area = area;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+void toolbar(Context& ctx) {
+  View& v = ctx.view;
+  ImGui::Checkbox("Markers", &v.show_accepted);
+  ImGui::SameLine();
+  ImGui::Checkbox("Rejected", &v.show_rejected);
+  ImGui::SameLine();
+  if (ImGui::Button("Stages...")) ImGui::OpenPopup("stages");
+  if (ImGui::BeginPopup("stages")) {
+    for (int i = 0; i < kStageCount; ++i) {
+      const Stage s = static_cast<Stage>(i);
+      ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(s));
+      bool on = v.show_rejected_stage[static_cast<size_t>(i)];
+      const std::string name(stage_name(s));
+      if (ImGui::Checkbox(name.c_str(), &on)) v.show_rejected_stage[static_cast<size_t>(i)] = on;
+      ImGui::PopStyleColor();
+    }
+    ImGui::EndPopup();
+  }
+  ImGui::SameLine();
+  if (ctx.frame && !ctx.frame->truth.empty()) {
+    ImGui::Checkbox("Truth", &v.show_truth);
+    ImGui::SameLine();
+  }
+  ImGui::Checkbox("Why? (drag)", &v.region_tool);
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("Drag a rectangle around a marker that is not detected: the 'Why not detected?' panel\n"
+                      "lists every candidate there and where the pipeline dropped it.");
+  }
+  ImGui::SameLine();
+  if (ImGui::Checkbox("Freeze", &ctx.settings.frozen)) {}
+  ImGui::SameLine();
+  if (ImGui::Button("Snapshot")) ctx.request(RequestKind::snapshot);
+  ImGui::SameLine();
+  if (ImGui::Button("Fit")) v.image.fit = true;
+  ImGui::SameLine();
+  ImGui::Text("%.0f%%", static_cast<double>(v.image.zoom) * 100.0);
+}
+
+void status_line(Context& ctx, const ImageMapping& m) {
+  const Frame& f = *ctx.frame;
+  const int x = static_cast<int>(std::lround(m.mouse_px.x)), y = static_cast<int>(std::lround(m.mouse_px.y));
+  const FrameTrace& t = f.trace;
+  int accepted = static_cast<int>(t.markers.size());
+  ImGui::Text("frame %llu  %dx%d  %d markers, %zu candidates  detect %.2f ms", static_cast<unsigned long long>(f.index),
+              f.image.cols, f.image.rows, accepted, t.candidates.size(), f.detect_ms);
+  if (m.hovered && x >= 0 && y >= 0 && x < f.image.cols && y < f.image.rows) {
+    const cv::Vec3b bgr = f.image.at<cv::Vec3b>(y, x);
+    ImGui::SameLine();
+    ImGui::Text("  (%d, %d) RGB %d %d %d", x, y, bgr[2], bgr[1], bgr[0]);
+    if (const StageRecord* th = t.stage(Stage::adaptive_threshold); th && !th->image.empty() &&
+                                                                     th->image.cols == f.image.cols) {
+      ImGui::SameLine();
+      ImGui::Text(" threshold %s", th->image.at<uint8_t>(y, x) ? "foreground" : "background");
+    }
+  }
+}
+
+}  // namespace
+
+void draw_live_view(Context& ctx) {
+  static LiveViewState st;  // the panel's own view state
+  if (!ImGui::Begin(panel_title(Panel::live_view), &ctx.view.open[static_cast<size_t>(Panel::live_view)])) {
+    ImGui::End();
+    return;
+  }
+  toolbar(ctx);
+  if (!ctx.frame) {
+    ImGui::TextDisabled("Waiting for the first frame from the source...");
+    ImGui::End();
+    return;
+  }
+  const Frame& f = *ctx.frame;
+  ImVec2 avail = ImGui::GetContentRegionAvail();
+  avail.y -= ImGui::GetTextLineHeightWithSpacing();
+  const ImageMapping m = image_view(ctx, "live", "frame", f.image, f.index, ctx.view.image, avail);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->PushClipRect(m.min, m.max, true);
+  overlay_candidates(ctx, m, dl);
+  overlay_peers(ctx, m, dl);
+  if (ctx.view.show_accepted) overlay_markers(ctx, m, dl);
+  if (ctx.view.show_truth) overlay_truth(ctx, m, dl);
+  const FrameTrace& t = f.trace;
+  for (int idx : {ctx.view.selected_candidate, ctx.view.hovered_candidate}) {
+    if (idx < 0 || idx >= static_cast<int>(t.candidates.size())) continue;
+    const CandidateRecord& c = t.candidates[static_cast<size_t>(idx)];
+    const ImU32 col = idx == ctx.view.hovered_candidate ? IM_COL32(255, 255, 0, 255) : IM_COL32(255, 255, 255, 255);
+    if (c.has_quad) {
+      draw_quad(dl, m, c.quad, col, 3.0f * ctx.scale, true);
+    } else {
+      dl->AddRect(m.to_screen(static_cast<float>(c.bbox.x), static_cast<float>(c.bbox.y)),
+                  m.to_screen(static_cast<float>(c.bbox.br().x), static_cast<float>(c.bbox.br().y)), col, 0, 0, 3.0f);
+    }
+  }
+  // Region tool: left-drag a rectangle.
+  ImGuiIO& io = ImGui::GetIO();
+  if (ctx.view.region_tool) {
+    if (m.hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+      st.dragging = true;
+      st.drag_from = m.mouse_px;
+    }
+    if (st.dragging) {
+      const cv::Point2f now = m.to_image(io.MousePos);
+      const float x0 = std::min(st.drag_from.x, now.x), y0 = std::min(st.drag_from.y, now.y);
+      const float x1 = std::max(st.drag_from.x, now.x), y1 = std::max(st.drag_from.y, now.y);
+      dl->AddRect(m.to_screen(x0, y0), m.to_screen(x1, y1), IM_COL32(255, 255, 255, 255), 0, 0, 2.0f);
+      if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+        st.dragging = false;
+        if (x1 - x0 >= 2 && y1 - y0 >= 2) {
+          ctx.view.region = {x0, y0, x1 - x0, y1 - y0};
+          ctx.view.has_region = true;
+          ctx.view.open[static_cast<size_t>(Panel::why)] = true;
+        }
+      }
+    }
+  } else if (m.hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+    const int hit = candidate_at(t, {m.mouse_px.x, m.mouse_px.y});
+    ctx.view.selected_candidate = hit;
+    if (hit >= 0) ctx.view.open[static_cast<size_t>(Panel::inspector)] = true;
+  }
+  if (ctx.view.has_region) {
+    const cv::Rect2f& r = ctx.view.region;
+    dl->AddRect(m.to_screen(r.x, r.y), m.to_screen(r.x + r.width, r.y + r.height), IM_COL32(255, 255, 255, 200), 0, 0,
+                1.5f);
+  }
+  dl->PopClipRect();
+  if (m.hovered && !ctx.view.region_tool) {
+    const int hit = candidate_at(t, {m.mouse_px.x, m.mouse_px.y});
+    if (hit >= 0) ImGui::SetTooltip("%s", candidate_line(t, hit).c_str());
+  }
+  status_line(ctx, m);
+  ImGui::End();
+}
+
+}  // namespace arwb::ui

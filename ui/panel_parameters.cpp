@@ -1,0 +1,340 @@
+// Parameters: the detector's parameter table as sliders, one collapsing header per pipeline stage in pipeline
+// order. Everything shown comes from param_table() (name, stage, unit, range, default, help), so a parameter
+// added to the table appears here by itself. Edits go through set_param into the settings; the workbench
+// forwards them to the detector. Below: YAML presets (a path to load or save, and the presets shipped under
+// assets/presets) and the dictionaries the detector looks for.
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace arwb::ui {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ShippedPreset {
+  std::string path;
+  std::string name;     // file name without .yml
+  std::string comment;  // the file's first comment line, if any
+};
+
+struct ParametersState {
+  char path[512] = "presets/my-preset.yml";
+  std::vector<ShippedPreset> shipped;
+  std::string shipped_dir;  // where they were found ("" when no folder)
+  int drawn_frame = -10;    // the UI frame the panel was last drawn; a gap means it was (re)opened
+  std::string error;        // the last edit set_param refused
+};
+
+// The shipped presets' folder: assets/presets under the working directory, else next to the source tree the
+// executable was built in (build-x/arwb -> assets/presets), else the compiled-in assets folder when there is one.
+std::string find_presets_dir() {
+  std::vector<fs::path> tries{fs::path("assets") / "presets"};
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    tries.push_back(exe.parent_path().parent_path() / "assets" / "presets");
+    tries.push_back(exe.parent_path() / "assets" / "presets");
+  }
+#ifdef ARWB_ASSETS_DIR
+  tries.push_back(fs::path(ARWB_ASSETS_DIR) / "presets");
+#endif
+  for (const fs::path& p : tries) {
+    if (fs::is_directory(p, ec)) return p.lexically_normal().string();
+  }
+  return {};
+}
+
+std::string first_comment(const fs::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t at = line.find_first_not_of(" \t");
+    if (at == std::string::npos) continue;
+    if (line[at] == '%' || line.compare(at, 3, "---") == 0) continue;  // %YAML:1.0 and the document start
+    if (line[at] != '#') break;
+    std::string text = line.substr(at + 1);
+    const size_t s = text.find_first_not_of(" \t");
+    return s == std::string::npos ? std::string() : text.substr(s);
+  }
+  return {};
+}
+
+void scan_presets(ParametersState& st) {
+  st.shipped.clear();
+  st.shipped_dir = find_presets_dir();
+  if (st.shipped_dir.empty()) return;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(st.shipped_dir, ec)) {
+    if (!entry.is_regular_file(ec) || entry.path().extension() != ".yml") continue;
+    st.shipped.push_back({entry.path().string(), entry.path().stem().string(), first_comment(entry.path())});
+  }
+  std::sort(st.shipped.begin(), st.shipped.end(), [](const ShippedPreset& a, const ShippedPreset& b) {
+    // default first, then by name
+    if ((a.name == "default") != (b.name == "default")) return a.name == "default";
+    return a.name < b.name;
+  });
+}
+
+// printf format for a double parameter, from how wide its range is.
+const char* format_for(const ParamInfo& info) {
+  const double span = info.max_value - info.min_value;
+  if (span <= 1.0) return "%.3f";
+  if (span <= 10.0) return "%.2f";
+  if (span <= 200.0) return "%.1f";
+  return "%.0f";
+}
+
+std::string value_text(const ParamInfo& info, double v) {
+  char buf[64];
+  if (info.integer) std::snprintf(buf, sizeof buf, "%d", static_cast<int>(v));
+  else std::snprintf(buf, sizeof buf, format_for(info), v);
+  return buf;
+}
+
+bool differs(const DetectorParams& p, const ParamInfo& info) { return get_param(p, info) != info.default_value; }
+
+void help_marker(const char* text) {
+  ImGui::TextDisabled("(?)");
+  if (ImGui::IsItemHovered()) {
+    ImGui::BeginTooltip();
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 32.0f);
+    ImGui::TextUnformatted(text);
+    ImGui::PopTextWrapPos();
+    ImGui::EndTooltip();
+  }
+}
+
+void param_tooltip(const ParamInfo& info) {
+  ImGui::BeginTooltip();
+  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 32.0f);
+  ImGui::TextUnformatted(info.name);
+  ImGui::Separator();
+  ImGui::TextUnformatted(info.help);
+  ImGui::TextDisabled("default %s, range %s .. %s %s", value_text(info, info.default_value).c_str(),
+                      value_text(info, info.min_value).c_str(), value_text(info, info.max_value).c_str(), info.unit);
+  ImGui::TextDisabled("Ctrl+click the slider to type a value.");
+  ImGui::PopTextWrapPos();
+  ImGui::EndTooltip();
+}
+
+// One row of a stage's table: name (?), slider, unit, reset.
+void param_row(Context& ctx, ParametersState& st, const ParamInfo& info) {
+  DetectorParams& p = ctx.settings.params;
+  ImGui::PushID(info.name);
+  ImGui::TableNextRow();
+  ImGui::TableNextColumn();
+  const bool changed = differs(p, info);
+  if (changed) ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 220, 120, 255));
+  ImGui::TextUnformatted(info.name);
+  if (changed) ImGui::PopStyleColor();
+  if (ImGui::IsItemHovered()) param_tooltip(info);
+  ImGui::SameLine();
+  help_marker(info.help);
+
+  ImGui::TableNextColumn();
+  ImGui::SetNextItemWidth(-FLT_MIN);
+  // Ranges spanning more than three decades (perimeters, resize) get a logarithmic slider.
+  const bool wide = info.max_value - info.min_value > 1000.0;
+  const ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (wide ? ImGuiSliderFlags_Logarithmic : 0);
+  double next = get_param(p, info);
+  bool edited = false;
+  if (info.integer && info.min_value == 0 && info.max_value == 1) {
+    // An on/off switch (corner_refinement).
+    bool on = next != 0;
+    edited = ImGui::Checkbox(on ? "on##v" : "off##v", &on);
+    next = on ? 1 : 0;
+  } else if (info.integer) {
+    int v = static_cast<int>(next);
+    edited = ImGui::SliderInt("##v", &v, static_cast<int>(info.min_value), static_cast<int>(info.max_value), "%d",
+                              flags);
+    next = v;
+  } else {
+    double v = next;
+    edited = ImGui::SliderScalar("##v", ImGuiDataType_Double, &v, &info.min_value, &info.max_value, format_for(info),
+                                 flags | (wide ? ImGuiSliderFlags_NoRoundToFormat : 0));
+    next = v;
+  }
+  if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) param_tooltip(info);
+  if (edited) {
+    std::string err;
+    if (set_param(p, info, next, &err)) st.error.clear();
+    else st.error = err;
+  }
+
+  ImGui::TableNextColumn();
+  ImGui::TextDisabled("%s", info.unit);
+
+  ImGui::TableNextColumn();
+  if (changed) {
+    if (ImGui::SmallButton("reset")) set_param(p, info, info.default_value);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Back to the default, %s", value_text(info, info.default_value).c_str());
+  }
+  ImGui::PopID();
+}
+
+void parameter_tables(Context& ctx, ParametersState& st) {
+  const auto table = param_table();
+  size_t i = 0;
+  while (i < table.size()) {
+    // The table is in pipeline order: consecutive rows of one stage form its group.
+    size_t j = i;
+    int changed = 0;
+    while (j < table.size() && std::string_view(table[j].stage) == table[i].stage) {
+      if (differs(ctx.settings.params, table[j])) ++changed;
+      ++j;
+    }
+    Stage stage = Stage::acquisition;
+    const bool known = stage_from_name(table[i].stage, &stage);
+    char label[128];
+    if (changed) std::snprintf(label, sizeof label, "%s  (%d changed)###%s", table[i].stage, changed, table[i].stage);
+    else std::snprintf(label, sizeof label, "%s###%s", table[i].stage, table[i].stage);
+    if (known) ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(stage));
+    const bool open = ImGui::CollapsingHeader(label, ImGuiTreeNodeFlags_DefaultOpen);
+    if (known) ImGui::PopStyleColor();
+    if (open) {
+      const ImGuiTableFlags tf = ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_RowBg;
+      if (ImGui::BeginTable(table[i].stage, 4, tf)) {
+        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, 215.0f * ctx.scale);
+        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
+        ImGui::TableSetupColumn("unit", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("grey").x);
+        ImGui::TableSetupColumn("reset", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("reset").x +
+                                                                              ImGui::GetStyle().FramePadding.x * 2);
+        for (size_t k = i; k < j; ++k) param_row(ctx, st, table[k]);
+        ImGui::EndTable();
+      }
+    }
+    i = j;
+  }
+}
+
+void presets_section(Context& ctx, ParametersState& st) {
+  if (!ImGui::CollapsingHeader("Presets", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  const float button_w = ImGui::CalcTextSize("Load").x + ImGui::CalcTextSize("Save").x +
+                         ImGui::GetStyle().FramePadding.x * 4 + ImGui::GetStyle().ItemSpacing.x * 2;
+  ImGui::SetNextItemWidth(std::max(120.0f * ctx.scale, ImGui::GetContentRegionAvail().x - button_w));
+  ImGui::InputText("##preset_path", st.path, sizeof st.path);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("A YAML file of name: value pairs (relative to the working folder).");
+  ImGui::SameLine();
+  const bool has_path = st.path[0] != 0;
+  if (ImGui::Button("Load") && has_path) ctx.request(RequestKind::load_preset, st.path);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Every key is checked against the table; on an error nothing changes.");
+  ImGui::SameLine();
+  if (ImGui::Button("Save") && has_path) {
+    // The workbench writes the file; make the folder it goes into so "presets/..." works on the first save.
+    std::error_code ec;
+    const fs::path parent = fs::path(st.path).parent_path();
+    if (!parent.empty()) fs::create_directories(parent, ec);
+    ctx.request(RequestKind::save_preset, st.path);
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Writes every parameter of the table with its current value.");
+
+  ImGui::Spacing();
+  ImGui::TextUnformatted("Shipped presets");
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Refresh")) scan_presets(st);
+  if (st.shipped_dir.empty()) {
+    ImGui::TextDisabled("No assets/presets folder found (from the working folder or the executable).");
+    return;
+  }
+  ImGui::SameLine();
+  ImGui::TextDisabled("%s", st.shipped_dir.c_str());
+  if (st.shipped.empty()) ImGui::TextDisabled("No .yml files there.");
+  for (const ShippedPreset& sp : st.shipped) {
+    ImGui::PushID(sp.path.c_str());
+    if (ImGui::SmallButton("Load")) ctx.request(RequestKind::load_preset, sp.path);
+    ImGui::SameLine();
+    ImGui::TextUnformatted(sp.name.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", sp.path.c_str());
+    if (!sp.comment.empty()) {
+      ImGui::SameLine();
+      ImGui::PushTextWrapPos(0.0f);
+      ImGui::TextDisabled("- %s", sp.comment.c_str());
+      ImGui::PopTextWrapPos();
+    }
+    ImGui::PopID();
+  }
+}
+
+void dictionaries_section(Context& ctx) {
+  if (!ImGui::CollapsingHeader("Dictionaries", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  std::vector<std::string>& sel = ctx.settings.dictionaries;
+  std::string preview = sel.empty() ? std::string("(none)") : sel[0];
+  if (sel.size() > 1) preview += " +" + std::to_string(sel.size() - 1);
+  ImGui::SetNextItemWidth(std::min(ImGui::GetContentRegionAvail().x, 260.0f * ctx.scale));
+  if (ImGui::BeginCombo("##dicts", preview.c_str(), ImGuiComboFlags_HeightLarge)) {
+    for (const std::string& name : dictionary_names()) {
+      const auto it = std::find(sel.begin(), sel.end(), name);
+      bool on = it != sel.end();
+      const bool last = on && sel.size() == 1;
+      if (last) ImGui::BeginDisabled();
+      if (ImGui::Checkbox(name.c_str(), &on)) {
+        if (on) sel.push_back(name);
+        else sel.erase(it);
+      }
+      if (last) {
+        ImGui::EndDisabled();
+        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
+          ImGui::SetTooltip("At least one dictionary stays selected.");
+        }
+      }
+    }
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  ImGui::TextDisabled("%zu selected", sel.size());
+  ImGui::TextWrapped("Each candidate is read against every selected dictionary; more dictionaries cost time and "
+                     "raise the chance of a false identification. The first (%s) is the one the peers run on and "
+                     "marker sheets are printed from.",
+                     sel.empty() ? "none" : sel[0].c_str());
+}
+
+}  // namespace
+
+void draw_parameters(Context& ctx) {
+  static ParametersState st;
+  if (!ImGui::Begin(panel_title(Panel::parameters), &ctx.view.open[static_cast<size_t>(Panel::parameters)])) {
+    ImGui::End();
+    return;
+  }
+  // The shipped presets are listed again whenever the panel is (re)opened.
+  const int frame = ImGui::GetFrameCount();
+  if (frame - st.drawn_frame > 1) scan_presets(st);
+  st.drawn_frame = frame;
+
+  int changed = 0;
+  for (const ParamInfo& info : param_table())
+    if (differs(ctx.settings.params, info)) ++changed;
+  if (changed) ImGui::Text("%d of %zu parameters differ from their defaults", changed, param_table().size());
+  else ImGui::TextDisabled("All %zu parameters at their defaults", param_table().size());
+  ImGui::SameLine();
+  if (changed == 0) ImGui::BeginDisabled();
+  if (ImGui::Button("Reset all")) {
+    ctx.settings.params = DetectorParams();
+    st.error.clear();
+  }
+  if (changed == 0) ImGui::EndDisabled();
+  if (!st.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 80, 80, 255));
+    ImGui::TextWrapped("%s", st.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  ImGui::TextDisabled("Hover a name for what raising it trades; Ctrl+click a slider to type.");
+
+  parameter_tables(ctx, st);
+  ImGui::Spacing();
+  presets_section(ctx, st);
+  dictionaries_section(ctx);
+  ImGui::End();
+}
+
+}  // namespace arwb::ui

@@ -1,0 +1,94 @@
+// Pipeline: every stage as a thumbnail in pipeline order, with its time and counts. The one clicked is shown
+// large. Stages drawn over the frame use the live view's zoom and pan (one shared ImageViewState), so a pixel
+// here is the same pixel there; the per-candidate mosaics (frontal views, grids) have a view of their own.
+#include "core/trace_view.hpp"
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace arwb::ui {
+
+namespace {
+
+const cv::Mat& stage_view(const Frame& f, int stage, bool thumb) {
+  if (stage < 0) return thumb ? f.image_thumb : f.image;
+  return thumb ? f.thumbs[static_cast<size_t>(stage)] : f.views[static_cast<size_t>(stage)];
+}
+
+}  // namespace
+
+void draw_pipeline(Context& ctx) {
+  static ImageViewState mosaic_view;  // the mosaics' own zoom and pan
+  if (!ImGui::Begin(panel_title(Panel::pipeline), &ctx.view.open[static_cast<size_t>(Panel::pipeline)])) {
+    ImGui::End();
+    return;
+  }
+  if (!ctx.frame) {
+    ImGui::TextDisabled("Waiting for the first frame from the source...");
+    ImGui::End();
+    return;
+  }
+  const Frame& f = *ctx.frame;
+  const FrameTrace& t = f.trace;
+  if (t.level != TraceLevel::full) {
+    ImGui::TextWrapped("The trace is at level '%s': stage pictures are made only at the full level.",
+                       std::string(trace_level_name(t.level)).c_str());
+  }
+  const float thumb_w = 112.0f * ctx.scale;
+  const float thumb_h = thumb_w * 0.75f;
+  ImGui::BeginChild("thumbs", {0, thumb_h + ImGui::GetTextLineHeightWithSpacing() * 2.2f + 14.0f * ctx.scale}, false,
+                    ImGuiWindowFlags_HorizontalScrollbar);
+  int& sel = ctx.view.pipeline_stage;
+  if (sel >= 0 && f.views[static_cast<size_t>(sel)].empty()) sel = -1;
+  auto thumb = [&](int stage, const std::string& title, const StageRecord* r) {
+    ImGui::BeginGroup();
+    if (image_button(ctx, "thumb:" + title, stage_view(f, stage, true), f.index, {thumb_w, thumb_h}, sel == stage)) {
+      sel = stage;
+    }
+    if (stage >= 0) ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(static_cast<Stage>(stage)));
+    ImGui::TextUnformatted(title.c_str());
+    if (stage >= 0) ImGui::PopStyleColor();
+    if (r) ImGui::TextDisabled("%.2f ms %d>%d", r->ms, r->in, r->out);
+    else ImGui::TextDisabled("%dx%d", f.image.cols, f.image.rows);
+    ImGui::EndGroup();
+    if (ImGui::IsItemHovered() && r) {
+      ImGui::SetTooltip("%s: %.3f ms, %d in, %d out", title.c_str(), r->ms, r->in, r->out);
+    }
+    ImGui::SameLine();
+  };
+  thumb(-1, "input", nullptr);
+  for (const StageRecord& r : t.stages) thumb(static_cast<int>(r.stage), std::string(stage_name(r.stage)), &r);
+  ImGui::NewLine();
+  ImGui::EndChild();
+
+  const bool mosaic = sel >= 0 && stage_view_is_mosaic(static_cast<Stage>(sel));
+  const std::string title = sel < 0 ? "input" : std::string(stage_name(static_cast<Stage>(sel)));
+  const cv::Mat& big = stage_view(f, sel, false);
+  ImGui::TextUnformatted(title.c_str());
+  ImGui::SameLine();
+  ImGui::TextDisabled(mosaic ? "(one tile per candidate that reached this stage, in ledger order)"
+                             : "(same zoom and pan as the live view: wheel zooms, right-drag pans, right double-click fits)");
+  ImVec2 avail = ImGui::GetContentRegionAvail();
+  avail.y -= ImGui::GetTextLineHeightWithSpacing();
+  const ImageMapping m =
+      image_view(ctx, "stage_big", "stage:" + title, big, f.index, mosaic ? mosaic_view : ctx.view.image, avail);
+  if (m.hovered && !big.empty()) {
+    const int x = static_cast<int>(std::lround(m.mouse_px.x)), y = static_cast<int>(std::lround(m.mouse_px.y));
+    if (x >= 0 && y >= 0 && x < big.cols && y < big.rows) {
+      if (big.channels() == 1) {
+        ImGui::Text("(%d, %d) value %d", x, y, big.at<uint8_t>(y, x));
+      } else {
+        const cv::Vec3b p = big.at<cv::Vec3b>(y, x);
+        ImGui::Text("(%d, %d) RGB %d %d %d", x, y, p[2], p[1], p[0]);
+      }
+    }
+  } else {
+    ImGui::TextDisabled("Hover the image for pixel values; click a thumbnail to show its stage here.");
+  }
+  ImGui::End();
+}
+
+}  // namespace arwb::ui

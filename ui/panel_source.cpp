@@ -1,0 +1,177 @@
+// Source: where frames come from (synthetic scene, camera, video, image, folder), playback, the paper's
+// acquisition step (fps cap and resize), and the synthetic scene's sliders.
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+namespace arwb::ui {
+
+namespace {
+
+struct SourceViewState {
+  char path[1024] = "";
+  int camera = 0;
+  int resolution = 0;  // index into kResolutions
+};
+
+void section(const char* title) {
+  ImGui::Spacing();
+  ImGui::TextDisabled("%s", title);
+  ImGui::Separator();
+}
+
+constexpr const char* kResolutions[] = {"device default", "640x480", "1280x720", "1920x1080"};
+constexpr const char* kSizes[] = {"320x240", "640x480", "800x600", "1280x720", "1920x1080"};
+
+void source_choice(Context& ctx, SourceViewState& st) {
+  const SourceSpec& now = ctx.status.source;
+  ImGui::Text("Source: %s", now.text().c_str());
+  if (ImGui::Button("Synthetic scene")) ctx.request(RequestKind::open_source, "synthetic");
+  ImGui::SameLine();
+  ImGui::TextDisabled("(markers moving in 3D, with exact truth)");
+
+  // Cameras: /dev/videoN found at start.
+  ImGui::SetNextItemWidth(110 * ctx.scale);
+  const std::string cam_label = "camera:" + std::to_string(st.camera);
+  if (ImGui::BeginCombo("##camera", cam_label.c_str())) {
+    for (int dev : ctx.status.cameras) {
+      const std::string l = "camera:" + std::to_string(dev);
+      if (ImGui::Selectable(l.c_str(), dev == st.camera)) st.camera = dev;
+    }
+    if (ctx.status.cameras.empty()) ImGui::TextDisabled("no /dev/video* found");
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(130 * ctx.scale);
+  ImGui::Combo("##res", &st.resolution, kResolutions, IM_ARRAYSIZE(kResolutions));
+  ImGui::SameLine();
+  if (ImGui::Button("Open camera")) {
+    std::string spec = "camera:" + std::to_string(st.camera);
+    if (st.resolution > 0) spec += std::string("@") + kResolutions[st.resolution];
+    ctx.request(RequestKind::open_source, spec);
+  }
+  if (ctx.status.cameras.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("No camera was found at start.");
+
+  ImGui::SetNextItemWidth(-90 * ctx.scale);
+  const bool enter = ImGui::InputTextWithHint("##path", "video, image or folder path", st.path, sizeof st.path,
+                                              ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  if ((ImGui::Button("Open file") || enter) && st.path[0] != '\0') ctx.request(RequestKind::open_source, st.path);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("The kind (video, image, folder) is read from the file itself.");
+}
+
+void playback(Context& ctx) {
+  if (!ctx.frame) return;
+  const SourceInfo& info = ctx.frame->source;
+  if (info.kind != SourceKind::video && info.kind != SourceKind::folder) return;
+  Playback& p = ctx.settings.playback;
+  section(info.kind == SourceKind::video ? "Playback" : "Images");
+  if (ImGui::Button(p.playing ? "Pause" : "Play")) p.playing = !p.playing;
+  ImGui::SameLine();
+  if (ImGui::Button("< Step")) ctx.request(RequestKind::step, {}, -1);
+  ImGui::SameLine();
+  if (ImGui::Button("Step >")) ctx.request(RequestKind::step, {}, +1);
+  ImGui::SameLine();
+  ImGui::Checkbox("Loop", &p.loop);
+  if (info.kind == SourceKind::video) {
+    float speed = static_cast<float>(p.speed);
+    ImGui::SetNextItemWidth(160 * ctx.scale);
+    if (ImGui::SliderFloat("speed", &speed, 0.1f, 8.0f, "%.2fx", ImGuiSliderFlags_Logarithmic)) p.speed = speed;
+  }
+  if (info.count > 0) {
+    int pos = info.position;
+    ImGui::SetNextItemWidth(-1);
+    if (ImGui::SliderInt("##seek", &pos, 0, info.count - 1, info.kind == SourceKind::video ? "frame %d" : "image %d")) {
+      ctx.request(RequestKind::seek, {}, pos);
+    }
+  }
+  if (!info.item.empty()) ImGui::TextDisabled("%s", info.item.c_str());
+}
+
+void acquisition(Context& ctx) {
+  AcquisitionSettings& a = ctx.settings.acquisition;
+  section("Acquisition");
+  float cap = static_cast<float>(a.fps_cap);
+  ImGui::SetNextItemWidth(160 * ctx.scale);
+  if (ImGui::SliderFloat("fps cap", &cap, 0.0f, 60.0f, cap <= 0 ? "off" : "%.0f fps")) a.fps_cap = std::round(cap);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Frames taken from the source per second (the paper uses 20). 0: no cap.");
+  ImGui::Checkbox("resize", &a.resize);
+  ImGui::SameLine();
+  char cur[32];
+  std::snprintf(cur, sizeof cur, "%dx%d", a.size.width, a.size.height);
+  ImGui::SetNextItemWidth(130 * ctx.scale);
+  if (ImGui::BeginCombo("##size", cur)) {
+    for (const char* s : kSizes) {
+      int w = 0, h = 0;
+      std::sscanf(s, "%dx%d", &w, &h);
+      if (ImGui::Selectable(s, w == a.size.width && h == a.size.height)) a.size = {w, h};
+    }
+    ImGui::EndCombo();
+  }
+  if (ctx.frame) {
+    const SourceInfo& i = ctx.frame->source;
+    ImGui::TextDisabled("source %dx%d%s -> working %dx%d", i.size.width, i.size.height,
+                        i.native_fps > 0 ? (" at " + std::to_string(static_cast<int>(i.native_fps)) + " fps").c_str() : "",
+                        ctx.frame->image.cols, ctx.frame->image.rows);
+  }
+}
+
+void scene_controls(Context& ctx) {
+  if (!ctx.frame || ctx.frame->source.kind != SourceKind::synthetic) return;
+  SceneControls& c = ctx.settings.scene;
+  section("Synthetic scene");
+  ImGui::Checkbox("animate", &c.animate);
+  auto slider = [&](const char* label, double& v, float lo, float hi, const char* fmt) {
+    float f = static_cast<float>(v);
+    ImGui::SetNextItemWidth(180 * ctx.scale);
+    if (ImGui::SliderFloat(label, &f, lo, hi, fmt)) v = f;
+  };
+  if (c.animate) slider("speed##scene", c.speed, 0.0f, 4.0f, "%.2fx");
+  else slider("time", c.time_s, 0.0f, 120.0f, "%.1f s");
+  slider("distance", c.distance_m, 0.2f, 3.0f, "%.2f m");
+  slider("tilt", c.tilt_deg, 0.0f, 80.0f, "%.0f deg");
+  slider("light", c.light, 0.2f, 1.5f, "%.2f");
+  slider("blur", c.blur_px, 0.0f, 5.0f, "%.1f px");
+  slider("noise", c.noise, 0.0f, 40.0f, "%.0f grey levels");
+  slider("marker size", c.marker_size_m, 0.02f, 0.3f, "%.3f m");
+  ImGui::SetNextItemWidth(180 * ctx.scale);
+  ImGui::SliderInt("markers", &c.markers, 1, 8);
+  ImGui::SetNextItemWidth(180 * ctx.scale);
+  ImGui::InputInt("first id", &c.first_id);
+  c.first_id = std::max(0, c.first_id);
+  ImGui::SetNextItemWidth(180 * ctx.scale);
+  if (ImGui::BeginCombo("dictionary##scene", c.dict.c_str())) {
+    for (const std::string& n : dictionary_names()) {
+      if (ImGui::Selectable(n.c_str(), n == c.dict)) c.dict = n;
+    }
+    ImGui::EndCombo();
+  }
+  if (c.dict != (ctx.settings.dictionaries.empty() ? "" : ctx.settings.dictionaries[0])) {
+    ImGui::TextColored({1, 0.8f, 0.3f, 1}, "The detector reads %s, not %s.",
+                       ctx.settings.dictionaries.empty() ? "nothing" : ctx.settings.dictionaries[0].c_str(),
+                       c.dict.c_str());
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Detect this dictionary")) ctx.settings.dictionaries = {c.dict};
+  }
+  if (ImGui::Button("Reset scene")) c = SceneControls{};
+}
+
+}  // namespace
+
+void draw_source(Context& ctx) {
+  static SourceViewState st;
+  if (!ImGui::Begin(panel_title(Panel::source), &ctx.view.open[static_cast<size_t>(Panel::source)])) {
+    ImGui::End();
+    return;
+  }
+  source_choice(ctx, st);
+  playback(ctx);
+  acquisition(ctx);
+  scene_controls(ctx);
+  ImGui::End();
+}
+
+}  // namespace arwb::ui

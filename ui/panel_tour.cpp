@@ -1,0 +1,121 @@
+// The guided tour for teaching: the frame is frozen and the tour steps through the stages one at a time, each
+// with the stage's picture, its figures for this frame, a short explanation read from assets/teaching/tour.txt
+// (teachers edit or translate that file) and the parameters that step is about. The pipeline panel follows the
+// tour's stage, so the large view shows what the text explains.
+#include "core/tour.hpp"
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace arwb::ui {
+
+namespace {
+
+void stage_figures(Context& ctx, const TourStep& step) {
+  if (!ctx.frame || !step.is_stage) return;
+  const Frame& f = *ctx.frame;
+  const StageRecord* r = f.trace.stage(step.stage);
+  if (r) {
+    ImGui::TextDisabled("This frame: %.2f ms, %d in, %d out", r->ms, r->in, r->out);
+  }
+  const cv::Mat& view = f.views[static_cast<size_t>(step.stage)];
+  if (!view.empty()) {
+    const float w = std::min(ImGui::GetContentRegionAvail().x, 520.0f * ctx.scale);
+    const float h = w * static_cast<float>(view.rows) / static_cast<float>(view.cols);
+    image_button(ctx, "tour:" + step.key, view, f.index, {w, h});
+    if (ImGui::IsItemClicked()) ctx.view.open[static_cast<size_t>(Panel::pipeline)] = true;
+  }
+}
+
+void step_params(Context& ctx, const TourStep& step) {
+  for (const std::string& name : step.params) {
+    const ParamInfo* info = find_param(name);
+    if (!info) continue;
+    DetectorParams& p = ctx.settings.params;
+    ImGui::SetNextItemWidth(220 * ctx.scale);
+    if (info->integer) {
+      int v = static_cast<int>(get_param(p, *info));
+      if (ImGui::SliderInt(info->name, &v, static_cast<int>(info->min_value), static_cast<int>(info->max_value))) {
+        set_param(p, *info, v);
+      }
+    } else {
+      float v = static_cast<float>(get_param(p, *info));
+      if (ImGui::SliderFloat(info->name, &v, static_cast<float>(info->min_value), static_cast<float>(info->max_value),
+                             "%.3g")) {
+        set_param(p, *info, v);
+      }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", info->help);
+  }
+}
+
+}  // namespace
+
+void draw_tour(Context& ctx) {
+  View& v = ctx.view;
+  if (!ImGui::Begin(panel_title(Panel::tour), &v.open[static_cast<size_t>(Panel::tour)])) {
+    ImGui::End();
+    return;
+  }
+  if (ctx.tour.empty()) {
+    ImGui::TextWrapped("No tour was loaded: the log says why (the text lives in assets/teaching/tour.txt).");
+    ImGui::End();
+    return;
+  }
+  const int n = static_cast<int>(ctx.tour.size());
+  v.tour_step = std::clamp(v.tour_step, 0, n - 1);
+  const TourStep& step = ctx.tour[static_cast<size_t>(v.tour_step)];
+  if (v.tour_active && step.is_stage) v.pipeline_stage = static_cast<int>(step.stage);
+
+  // Navigation.
+  ImGui::BeginDisabled(v.tour_step == 0);
+  if (ImGui::Button("< Back")) --v.tour_step;
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  ImGui::BeginDisabled(v.tour_step == n - 1);
+  if (ImGui::Button("Next >")) ++v.tour_step;
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  ImGui::Text("Step %d of %d", v.tour_step + 1, n);
+  ImGui::SameLine();
+  ImGui::Checkbox("Freeze", &ctx.settings.frozen);
+  ImGui::SameLine();
+  if (ImGui::Button("Next frame")) ctx.request(RequestKind::next_frame);
+  ImGui::SameLine();
+  ImGui::Checkbox("Presentation", &v.presentation);
+  ImGui::SameLine();
+  if (ImGui::Button("Print markers")) ctx.request(RequestKind::marker_sheet, "marker-sheet.pdf", 0);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Writes marker-sheet.pdf (A4, 50 mm markers, as `arwb markers`).");
+  if (!v.tour_active) {
+    v.tour_active = true;
+    ctx.settings.frozen = true;  // a lesson explains one frame; "Next frame" moves on
+  }
+  ImGui::Separator();
+
+  ImGui::BeginChild("step");
+  if (step.is_stage) ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(step.stage));
+  ImGui::TextWrapped("%s", step.title.c_str());
+  if (step.is_stage) ImGui::PopStyleColor();
+  if (step.is_stage) ImGui::TextDisabled("stage: %s", step.key.c_str());
+  ImGui::Spacing();
+  ImGui::TextWrapped("%s", step.text.c_str());
+  if (!step.look.empty()) {
+    ImGui::Spacing();
+    ImGui::TextColored({1.0f, 0.85f, 0.4f, 1}, "Look: ");
+    ImGui::SameLine();
+    ImGui::TextWrapped("%s", step.look.c_str());
+  }
+  ImGui::Spacing();
+  stage_figures(ctx, step);
+  if (!step.params.empty()) {
+    ImGui::Spacing();
+    ImGui::TextDisabled("Try:");
+    step_params(ctx, step);
+  }
+  ImGui::EndChild();
+  ImGui::End();
+}
+
+}  // namespace arwb::ui

@@ -1,0 +1,90 @@
+// "Why not detected?": the rectangle dragged on the live view, every candidate the pipeline had there and where
+// it was dropped, or the early stage that lost the marker; and the parameter sweep that finds the smallest change
+// making a marker appear there.
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <cstdio>
+
+namespace arwb::ui {
+
+namespace {
+
+void sweep_section(Context& ctx) {
+  const SweepStatus& s = ctx.status.sweep;
+  ImGui::Separator();
+  if (s.running) {
+    ImGui::ProgressBar(static_cast<float>(s.progress), {-1, 0}, "sweeping the parameter table...");
+    return;
+  }
+  if (ImGui::Button("Find the smallest change that detects it")) {
+    ctx.request(RequestKind::sweep, {}, 0, ctx.view.region);
+  }
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("Re-runs the detector on this frame with each parameter moved across its range (nearest values\n"
+                      "first), then pairs of parameters, and reports the smallest change that finds a marker here.");
+  }
+  if (!s.has_result) return;
+  const SweepResult& r = s.result;
+  ImGui::TextWrapped("%s", r.message.c_str());
+  ImGui::TextDisabled("%d detector runs", r.runs);
+  if (r.found && !r.changes.empty()) {
+    for (const SweepChange& c : r.changes) ImGui::BulletText("%s: %g -> %g", c.param.c_str(), c.from, c.to);
+    if (ImGui::Button("Apply this change")) {
+      for (const SweepChange& c : r.changes) {
+        if (const ParamInfo* info = find_param(c.param)) set_param(ctx.settings.params, *info, c.to);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void draw_why(Context& ctx) {
+  if (!ImGui::Begin(panel_title(Panel::why), &ctx.view.open[static_cast<size_t>(Panel::why)])) {
+    ImGui::End();
+    return;
+  }
+  View& v = ctx.view;
+  if (!v.has_region) {
+    ImGui::TextWrapped("Tick 'Why? (drag)' in the live view, then drag a rectangle around a marker that is not "
+                       "detected. This panel lists every candidate the pipeline had there and where it was dropped.");
+    if (!v.region_tool && ImGui::Button("Start: pick a region")) v.region_tool = true;
+    ImGui::End();
+    return;
+  }
+  ImGui::Text("Region %.0f,%.0f  %.0fx%.0f px", static_cast<double>(v.region.x), static_cast<double>(v.region.y),
+              static_cast<double>(v.region.width), static_cast<double>(v.region.height));
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Clear")) {
+    v.has_region = false;
+    v.region_tool = false;
+  }
+  const RegionReport& rep = v.region_report;
+  if (rep.lost_at != Stage::accepted) {
+    ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(rep.lost_at));
+    ImGui::TextWrapped("Lost at %s", std::string(stage_name(rep.lost_at)).c_str());
+    ImGui::PopStyleColor();
+  }
+  ImGui::TextWrapped("%s", rep.summary.c_str());
+  if (!rep.candidates.empty()) {
+    ImGui::TextDisabled("%zu candidate(s) here, hover to highlight, click to inspect:", rep.candidates.size());
+    ImGui::BeginChild("cands", {0, 160 * ctx.scale}, true);
+    for (const RegionCandidate& c : rep.candidates) {
+      ImGui::PushStyleColor(ImGuiCol_Text, c.fate.stage == Stage::accepted ? accepted_colour() : stage_colour(c.fate.stage));
+      ImGui::PushID(c.index);
+      if (ImGui::Selectable(c.line.c_str(), v.selected_candidate == c.index)) {
+        v.selected_candidate = c.index;
+        v.open[static_cast<size_t>(Panel::inspector)] = true;
+      }
+      if (ImGui::IsItemHovered()) v.hovered_candidate = c.index;
+      ImGui::PopID();
+      ImGui::PopStyleColor();
+    }
+    ImGui::EndChild();
+  }
+  sweep_section(ctx);
+  ImGui::End();
+}
+
+}  // namespace arwb::ui

@@ -1,0 +1,26 @@
+// The workbench's panels, one file each (ui/panel_<key>.cpp). Each draws into its own ImGui window named by
+// panel_title(), from ctx.frame (const) and its view state, and returns nothing: actions go to ctx.requests.
+// A panel that has nothing to show says why ("No candidate selected: click one in the ledger").
+#pragma once
+
+#include "ui/context.hpp"
+
+namespace arwb::ui {
+
+void draw_live_view(Context& ctx);    // frame + overlays, zoom/pan, pixel under cursor, region tool
+void draw_pipeline(Context& ctx);     // stage thumbnails in order, one large with the live view's zoom/pan
+void draw_candidates(Context& ctx);   // the ledger: every candidate and its fate, sortable, filterable
+void draw_inspector(Context& ctx);    // the selected candidate: contour, quad, warp, histogram, bits, rotations
+void draw_parameters(Context& ctx);   // the parameter table as sliders, reset, YAML presets
+void draw_timings(Context& ctx);      // ms per stage, fps, history plot
+void draw_dictionary(Context& ctx);   // markers of a dictionary, min distance, closest pairs
+void draw_peers(Context& ctx);        // OpenCV aruco and AprilTag on the same frame
+void draw_source(Context& ctx);       // source choice, playback, acquisition, synthetic scene controls
+void draw_tour(Context& ctx);         // the guided teaching tour
+void draw_why(Context& ctx);          // "why isn't my marker detected?" report and sweep
+void draw_log(Context& ctx);          // messages, warnings and errors
+
+// Draws every open panel (View::open), in the order of Panel.
+void draw_panels(Context& ctx);
+
+}  // namespace arwb::ui

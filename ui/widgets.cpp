@@ -1,0 +1,226 @@
+#include "ui/widgets.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace arwb::ui {
+
+ImU32 stage_colour(Stage s, float alpha) {
+  // One hue per stage, early stages cool, late stages warm, so "how far it got" reads at a glance.
+  static const ImVec4 kColours[kStageCount] = {
+      {0.6f, 0.6f, 0.6f, 1}, {0.5f, 0.5f, 0.9f, 1}, {0.3f, 0.6f, 1.0f, 1}, {0.2f, 0.8f, 1.0f, 1},
+      {0.2f, 0.9f, 0.8f, 1}, {0.6f, 0.9f, 0.3f, 1}, {0.9f, 0.9f, 0.2f, 1}, {1.0f, 0.75f, 0.2f, 1},
+      {1.0f, 0.6f, 0.2f, 1}, {1.0f, 0.45f, 0.2f, 1}, {1.0f, 0.25f, 0.25f, 1}, {1.0f, 0.3f, 0.7f, 1},
+      {0.8f, 0.4f, 1.0f, 1},
+  };
+  const int i = static_cast<int>(s);
+  ImVec4 c = (i >= 0 && i < kStageCount) ? kColours[i] : ImVec4(1, 1, 1, 1);
+  c.w = alpha;
+  return ImGui::ColorConvertFloat4ToU32(c);
+}
+
+ImU32 accepted_colour(float alpha) { return ImGui::ColorConvertFloat4ToU32({0.1f, 1.0f, 0.2f, alpha}); }
+
+ImU32 fate_colour(Stage s, float alpha) { return s == Stage::accepted ? accepted_colour(alpha) : stage_colour(s, alpha); }
+
+bool chip(const char* label, ImU32 colour, bool on) {
+  const ImVec2 text = ImGui::CalcTextSize(label, nullptr, true);
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const ImVec2 pad{style.FramePadding.x, style.FramePadding.y * 0.5f};
+  const ImVec2 size{text.x + pad.x * 2, text.y + pad.y * 2};
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::PushID(label);
+  const bool clicked = ImGui::InvisibleButton("##chip", size);
+  ImGui::PopID();
+  ImVec4 c = ImGui::ColorConvertU32ToFloat4(colour);
+  if (!on) c = {c.x * 0.35f + 0.1f, c.y * 0.35f + 0.1f, c.z * 0.35f + 0.1f, c.w};
+  if (ImGui::IsItemHovered()) c = {std::min(1.0f, c.x * 1.15f), std::min(1.0f, c.y * 1.15f), std::min(1.0f, c.z * 1.15f), c.w};
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 p1{p0.x + size.x, p0.y + size.y};
+  dl->AddRectFilled(p0, p1, ImGui::ColorConvertFloat4ToU32(c), size.y * 0.5f);
+  if (!on) dl->AddRect(p0, p1, IM_COL32(150, 150, 150, 200), size.y * 0.5f);
+  const ImU32 ink = on ? IM_COL32(10, 10, 10, 255) : IM_COL32(170, 170, 170, 255);
+  const char* end = std::strstr(label, "##");
+  dl->AddText({p0.x + pad.x, p0.y + pad.y}, ink, label, end ? end : label + std::strlen(label));
+  return clicked;
+}
+
+ImageMapping image_view(Context& ctx, const char* id, const std::string& key, const cv::Mat& image,
+                        uint64_t version, ImageViewState& st, ImVec2 size) {
+  ImageMapping m;
+  ImVec2 avail = ImGui::GetContentRegionAvail();
+  if (size.x <= 0) size.x = std::max(avail.x, 32.0f);
+  if (size.y <= 0) size.y = std::max(avail.y, 32.0f);
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::InvisibleButton(id, size, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
+                                       ImGuiButtonFlags_MouseButtonMiddle);
+  m.min = p0;
+  m.max = {p0.x + size.x, p0.y + size.y};
+  m.hovered = ImGui::IsItemHovered();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(m.min, m.max, IM_COL32(24, 24, 28, 255));
+  if (image.empty()) {
+    dl->AddText({p0.x + 8, p0.y + 8}, IM_COL32(200, 200, 200, 255), "No frame yet");
+    return m;
+  }
+  const float iw = static_cast<float>(image.cols), ih = static_cast<float>(image.rows);
+  const float fit_zoom = std::min(size.x / iw, size.y / ih);
+  if (st.fit) {
+    st.zoom = fit_zoom;
+    st.centre = {iw * 0.5f - 0.5f, ih * 0.5f - 0.5f};
+  }
+  ImGuiIO& io = ImGui::GetIO();
+  const ImVec2 mid{p0.x + size.x * 0.5f, p0.y + size.y * 0.5f};
+  auto origin_for = [&](float zoom, ImVec2 centre) {
+    return ImVec2{mid.x - (centre.x + 0.5f) * zoom, mid.y - (centre.y + 0.5f) * zoom};
+  };
+  if (m.hovered && io.MouseWheel != 0) {
+    // Zoom about the cursor: the image point under it stays under it.
+    const ImVec2 o = origin_for(st.zoom, st.centre);
+    const float px = (io.MousePos.x - o.x) / st.zoom, py = (io.MousePos.y - o.y) / st.zoom;
+    const float z = std::clamp(st.zoom * std::pow(1.2f, io.MouseWheel), fit_zoom * 0.25f, 64.0f);
+    st.zoom = z;
+    st.centre = {px - (io.MousePos.x - mid.x) / z - 0.5f, py - (io.MousePos.y - mid.y) / z - 0.5f};
+    st.fit = false;
+  }
+  if (ImGui::IsItemActive() && (ImGui::IsMouseDragging(ImGuiMouseButton_Right) ||
+                                ImGui::IsMouseDragging(ImGuiMouseButton_Middle))) {
+    st.centre.x -= io.MouseDelta.x / st.zoom;
+    st.centre.y -= io.MouseDelta.y / st.zoom;
+    st.fit = false;
+  }
+  if (m.hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Right)) st.fit = true;
+  m.zoom = st.zoom;
+  m.origin = origin_for(st.zoom, st.centre);
+  const ImTextureID tex = ctx.texture(key, image, version);
+  dl->PushClipRect(m.min, m.max, true);
+  dl->AddImage(tex, m.origin, {m.origin.x + iw * st.zoom, m.origin.y + ih * st.zoom});
+  dl->PopClipRect();
+  if (m.hovered) {
+    const cv::Point2f p = m.to_image(io.MousePos);
+    m.mouse_px = {p.x, p.y};
+  }
+  return m;
+}
+
+void draw_quad(ImDrawList* dl, const ImageMapping& m, const Quad& q, ImU32 colour, float thickness, bool mark_corner0) {
+  ImVec2 pts[4];
+  for (int i = 0; i < 4; ++i) pts[i] = m.to_screen(q[static_cast<size_t>(i)]);
+  dl->AddPolyline(pts, 4, colour, ImDrawFlags_Closed, thickness);
+  if (mark_corner0) {
+    const float r = std::max(3.0f, thickness * 2.0f);
+    dl->AddRectFilled({pts[0].x - r, pts[0].y - r}, {pts[0].x + r, pts[0].y + r}, colour);
+  }
+}
+
+std::string candidate_line(const FrameTrace& t, int index) {
+  if (index < 0 || index >= static_cast<int>(t.candidates.size())) return {};
+  const CandidateRecord& c = t.candidates[static_cast<size_t>(index)];
+  char head[96];
+  std::snprintf(head, sizeof head, "#%d %dx%d px: ", index, c.bbox.width, c.bbox.height);
+  if (c.fate.stage == Stage::accepted && c.marker >= 0 && c.marker < static_cast<int>(t.markers.size())) {
+    const Marker& mk = t.markers[static_cast<size_t>(c.marker)];
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "id %d (%s), %d bit%s corrected", mk.id, mk.dict.c_str(), mk.hamming,
+                  mk.hamming == 1 ? "" : "s");
+    return head + std::string(buf);
+  }
+  return head + std::string(stage_name(c.fate.stage)) + ": " + c.fate.message;
+}
+
+void histogram_plot(const CandidateRecord& c, ImVec2 size) {
+  if (c.histogram.size() != 256) {
+    ImGui::TextDisabled("No histogram (needs the full trace and a frontal view).");
+    return;
+  }
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::Dummy(size);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, {p0.x + size.x, p0.y + size.y}, IM_COL32(30, 30, 34, 255));
+  const int peak = std::max(1, *std::max_element(c.histogram.begin(), c.histogram.end()));
+  const float bw = size.x / 256.0f;
+  for (int i = 0; i < 256; ++i) {
+    const float h = size.y * static_cast<float>(c.histogram[static_cast<size_t>(i)]) / static_cast<float>(peak);
+    if (h <= 0) continue;
+    const ImU32 col = i <= c.otsu_threshold ? IM_COL32(110, 110, 120, 255) : IM_COL32(220, 220, 220, 255);
+    dl->AddRectFilled({p0.x + static_cast<float>(i) * bw, p0.y + size.y - h},
+                      {p0.x + static_cast<float>(i + 1) * bw, p0.y + size.y}, col);
+  }
+  if (c.otsu_threshold >= 0) {
+    const float x = p0.x + (static_cast<float>(c.otsu_threshold) + 0.5f) * bw;
+    dl->AddLine({x, p0.y}, {x, p0.y + size.y}, IM_COL32(255, 80, 80, 255), 2.0f);
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "Otsu %d", c.otsu_threshold);
+    dl->AddText({x + 4, p0.y + 2}, IM_COL32(255, 120, 120, 255), buf);
+  }
+  if (ImGui::IsItemHovered()) {
+    const int bin = std::clamp(static_cast<int>((ImGui::GetIO().MousePos.x - p0.x) / bw), 0, 255);
+    ImGui::SetTooltip("grey %d: %d px", bin, c.histogram[static_cast<size_t>(bin)]);
+  }
+}
+
+void bit_grid(const CandidateRecord& c, float cell) {
+  if (c.bits.empty()) {
+    ImGui::TextDisabled("No bit grid (the candidate stopped before bit_grid, or the trace is not full).");
+    return;
+  }
+  const int n = c.bits.rows;
+  // The nearest marker's bits in the rotation that matched best, to cross the wrong ones.
+  cv::Mat expected;
+  int best = -1;
+  for (int k = 0; k < 4; ++k) {
+    const DictMatch& m = c.per_rotation[static_cast<size_t>(k)];
+    if (m.id >= 0 && (best < 0 || m.hamming < c.per_rotation[static_cast<size_t>(best)].hamming)) best = k;
+  }
+  std::optional<Dictionary> dict;
+  if (best >= 0 && !c.dict.empty()) dict = dictionary_by_name(c.dict);
+  if (dict && dict->marker_size() == n - 2) {
+    const DictMatch& m = c.per_rotation[static_cast<size_t>(best)];
+    expected = Dictionary::unpack(dict->code(m.id, m.rotation), dict->marker_size());
+  }
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::Dummy({cell * static_cast<float>(n), cell * static_cast<float>(n)});
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  for (int r = 0; r < n; ++r) {
+    for (int col = 0; col < n; ++col) {
+      const bool white = c.bits.at<uint8_t>(r, col) != 0;
+      const ImVec2 a{p0.x + static_cast<float>(col) * cell, p0.y + static_cast<float>(r) * cell};
+      const ImVec2 b{a.x + cell, a.y + cell};
+      dl->AddRectFilled(a, b, white ? IM_COL32(235, 235, 235, 255) : IM_COL32(20, 20, 20, 255));
+      dl->AddRect(a, b, IM_COL32(90, 90, 100, 255));
+      const bool border = r == 0 || col == 0 || r == n - 1 || col == n - 1;
+      if (border && white) {
+        dl->AddRect({a.x + 1, a.y + 1}, {b.x - 1, b.y - 1}, IM_COL32(255, 40, 40, 255), 0, 0, 3.0f);
+      } else if (!border && !expected.empty() && expected.at<uint8_t>(r - 1, col - 1) != (white ? 1 : 0)) {
+        const ImU32 red = IM_COL32(255, 40, 40, 255);
+        dl->AddLine({a.x + 3, a.y + 3}, {b.x - 3, b.y - 3}, red, 2.5f);
+        dl->AddLine({b.x - 3, a.y + 3}, {a.x + 3, b.y - 3}, red, 2.5f);
+      }
+    }
+  }
+}
+
+bool image_button(Context& ctx, const std::string& key, const cv::Mat& image, uint64_t version, ImVec2 size,
+                  bool selected) {
+  ImGui::PushID(key.c_str());
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  const bool clicked = ImGui::InvisibleButton("##img", size);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, {p0.x + size.x, p0.y + size.y}, IM_COL32(24, 24, 28, 255));
+  if (!image.empty()) {
+    // Keep the aspect ratio inside the button.
+    const float s = std::min(size.x / static_cast<float>(image.cols), size.y / static_cast<float>(image.rows));
+    const float w = static_cast<float>(image.cols) * s, h = static_cast<float>(image.rows) * s;
+    const ImVec2 a{p0.x + (size.x - w) * 0.5f, p0.y + (size.y - h) * 0.5f};
+    dl->AddImage(ctx.texture(key, image, version, false), a, {a.x + w, a.y + h});
+  }
+  const ImU32 frame = selected ? IM_COL32(255, 200, 60, 255)
+                               : (ImGui::IsItemHovered() ? IM_COL32(160, 160, 200, 255) : IM_COL32(70, 70, 80, 255));
+  dl->AddRect(p0, {p0.x + size.x, p0.y + size.y}, frame, 0, 0, selected ? 3.0f : 1.0f);
+  ImGui::PopID();
+  return clicked;
+}
+
+}  // namespace arwb::ui

@@ -1,0 +1,62 @@
+// Small reusable drawers shared by the panels (as ImGui's Metrics window is built from one drawer per struct):
+// an image view with zoom and pan, quads over it, a candidate's one-line summary, an Otsu histogram and a bit
+// grid. Reused by the live view, the pipeline, the ledger's tooltips, the inspector and the teaching tour.
+#pragma once
+
+#include "core/dictionary.hpp"
+#include "core/trace.hpp"
+#include "ui/context.hpp"
+
+#include <imgui.h>
+
+#include <string>
+
+namespace arwb::ui {
+
+// The colour of a stage (rejected candidates are drawn in the colour of the stage that dropped them).
+ImU32 stage_colour(Stage s, float alpha = 1.0f);
+ImU32 accepted_colour(float alpha = 1.0f);
+// The colour of a candidate's fate: accepted_colour for markers, else the colour of the stage that dropped it.
+ImU32 fate_colour(Stage s, float alpha = 1.0f);
+
+// Where an image landed on screen, to draw overlays on it.
+struct ImageMapping {
+  ImVec2 origin{0, 0};   // screen position of image pixel (-0.5, -0.5), the top-left of the first pixel
+  float zoom = 1;        // screen pixels per image pixel
+  bool hovered = false;  // the mouse is over the view
+  ImVec2 mouse_px{-1, -1};  // image pixel coordinates under the mouse (pixel centres at integers)
+  ImVec2 min{0, 0}, max{0, 0};  // the view's screen rectangle
+  ImVec2 to_screen(float x, float y) const { return {origin.x + (x + 0.5f) * zoom, origin.y + (y + 0.5f) * zoom}; }
+  ImVec2 to_screen(cv::Point2f p) const { return to_screen(p.x, p.y); }
+  cv::Point2f to_image(ImVec2 s) const { return {(s.x - origin.x) / zoom - 0.5f, (s.y - origin.y) / zoom - 0.5f}; }
+};
+
+// Draws `image` (uploaded as texture `key` at `version`) in a child region of `size` (0: all available space)
+// with zoom (mouse wheel, about the cursor), pan (drag with the right or middle button) and fit (double-click
+// with the right button, or the state's fit flag). `state` may be shared by several views.
+ImageMapping image_view(Context& ctx, const char* id, const std::string& key, const cv::Mat& image,
+                        uint64_t version, ImageViewState& state, ImVec2 size = {0, 0});
+
+// Outline of a quad; corner 0 gets a filled square so the marker's orientation shows.
+void draw_quad(ImDrawList* dl, const ImageMapping& m, const Quad& q, ImU32 colour, float thickness,
+               bool mark_corner0 = false);
+
+// "#12 id 37 (ARUCO_ORIGINAL)" or "#12 otsu: stddev 3.1 < otsu_min_stddev 5": the candidate's fate in a line.
+std::string candidate_line(const FrameTrace& t, int index);
+
+// The frontal view's histogram with Otsu's threshold marked.
+void histogram_plot(const CandidateRecord& c, ImVec2 size);
+
+// The bit grid, one square per cell: border cells that are not black outlined in red, inner bits that differ
+// from the nearest marker (in its best rotation) crossed. `cell` is the side of a cell in screen pixels.
+void bit_grid(const CandidateRecord& c, float cell);
+
+// An image drawn at a fixed size with a border (thumbnails, frontal views). Returns true when clicked.
+// A small rounded label filled with `colour` (dimmed when !on), dark text on it, on the current line. Returns true
+// when clicked. Used for per-stage counts that toggle a filter, and for a fate in a heading.
+bool chip(const char* label, ImU32 colour, bool on = true);
+
+bool image_button(Context& ctx, const std::string& key, const cv::Mat& image, uint64_t version, ImVec2 size,
+                  bool selected = false);
+
+}  // namespace arwb::ui
