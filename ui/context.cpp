@@ -34,9 +34,11 @@ bool panel_from_key(std::string_view key, Panel* out) {
 
 View::View() {
   open.fill(true);
-  open[static_cast<int>(Panel::tour)] = false;
-  open[static_cast<int>(Panel::why)] = false;
+  // The first start opens what fits the default layout side by side; the rest are one click away (View menu).
+  for (Panel p : {Panel::tour, Panel::why, Panel::dictionary, Panel::peers}) open[static_cast<size_t>(p)] = false;
   show_rejected_stage.fill(true);
+  // Regions too small to trace are hundreds of specks per frame: the ledger and the overlay hide them at first.
+  show_rejected_stage[static_cast<size_t>(Stage::size_filter)] = false;
 }
 
 ImTextureID Context::texture(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest) {

@@ -135,8 +135,6 @@ void toolbar(Context& ctx) {
   if (ImGui::Button("Snapshot")) ctx.request(RequestKind::snapshot);
   ImGui::SameLine();
   if (ImGui::Button("Fit")) v.image.fit = true;
-  ImGui::SameLine();
-  ImGui::Text("%.0f%%", static_cast<double>(v.image.zoom) * 100.0);
 }
 
 void status_line(Context& ctx, const ImageMapping& m) {
@@ -144,8 +142,9 @@ void status_line(Context& ctx, const ImageMapping& m) {
   const int x = static_cast<int>(std::lround(m.mouse_px.x)), y = static_cast<int>(std::lround(m.mouse_px.y));
   const FrameTrace& t = f.trace;
   int accepted = static_cast<int>(t.markers.size());
-  ImGui::Text("frame %llu  %dx%d  %d markers, %zu candidates  detect %.2f ms", static_cast<unsigned long long>(f.index),
-              f.image.cols, f.image.rows, accepted, t.candidates.size(), f.detect_ms);
+  ImGui::Text("frame %llu  %dx%d  %.0f%%  %d markers, %zu candidates  detect %.2f ms",
+              static_cast<unsigned long long>(f.index), f.image.cols, f.image.rows, static_cast<double>(m.zoom) * 100.0,
+              accepted, t.candidates.size(), f.detect_ms);
   if (m.hovered && x >= 0 && y >= 0 && x < f.image.cols && y < f.image.rows) {
     const cv::Vec3b bgr = f.image.at<cv::Vec3b>(y, x);
     ImGui::SameLine();

@@ -37,10 +37,10 @@ void draw_pipeline(Context& ctx) {
     ImGui::TextWrapped("The trace is at level '%s': stage pictures are made only at the full level.",
                        std::string(trace_level_name(t.level)).c_str());
   }
-  const float thumb_w = 112.0f * ctx.scale;
+  // Thumbnails in a scrolling column on the left, so the large view keeps most of the panel.
+  const float thumb_w = 104.0f * ctx.scale;
   const float thumb_h = thumb_w * 0.75f;
-  ImGui::BeginChild("thumbs", {0, thumb_h + ImGui::GetTextLineHeightWithSpacing() * 2.2f + 14.0f * ctx.scale}, false,
-                    ImGuiWindowFlags_HorizontalScrollbar);
+  ImGui::BeginChild("thumbs", {thumb_w + ImGui::GetStyle().ScrollbarSize + 12.0f * ctx.scale, 0}, false);
   int& sel = ctx.view.pipeline_stage;
   if (sel >= 0 && f.views[static_cast<size_t>(sel)].empty()) sel = -1;
   auto thumb = [&](int stage, const std::string& title, const StageRecord* r) {
@@ -57,20 +57,22 @@ void draw_pipeline(Context& ctx) {
     if (ImGui::IsItemHovered() && r) {
       ImGui::SetTooltip("%s: %.3f ms, %d in, %d out", title.c_str(), r->ms, r->in, r->out);
     }
-    ImGui::SameLine();
+    ImGui::Spacing();
   };
   thumb(-1, "input", nullptr);
   for (const StageRecord& r : t.stages) thumb(static_cast<int>(r.stage), std::string(stage_name(r.stage)), &r);
-  ImGui::NewLine();
   ImGui::EndChild();
+  ImGui::SameLine();
+  ImGui::BeginGroup();
 
   const bool mosaic = sel >= 0 && stage_view_is_mosaic(static_cast<Stage>(sel));
   const std::string title = sel < 0 ? "input" : std::string(stage_name(static_cast<Stage>(sel)));
   const cv::Mat& big = stage_view(f, sel, false);
   ImGui::TextUnformatted(title.c_str());
   ImGui::SameLine();
-  ImGui::TextDisabled(mosaic ? "(one tile per candidate that reached this stage, in ledger order)"
-                             : "(same zoom and pan as the live view: wheel zooms, right-drag pans, right double-click fits)");
+  ImGui::TextDisabled(mosaic ? "(a tile per candidate that reached this stage, in ledger order)"
+                             : "(zoom and pan shared with the live view)");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Wheel zooms, right-drag pans, right double-click fits.");
   ImVec2 avail = ImGui::GetContentRegionAvail();
   avail.y -= ImGui::GetTextLineHeightWithSpacing();
   const ImageMapping m =
@@ -88,6 +90,7 @@ void draw_pipeline(Context& ctx) {
   } else {
     ImGui::TextDisabled("Hover the image for pixel values; click a thumbnail to show its stage here.");
   }
+  ImGui::EndGroup();
   ImGui::End();
 }
 

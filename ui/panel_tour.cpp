@@ -89,8 +89,11 @@ void draw_tour(Context& ctx) {
   if (ImGui::Button("Print markers")) ctx.request(RequestKind::marker_sheet, "marker-sheet.pdf", 0);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Writes marker-sheet.pdf (A4, 50 mm markers, as `arwb markers`).");
   if (!v.tour_active) {
-    v.tour_active = true;
-    ctx.settings.frozen = true;  // a lesson explains one frame; "Next frame" moves on
+    ImGui::SameLine();
+    if (ImGui::Button("Start the lesson")) {
+      v.tour_active = true;
+      ctx.settings.frozen = true;  // a lesson explains one frame; "Next frame" moves on
+    }
   }
   ImGui::Separator();
 

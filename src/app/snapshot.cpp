@@ -37,7 +37,8 @@ bool write_png(const fs::path& path, const cv::Mat& img, std::string* error) {
 
 }  // namespace
 
-SnapshotResult write_snapshot(const std::string& parent_dir, const cv::Mat& frame, const FrameTrace& trace) {
+SnapshotResult write_snapshot(const std::string& parent_dir, const cv::Mat& frame, const FrameTrace& trace,
+                              const std::array<cv::Mat, kStageCount>* views) {
   SnapshotResult res;
   try {
     const fs::path parent(parent_dir.empty() ? "." : parent_dir);
@@ -71,10 +72,13 @@ SnapshotResult write_snapshot(const std::string& parent_dir, const cv::Mat& fram
     };
     if (!frame.empty() && !png("frame.png", frame)) return res;
     for (const StageRecord& s : trace.stages) {
-      if (s.image.empty()) continue;
+      // The stage's picture (trace_view.hpp) when given, else the image the pipeline kept, if any.
+      const cv::Mat* img = &s.image;
+      if (views && !(*views)[static_cast<size_t>(s.stage)].empty()) img = &(*views)[static_cast<size_t>(s.stage)];
+      if (img->empty()) continue;
       char name[64];
       std::snprintf(name, sizeof name, "%02d_%s.png", static_cast<int>(s.stage), std::string(stage_name(s.stage)).c_str());
-      if (!png(name, s.image)) return res;
+      if (!png(name, *img)) return res;
     }
     bool made_candidates = false;
     for (size_t i = 0; i < trace.candidates.size(); ++i) {

@@ -6,6 +6,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,10 @@ struct SnapshotResult {
 
 // Makes parent_dir/snapshot-YYYYMMDD-HHMMSS (local time), or -2, -3 ... when that exists (an existing folder is
 // never written into), creating parent_dir if needed, and writes: frame.png; NN_<stage_name>.png for each stage
-// with an image (NN the stage's index); candidates/NNN_warp.png and NNN_bits.png (NNN the candidate's index) for
+// with a picture (NN the stage's index; the stage view from `views` when given (trace_view.hpp), else the image
+// the trace kept); candidates/NNN_warp.png and NNN_bits.png (NNN the candidate's index) for
 // candidates with a frontal view; trace.json (trace_to_json). Never throws.
-SnapshotResult write_snapshot(const std::string& parent_dir, const cv::Mat& frame, const FrameTrace& trace);
+SnapshotResult write_snapshot(const std::string& parent_dir, const cv::Mat& frame, const FrameTrace& trace,
+                              const std::array<cv::Mat, kStageCount>* views = nullptr);
 
 }  // namespace arwb

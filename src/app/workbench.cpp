@@ -266,6 +266,7 @@ void App::run_action(const Action& a, GLFWwindow* window) {
     if (view.has_region) requests.push_back({ui::RequestKind::sweep, "", 0, view.region});
   } else if (a.verb == "tour") {
     view.tour_active = true;
+    settings.frozen = true;
     view.open[static_cast<size_t>(ui::Panel::tour)] = true;
     if (!a.arg.empty()) view.tour_step = std::atoi(a.arg.c_str());
   } else if (a.verb == "presentation") {
@@ -299,7 +300,7 @@ void App::handle_requests() {
           warn("snapshot: no frame yet");
           break;
         }
-        const SnapshotResult s = write_snapshot(opt.snapshot_dir, frame->image, frame->trace);
+        const SnapshotResult s = write_snapshot(opt.snapshot_dir, frame->image, frame->trace, &frame->views);
         if (s.ok) {
           status.last_snapshot = s.dir;
           info("snapshot: " + std::to_string(s.files.size()) + " files in " + s.dir);
@@ -461,6 +462,7 @@ void App::draw_menu(GLFWwindow* window) {
   if (ImGui::BeginMenu("Teach")) {
     if (ImGui::MenuItem("Guided tour", "T")) {
       view.tour_active = true;
+      settings.frozen = true;  // a lesson explains one frame; "Next frame" moves on
       view.open[static_cast<size_t>(ui::Panel::tour)] = true;
     }
     ImGui::MenuItem("Freeze frame", "Space", &settings.frozen);
@@ -625,6 +627,7 @@ int run_workbench(const WorkbenchOptions& options) {
       if (ImGui::IsKeyPressed(GLFW_KEY_N)) app.requests.push_back({ui::RequestKind::next_frame, "", 0, {}});
       if (ImGui::IsKeyPressed(GLFW_KEY_T)) {
         app.view.tour_active = true;
+        app.settings.frozen = true;
         app.view.open[static_cast<size_t>(ui::Panel::tour)] = true;
       }
       if (ImGui::IsKeyPressed(GLFW_KEY_F5)) app.set_presentation(!app.view.presentation);
