@@ -120,14 +120,14 @@ void default_layout(ui::Panel p, ImVec2 size, float menu_h, float status_h) {
   switch (p) {
     case ui::Panel::live_view: pos = {0, top}; sz = {left, H * 0.64f}; break;
     case ui::Panel::pipeline: pos = {0, top + H * 0.64f}; sz = {left, H * 0.36f}; break;
-    case ui::Panel::candidates: pos = {left, top}; sz = {mid, H * 0.5f}; break;
-    case ui::Panel::inspector: pos = {left, top + H * 0.5f}; sz = {mid, H * 0.5f}; break;
+    case ui::Panel::candidates: pos = {left, top}; sz = {mid, H * 0.42f}; break;
+    case ui::Panel::inspector: pos = {left, top + H * 0.42f}; sz = {mid, H * 0.40f}; break;
     case ui::Panel::parameters: pos = {left + mid, top}; sz = {right, H * 0.45f}; break;
     case ui::Panel::source: pos = {left + mid, top + H * 0.45f}; sz = {right, H * 0.3f}; break;
     case ui::Panel::timings: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
     case ui::Panel::dictionary: pos = {left + 40, top + 60}; sz = {mid + 80, H * 0.6f}; break;
     case ui::Panel::peers: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
-    case ui::Panel::log: pos = {left, top + H * 0.8f}; sz = {mid, H * 0.2f}; break;
+    case ui::Panel::log: pos = {left, top + H * 0.82f}; sz = {mid, H * 0.18f}; break;
     case ui::Panel::tour: pos = {W * 0.2f, top + 40}; sz = {W * 0.35f, H * 0.55f}; break;
     case ui::Panel::why: pos = {left + 20, top + 30}; sz = {mid + 60, H * 0.55f}; break;
     default: return;
@@ -202,7 +202,9 @@ struct App {
   std::map<uint64_t, bool> seen_frames;
   uint64_t last_frame_index = 0;
   int detected_seen = 0;
+  double detect_ms_sum = 0;
   std::array<double, kStageCount> stage_ms_sum{};
+  std::map<std::string, std::pair<double, int>> peer_ms;   // name: summed ms, frames
   std::array<int, kStageCount> stage_ms_n{};
   std::deque<double> ui_frame_times;
   ImFont* font_normal = nullptr;
@@ -252,7 +254,15 @@ void App::run_action(const Action& a, GLFWwindow* window) {
     else if (stage_from_name(a.arg, &s)) view.pipeline_stage = static_cast<int>(s);
     else warn("--actions: no stage '" + a.arg + "'");
   } else if (a.verb == "select") {
+    // select=N: candidate N; select=marker: the candidate that became the frame's first marker.
     view.selected_candidate = std::atoi(a.arg.c_str());
+    if (a.arg == "marker" && frame) {
+      view.selected_candidate = -1;
+      for (size_t i = 0; i < frame->trace.candidates.size(); ++i) {
+        if (frame->trace.candidates[i].marker == 0) view.selected_candidate = static_cast<int>(i);
+      }
+    }
+    if (view.selected_candidate >= 0) view.open[static_cast<size_t>(ui::Panel::inspector)] = true;
   } else if (a.verb == "region") {
     float x, y, w, h;
     if (std::sscanf(a.arg.c_str(), "%f,%f,%f,%f", &x, &y, &w, &h) == 4 && w > 0 && h > 0) {
@@ -423,6 +433,12 @@ void App::record_stats() {
     ++stage_ms_n[i];
   }
   row[kStageCount] = static_cast<float>(frame->detect_ms);
+  detect_ms_sum += frame->detect_ms;
+  for (const PeerDetections& p : frame->peers) {
+    if (!p.error.empty()) continue;
+    peer_ms[p.name].first += p.ms;
+    ++peer_ms[p.name].second;
+  }
   status.history.push_back(row);
   while (status.history.size() > 300) status.history.pop_front();
 }
@@ -725,7 +741,15 @@ int run_workbench(const WorkbenchOptions& options) {
            json::number(app.stage_ms_sum[static_cast<size_t>(i)] / app.stage_ms_n[static_cast<size_t>(i)], 3);
       first = false;
     }
-    s += "},\"ui_ms\":{\"panels\":" + json::number(app.ui_ms[0] / std::max(1, ui_frames), 2) +
+    // Detection against the peers on the same frames (when they ran): the same run, the same machine load.
+    s += "},\"detect_ms\":" + json::number(app.detect_ms_sum / std::max(1, app.detected_seen), 3) + ",\"peers_ms\":{";
+    first = true;
+    for (const auto& [name, v] : app.peer_ms) {
+      s += (first ? "" : ",") + json::quote(name) + ":" + json::number(v.first / std::max(1, v.second), 3);
+      first = false;
+    }
+    s += "},\"fps_cap\":" + json::number(app.settings.acquisition.fps_cap, 1);
+    s += ",\"ui_ms\":{\"panels\":" + json::number(app.ui_ms[0] / std::max(1, ui_frames), 2) +
          ",\"render\":" + json::number(app.ui_ms[1] / std::max(1, ui_frames), 2) +
          ",\"swap\":" + json::number(app.ui_ms[2] / std::max(1, ui_frames), 2) +
          ",\"draw_calls\":" + json::number(app.draw_calls / std::max(1, ui_frames), 0) +
@@ -755,7 +779,7 @@ int cmd_workbench(int argc, char** argv) {
         "Opens the workbench window. --frames N draws N frames and exits; --screenshot writes the window to a PNG\n"
         "then; --stats prints one JSON line of figures at exit. With no camera the synthetic scene is shown.\n"
         "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, source=SPEC,\n"
-        "freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX, region=X,Y,W,H, sweep, tour[=STEP],\n"
+        "freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, sweep, tour[=STEP],\n"
         "presentation, preset=FILE, peers. Panels: live_view pipeline candidates inspector parameters timings\n"
         "dictionary peers source tour why log.\n"
         "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Q quit.\n");
