@@ -382,15 +382,7 @@ void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
 void draw_candidates(Context& ctx) {
   static LedgerState st;  // the panel's own view state
   ctx.view.hovered_candidate = -1;  // set again below while a row is under the mouse
-  if (!ImGui::Begin(panel_title(Panel::candidates), &ctx.view.open[static_cast<size_t>(Panel::candidates)])) {
-    ImGui::End();
-    return;
-  }
-  if (!ctx.frame) {
-    ImGui::TextDisabled("No frame yet: waiting for the first frame from the source...");
-    ImGui::End();
-    return;
-  }
+  if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   const FrameTrace& t = f.trace;
   if (f.index != st.frame || t.candidates.size() != st.candidates) {
@@ -407,7 +399,6 @@ void draw_candidates(Context& ctx) {
   if (t.level == TraceLevel::off) {
     ImGui::TextWrapped("The trace is off: only the markers are recorded, not the candidates. Raise the trace level "
                        "to summary (quads and their fates) or full (every contour).");
-    ImGui::End();
     return;
   }
   if (t.candidates.empty()) {
@@ -418,7 +409,6 @@ void draw_candidates(Context& ctx) {
       ImGui::TextWrapped("No candidates: no contour passed size_filter. The summary trace lists quads and later "
                          "only; switch to the full trace to see every contour, and see adaptive_threshold.");
     }
-    ImGui::End();
     return;
   }
   update(st, t);  // before the header, which shows the counts (a sort clicked now applies in table())
@@ -437,7 +427,6 @@ void draw_candidates(Context& ctx) {
     }
   }
   table(ctx, st, t);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

@@ -330,10 +330,6 @@ void histogram_tab(Context& ctx, const DictEntry& e) {
 
 void draw_dictionary(Context& ctx) {
   static DictionaryState st;
-  if (!ImGui::Begin(panel_title(Panel::dictionary), &ctx.view.open[static_cast<size_t>(Panel::dictionary)])) {
-    ImGui::End();
-    return;
-  }
   if (st.name.empty()) st.name = ctx.settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : ctx.settings.dictionaries[0];
   ImGui::SetNextItemWidth(220.0f * ctx.scale);
   if (ImGui::BeginCombo("dictionary", st.name.c_str(), ImGuiComboFlags_HeightLarge)) {
@@ -352,7 +348,6 @@ void draw_dictionary(Context& ctx) {
   DictEntry* e = entry_for(st, st.name);
   if (!e) {
     ImGui::TextColored({1.0f, 0.3f, 0.3f, 1.0f}, "%s", st.error.c_str());
-    ImGui::End();
     return;
   }
   header(ctx, st, *e);
@@ -371,7 +366,6 @@ void draw_dictionary(Context& ctx) {
     }
     ImGui::EndTabBar();
   }
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

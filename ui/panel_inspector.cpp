@@ -451,33 +451,22 @@ void bits_section(Context& ctx, InspectorState& st, const FrameTrace& t, int ind
 
 void draw_inspector(Context& ctx) {
   static InspectorState st;  // the panel's own view state
-  if (!ImGui::Begin(panel_title(Panel::inspector), &ctx.view.open[static_cast<size_t>(Panel::inspector)])) {
-    ImGui::End();
-    return;
-  }
-  if (!ctx.frame) {
-    ImGui::TextDisabled("No frame yet: waiting for the first frame from the source...");
-    ImGui::End();
-    return;
-  }
+  if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   const FrameTrace& t = f.trace;
   int& sel = ctx.view.selected_candidate;
   if (t.level == TraceLevel::off) {
     ImGui::TextWrapped("The trace is off: candidates are not recorded. Raise the trace level to inspect them.");
-    ImGui::End();
     return;
   }
   if (sel < 0) {
     ImGui::TextWrapped("No candidate selected: click a candidate in the live view or the ledger (Candidates).");
-    ImGui::End();
     return;
   }
   const int count = static_cast<int>(t.candidates.size());
   if (sel >= count) {
     ImGui::TextWrapped("Candidate #%d is not in this frame (it has %d candidates): the selection is a position in "
                        "the current frame's list. Click a candidate again.", sel, count);
-    ImGui::End();
     return;
   }
   // Header: step through the candidates, and the candidate's fate in a line.
@@ -496,7 +485,6 @@ void draw_inspector(Context& ctx) {
   region_section(ctx, st, f, sel);
   frontal_section(ctx, f, sel);
   bits_section(ctx, st, t, sel);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

@@ -161,16 +161,8 @@ void status_line(Context& ctx, const ImageMapping& m) {
 
 void draw_live_view(Context& ctx) {
   static LiveViewState st;  // the panel's own view state
-  if (!ImGui::Begin(panel_title(Panel::live_view), &ctx.view.open[static_cast<size_t>(Panel::live_view)])) {
-    ImGui::End();
-    return;
-  }
   toolbar(ctx);
-  if (!ctx.frame) {
-    ImGui::TextDisabled("Waiting for the first frame from the source...");
-    ImGui::End();
-    return;
-  }
+  if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   ImVec2 avail = ImGui::GetContentRegionAvail();
   avail.y -= ImGui::GetTextLineHeightWithSpacing();
@@ -230,7 +222,6 @@ void draw_live_view(Context& ctx) {
     if (hit >= 0) ImGui::SetTooltip("%s", candidate_line(t, hit).c_str());
   }
   status_line(ctx, m);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

@@ -54,10 +54,6 @@ bool passes(const LogState& st, const LogEntry& e) {
 
 void draw_log(Context& ctx) {
   static LogState st;
-  if (!ImGui::Begin(panel_title(Panel::log), &ctx.view.open[static_cast<size_t>(Panel::log)])) {
-    ImGui::End();
-    return;
-  }
   const std::vector<LogEntry>* log = ctx.status.log;
   const size_t total = log ? log->size() : 0;
 
@@ -98,7 +94,6 @@ void draw_log(Context& ctx) {
 
   if (total == 0) {
     ImGui::TextDisabled("No messages yet");
-    ImGui::End();
     return;
   }
 
@@ -125,7 +120,6 @@ void draw_log(Context& ctx) {
   if (total != st.last_count && at_bottom) ImGui::SetScrollHereY(1.0f);
   st.last_count = total;
   ImGui::EndChild();
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

@@ -85,22 +85,6 @@ void scan_presets(ParametersState& st) {
   });
 }
 
-// printf format for a double parameter, from how wide its range is.
-const char* format_for(const ParamInfo& info) {
-  const double span = info.max_value - info.min_value;
-  if (span <= 1.0) return "%.3f";
-  if (span <= 10.0) return "%.2f";
-  if (span <= 200.0) return "%.1f";
-  return "%.0f";
-}
-
-std::string value_text(const ParamInfo& info, double v) {
-  char buf[64];
-  if (info.integer) std::snprintf(buf, sizeof buf, "%d", static_cast<int>(v));
-  else std::snprintf(buf, sizeof buf, format_for(info), v);
-  return buf;
-}
-
 bool differs(const DetectorParams& p, const ParamInfo& info) { return get_param(p, info) != info.default_value; }
 
 void help_marker(const char* text) {
@@ -112,19 +96,6 @@ void help_marker(const char* text) {
     ImGui::PopTextWrapPos();
     ImGui::EndTooltip();
   }
-}
-
-void param_tooltip(const ParamInfo& info) {
-  ImGui::BeginTooltip();
-  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 32.0f);
-  ImGui::TextUnformatted(info.name);
-  ImGui::Separator();
-  ImGui::TextUnformatted(info.help);
-  ImGui::TextDisabled("default %s, range %s .. %s %s", value_text(info, info.default_value).c_str(),
-                      value_text(info, info.min_value).c_str(), value_text(info, info.max_value).c_str(), info.unit);
-  ImGui::TextDisabled("Ctrl+click the slider to type a value.");
-  ImGui::PopTextWrapPos();
-  ImGui::EndTooltip();
 }
 
 // One row of a stage's table: name (?), slider, unit, reset.
@@ -143,33 +114,8 @@ void param_row(Context& ctx, ParametersState& st, const ParamInfo& info) {
 
   ImGui::TableNextColumn();
   ImGui::SetNextItemWidth(-FLT_MIN);
-  // Ranges spanning more than three decades (perimeters, resize) get a logarithmic slider.
-  const bool wide = info.max_value - info.min_value > 1000.0;
-  const ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (wide ? ImGuiSliderFlags_Logarithmic : 0);
-  double next = get_param(p, info);
-  bool edited = false;
-  if (info.integer && info.min_value == 0 && info.max_value == 1) {
-    // An on/off switch (corner_refinement).
-    bool on = next != 0;
-    edited = ImGui::Checkbox(on ? "on##v" : "off##v", &on);
-    next = on ? 1 : 0;
-  } else if (info.integer) {
-    int v = static_cast<int>(next);
-    edited = ImGui::SliderInt("##v", &v, static_cast<int>(info.min_value), static_cast<int>(info.max_value), "%d",
-                              flags);
-    next = v;
-  } else {
-    double v = next;
-    edited = ImGui::SliderScalar("##v", ImGuiDataType_Double, &v, &info.min_value, &info.max_value, format_for(info),
-                                 flags | (wide ? ImGuiSliderFlags_NoRoundToFormat : 0));
-    next = v;
-  }
-  if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) param_tooltip(info);
-  if (edited) {
-    std::string err;
-    if (set_param(p, info, next, &err)) st.error.clear();
-    else st.error = err;
-  }
+  std::string err;
+  if (param_slider(p, info, &err)) st.error = err;
 
   ImGui::TableNextColumn();
   ImGui::TextDisabled("%s", info.unit);
@@ -302,10 +248,6 @@ void dictionaries_section(Context& ctx) {
 
 void draw_parameters(Context& ctx) {
   static ParametersState st;
-  if (!ImGui::Begin(panel_title(Panel::parameters), &ctx.view.open[static_cast<size_t>(Panel::parameters)])) {
-    ImGui::End();
-    return;
-  }
   // The shipped presets are listed again whenever the panel is (re)opened.
   const int frame = ImGui::GetFrameCount();
   if (frame - st.drawn_frame > 1) scan_presets(st);
@@ -334,7 +276,6 @@ void draw_parameters(Context& ctx) {
   ImGui::Spacing();
   presets_section(ctx, st);
   dictionaries_section(ctx);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

@@ -250,29 +250,19 @@ void differences(Context& ctx, const Frame& f) {
 }  // namespace
 
 void draw_peers(Context& ctx) {
-  if (!ImGui::Begin(panel_title(Panel::peers), &ctx.view.open[static_cast<size_t>(Panel::peers)])) {
-    ImGui::End();
-    return;
-  }
   switches(ctx);
   ImGui::Separator();
   if (!ctx.settings.peer_opencv && !ctx.settings.peer_apriltag) {
     ImGui::TextWrapped("Peers are off. Tick one above to run another detector on every frame and compare its "
                        "markers, ids and time with arwb's.");
-    ImGui::End();
     return;
   }
-  if (!ctx.frame) {
-    ImGui::TextDisabled("Waiting for the first frame from the source...");
-    ImGui::End();
-    return;
-  }
+  if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   ImGui::Text("Frame %llu", static_cast<unsigned long long>(f.index));
   if (f.peers.empty()) ImGui::TextDisabled("(the peers' results come with the next frame)");
   results_table(ctx, f);
   differences(ctx, f);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

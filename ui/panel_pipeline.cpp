@@ -22,15 +22,7 @@ const cv::Mat& stage_view(const Frame& f, int stage, bool thumb) {
 
 void draw_pipeline(Context& ctx) {
   static ImageViewState mosaic_view;  // the mosaics' own zoom and pan
-  if (!ImGui::Begin(panel_title(Panel::pipeline), &ctx.view.open[static_cast<size_t>(Panel::pipeline)])) {
-    ImGui::End();
-    return;
-  }
-  if (!ctx.frame) {
-    ImGui::TextDisabled("Waiting for the first frame from the source...");
-    ImGui::End();
-    return;
-  }
+  if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   const FrameTrace& t = f.trace;
   if (t.level != TraceLevel::full) {
@@ -91,7 +83,6 @@ void draw_pipeline(Context& ctx) {
     ImGui::TextDisabled("Hover the image for pixel values; click a thumbnail to show its stage here.");
   }
   ImGui::EndGroup();
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

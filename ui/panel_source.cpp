@@ -163,15 +163,10 @@ void scene_controls(Context& ctx) {
 
 void draw_source(Context& ctx) {
   static SourceViewState st;
-  if (!ImGui::Begin(panel_title(Panel::source), &ctx.view.open[static_cast<size_t>(Panel::source)])) {
-    ImGui::End();
-    return;
-  }
   source_choice(ctx, st);
   playback(ctx);
   acquisition(ctx);
   scene_controls(ctx);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

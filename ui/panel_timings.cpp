@@ -238,16 +238,8 @@ void peers(Context& ctx) {
 }  // namespace
 
 void draw_timings(Context& ctx) {
-  if (!ImGui::Begin(panel_title(Panel::timings), &ctx.view.open[static_cast<size_t>(Panel::timings)])) {
-    ImGui::End();
-    return;
-  }
   rates(ctx);
-  if (!ctx.frame) {
-    ImGui::TextDisabled("Waiting for the first frame from the source...");
-    ImGui::End();
-    return;
-  }
+  if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   ImGui::Text("Frame %llu: detection %.2f ms", static_cast<unsigned long long>(f.index), f.detect_ms);
   if (ImGui::IsItemHovered()) {
@@ -263,7 +255,6 @@ void draw_timings(Context& ctx) {
   ImGui::Spacing();
   history(ctx);
   peers(ctx);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

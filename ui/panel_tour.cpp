@@ -33,21 +33,10 @@ void step_params(Context& ctx, const TourStep& step) {
   for (const std::string& name : step.params) {
     const ParamInfo* info = find_param(name);
     if (!info) continue;
-    DetectorParams& p = ctx.settings.params;
     ImGui::SetNextItemWidth(220 * ctx.scale);
-    if (info->integer) {
-      int v = static_cast<int>(get_param(p, *info));
-      if (ImGui::SliderInt(info->name, &v, static_cast<int>(info->min_value), static_cast<int>(info->max_value))) {
-        set_param(p, *info, v);
-      }
-    } else {
-      float v = static_cast<float>(get_param(p, *info));
-      if (ImGui::SliderFloat(info->name, &v, static_cast<float>(info->min_value), static_cast<float>(info->max_value),
-                             "%.3g")) {
-        set_param(p, *info, v);
-      }
-    }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", info->help);
+    param_slider(ctx.settings.params, *info);
+    ImGui::SameLine();
+    ImGui::TextUnformatted(info->name);
   }
 }
 
@@ -55,13 +44,8 @@ void step_params(Context& ctx, const TourStep& step) {
 
 void draw_tour(Context& ctx) {
   View& v = ctx.view;
-  if (!ImGui::Begin(panel_title(Panel::tour), &v.open[static_cast<size_t>(Panel::tour)])) {
-    ImGui::End();
-    return;
-  }
   if (ctx.tour.empty()) {
     ImGui::TextWrapped("No tour was loaded: the log says why (the text lives in assets/teaching/tour.txt).");
-    ImGui::End();
     return;
   }
   const int n = static_cast<int>(ctx.tour.size());
@@ -118,7 +102,6 @@ void draw_tour(Context& ctx) {
     step_params(ctx, step);
   }
   ImGui::EndChild();
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

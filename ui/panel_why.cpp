@@ -41,16 +41,11 @@ void sweep_section(Context& ctx) {
 }  // namespace
 
 void draw_why(Context& ctx) {
-  if (!ImGui::Begin(panel_title(Panel::why), &ctx.view.open[static_cast<size_t>(Panel::why)])) {
-    ImGui::End();
-    return;
-  }
   View& v = ctx.view;
   if (!v.has_region) {
     ImGui::TextWrapped("Tick 'Why? (drag)' in the live view, then drag a rectangle around a marker that is not "
                        "detected. This panel lists every candidate the pipeline had there and where it was dropped.");
     if (!v.region_tool && ImGui::Button("Start: pick a region")) v.region_tool = true;
-    ImGui::End();
     return;
   }
   ImGui::Text("Region %.0f,%.0f  %.0fx%.0f px", static_cast<double>(v.region.x), static_cast<double>(v.region.y),
@@ -84,7 +79,6 @@ void draw_why(Context& ctx) {
     ImGui::EndChild();
   }
   sweep_section(ctx);
-  ImGui::End();
 }
 
 }  // namespace arwb::ui

@@ -10,7 +10,9 @@ void draw_panels(Context& ctx) {
   for (int i = 0; i < kPanelCount; ++i) {
     if (!ctx.view.open[static_cast<size_t>(i)]) continue;
     if (ctx.place) ctx.place(static_cast<Panel>(i));
-    kDraw[i](ctx);
+    // A collapsed or hidden window draws nothing, so its textures are neither uploaded nor kept.
+    if (ImGui::Begin(panel_title(static_cast<Panel>(i)), &ctx.view.open[static_cast<size_t>(i)])) kDraw[i](ctx);
+    ImGui::End();
   }
 }
 

@@ -1,6 +1,7 @@
-// The workbench's panels, one file each (ui/panel_<key>.cpp). Each draws into its own ImGui window named by
-// panel_title(), from ctx.frame (const) and its view state, and returns nothing: actions go to ctx.requests.
-// A panel that has nothing to show says why ("No candidate selected: click one in the ledger").
+// The workbench's panels, one file each (ui/panel_<key>.cpp). Each draws the inside of its ImGui window
+// (draw_panels opens and closes the window, named by panel_title()) from ctx.frame (const) and its view state;
+// actions go to ctx.requests. A panel that has nothing to show says why ("No candidate selected: click one in
+// the ledger").
 #pragma once
 
 #include "ui/context.hpp"

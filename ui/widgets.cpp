@@ -21,6 +21,12 @@ ImU32 stage_colour(Stage s, float alpha) {
   return ImGui::ColorConvertFloat4ToU32(c);
 }
 
+bool waiting_for_frame(const Context& ctx) {
+  if (ctx.frame) return false;
+  ImGui::TextDisabled("Waiting for the first frame from the source...");
+  return true;
+}
+
 ImU32 accepted_colour(float alpha) { return ImGui::ColorConvertFloat4ToU32({0.1f, 1.0f, 0.2f, alpha}); }
 
 ImU32 fate_colour(Stage s, float alpha) { return s == Stage::accepted ? accepted_colour(alpha) : stage_colour(s, alpha); }
@@ -200,6 +206,68 @@ void bit_grid(const CandidateRecord& c, float cell) {
       }
     }
   }
+}
+
+// printf format for a double parameter, from how wide its range is.
+const char* format_for(const ParamInfo& info) {
+  const double span = info.max_value - info.min_value;
+  if (span <= 1.0) return "%.3f";
+  if (span <= 10.0) return "%.2f";
+  if (span <= 200.0) return "%.1f";
+  return "%.0f";
+}
+
+std::string value_text(const ParamInfo& info, double v) {
+  char buf[64];
+  if (info.integer) std::snprintf(buf, sizeof buf, "%d", static_cast<int>(v));
+  else std::snprintf(buf, sizeof buf, format_for(info), v);
+  return buf;
+}
+
+void param_tooltip(const ParamInfo& info) {
+  ImGui::BeginTooltip();
+  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 32.0f);
+  ImGui::TextUnformatted(info.name);
+  ImGui::Separator();
+  ImGui::TextUnformatted(info.help);
+  ImGui::TextDisabled("default %s, range %s .. %s %s", value_text(info, info.default_value).c_str(),
+                      value_text(info, info.min_value).c_str(), value_text(info, info.max_value).c_str(), info.unit);
+  ImGui::TextDisabled("Ctrl+click the slider to type a value.");
+  ImGui::PopTextWrapPos();
+  ImGui::EndTooltip();
+}
+
+// The control for one parameter of the table: a checkbox for an on/off switch, an integer or double slider over
+// its range (logarithmic when the range spans more than three decades), Ctrl+click to type; the help, default and
+// range as a tooltip.
+bool param_slider(DetectorParams& p, const ParamInfo& info, std::string* error) {
+  ImGui::PushID(info.name);
+  const bool wide = info.max_value - info.min_value > 1000.0;
+  const ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (wide ? ImGuiSliderFlags_Logarithmic : 0);
+  double next = get_param(p, info);
+  bool edited = false;
+  if (info.integer && info.min_value == 0 && info.max_value == 1) {
+    bool on = next != 0;
+    edited = ImGui::Checkbox(on ? "on##v" : "off##v", &on);
+    next = on ? 1 : 0;
+  } else if (info.integer) {
+    int v = static_cast<int>(next);
+    edited = ImGui::SliderInt("##v", &v, static_cast<int>(info.min_value), static_cast<int>(info.max_value), "%d",
+                              flags);
+    next = v;
+  } else {
+    double v = next;
+    edited = ImGui::SliderScalar("##v", ImGuiDataType_Double, &v, &info.min_value, &info.max_value, format_for(info),
+                                 flags | (wide ? ImGuiSliderFlags_NoRoundToFormat : 0));
+    next = v;
+  }
+  if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) param_tooltip(info);
+  ImGui::PopID();
+  if (!edited) return false;
+  std::string err;
+  if (!set_param(p, info, next, &err) && error) *error = err;
+  else if (error) error->clear();
+  return true;
 }
 
 bool image_button(Context& ctx, const std::string& key, const cv::Mat& image, uint64_t version, ImVec2 size,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/dictionary.hpp"
+#include "core/params.hpp"
 #include "core/trace.hpp"
 #include "ui/context.hpp"
 
@@ -12,6 +13,9 @@
 #include <string>
 
 namespace arwb::ui {
+
+// The empty state of a panel that needs a frame: says so and returns true while there is none yet.
+bool waiting_for_frame(const Context& ctx);
 
 // The colour of a stage (rejected candidates are drawn in the colour of the stage that dropped them).
 ImU32 stage_colour(Stage s, float alpha = 1.0f);
@@ -50,6 +54,14 @@ void histogram_plot(const CandidateRecord& c, ImVec2 size);
 // The bit grid, one square per cell: border cells that are not black outlined in red, inner bits that differ
 // from the nearest marker (in its best rotation) crossed. `cell` is the side of a cell in screen pixels.
 void bit_grid(const CandidateRecord& c, float cell);
+
+// Parameters of the table (params.hpp): the printf format for a double from its range, a value as text, the
+// tooltip (name, help, default, range) and the control itself. param_slider returns true when edited; a
+// rejected value leaves `p` as it was and says why in `error`.
+const char* format_for(const ParamInfo& info);
+std::string value_text(const ParamInfo& info, double v);
+void param_tooltip(const ParamInfo& info);
+bool param_slider(DetectorParams& p, const ParamInfo& info, std::string* error = nullptr);
 
 // An image drawn at a fixed size with a border (thumbnails, frontal views). Returns true when clicked.
 // A small rounded label filled with `colour` (dimmed when !on), dark text on it, on the current line. Returns true

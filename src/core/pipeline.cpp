@@ -407,7 +407,10 @@ int correction_budget(const Dictionary& dict, const DetectorParams& p) {
 // [SECTION] corner_refinement
 
 
-void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
+namespace {
+
+// One pass of refine_corners; false when an edge could not be trusted (the corners are then left as they were).
+bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
   // Each side of the marker is the edge between its black border (inside) and the white quiet zone (outside).
   // Along the side, profiles across the edge locate it to a fraction of a pixel (the centroid of the rising
   // gradient, which sits on the edge for any symmetric blur); a line is fitted through those points and the
@@ -450,7 +453,7 @@ void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const Detecto
       if (wsum <= 0 || hi - lo < 10) continue;  // no edge here (occluded, glare)
       pts.push_back(base + normal * (xsum / wsum));
     }
-    if (pts.size() < 3) return;  // not enough edge to trust: keep the corners as they are
+    if (pts.size() < 3) return false;  // not enough edge to trust: keep the corners as they are
     cv::Vec4f line;
     std::vector<cv::Point2f> ptsf(pts.begin(), pts.end());
     cv::fitLine(ptsf, line, cv::DIST_L2, 0, 0.01, 0.01);
@@ -461,12 +464,28 @@ void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const Detecto
   for (int i = 0; i < 4; ++i) {
     const cv::Vec3d &l1 = lines[(i + 3) % 4], &l2 = lines[i];  // corner i joins side i-1 and side i
     const double det = l1[0] * l2[1] - l1[1] * l2[0];
-    if (std::abs(det) < 1e-9) return;
+    if (std::abs(det) < 1e-9) return false;
     const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det), float((l1[0] * l2[2] - l1[2] * l2[0]) / det));
-    if (cv::norm(c - corners[size_t(i)]) > std::max(cell, 2.0)) return;
+    if (cv::norm(c - corners[size_t(i)]) > std::max(cell, 2.0)) return false;
     refined[size_t(i)] = c;
   }
   corners = refined;
+  return true;
+}
+
+}  // namespace
+
+void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
+  if (p.corner_refinement == 0) return;
+  // Each pass profiles across the sides found by the last one, so the profiles end up square to the true edges;
+  // it stops when no corner moves more than subpix_epsilon_px (usually after two or three passes).
+  for (int it = 0; it < p.subpix_max_iterations; ++it) {
+    const Quad before = corners;
+    if (!refine_corners_once(grey, corners, cells, p)) return;
+    double moved = 0;
+    for (size_t k = 0; k < 4; ++k) moved = std::max(moved, double(cv::norm(corners[k] - before[k])));
+    if (moved < p.subpix_epsilon_px) return;
+  }
 }
 
 }  // namespace arwb::stages

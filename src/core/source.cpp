@@ -54,7 +54,9 @@ class SyntheticSource : public FrameSource {
     } else {
       clock_ = std::isfinite(c.time_s) ? c.time_s : 0.0;
     }
-    out = scene_.render(clock_).image;
+    SceneFrame f = scene_.render(clock_);
+    out = std::move(f.image);
+    truth_ = std::move(f.markers);
     return {};
   }
   SourceInfo info() const override {
@@ -65,9 +67,11 @@ class SyntheticSource : public FrameSource {
     return i;
   }
   SyntheticScene* scene() override { return &scene_; }
+  const std::vector<TruthMarker>* truth() const override { return &truth_; }
 
  private:
   SyntheticScene scene_;
+  std::vector<TruthMarker> truth_;
   double clock_ = 0, last_now_ = 0;
   bool have_last_ = false;
 };

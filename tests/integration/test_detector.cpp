@@ -63,6 +63,41 @@ TEST(Detector, CornerErrorUnderAThirdOfAPixelOnCleanRenders) {
   EXPECT_LT(err / n, 0.3);
 }
 
+// corner_refinement's three parameters each change the corners: off keeps the polygon's corners (worse), more
+// passes converge (no worse than one), and the corners move between one pass and several.
+TEST(Detector, CornerRefinementParametersTakeEffect) {
+  const Dictionary d = make_aruco_original();
+  SynthOptions opt;
+  opt.dictionaries = {d};
+  opt.effects = false;
+  opt.empty_fraction = 0;
+  DetectorParams off, one, many;
+  off.corner_refinement = 0;
+  many.subpix_max_iterations = 10;
+  double err_off = 0, err_one = 0, err_many = 0, moved = 0;
+  int n = 0;
+  for (int i = 0; i < 12; ++i) {
+    const SynthImage s = synth_photo(opt, 9, i);
+    const auto a = Detector({d}, off).detect(s.image), b = Detector({d}, one).detect(s.image),
+               c = Detector({d}, many).detect(s.image);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_EQ(b.size(), c.size());
+    for (size_t k = 0; k < b.size(); ++k)
+      for (const auto& t : s.markers)
+        if (t.id == b[k].id) {
+          err_off += mean_corner_error(a[k], t);
+          err_one += mean_corner_error(b[k], t);
+          err_many += mean_corner_error(c[k], t);
+          moved += mean_corner_error(c[k], {t.id, t.dict, b[k].corners});
+          ++n;
+        }
+  }
+  ASSERT_GT(n, 20);
+  EXPECT_GT(err_off / n, 1.5 * err_one / n) << "refinement off should keep the rougher polygon corners";
+  EXPECT_LE(err_many / n, err_one / n * 1.05);
+  EXPECT_GT(moved / n, 0.005);
+}
+
 TEST(Detector, NegativesGiveNoMarkers) {
   const Detector det({make_aruco_original(), *dictionary_by_name("4X4_50"), *dictionary_by_name("APRILTAG_36h11")});
   cv::Mat blank(480, 640, CV_8UC1, cv::Scalar(128));
