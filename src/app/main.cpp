@@ -28,7 +28,7 @@ void usage(std::FILE* to) {
   std::fprintf(to,
                "usage: arwb [--source synthetic|camera:N|PATH] [--frames N] [--screenshot FILE.png] [--stats] ...\n"
                "       arwb <subcommand> [options]\n\n"
-               "Without a subcommand, arwb opens the workbench window (`arwb --source x --help` lists its options).\n\n"
+               "Without a subcommand, arwb opens the workbench window (options below).\n\n"
                "subcommands:\n");
   for (const auto& s : kSubcommands) std::fprintf(to, "  %-8s %s\n", s.name, s.summary);
   std::fprintf(to, "\n`arwb <subcommand> --help` describes each one.\n");
@@ -42,7 +42,10 @@ int main(int argc, char** argv) {
   setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     usage(stdout);
-    return 0;
+    std::printf("\nthe workbench:\n");
+    char help[] = "--help";
+    char* args[] = {help};
+    return arwb::cmd_workbench(1, args);
   }
   // No subcommand, or options first: the workbench.
   if (argc < 2 || argv[1][0] == '-') {

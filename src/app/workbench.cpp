@@ -777,7 +777,8 @@ int cmd_workbench(int argc, char** argv) {
         "            [--presentation] [--config-dir DIR] [--snapshot-dir DIR] [--tour FILE] [--verbose]\n"
         "            [--actions 'N:verb[=arg];...']\n\n"
         "Opens the workbench window. --frames N draws N frames and exits; --screenshot writes the window to a PNG\n"
-        "then; --stats prints one JSON line of figures at exit. With no camera the synthetic scene is shown.\n"
+        "then; --stats prints one JSON line of figures at exit. Without --source it shows the first camera, or the\n"
+        "built-in synthetic scene when there is none.\n"
         "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, source=SPEC,\n"
         "freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, sweep, tour[=STEP],\n"
         "presentation, preset=FILE, peers. Panels: live_view pipeline candidates inspector parameters timings\n"
@@ -786,7 +787,11 @@ int cmd_workbench(int argc, char** argv) {
     return 0;
   }
   WorkbenchOptions o;
-  const std::string source = args.value("--source", "synthetic");
+  // No --source: the first camera when there is one (a failing one falls back to the synthetic scene, with a
+  // message), else the synthetic scene.
+  const std::vector<int> cameras = list_cameras();
+  const std::string source =
+      args.value("--source", cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front()));
   o.frames = args.int_value("--frames", 0, 0, 10'000'000);
   o.screenshot = args.value("--screenshot", "");
   o.stats = args.flag("--stats");
