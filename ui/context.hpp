@@ -59,7 +59,6 @@ enum class RequestKind {
   load_preset,   // text: path
   save_preset,   // text: path
   marker_sheet,  // text: path of the PDF to write, with the first dictionary's ids `value`.. (arwb markers)
-  screenshot,    // text: path of the PNG
 };
 
 struct Request {
@@ -94,6 +93,7 @@ struct Status {
   std::vector<int> cameras;                       // /dev/videoN found
   std::string last_snapshot;                      // folder of the last snapshot
   SourceSpec source;                              // the source in use
+  std::string assets_dir;                         // shipped presets, the tour, fonts
 };
 
 // Zoom and pan of an image view; the live view and the pipeline's large view share one, so the same pixel sits

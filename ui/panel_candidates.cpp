@@ -44,15 +44,6 @@ struct LedgerState {
   }
 };
 
-// The nearest marker over the four rotations, when identification ran (id -1 otherwise).
-DictMatch nearest(const CandidateRecord& c) {
-  DictMatch best;
-  for (const DictMatch& m : c.per_rotation) {
-    if (m.id >= 0 && (best.id < 0 || m.hamming < best.hamming)) best = m;
-  }
-  return best;
-}
-
 int accepted_id(const FrameTrace& t, const CandidateRecord& c) {
   if (c.fate.stage != Stage::accepted || c.marker < 0 || c.marker >= static_cast<int>(t.markers.size())) return -1;
   return t.markers[static_cast<size_t>(c.marker)].id;
@@ -68,7 +59,7 @@ std::string number(double v) {
 std::string id_text(const FrameTrace& t, const CandidateRecord& c) {
   const int id = accepted_id(t, c);
   if (id >= 0) return std::to_string(id);
-  const DictMatch m = nearest(c);
+  const DictMatch m = c.nearest();
   if (m.id < 0) return {};
   char buf[48];
   std::snprintf(buf, sizeof buf, "~%d (%d bit%s)", m.id, m.hamming, m.hamming == 1 ? "" : "s");
@@ -91,7 +82,7 @@ std::string row_line(const FrameTrace& t, int i) {
   s += ' ';
   const int id = accepted_id(t, c);
   if (id >= 0) s += "id " + std::to_string(id) + ' ';
-  else if (nearest(c).id >= 0) s += "nearest " + id_text(t, c) + ' ';
+  else if (c.nearest().id >= 0) s += "nearest " + id_text(t, c) + ' ';
   if (!c.dict.empty()) s += c.dict + ' ';
   s += std::string(c.fate.param) + ' ' + value_text(c.fate) + ' ' + c.fate.message;
   return s;
@@ -114,7 +105,7 @@ int compare(const FrameTrace& t, int a, int b, int column) {
       auto key = [&](const CandidateRecord& c) {
         const int id = accepted_id(t, c);
         if (id >= 0) return std::array<int, 3>{0, id, 0};
-        const DictMatch m = nearest(c);
+        const DictMatch m = c.nearest();
         if (m.id >= 0) return std::array<int, 3>{1, m.id, m.hamming};
         return std::array<int, 3>{2, 0, 0};
       };

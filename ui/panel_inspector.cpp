@@ -36,15 +36,6 @@ const Dictionary* dictionary(InspectorState& st, const std::string& name) {
   return st.dict ? &*st.dict : nullptr;
 }
 
-int best_rotation(const CandidateRecord& c) {
-  int best = -1;
-  for (int k = 0; k < 4; ++k) {
-    const DictMatch& m = c.per_rotation[static_cast<size_t>(k)];
-    if (m.id >= 0 && (best < 0 || m.hamming < c.per_rotation[static_cast<size_t>(best)].hamming)) best = k;
-  }
-  return best;
-}
-
 // Grey text that wraps at the panel's edge (legends and notes; presentation mode doubles the font).
 void note(const char* fmt, ...) IM_FMTARGS(1);
 void note(const char* fmt, ...) {
@@ -346,7 +337,7 @@ void bits_section(Context& ctx, InspectorState& st, const FrameTrace& t, int ind
   const CandidateRecord& c = t.candidates[static_cast<size_t>(index)];
   const float s = ctx.scale;
   if (!section("Bits and identification")) return;
-  if (c.bits.empty() && c.border_errors < 0 && best_rotation(c) < 0) {
+  if (c.bits.empty() && c.border_errors < 0 && c.best_rotation() < 0) {
     ImGui::TextDisabled("No bits: the candidate stopped at %s, before bit_grid.",
                         std::string(stage_name(c.fate.stage)).c_str());
     return;
@@ -355,15 +346,20 @@ void bits_section(Context& ctx, InspectorState& st, const FrameTrace& t, int ind
     st.rotation_for = index;
     st.rotation = -1;
   }
-  const int best = best_rotation(c);
+  const int best = c.best_rotation();
   const int shown = st.rotation >= 0 ? st.rotation : best;
   const Dictionary* dict = dictionary(st, c.dict);
   if (!c.bits.empty()) {
     const int n = c.bits.rows;
     const float cell = std::clamp(150.0f * s / static_cast<float>(n), 10.0f * s, 24.0f * s);
+    // The nearest marker's bits in its best rotation: the read grid crosses the bits that differ from them.
+    cv::Mat best_bits;
+    if (best >= 0 && dict && dict->marker_size() == n - 2) {
+      best_bits = Dictionary::unpack(dict->code(c.per_rotation[static_cast<size_t>(best)].id, best), n - 2);
+    }
     ImGui::BeginGroup();
     ImGui::TextUnformatted("read");
-    bit_grid(c, cell);
+    bit_grid(c, cell, best_bits);
     ImGui::EndGroup();
     if (shown >= 0 && dict && dict->marker_size() == n - 2) {
       const DictMatch& mm = c.per_rotation[static_cast<size_t>(shown)];

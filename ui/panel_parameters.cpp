@@ -35,25 +35,6 @@ struct ParametersState {
   std::string error;        // the last edit set_param refused
 };
 
-// The shipped presets' folder: assets/presets under the working directory, else next to the source tree the
-// executable was built in (build-x/arwb -> assets/presets), else the compiled-in assets folder when there is one.
-std::string find_presets_dir() {
-  std::vector<fs::path> tries{fs::path("assets") / "presets"};
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    tries.push_back(exe.parent_path().parent_path() / "assets" / "presets");
-    tries.push_back(exe.parent_path() / "assets" / "presets");
-  }
-#ifdef ARWB_ASSETS_DIR
-  tries.push_back(fs::path(ARWB_ASSETS_DIR) / "presets");
-#endif
-  for (const fs::path& p : tries) {
-    if (fs::is_directory(p, ec)) return p.lexically_normal().string();
-  }
-  return {};
-}
-
 std::string first_comment(const fs::path& p) {
   std::ifstream in(p);
   std::string line;
@@ -69,11 +50,14 @@ std::string first_comment(const fs::path& p) {
   return {};
 }
 
-void scan_presets(ParametersState& st) {
+void scan_presets(ParametersState& st, const std::string& assets_dir) {
   st.shipped.clear();
-  st.shipped_dir = find_presets_dir();
-  if (st.shipped_dir.empty()) return;
   std::error_code ec;
+  st.shipped_dir = (fs::path(assets_dir) / "presets").lexically_normal().string();
+  if (!fs::is_directory(st.shipped_dir, ec)) {
+    st.shipped_dir.clear();
+    return;
+  }
   for (const auto& entry : fs::directory_iterator(st.shipped_dir, ec)) {
     if (!entry.is_regular_file(ec) || entry.path().extension() != ".yml") continue;
     st.shipped.push_back({entry.path().string(), entry.path().stem().string(), first_comment(entry.path())});
@@ -187,7 +171,7 @@ void presets_section(Context& ctx, ParametersState& st) {
   ImGui::Spacing();
   ImGui::TextUnformatted("Shipped presets");
   ImGui::SameLine();
-  if (ImGui::SmallButton("Refresh")) scan_presets(st);
+  if (ImGui::SmallButton("Refresh")) scan_presets(st, ctx.status.assets_dir);
   if (st.shipped_dir.empty()) {
     ImGui::TextDisabled("No assets/presets folder found (from the working folder or the executable).");
     return;
@@ -250,7 +234,7 @@ void draw_parameters(Context& ctx) {
   static ParametersState st;
   // The shipped presets are listed again whenever the panel is (re)opened.
   const int frame = ImGui::GetFrameCount();
-  if (frame - st.drawn_frame > 1) scan_presets(st);
+  if (frame - st.drawn_frame > 1) scan_presets(st, ctx.status.assets_dir);
   st.drawn_frame = frame;
 
   int changed = 0;

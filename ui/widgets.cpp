@@ -167,25 +167,13 @@ void histogram_plot(const CandidateRecord& c, ImVec2 size) {
   }
 }
 
-void bit_grid(const CandidateRecord& c, float cell) {
+void bit_grid(const CandidateRecord& c, float cell, const cv::Mat& expected) {
   if (c.bits.empty()) {
     ImGui::TextDisabled("No bit grid (the candidate stopped before bit_grid, or the trace is not full).");
     return;
   }
   const int n = c.bits.rows;
-  // The nearest marker's bits in the rotation that matched best, to cross the wrong ones.
-  cv::Mat expected;
-  int best = -1;
-  for (int k = 0; k < 4; ++k) {
-    const DictMatch& m = c.per_rotation[static_cast<size_t>(k)];
-    if (m.id >= 0 && (best < 0 || m.hamming < c.per_rotation[static_cast<size_t>(best)].hamming)) best = k;
-  }
-  std::optional<Dictionary> dict;
-  if (best >= 0 && !c.dict.empty()) dict = dictionary_by_name(c.dict);
-  if (dict && dict->marker_size() == n - 2) {
-    const DictMatch& m = c.per_rotation[static_cast<size_t>(best)];
-    expected = Dictionary::unpack(dict->code(m.id, m.rotation), dict->marker_size());
-  }
+  const bool compare = expected.rows == n - 2 && expected.cols == n - 2;
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImGui::Dummy({cell * static_cast<float>(n), cell * static_cast<float>(n)});
   ImDrawList* dl = ImGui::GetWindowDrawList();
@@ -199,7 +187,7 @@ void bit_grid(const CandidateRecord& c, float cell) {
       const bool border = r == 0 || col == 0 || r == n - 1 || col == n - 1;
       if (border && white) {
         dl->AddRect({a.x + 1, a.y + 1}, {b.x - 1, b.y - 1}, IM_COL32(255, 40, 40, 255), 0, 0, 3.0f);
-      } else if (!border && !expected.empty() && expected.at<uint8_t>(r - 1, col - 1) != (white ? 1 : 0)) {
+      } else if (!border && compare && expected.at<uint8_t>(r - 1, col - 1) != (white ? 1 : 0)) {
         const ImU32 red = IM_COL32(255, 40, 40, 255);
         dl->AddLine({a.x + 3, a.y + 3}, {b.x - 3, b.y - 3}, red, 2.5f);
         dl->AddLine({b.x - 3, a.y + 3}, {a.x + 3, b.y - 3}, red, 2.5f);

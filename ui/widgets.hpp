@@ -51,9 +51,10 @@ std::string candidate_line(const FrameTrace& t, int index);
 // The frontal view's histogram with Otsu's threshold marked.
 void histogram_plot(const CandidateRecord& c, ImVec2 size);
 
-// The bit grid, one square per cell: border cells that are not black outlined in red, inner bits that differ
-// from the nearest marker (in its best rotation) crossed. `cell` is the side of a cell in screen pixels.
-void bit_grid(const CandidateRecord& c, float cell);
+// The bit grid, one square per cell: border cells that are not black outlined in red, and, when `expected`
+// (the inner bits of a marker, n x n 0/1) is given, inner bits that differ from it crossed. `cell` is the side
+// of a cell in screen pixels.
+void bit_grid(const CandidateRecord& c, float cell, const cv::Mat& expected = {});
 
 // Parameters of the table (params.hpp): the printf format for a double from its range, a value as text, the
 // tooltip (name, help, default, range) and the control itself. param_slider returns true when edited; a

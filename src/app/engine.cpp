@@ -43,6 +43,10 @@ struct Engine::Pending {
 struct Engine::Worker {
   EngineConfig config;
   std::unique_ptr<FrameSource> source;
+  // The user's playback and scene settings, given to every source opened, so a source switched back to (or
+  // fallen back to) shows what the sliders say.
+  Playback playback;
+  SceneControls scene;
   std::optional<Detector> detector;
   bool frozen = false;
   bool take_one = false;
@@ -135,10 +139,16 @@ void Engine::publish(std::shared_ptr<Frame> f) {
 
 void Engine::run() {
   Worker& w = *worker_;
+  auto adopt = [&](std::unique_ptr<FrameSource> src) {
+    w.source = std::move(src);
+    if (!w.source) return;
+    w.source->set_playback(w.playback);
+    if (w.source->scene()) w.source->scene()->set_controls(w.scene);
+  };
   auto fall_back = [&](const std::string& why) {
     log_(2, why + "; showing the synthetic scene");
     std::string err;
-    w.source = arwb::open_source(SourceSpec{}, &err);
+    adopt(arwb::open_source(SourceSpec{}, &err));
     w.config.source = SourceSpec{};
     std::lock_guard lock(mutex_);
     source_in_use_ = SourceSpec{};
@@ -155,7 +165,7 @@ void Engine::run() {
       std::string err;
       auto src = arwb::open_source(*p.source, &err);
       if (src) {
-        w.source = std::move(src);
+        adopt(std::move(src));
         w.config.source = *p.source;
         w.ended_logged = false;
         w.next_due = 0;
@@ -169,9 +179,6 @@ void Engine::run() {
         fall_back(err);
       } else {
         log_(2, err + "; keeping " + w.config.source.text());
-      }
-      if (w.source && w.config.source.kind == SourceKind::synthetic && w.source->scene()) {
-        w.source->scene()->set_controls(w.source->scene()->controls());
       }
     }
     if (p.dictionaries) {
@@ -208,6 +215,8 @@ void Engine::run() {
       w.peer_apriltag = p.peers->second;
       w.redetect = true;
     }
+    if (p.playback) w.playback = *p.playback;
+    if (p.scene) w.scene = *p.scene;
     if (w.source) {
       if (p.playback) w.source->set_playback(*p.playback);
       for (int d : p.steps) {

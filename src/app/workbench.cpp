@@ -199,7 +199,6 @@ struct App {
   std::atomic<double> sweep_progress{0};
   std::atomic<bool> sweep_cancel{false};
   // Stats
-  std::map<uint64_t, bool> seen_frames;
   uint64_t last_frame_index = 0;
   int detected_seen = 0;
   double detect_ms_sum = 0;
@@ -218,7 +217,7 @@ struct App {
   void warn(const std::string& s) { log.add(ui::LogLevel::warning, s); }
   void error(const std::string& s) { log.add(ui::LogLevel::error, s); }
 
-  void run_action(const Action& a, GLFWwindow* window);
+  void run_action(const Action& a);
   void handle_requests();
   void forward_settings();
   void poll_sweep();
@@ -230,7 +229,7 @@ struct App {
   bool take_screenshot(const std::string& path, GLFWwindow* window);
 };
 
-void App::run_action(const Action& a, GLFWwindow* window) {
+void App::run_action(const Action& a) {
   ui::Panel p;
   if (a.verb == "open" || a.verb == "close") {
     if (a.arg == "all") {
@@ -286,7 +285,6 @@ void App::run_action(const Action& a, GLFWwindow* window) {
   } else if (a.verb == "peers") {
     settings.peer_opencv = settings.peer_apriltag = true;
   }
-  (void)window;
 }
 
 // [SECTION] Requests
@@ -379,7 +377,6 @@ void App::handle_requests() {
         }
         break;
       }
-      case ui::RequestKind::screenshot: opt.screenshot = r.text; break;
     }
   }
 }
@@ -607,13 +604,13 @@ int run_workbench(const WorkbenchOptions& options) {
   });
   app.engine->start();
   app.status.cameras = list_cameras();
+  app.status.assets_dir = ARWB_ASSETS_DIR;
 
   const double ui_period = 1.0 / 60.0;
   int ui_frames = 0;
   size_t next_action = 0;
   auto loop_start = Clock::now();
   auto last = Clock::now();
-  bool screenshot_done = false;
   while (!glfwWindowShouldClose(window)) {
     glfwPollEvents();
     app.frame = app.engine->latest();
@@ -634,7 +631,7 @@ int run_workbench(const WorkbenchOptions& options) {
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     while (next_action < actions.size() && actions[next_action].frame <= ui_frames) {
-      app.run_action(actions[next_action++], window);
+      app.run_action(actions[next_action++]);
     }
     // Keys (ImGui 1.86 indexes keys by GLFW key code): S snapshot, Space freeze, N next frame, T tour, F5 presentation, Ctrl+Q quit.
     if (!io.WantTextInput) {
@@ -679,13 +676,9 @@ int run_workbench(const WorkbenchOptions& options) {
     app.textures.end_frame();
     ++ui_frames;
     const bool last_frame = options.frames > 0 && ui_frames >= options.frames;
-    if (!app.opt.screenshot.empty() && (last_frame || options.frames == 0) && !screenshot_done) {
-      // Interactive: a requested screenshot is taken once; scripted: at the last frame.
-      screenshot_done = app.take_screenshot(app.opt.screenshot, window) || true;
-      if (options.frames == 0) {
-        app.opt.screenshot.clear();
-        screenshot_done = false;
-      }
+    // --screenshot: the last frame drawn, whether the run ends by --frames or by closing the window.
+    if (!options.screenshot.empty() && (last_frame || glfwWindowShouldClose(window))) {
+      app.take_screenshot(options.screenshot, window);
     }
     glfwSwapBuffers(window);
     const auto tp3 = Clock::now();

@@ -29,6 +29,15 @@ std::string_view trace_level_name(TraceLevel level) {
   return "?";
 }
 
+int CandidateRecord::best_rotation() const {
+  int best = -1;
+  for (int k = 0; k < 4; ++k) {
+    const DictMatch& m = per_rotation[size_t(k)];
+    if (m.id >= 0 && (best < 0 || m.hamming < per_rotation[size_t(best)].hamming)) best = k;
+  }
+  return best;
+}
+
 const StageRecord* FrameTrace::stage(Stage s) const {
   for (const auto& r : stages)
     if (r.stage == s) return &r;

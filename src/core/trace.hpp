@@ -88,6 +88,11 @@ struct CandidateRecord {
   std::array<DictMatch, 4> per_rotation{};  // nearest id in each rotation (when identification ran)
   int marker = -1;             // index into FrameTrace::markers when accepted
   Rejection fate;              // stage == Stage::accepted when it became a marker
+
+  // The rotation whose nearest id is closest (lowest rotation on ties); -1 when identification did not run.
+  int best_rotation() const;
+  // The nearest id in that rotation (id -1 when identification did not run).
+  DictMatch nearest() const { return best_rotation() < 0 ? DictMatch{} : per_rotation[size_t(best_rotation())]; }
 };
 
 struct FrameTrace {

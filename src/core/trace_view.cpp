@@ -380,13 +380,6 @@ cv::Rect cell_rect(int r, int c, int cells) {
 // A candidate passed stage s when its fate is a later stage or acceptance (the last value of Stage).
 bool passed(const CandidateRecord& c, Stage s) { return static_cast<int>(c.fate.stage) > static_cast<int>(s); }
 
-DictMatch best_rotation(const CandidateRecord& c) {
-  DictMatch best;
-  for (const auto& m : c.per_rotation)
-    if (m.id >= 0 && (best.id < 0 || m.hamming < best.hamming)) best = m;
-  return best;
-}
-
 }  // namespace
 
 bool stage_view_is_mosaic(Stage s) {
@@ -525,7 +518,7 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
                                   c.fate.stage != Stage::border_check;
                          },
                          [](const CandidateRecord& c, TileSpec& s) {
-                           const DictMatch m = best_rotation(c);
+                           const DictMatch m = c.nearest();
                            s.below = m.id >= 0 ? std::to_string(m.id) + " d" + std::to_string(m.hamming) : "-";
                            s.frame = c.fate.stage == Stage::identification ? kRed
                                      : passed(c, Stage::identification) ? kGreen

@@ -92,6 +92,29 @@ TEST(Engine, NewParametersRedetectTheFrozenFrame) {
   EXPECT_EQ(cv::norm(before->image, after->image, cv::NORM_INF), 0.0);   // the same frame, read again
 }
 
+TEST(Engine, SceneSettingsSurviveASwitchToAnotherSourceAndBack) {
+  test::TempDir tmp;
+  cv::imwrite(tmp.str("still.png"), cv::Mat(480, 640, CV_8UC3, cv::Scalar::all(128)));
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  SceneControls one;
+  one.markers = 1;
+  e.set_scene(one);
+  e.start();
+  auto f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  SourceSpec still;
+  still.kind = SourceKind::image;
+  still.path = tmp.str("still.png");
+  e.open_source(still);
+  for (int i = 0; i < 100 && (!f || f->source.kind != SourceKind::image); ++i) f = e.wait_newer(f->index, 0.1);
+  ASSERT_EQ(f->source.kind, SourceKind::image);
+  e.open_source(SourceSpec{});
+  for (int i = 0; i < 100 && f->source.kind != SourceKind::synthetic; ++i) f = e.wait_newer(f->index, 0.1);
+  ASSERT_EQ(f->source.kind, SourceKind::synthetic);
+  EXPECT_EQ(f->truth.size(), 1u) << "the new synthetic source got the scene's sliders";
+}
+
 TEST(Engine, FallsBackToTheSyntheticSceneWhenTheFolderGoes) {
   test::TempDir tmp;
   const std::string folder = tmp.str("shots");
