@@ -2,7 +2,9 @@
 // the peer detectors found on the same image. The UI draws only from this (through a const reference).
 #pragma once
 
+#include "core/overlay.hpp"
 #include "core/source.hpp"
+#include "core/tracker.hpp"
 #include "core/trace.hpp"
 
 #include <opencv2/core.hpp>
@@ -41,6 +43,10 @@ struct Frame {
   SourceInfo source;
   double capture_ms = 0;      // reading the source and acquisition
   double detect_ms = 0;       // Detector::detect, trace included
+  // The scene (Lua or XML database): markers over time, the media it places on this frame and its state.
+  std::vector<TrackedMarker> tracks;
+  std::vector<Overlay> overlays;
+  SceneStatus scene;
 };
 
 }  // namespace arwb

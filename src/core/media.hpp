@@ -1,0 +1,49 @@
+// What a scene shows on or beside a marker: the description an author wrote (MediaSpec) and the pixels it has
+// right now (MediaContent). The decoders behind MediaContent (images, video players, text and web cards) live in
+// src/media; the core only carries them from the scene to whoever draws, so Frame stays free of decoders.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace arwb {
+
+// stage: the current frame's picture of one pipeline stage (trace_view.hpp), by its stage name.
+enum class MediaKind { none, image, video, web, text, stage };
+std::string_view media_kind_name(MediaKind k);   // "none", "image", "video", "web", "text", "stage"
+
+struct MediaSpec {
+  MediaKind kind = MediaKind::none;
+  std::string source;        // as the author wrote it: a path relative to the scene's folder, a URL, or the text
+  std::string path;          // image, video: the resolved path (inside the scene's folder, checked)
+  std::string url;           // web: http or https only
+  std::string title;         // web: the card's title (default: the URL's host)
+  std::string text;          // text: what it shows on this frame (a computed text is evaluated each frame)
+  std::string stage;         // stage: a stage name from core/trace.hpp ("adaptive_threshold", "bit_grid", ...)
+  bool loop = false;         // video: start again at the end instead of holding the last frame
+  double font_px = 32;       // text: glyph height in the card's own pixels (the card is scaled with its placement)
+  cv::Scalar colour{255, 255, 255, 255};       // text: BGRA
+  cv::Scalar background{40, 40, 40, 200};      // text: BGRA card behind the text (alpha 0: none)
+  // One line for tables and logs: "image media/painting.png", "video media/clip.mp4 (loop)", "web https://...",
+  // "text \"ID 7\"".
+  std::string describe() const;
+};
+
+// The pixels a media shows now. Implementations are thread-safe: the scene sets them up on the worker, the UI
+// thread reads them every frame to update textures, and video players decode on their own thread.
+class MediaContent {
+ public:
+  virtual ~MediaContent() = default;
+  // Width and height in pixels, known before the first picture is decoded (from the header or the container).
+  virtual cv::Size size() const = 0;
+  // The newest picture, CV_8UC3 BGR or CV_8UC4 BGRA (straight alpha), and its version. The version changes
+  // whenever the pixels do (a video's frame number, plus one per reload), so a texture uploads only then.
+  // May return null while a video's first frame is still being decoded.
+  virtual std::shared_ptr<const cv::Mat> current(uint64_t* version) const = 0;
+};
+
+}  // namespace arwb
