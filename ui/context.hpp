@@ -31,7 +31,7 @@ namespace arwb::ui {
 
 // The panels, in the order of the View menu. Their titles are the window names ImGui saves the layout under.
 enum class Panel { live_view, pipeline, candidates, inspector, parameters, timings, dictionary, peers, source, tour,
-                   why, log, count };
+                   why, log, scene, script, console, count };
 constexpr int kPanelCount = static_cast<int>(Panel::count);
 const char* panel_title(Panel p);
 const char* panel_key(Panel p);   // "live_view", "pipeline"... (for --at N:open=KEY and the saved layout)
@@ -59,6 +59,9 @@ enum class RequestKind {
   load_preset,   // text: path
   save_preset,   // text: path
   marker_sheet,  // text: path of the PDF to write, with the first dictionary's ids `value`.. (arwb markers)
+  load_scene,    // text: a scene file (.lua or .xml); "" unloads the scene
+  save_script,   // text: path, payload: the file's new content (the scene then reloads by itself)
+  open_url,      // text: a web card's URL, opened in the system's browser
 };
 
 struct Request {
@@ -66,6 +69,7 @@ struct Request {
   std::string text;
   int value = 0;
   cv::Rect2f region;
+  std::string payload;
 };
 
 enum class LogLevel { info, warning, error };
@@ -94,6 +98,7 @@ struct Status {
   std::string last_snapshot;                      // folder of the last snapshot
   SourceSpec source;                              // the source in use
   std::string assets_dir;                         // shipped presets, the tour, fonts
+  std::string scripts_dir;                        // the shipped example scenes (scripts/)
 };
 
 // Zoom and pan of an image view; the live view and the pipeline's large view share one, so the same pixel sits
@@ -123,6 +128,8 @@ struct View {
   bool has_region = false;
   cv::Rect2f region;
   RegionReport region_report;    // recomputed by the workbench for each new frame while has_region
+  bool show_media = true;        // the scene's media composited on the live view
+  int script_goto_line = 0;      // a line of the scene file the Script editor scrolls to next (1-based; 0: none)
   // Teaching
   bool presentation = false;
   int tour_step = 0;
@@ -139,11 +146,15 @@ struct Context {
   render::TextureCache& textures;
   const std::vector<TourStep>& tour;   // the teaching tour (assets/teaching/tour.txt)
   float scale = 1;                     // 2 in presentation mode: sizes in panels multiply by it
+  // The latest frame with the scene's media drawn on it (render::Compositor), when there is a scene and
+  // view.show_media; null otherwise. Same size and pixel coordinates as frame->image.
+  ImTextureID composite = nullptr;
   // Called before each panel's window begins: the workbench places windows on their first use there.
   std::function<void(Panel)> place;
 
-  void request(RequestKind kind, std::string text = {}, int value = 0, cv::Rect2f region = {}) {
-    requests.push_back({kind, std::move(text), value, region});
+  void request(RequestKind kind, std::string text = {}, int value = 0, cv::Rect2f region = {},
+               std::string payload = {}) {
+    requests.push_back({kind, std::move(text), value, region, std::move(payload)});
   }
   // An ImGui texture id for an image, uploaded only when `version` changed (usually the frame index).
   ImTextureID texture(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest = true);

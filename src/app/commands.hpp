@@ -8,5 +8,7 @@ int cmd_detect(int argc, char** argv);
 int cmd_markers(int argc, char** argv);
 int cmd_synth(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
+int cmd_render(int argc, char** argv);
+int cmd_make_media(int argc, char** argv);
 
 }  // namespace arwb

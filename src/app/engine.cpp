@@ -2,6 +2,7 @@
 
 #include "app/cli_common.hpp"
 #include "app/peers.hpp"
+#include "app/scene_stage.hpp"
 #include "core/trace_view.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -34,9 +35,10 @@ struct Engine::Pending {
   bool next_frame = false;
   std::optional<std::pair<bool, bool>> peers;
   std::optional<TraceLevel> level;
+  std::optional<std::string> scene_file;
   bool any() const {
     return source || params || dictionaries || acquisition || playback || !steps.empty() || seek || scene || frozen ||
-           next_frame || peers || level;
+           next_frame || peers || level || scene_file;
   }
 };
 
@@ -62,6 +64,7 @@ struct Engine::Worker {
   bool ended_logged = false;
   double next_due = 0;
   std::deque<double> finished;   // finish times of the last second
+  std::unique_ptr<SceneStage> stage;   // the Lua scene or XML database, once one was asked for
   uint64_t index = 0;
   Clock::time_point t0 = Clock::now();
 };
@@ -71,6 +74,7 @@ Engine::Engine(EngineConfig config, LogFn log)
   worker_->config = std::move(config);
   pending_->source = worker_->config.source;
   pending_->dictionaries = worker_->config.dictionaries;
+  if (!worker_->config.scene_file.empty()) pending_->scene_file = worker_->config.scene_file;
   source_in_use_ = worker_->config.source;
 }
 
@@ -120,6 +124,7 @@ void Engine::set_frozen(bool frozen) { ARWB_SET(frozen, frozen); }
 void Engine::next_frame() { ARWB_SET(next_frame, true); }
 void Engine::set_peers(bool opencv, bool apriltag) { ARWB_SET(peers, std::make_pair(opencv, apriltag)); }
 void Engine::set_trace_level(TraceLevel level) { ARWB_SET(level, level); }
+void Engine::load_scene(const std::string& path) { ARWB_SET(scene_file, path); }
 #undef ARWB_SET
 void Engine::step(int delta) {
   std::lock_guard lock(mutex_);
@@ -234,6 +239,15 @@ void Engine::run() {
     }
     if (p.frozen) w.frozen = *p.frozen;
     if (p.next_frame) w.take_one = true;
+    if (p.scene_file) {
+      if (!w.stage) w.stage = std::make_unique<SceneStage>(media::StoreMode::live);
+      if (w.stage->load(*p.scene_file)) {
+        log_(0, p.scene_file->empty() ? "scene unloaded" : "scene: " + *p.scene_file);
+      } else {
+        log_(2, w.stage->status().error + (w.stage->status().ok ? " (the last good scene stays)" : ""));
+      }
+      w.redetect = true;   // show the new scene on the current frame, even when frozen
+    }
 
     // 2. A new frame when it is due (the fps cap), unless frozen.
     const double now = seconds_since(w.t0);
@@ -293,6 +307,15 @@ void Engine::run() {
         cv::resize(in, out, cv::Size(std::max(1, int(in.cols * s)), std::max(1, int(in.rows * s))), 0, 0,
                    cv::INTER_AREA);
       };
+      if (w.stage && w.stage->loaded()) {
+        const uint64_t before = w.stage->status().generation;
+        const std::string before_error = w.stage->status().error;
+        w.stage->run(*f, now);
+        // Reloads after an edit on disk are news for the log too.
+        const SceneStatus& st = f->scene;
+        if (st.generation != before && before != 0) log_(0, "scene reloaded: " + st.file);
+        if (!st.error.empty() && st.error != before_error) log_(2, st.error);
+      }
       shrink(f->image, f->image_thumb);
       for (int i = 0; i < kStageCount; ++i) shrink(f->views[size_t(i)], f->thumbs[size_t(i)]);
       // Peers, on the first dictionary.

@@ -30,6 +30,7 @@ struct EngineConfig {
   AcquisitionSettings acquisition;
   TraceLevel level = TraceLevel::full;
   int threads = 1;   // detector threads (the UI has the other core)
+  std::string scene_file;   // a Lua scene or XML database to load at start ("" none)
 };
 
 class Engine {
@@ -62,6 +63,9 @@ class Engine {
   void next_frame();                         // while frozen: take one new frame
   void set_peers(bool opencv, bool apriltag);
   void set_trace_level(TraceLevel level);
+  // Loads a scene (Lua or XML database; "" unloads). Errors reach the frame's SceneStatus and the log; the last
+  // good scene stays. The file is then watched and reloaded when it changes on disk.
+  void load_scene(const std::string& path);
 
   double detect_fps() const;                 // finished frames per second over the last second or so
   uint64_t frames_done() const;

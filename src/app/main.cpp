@@ -22,6 +22,8 @@ constexpr Subcommand kSubcommands[] = {
     {"markers", arwb::cmd_markers, "write marker PNGs, or a printable PDF/SVG sheet at true size"},
     {"synth", arwb::cmd_synth, "make synthetic photographs of markers with a truth.jsonl"},
     {"bench", arwb::cmd_bench, "compare arwb with OpenCV aruco and AprilTag on a synthetic set"},
+    {"make-media", arwb::cmd_make_media, "paint the example scenes' pictures and clip (no downloads)"},
+    {"render", arwb::cmd_render, "composite a scene's media onto a video, images or the synthetic scene (no display)"},
 };
 
 void usage(std::FILE* to) {
@@ -30,7 +32,7 @@ void usage(std::FILE* to) {
                "       arwb <subcommand> [options]\n\n"
                "Without a subcommand, arwb opens the workbench window (options below).\n\n"
                "subcommands:\n");
-  for (const auto& s : kSubcommands) std::fprintf(to, "  %-8s %s\n", s.name, s.summary);
+  for (const auto& s : kSubcommands) std::fprintf(to, "  %-10s %s\n", s.name, s.summary);
   std::fprintf(to, "\n`arwb <subcommand> --help` describes each one.\n");
 }
 

@@ -12,6 +12,8 @@
 #include "core/diagnose.hpp"
 #include "core/json.hpp"
 #include "core/tour.hpp"
+#include "media/open_url.hpp"
+#include "render/compositor.hpp"
 #include "render/texture.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
@@ -27,6 +29,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <cerrno>
 #include <filesystem>
 #include <future>
 #include <map>
@@ -130,10 +134,37 @@ void default_layout(ui::Panel p, ImVec2 size, float menu_h, float status_h) {
     case ui::Panel::log: pos = {left, top + H * 0.82f}; sz = {mid, H * 0.18f}; break;
     case ui::Panel::tour: pos = {W * 0.2f, top + 40}; sz = {W * 0.35f, H * 0.55f}; break;
     case ui::Panel::why: pos = {left + 20, top + 30}; sz = {mid + 60, H * 0.55f}; break;
+    case ui::Panel::scene: pos = {left + mid, top}; sz = {right, H * 0.45f}; break;
+    case ui::Panel::script: pos = {left, top}; sz = {mid, H * 0.82f}; break;
+    case ui::Panel::console: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
     default: return;
   }
   ImGui::SetNextWindowPos(pos, ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(sz, ImGuiCond_FirstUseEver);
+}
+
+// The script editor's Save: the new text goes to a temporary file beside the old one and replaces it in one
+// rename, so a full disk or a crash never leaves half a script (and the watcher never reads one).
+bool write_file_atomically(const std::string& path, const std::string& text, std::string* error) {
+  const std::string tmp = path + ".arwb-saving";
+  FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) {
+    *error = std::strerror(errno);
+    return false;
+  }
+  const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const bool closed = std::fclose(f) == 0;
+  if (!wrote || !closed) {
+    *error = "write failed (disk full?)";
+    std::remove(tmp.c_str());
+    return false;
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    *error = std::strerror(errno);
+    std::remove(tmp.c_str());
+    return false;
+  }
+  return true;
 }
 
 // [SECTION] Actions
@@ -166,7 +197,8 @@ bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* o
       a.verb = rest.substr(0, eq);
       a.arg = eq == std::string::npos ? "" : rest.substr(eq + 1);
       static const char* kVerbs[] = {"open", "close", "source", "freeze", "unfreeze", "next", "snapshot", "stage",
-                                     "select", "region", "sweep", "tour", "presentation", "preset", "peers"};
+                                     "select", "region", "sweep", "tour", "presentation", "preset", "peers",
+                                     "scene", "click", "media"};
       if (std::none_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; })) {
         *error = "--actions '" + item + "': unknown verb '" + a.verb + "'";
         return false;
@@ -191,6 +223,10 @@ struct App {
   std::vector<ui::Request> requests;
   std::vector<TourStep> tour;
   render::TextureCache textures;
+  std::unique_ptr<render::Compositor> compositor;   // the frame with the scene's media, for the live view
+  uint64_t scene_generation = 0;
+  double composite_ms = 0;
+  int composites = 0;
   std::shared_ptr<const Frame> frame;
   uint64_t region_frame = 0;
   cv::Rect2f region_done{-1, -1, 0, 0};
@@ -218,6 +254,7 @@ struct App {
   void error(const std::string& s) { log.add(ui::LogLevel::error, s); }
 
   void run_action(const Action& a);
+  void sync_scene();
   void handle_requests();
   void forward_settings();
   void poll_sweep();
@@ -240,13 +277,13 @@ void App::run_action(const Action& a) {
     view.open[static_cast<size_t>(p)] = a.verb == "open";
     if (a.verb == "open") ImGui::SetWindowFocus(ui::panel_title(p));
   } else if (a.verb == "source") {
-    requests.push_back({ui::RequestKind::open_source, a.arg, 0, {}});
+    requests.push_back({ui::RequestKind::open_source, a.arg, 0, {}, {}});
   } else if (a.verb == "freeze" || a.verb == "unfreeze") {
     settings.frozen = a.verb == "freeze";
   } else if (a.verb == "next") {
-    requests.push_back({ui::RequestKind::next_frame, "", 0, {}});
+    requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
   } else if (a.verb == "snapshot") {
-    requests.push_back({ui::RequestKind::snapshot, "", 0, {}});
+    requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
   } else if (a.verb == "stage") {
     Stage s;
     if (a.arg == "input") view.pipeline_stage = -1;
@@ -272,7 +309,7 @@ void App::run_action(const Action& a) {
       warn("--actions: region wants X,Y,W,H, not '" + a.arg + "'");
     }
   } else if (a.verb == "sweep") {
-    if (view.has_region) requests.push_back({ui::RequestKind::sweep, "", 0, view.region});
+    if (view.has_region) requests.push_back({ui::RequestKind::sweep, "", 0, view.region, {}});
   } else if (a.verb == "tour") {
     view.tour_active = true;
     settings.frozen = true;
@@ -281,9 +318,41 @@ void App::run_action(const Action& a) {
   } else if (a.verb == "presentation") {
     set_presentation(!view.presentation);
   } else if (a.verb == "preset") {
-    requests.push_back({ui::RequestKind::load_preset, a.arg, 0, {}});
+    requests.push_back({ui::RequestKind::load_preset, a.arg, 0, {}, {}});
+  } else if (a.verb == "scene") {
+    requests.push_back({ui::RequestKind::load_scene, a.arg, 0, {}, {}});
+  } else if (a.verb == "media") {
+    view.show_media = a.arg != "off";
+  } else if (a.verb == "click") {
+    // A click on the live view at image pixel X,Y: what a user's click on a web card does.
+    double x = 0, y = 0;
+    if (std::sscanf(a.arg.c_str(), "%lf,%lf", &x, &y) != 2) {
+      error("--actions click=" + a.arg + ": expected X,Y in image pixels");
+      return;
+    }
+    bool hit = false;
+    if (frame) {
+      for (auto it = frame->overlays.rbegin(); it != frame->overlays.rend() && !hit; ++it) {
+        if (it->media.kind == MediaKind::web && it->quad.contains({x, y})) {
+          requests.push_back({ui::RequestKind::open_url, it->media.url, 0, {}, {}});
+          hit = true;
+        }
+      }
+    }
+    if (!hit) info("click " + a.arg + ": no web card there");
   } else if (a.verb == "peers") {
     settings.peer_opencv = settings.peer_apriltag = true;
+  }
+}
+
+// A newly (re)loaded scene that names a dictionary switches the detector to it, as `arwb render` does.
+void App::sync_scene() {
+  if (!frame || frame->scene.generation == scene_generation) return;
+  scene_generation = frame->scene.generation;
+  const std::string& d = frame->scene.dictionary;
+  if (!d.empty() && (settings.dictionaries.size() != 1 || settings.dictionaries[0] != d)) {
+    settings.dictionaries = {d};
+    info("scene: detecting " + d + ", the scene's dictionary");
   }
 }
 
@@ -350,6 +419,19 @@ void App::handle_requests() {
           for (const auto& e : errors) error("preset: " + e);
           if (errors.empty()) error("preset: cannot load " + r.text);
         }
+        break;
+      }
+      case ui::RequestKind::load_scene: engine->load_scene(r.text); break;
+      case ui::RequestKind::save_script: {
+        std::string err;
+        if (write_file_atomically(r.text, r.payload, &err)) info("saved " + r.text + " (the scene reloads by itself)");
+        else error("cannot save " + r.text + ": " + err + "; your text is still in the editor");
+        break;
+      }
+      case ui::RequestKind::open_url: {
+        const std::string err = media::open_url(r.text);
+        if (err.empty()) info("opening " + r.text + " in the browser");
+        else error("cannot open " + r.text + ": " + err);
         break;
       }
       case ui::RequestKind::save_preset: {
@@ -453,11 +535,11 @@ void App::set_presentation(bool on) {
 void App::draw_menu(GLFWwindow* window) {
   if (!ImGui::BeginMainMenuBar()) return;
   if (ImGui::BeginMenu("File")) {
-    if (ImGui::MenuItem("Synthetic scene")) requests.push_back({ui::RequestKind::open_source, "synthetic", 0, {}});
+    if (ImGui::MenuItem("Synthetic scene")) requests.push_back({ui::RequestKind::open_source, "synthetic", 0, {}, {}});
     if (ImGui::MenuItem("Open source...")) view.open[static_cast<size_t>(ui::Panel::source)] = true;
-    if (ImGui::MenuItem("Snapshot", "S")) requests.push_back({ui::RequestKind::snapshot, "", 0, {}});
+    if (ImGui::MenuItem("Snapshot", "S")) requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
     if (ImGui::MenuItem("Print marker sheet (PDF)")) {
-      requests.push_back({ui::RequestKind::marker_sheet, "marker-sheet.pdf", 0, {}});
+      requests.push_back({ui::RequestKind::marker_sheet, "marker-sheet.pdf", 0, {}, {}});
     }
     ImGui::Separator();
     if (ImGui::MenuItem("Quit", "Ctrl+Q")) glfwSetWindowShouldClose(window, 1);
@@ -479,7 +561,7 @@ void App::draw_menu(GLFWwindow* window) {
       view.open[static_cast<size_t>(ui::Panel::tour)] = true;
     }
     ImGui::MenuItem("Freeze frame", "Space", &settings.frozen);
-    if (ImGui::MenuItem("Next frame", "N")) requests.push_back({ui::RequestKind::next_frame, "", 0, {}});
+    if (ImGui::MenuItem("Next frame", "N")) requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
     ImGui::EndMenu();
   }
   ImGui::EndMainMenuBar();
@@ -605,6 +687,11 @@ int run_workbench(const WorkbenchOptions& options) {
   app.engine->start();
   app.status.cameras = list_cameras();
   app.status.assets_dir = ARWB_ASSETS_DIR;
+  app.status.scripts_dir = ARWB_SCRIPTS_DIR;
+  app.compositor = std::make_unique<render::Compositor>(4);
+  if (!options.engine.scene_file.empty()) {
+    for (ui::Panel p : {ui::Panel::scene, ui::Panel::console}) app.view.open[static_cast<size_t>(p)] = true;
+  }
 
   const double ui_period = 1.0 / 60.0;
   int ui_frames = 0;
@@ -635,9 +722,9 @@ int run_workbench(const WorkbenchOptions& options) {
     }
     // Keys (ImGui 1.86 indexes keys by GLFW key code): S snapshot, Space freeze, N next frame, T tour, F5 presentation, Ctrl+Q quit.
     if (!io.WantTextInput) {
-      if (ImGui::IsKeyPressed(GLFW_KEY_S) && !io.KeyCtrl) app.requests.push_back({ui::RequestKind::snapshot, "", 0, {}});
+      if (ImGui::IsKeyPressed(GLFW_KEY_S) && !io.KeyCtrl) app.requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
       if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) app.settings.frozen = !app.settings.frozen;
-      if (ImGui::IsKeyPressed(GLFW_KEY_N)) app.requests.push_back({ui::RequestKind::next_frame, "", 0, {}});
+      if (ImGui::IsKeyPressed(GLFW_KEY_N)) app.requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
       if (ImGui::IsKeyPressed(GLFW_KEY_T)) {
         app.view.tour_active = true;
         app.settings.frozen = true;
@@ -651,8 +738,21 @@ int run_workbench(const WorkbenchOptions& options) {
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     const float menu_h = ImGui::GetFrameHeight();
     ui::Context ctx{app.frame.get(), app.settings, app.view, app.status, app.requests, app.textures, app.tour,
-                    app.view.presentation ? 2.0f : 1.0f,
+                    app.view.presentation ? 2.0f : 1.0f, nullptr,
                     [&](ui::Panel p) { default_layout(p, vp->Size, menu_h, status_h); }};
+    app.sync_scene();
+    // The scene's media on the frame: drawn every UI frame, so a video's texture moves on between detections.
+    if (app.frame && app.view.show_media && !app.frame->scene.file.empty()) {
+      const auto c0 = Clock::now();
+      if (app.compositor->draw(app.frame->image, app.frame->index, app.frame->overlays)) {
+        ctx.composite = reinterpret_cast<ImTextureID>(static_cast<intptr_t>(app.compositor->texture()));
+        app.composite_ms += std::chrono::duration<double, std::milli>(Clock::now() - c0).count();
+        ++app.composites;
+      } else if (app.composites >= 0) {
+        app.error("media: " + app.compositor->error());
+        app.composites = -1;   // said once
+      }
+    }
     const auto tp0 = Clock::now();
     ui::draw_panels(ctx);
     app.draw_status_bar(status_h);
@@ -742,6 +842,10 @@ int run_workbench(const WorkbenchOptions& options) {
       first = false;
     }
     s += "},\"fps_cap\":" + json::number(app.settings.acquisition.fps_cap, 1);
+    s += ",\"overlays\":" + std::to_string(app.frame ? app.frame->overlays.size() : 0) +
+         ",\"composite_ms\":" + json::number(app.composite_ms / std::max(1, app.composites), 2) +
+         ",\"scene\":" + json::quote(app.frame ? app.frame->scene.file : "") +
+         ",\"scene_ok\":" + std::string(app.frame && app.frame->scene.ok ? "true" : "false");
     s += ",\"ui_ms\":{\"panels\":" + json::number(app.ui_ms[0] / std::max(1, ui_frames), 2) +
          ",\"render\":" + json::number(app.ui_ms[1] / std::max(1, ui_frames), 2) +
          ",\"swap\":" + json::number(app.ui_ms[2] / std::max(1, ui_frames), 2) +
@@ -753,6 +857,7 @@ int run_workbench(const WorkbenchOptions& options) {
     std::printf("%s\n", s.c_str());
   }
   app.textures = render::TextureCache{};
+  app.compositor.reset();
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
@@ -768,14 +873,16 @@ int cmd_workbench(int argc, char** argv) {
         "usage: arwb [--source synthetic|camera:N|PATH] [--frames N] [--screenshot FILE.png] [--stats]\n"
         "            [--dict NAME[,NAME]] [--params FILE.yml] [--size WxH] [--fps-cap F] [--resize WxH|off]\n"
         "            [--presentation] [--config-dir DIR] [--snapshot-dir DIR] [--tour FILE] [--verbose]\n"
-        "            [--actions 'N:verb[=arg];...']\n\n"
+        "            [--scene FILE.lua|FILE.xml] [--actions 'N:verb[=arg];...']\n\n"
         "Opens the workbench window. --frames N draws N frames and exits; --screenshot writes the window to a PNG\n"
         "then; --stats prints one JSON line of figures at exit. Without --source it shows the first camera, or the\n"
-        "built-in synthetic scene when there is none.\n"
+        "built-in synthetic scene when there is none. --scene loads a Lua scene or XML database (docs/scene-api.md)\n"
+        "and reloads it whenever the file changes.\n"
         "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, source=SPEC,\n"
         "freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, sweep, tour[=STEP],\n"
-        "presentation, preset=FILE, peers. Panels: live_view pipeline candidates inspector parameters timings\n"
-        "dictionary peers source tour why log.\n"
+        "presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image pixels; opens a web card).\n"
+        "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why log\n"
+        "scene script console.\n"
         "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Q quit.\n");
     return 0;
   }
@@ -799,6 +906,7 @@ int cmd_workbench(int argc, char** argv) {
   o.engine.acquisition.fps_cap = args.double_value("--fps-cap", 20, 0, 240);
   const std::string resize = args.value("--resize", "640x480");
   const std::string actions = args.value("--actions", "");
+  o.engine.scene_file = args.value("--scene", "");
   if (!args.no_positional() || !args.ok()) return args.fail("arwb");
   if (!actions.empty()) o.actions.push_back(actions);
   std::string err;

@@ -107,24 +107,33 @@ PlaceSpec PlaceSpec::defaults(PlaceKind k) {
 }
 
 std::string PlaceSpec::describe() const {
+  // Appended piece by piece: g++ 12 reports a false -Wrestrict on `" " + std::string(...)` chains.
   std::string d(place_kind_name(kind));
+  auto add = [&d](std::string_view word, const std::string& value = {}) {
+    d.append(" ").append(word);
+    if (!value.empty()) d.append(" ").append(value);
+  };
   switch (kind) {
     case PlaceKind::on_marker:
-      d += " " + std::string(fit_name(fit));
-      if (scale != 1.0) d += " scale " + num(scale);
-      if (rotate_deg != 0.0) d += " rotate " + num(rotate_deg);
+      add(fit_name(fit));
+      if (scale != 1.0) add("scale", num(scale));
+      if (rotate_deg != 0.0) add("rotate", num(rotate_deg));
       break;
     case PlaceKind::beside:
-      d += " " + std::string(side_name(side)) + " gap " + num(gap) + " size " + num(size);
+      add(side_name(side));
+      add("gap", num(gap));
+      add("size", num(size));
       break;
     case PlaceKind::billboard:
-      d += " " + std::string(side_name(side)) + " size " + num(size);
+      add(side_name(side));
+      add("size", num(size));
       break;
     case PlaceKind::screen:
-      d += " " + std::string(screen_corner_name(corner)) + " size " + num(size);
+      add(screen_corner_name(corner));
+      add("size", num(size));
       break;
   }
-  if (opacity != 1.0) d += " opacity " + num(opacity);
+  if (opacity != 1.0) add("opacity", num(opacity));
   return d;
 }
 

@@ -28,7 +28,7 @@ Texture& Texture::operator=(Texture&& o) noexcept {
   return *this;
 }
 
-void Texture::upload(const cv::Mat& image, uint64_t version, bool nearest) {
+void Texture::upload(const cv::Mat& image, uint64_t version, bool nearest, bool mipmaps) {
   if (image.empty() || image.depth() != CV_8U) return;
   if (id_ != 0 && version == version_ && image.cols == width_ && image.rows == height_) return;
   cv::Mat src = image.isContinuous() ? image : image.clone();
@@ -38,7 +38,7 @@ void Texture::upload(const cv::Mat& image, uint64_t version, bool nearest) {
   if (id_ == 0) glGenTextures(1, &id_);
   glBindTexture(GL_TEXTURE_2D, id_);
   const GLint filter = nearest ? GL_NEAREST : GL_LINEAR;
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -55,17 +55,19 @@ void Texture::upload(const cv::Mat& image, uint64_t version, bool nearest) {
     const GLint internal = src.channels() == 1 ? GL_R8 : (src.channels() == 4 ? GL_RGBA8 : GL_RGB8);
     glTexImage2D(GL_TEXTURE_2D, 0, internal, src.cols, src.rows, 0, format, GL_UNSIGNED_BYTE, src.data);
   }
+  if (mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
   width_ = src.cols;
   height_ = src.rows;
   version_ = version;
   ++uploads_;
 }
 
-Texture& TextureCache::get(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest) {
+Texture& TextureCache::get(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest,
+                           bool mipmaps) {
   Entry& e = entries_[key];
   e.last_used = frame_;
   const int before = e.texture.uploads_;
-  e.texture.upload(image, version, nearest);
+  e.texture.upload(image, version, nearest, mipmaps);
   uploads_ += e.texture.uploads_ - before;
   return e.texture;
 }

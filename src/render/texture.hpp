@@ -23,7 +23,9 @@ class Texture {
 
   // Uploads `image` (CV_8UC1, CV_8UC3 BGR or CV_8UC4 BGRA) unless `version` is the one already uploaded.
   // `nearest` picks nearest-neighbour magnification, so pixels stay square when a user zooms in.
-  void upload(const cv::Mat& image, uint64_t version, bool nearest = true);
+  // `mipmaps` builds the mipmap chain and filters trilinearly: media drawn much smaller than their pixels
+  // (a 1920-wide video on a 60 px marker) would shimmer otherwise.
+  void upload(const cv::Mat& image, uint64_t version, bool nearest = true, bool mipmaps = false);
   unsigned id() const { return id_; }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -41,7 +43,8 @@ class Texture {
 // are freed, so a closed panel costs no GPU memory.
 class TextureCache {
  public:
-  Texture& get(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest = true);
+  Texture& get(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest = true,
+              bool mipmaps = false);
   // Call once per UI frame, after drawing.
   void end_frame(int keep_frames = 120);
   int uploads_this_frame() const { return uploads_; }

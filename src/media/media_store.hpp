@@ -1,0 +1,80 @@
+// Media as pixels: images decoded once and cached by path, video players, and the cards drawn for text and web
+// links. The scene asks the store on the worker thread; what it returns (MediaContent, core/media.hpp) is then
+// read by the UI thread to update textures, and by `arwb render` to composite offline.
+//
+// Live mode: each video decodes on its own thread, paced by its own frame rate, so a slow script or UI never
+// stalls it. Offline mode: nothing runs in the background; set_clock decodes up to the asked time before it
+// returns, so a render is the same every time.
+#pragma once
+
+#include "core/media.hpp"
+
+#include <cstddef>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+
+namespace arwb::media {
+
+// A video as a MediaContent whose picture follows a clock the scene sets: the time into the video it should
+// show, and whether that time runs on by itself (live mode, between two of the scene's frames).
+class VideoContent : public MediaContent {
+ public:
+  // Shows the frame at `position_s` seconds into the video (looping if the video loops, else holding the last
+  // frame), and from then on, while `playing`, lets the picture advance with the wall clock (live mode only).
+  virtual void set_clock(double position_s, bool playing) = 0;
+  virtual double duration_s() const = 0;      // 0 if unknown
+  virtual double fps() const = 0;
+  virtual uint64_t frames_decoded() const = 0;
+  virtual std::string error() const = 0;      // a decode failure after opening, "" if none
+};
+
+enum class StoreMode { live, offline };
+
+class MediaStore {
+ public:
+  explicit MediaStore(StoreMode mode);
+  ~MediaStore();
+  MediaStore(const MediaStore&) = delete;
+  MediaStore& operator=(const MediaStore&) = delete;
+
+  StoreMode mode() const { return mode_; }
+  // An image (checked path, see media_path.hpp), decoded once and shared while anyone holds it. Null and *error
+  // set ("<path>: corrupt or truncated image data") on failure.
+  std::shared_ptr<MediaContent> image(const std::string& path, std::string* error);
+  // A new player for the video at `path` (each marker showing a video has its own position). Null and *error
+  // set when it cannot be opened or has no frames.
+  std::shared_ptr<VideoContent> video(const std::string& path, bool loop, std::string* error);
+  // A card with the text (several lines allowed), drawn with cairo in spec.font_px, spec.colour on
+  // spec.background; cached by text and style, so a text that changes every frame costs one drawing per change.
+  // Always a picture of at least 1x1 (empty text: the background alone). The text is cut to kMaxCardText bytes,
+  // lines too long or too many for a kMaxCardSide square end with "…"; invalid UTF-8 shows as U+FFFD.
+  std::shared_ptr<MediaContent> text_card(const MediaSpec& spec);
+  // A card for a web link: a globe mark, the title in large type and the URL below it, "click to open".
+  // kWebCardSize; the title is spec.title, else url_host(spec.url), else the URL.
+  std::shared_ptr<MediaContent> web_card(const MediaSpec& spec);
+  // Forgets cached images and cards no one holds (after a scene reload).
+  void trim();
+
+  static constexpr size_t kMaxCardText = 4096;     // bytes of text drawn on one card
+  static constexpr int kMaxCardSide = 4096;        // pixels
+  static constexpr size_t kMaxCards = 256;         // cached cards; the least recently asked for go first
+  static constexpr size_t kMaxCardBytes = 128u << 20;
+  static constexpr int kWebCardWidth = 640, kWebCardHeight = 200;
+
+ private:
+  std::shared_ptr<MediaContent> cached_card(const std::string& key);  // null if absent; marks it recently used
+  std::shared_ptr<MediaContent> remember_card(const std::string& key, std::shared_ptr<MediaContent> card);
+  void evict_cards();  // mutex_ held
+
+  StoreMode mode_;
+  std::mutex mutex_;
+  std::unordered_map<std::string, std::weak_ptr<MediaContent>> images_;
+  std::unordered_map<std::string, std::shared_ptr<MediaContent>> cards_;
+  std::list<std::string> card_order_;  // keys of cards_, least recently asked for first
+  size_t card_bytes_ = 0;              // pixels held by cards_
+};
+
+}  // namespace arwb::media
