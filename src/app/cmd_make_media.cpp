@@ -110,12 +110,12 @@ bool orbit(const std::string& path, std::string* error) {
 
 int cmd_make_media(int argc, char** argv) {
   Args args(argc, argv);
-  if (args.flag("help")) {
+  if (args.flag("--help")) {
     std::fputs(kUsage, stdout);
     return 0;
   }
-  const std::string out = args.value("out", "scripts");
-  const bool force = args.flag("force");
+  const std::string out = args.value("--out", "scripts");
+  const bool force = args.flag("--force");
   if (!args.no_positional() || !args.ok()) return args.fail("make-media");
   int written = 0, kept = 0, failed = 0;
   auto target = [&](const std::string& rel) -> std::string {

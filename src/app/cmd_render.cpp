@@ -70,20 +70,20 @@ struct ConsoleEcho {
 
 int cmd_render(int argc, char** argv) {
   Args args(argc, argv);
-  if (args.flag("help")) {
+  if (args.flag("--help")) {
     std::fputs(kUsage, stdout);
     return 0;
   }
-  const std::string scene_file = args.value("scene", "");
-  const std::string input = args.value("input", "");
-  const std::string out = args.value("out", "");
-  const int max_frames = args.int_value("frames", 0, 0, 10'000'000);
-  const double fps_opt = args.double_value("fps", 0, 0, 1000);
-  const std::string size_text = args.value("size", "");
-  const std::string dict_opt = args.value("dict", "");
-  const std::string params_file = args.value("params", "");
-  const int samples = args.int_value("samples", 4, 1, 16);
-  const bool force = args.flag("force");
+  const std::string scene_file = args.value("--scene", "");
+  const std::string input = args.value("--input", "");
+  const std::string out = args.value("--out", "");
+  const int max_frames = args.int_value("--frames", 0, 0, 10'000'000);
+  const double fps_opt = args.double_value("--fps", 0, 0, 1000);
+  const std::string size_text = args.value("--size", "");
+  const std::string dict_opt = args.value("--dict", "");
+  const std::string params_file = args.value("--params", "");
+  const int samples = args.int_value("--samples", 4, 1, 16);
+  const bool force = args.flag("--force");
   if (!args.no_positional() || !args.ok()) return args.fail("render");
   auto usage_error = [](const std::string& m) {
     std::fprintf(stderr, "arwb render: %s (see arwb render --help)\n", m.c_str());
