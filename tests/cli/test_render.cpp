@@ -1,0 +1,170 @@
+// arwb render: media land inside the quads the placement defines, on PNG frames and in a video; the output is
+// never overwritten unasked; scene and usage errors are one line.
+#include "core/detector.hpp"
+#include "core/image_io.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <map>
+
+namespace arwb {
+namespace {
+
+using test::run_arwb;
+using test::TempDir;
+using test::write_file;
+
+const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
+
+// The sample's two markers as arwb detects them (843 and 950).
+std::map<int, Quad> sample_markers() {
+  const cv::Mat img = cv::imread(kSample);
+  std::map<int, Quad> out;
+  for (const Marker& m : Detector({make_aruco_original()}).detect(img)) out[m.id] = m.corners;
+  return out;
+}
+
+// The marker's own frame (corner 0 at (0,0), corner 2 at (1,1)) to the image, computed here independently.
+cv::Matx33d plane(const Quad& q) {
+  const cv::Point2f src[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  cv::Mat H = cv::getPerspectiveTransform(src, q.data());
+  cv::Matx33d out;
+  H.convertTo(cv::Mat(3, 3, CV_64F, out.val), CV_64F);
+  return out;
+}
+
+cv::Point map(const cv::Matx33d& H, double x, double y) {
+  const cv::Vec3d r = H * cv::Vec3d(x, y, 1);
+  return {cvRound(r[0] / r[2]), cvRound(r[1] / r[2])};
+}
+
+bool near(const cv::Vec3b& a, const cv::Vec3b& b, int tol) {
+  return std::abs(a[0] - b[0]) <= tol && std::abs(a[1] - b[1]) <= tol && std::abs(a[2] - b[2]) <= tol;
+}
+
+// Inside the rectangle [x0,x1]x[y0,y1] of the marker plane (shrunk by 10%) every sample has the colour; in a
+// ring just outside it none has.
+void expect_colour_in_plane_rect(const cv::Mat& img, const cv::Matx33d& H, double x0, double y0, double x1, double y1,
+                                 cv::Vec3b colour, int tol, const std::string& what) {
+  int inside = 0, inside_ok = 0, outside = 0, outside_bad = 0;
+  const double w = x1 - x0, h = y1 - y0;
+  for (int i = 0; i <= 10; ++i)
+    for (int j = 0; j <= 10; ++j) {
+      const cv::Point p = map(H, x0 + w * (0.1 + 0.08 * i), y0 + h * (0.1 + 0.08 * j));
+      ++inside;
+      inside_ok += near(img.at<cv::Vec3b>(p), colour, tol);
+    }
+  for (int i = 0; i <= 20; ++i) {
+    const double t = i / 20.0;
+    for (const cv::Point2d q : {cv::Point2d(x0 - 0.12 * w, y0 + t * h), cv::Point2d(x1 + 0.12 * w, y0 + t * h),
+                                cv::Point2d(x0 + t * w, y0 - 0.12 * h), cv::Point2d(x0 + t * w, y1 + 0.12 * h)}) {
+      const cv::Point p = map(H, q.x, q.y);
+      if (p.x < 0 || p.y < 0 || p.x >= img.cols || p.y >= img.rows) continue;
+      ++outside;
+      outside_bad += near(img.at<cv::Vec3b>(p), colour, 40);
+    }
+  }
+  EXPECT_EQ(inside_ok, inside) << what << ": media missing inside its quad";
+  EXPECT_GT(outside, 40);
+  EXPECT_EQ(outside_bad, 0) << what << ": media spilled outside its quad";
+}
+
+const cv::Vec3b kMagenta(255, 0, 255), kCyan(255, 255, 0);
+
+void write_scene(const TempDir& d) {
+  cv::imwrite(d.str("magenta.png"), cv::Mat(40, 40, CV_8UC3, cv::Scalar(255, 0, 255)));
+  cv::imwrite(d.str("cyan.png"), cv::Mat(40, 40, CV_8UC3, cv::Scalar(255, 255, 0)));
+  write_file(d.str("scene.lua"),
+             "dictionary \"ARUCO_ORIGINAL\"\n"
+             "marker(843, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n"
+             "marker(950, { media = image \"cyan.png\", place = beside { side = \"right\", gap = 0.25, size = 1 } })\n");
+}
+
+TEST(Render, MediaLandInsideTheirQuadsOnPngFrames) {
+  TempDir d;
+  write_scene(d);
+  const auto r = run_arwb("render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " + d.str("out"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("rendered 1 frames"), std::string::npos) << r.out;
+  const cv::Mat img = cv::imread(d.str("out/frame_000000.png"));
+  ASSERT_FALSE(img.empty());
+  ASSERT_EQ(img.size(), cv::Size(640, 480));
+  const auto markers = sample_markers();
+  ASSERT_EQ(markers.size(), 2u);
+  expect_colour_in_plane_rect(img, plane(markers.at(843)), 0, 0, 1, 1, kMagenta, 3, "on_marker 843");
+  // beside right, gap 0.25, size 1, square media: x 1.25..2.25, y 0..1 in the marker's plane.
+  expect_colour_in_plane_rect(img, plane(markers.at(950)), 1.25, 0, 2.25, 1, kCyan, 3, "beside 950");
+  // The marker 950 itself is not covered.
+  EXPECT_FALSE(near(img.at<cv::Vec3b>(map(plane(markers.at(950)), 0.5, 0.5)), kCyan, 40));
+}
+
+TEST(Render, FolderToVideoHasEveryFrame) {
+  TempDir d;
+  write_scene(d);
+  std::filesystem::create_directories(d.str("in"));
+  for (int i = 0; i < 3; ++i) std::filesystem::copy_file(kSample, d.str("in/img" + std::to_string(i) + ".png"));
+  const auto r = run_arwb("render --scene " + d.str("scene.lua") + " --input " + d.str("in") + " --out " +
+                          d.str("demo.mp4") + " --fps 10");
+  ASSERT_EQ(r.status, 0) << r.err;
+  cv::VideoCapture cap(d.str("demo.mp4"), cv::CAP_FFMPEG);
+  ASSERT_TRUE(cap.isOpened());
+  int frames = 0;
+  cv::Mat f, last;
+  while (cap.read(f)) {
+    ++frames;
+    last = f.clone();
+  }
+  EXPECT_EQ(frames, 3);
+  ASSERT_FALSE(last.empty());
+  EXPECT_EQ(last.size(), cv::Size(640, 480));
+  // Compressed, so a looser colour check at the centre of marker 843's media.
+  EXPECT_TRUE(near(last.at<cv::Vec3b>(map(plane(sample_markers().at(843)), 0.5, 0.5)), kMagenta, 40));
+  // A second render refuses to overwrite the video.
+  const auto again = run_arwb("render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " +
+                              d.str("demo.mp4"));
+  EXPECT_EQ(again.status, 2);
+  EXPECT_NE(again.err.find("exists; add --force"), std::string::npos) << again.err;
+}
+
+TEST(Render, RefusesToOverwriteFramesAndReportsSceneErrors) {
+  TempDir d;
+  write_scene(d);
+  ASSERT_EQ(run_arwb("render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " + d.str("out")).status, 0);
+  auto r = run_arwb("render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " + d.str("out"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("already holds frame_*.png"), std::string::npos) << r.err;
+  EXPECT_EQ(run_arwb("render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " + d.str("out") +
+                     " --force").status, 0);
+
+  write_file(d.str("broken.lua"), "dictionary \"ARUCO_ORIGINAL\"\nmarker(1, { place = on_marker( })\n");
+  r = run_arwb("render --scene " + d.str("broken.lua") + " --input " + kSample + " --out " + d.str("out2"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("broken.lua:2:"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(d.str("out2/frame_000000.png")));
+
+  // A bad value in one mapping is reported with its line; the rest of the scene still renders.
+  write_file(d.str("partial.lua"),
+             "marker(-1, { media = image \"magenta.png\" })\n"
+             "marker(843, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n");
+  r = run_arwb("render --scene " + d.str("partial.lua") + " --input " + kSample + " --out " + d.str("out3"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("partial.lua:1:"), std::string::npos) << r.err;
+  const cv::Mat img = cv::imread(d.str("out3/frame_000000.png"));
+  expect_colour_in_plane_rect(img, plane(sample_markers().at(843)), 0, 0, 1, 1, kMagenta, 3, "after a bad line");
+}
+
+TEST(Render, UsageErrorsAreOneLine) {
+  auto r = run_arwb("render --input synthetic --out x");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--scene is required"), std::string::npos);
+  r = run_arwb("render --scene s.lua --input camera:0 --out x");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("render reads files"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace arwb
