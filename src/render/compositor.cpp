@@ -174,8 +174,8 @@ void Compositor::draw_quad(unsigned texture, const cv::Matx33d& image_to_uv, con
 bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::vector<Overlay>& overlays) {
   uploads_ = 0;
   if (frame.empty()) return false;
-  if (!ensure_program() || !ensure_targets(frame.size())) return false;
-  // Leave the caller's state (ImGui's backend, a window) as it was.
+  // Leave the caller's state (ImGui's backend, a window) as it was; saved before anything here binds objects,
+  // creating the framebuffers included.
   GLint prev_fbo = 0, prev_viewport[4] = {}, prev_program = 0, prev_vao = 0, prev_tex = 0, prev_active = 0;
   glGetIntegerv(GL_FRAMEBUFFER_BINDING, &prev_fbo);
   glGetIntegerv(GL_VIEWPORT, prev_viewport);
@@ -186,6 +186,25 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
   glGetIntegerv(GL_TEXTURE_BINDING_2D, &prev_tex);
   const GLboolean blend = glIsEnabled(GL_BLEND), scissor = glIsEnabled(GL_SCISSOR_TEST),
                   depth = glIsEnabled(GL_DEPTH_TEST), cull = glIsEnabled(GL_CULL_FACE);
+  GLint prev_array_buffer = 0;
+  glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &prev_array_buffer);
+  auto restore = [&] {
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(prev_fbo));
+    glViewport(prev_viewport[0], prev_viewport[1], prev_viewport[2], prev_viewport[3]);
+    glUseProgram(static_cast<GLuint>(prev_program));
+    glBindVertexArray(static_cast<GLuint>(prev_vao));
+    glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(prev_array_buffer));
+    glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(prev_tex));
+    glActiveTexture(static_cast<GLenum>(prev_active));
+    blend ? glEnable(GL_BLEND) : glDisable(GL_BLEND);
+    scissor ? glEnable(GL_SCISSOR_TEST) : glDisable(GL_SCISSOR_TEST);
+    depth ? glEnable(GL_DEPTH_TEST) : glDisable(GL_DEPTH_TEST);
+    cull ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
+  };
+  if (!ensure_program() || !ensure_targets(frame.size())) {
+    restore();
+    return false;
+  }
 
   frame_tex_.upload(frame, frame_version, true, false);
   const int W = size_.width, H = size_.height;
@@ -230,16 +249,7 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
     glBlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   }
 
-  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(prev_fbo));
-  glViewport(prev_viewport[0], prev_viewport[1], prev_viewport[2], prev_viewport[3]);
-  glUseProgram(static_cast<GLuint>(prev_program));
-  glBindVertexArray(static_cast<GLuint>(prev_vao));
-  glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(prev_tex));
-  glActiveTexture(static_cast<GLenum>(prev_active));
-  blend ? glEnable(GL_BLEND) : glDisable(GL_BLEND);
-  scissor ? glEnable(GL_SCISSOR_TEST) : glDisable(GL_SCISSOR_TEST);
-  depth ? glEnable(GL_DEPTH_TEST) : glDisable(GL_DEPTH_TEST);
-  cull ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
+  restore();
   return true;
 }
 

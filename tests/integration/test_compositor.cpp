@@ -4,6 +4,8 @@
 #include "render/compositor.hpp"
 #include "render/offscreen.hpp"
 
+#define GL_GLEXT_PROTOTYPES
+#include <GL/gl.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -142,6 +144,30 @@ TEST_F(CompositorTest, MultisamplingSmoothsEdgesAndOpacityBlends) {
   EXPECT_EQ(smooth.second, 255);
   const auto half = partial_pixels(4, 0.5);
   EXPECT_NEAR(half.second, 128, 2);
+}
+
+TEST_F(CompositorTest, LeavesTheCallersFramebufferBound) {
+  // The workbench draws ImGui right after compositing: a framebuffer left bound (even by the first draw, which
+  // creates the targets) would swallow the whole window.
+  GLuint fbo = 0, tex = 0;
+  glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 8, 8, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+  glViewport(1, 2, 3, 4);
+  render::Compositor c(4);
+  ASSERT_TRUE(c.draw(cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)), 1, {}));
+  GLint bound = 0, viewport[4] = {};
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  EXPECT_EQ(GLuint(bound), fbo);
+  EXPECT_EQ(viewport[2], 3);
+  EXPECT_EQ(c.read().at<cv::Vec3b>(10, 10), cv::Vec3b(1, 2, 3));
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDeleteFramebuffers(1, &fbo);
+  glDeleteTextures(1, &tex);
 }
 
 }  // namespace
