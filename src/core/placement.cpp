@@ -20,6 +20,7 @@ bool parse_name(std::string_view s, const std::array<E, N>& all, std::string_vie
 }
 
 std::string num(double v) {
+  if (std::isnan(v)) return "nan";   // x86 makes 0/0 a negative NaN, which %g prints as -nan
   char b[32];
   std::snprintf(b, sizeof b, "%g", v);
   return b;
