@@ -25,16 +25,26 @@ struct CheckedPath {
   bool ok() const { return error.empty(); }
 };
 
-// Resolves `relative` (as written in the scene) against `scene_dir`. Errors read, e.g.,
-// "media/../../etc/passwd: leaves the scene's folder", "/dev/zero: absolute paths are not allowed",
-// "media/x.png: no such file", "media/fifo: not a regular file", "media/notes.txt: not an image or video",
-// "media/huge.png: declares 60000x60000 pixels, more than 40000000".
+// Resolves `relative` (as written in the scene) against `scene_dir`. Absolute paths and any ".." component are
+// refused from the text alone, before the file system is asked; then the path is resolved (symbolic links
+// followed) and must still lie inside the canonical scene folder. Only the first bytes and the image header are
+// read, and only from a regular file. Errors name what the author wrote (control characters shown as '?'):
+// "media/../../etc/passwd: leaves the scene's folder" (also for a link leading out),
+// "/dev/zero: absolute paths are not allowed", "media/x.png: no such file",
+// "media/fifo: not a regular file (FIFO)" (or "(folder)", "(character device)", ...),
+// "media/notes.txt: not an image or video", "media/empty.png: empty file (0 bytes)",
+// "anim.gif: unsupported image format (GIF)", a header problem ("media/bad.png: truncated header"),
+// "media/huge.png: declares 60000x60000 pixels, more than 40000000",
+// "media/long.png: declares 40000x16 pixels, a side longer than 32768".
 CheckedPath check_media_path(const std::filesystem::path& scene_dir, const std::string& relative);
 
-// Empty when `url` may be opened (http:// or https:// with a host and no control characters or spaces), else
-// the reason: "ftp://x: only http and https links are opened".
+// Empty when `url` may be opened: http:// or https:// (scheme in any case), a host, a numeric port if any, no
+// spaces or control characters (write them %20, ...), at most 2048 characters. Else the reason, naming the
+// URL: "ftp://x: only http and https links are opened", "https://: no host", "https://a b: contains spaces
+// or control characters", "https://h:8x/: invalid port", "https://...: longer than 2048 characters".
 std::string check_url(const std::string& url);
-// The host part of an http(s) URL ("opencv.org" for "https://opencv.org/releases"), "" if none.
+// The host part of an http(s) URL ("opencv.org" for "https://opencv.org/releases"; without user and port;
+// IPv6 literals keep their brackets), "" if none or if the URL is not http(s).
 std::string url_host(const std::string& url);
 
 }  // namespace arwb::media

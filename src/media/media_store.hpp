@@ -24,14 +24,27 @@ class VideoContent : public MediaContent {
  public:
   // Shows the frame at `position_s` seconds into the video (looping if the video loops, else holding the last
   // frame), and from then on, while `playing`, lets the picture advance with the wall clock (live mode only).
+  // Offline, decodes up to that frame before returning and `playing` changes nothing. Negative or NaN: 0.
+  // Going backwards seeks (CAP_PROP_POS_FRAMES, or reopening the file when the backend cannot seek), except that
+  // live and playing, a clock at most a quarter second (2 frames at least) behind the picture is waited for: the
+  // scene's clock wobbles against the wall clock, and a seek per wobble would stutter.
   virtual void set_clock(double position_s, bool playing) = 0;
-  virtual double duration_s() const = 0;      // 0 if unknown
-  virtual double fps() const = 0;
+  // Frame count / fps; 0 if the container does not say. Shrinks to what could really be decoded when decoding
+  // ends early (a container that promised more, a truncated file).
+  virtual double duration_s() const = 0;
+  virtual double fps() const = 0;             // the container's rate, 25 when it gives none or an absurd one
+  // Frames decoded so far, shown or skipped.
   virtual uint64_t frames_decoded() const = 0;
-  virtual std::string error() const = 0;      // a decode failure after opening, "" if none
+  // A decode failure after opening, "" if none: "<path>: cannot decode frame 18 of 40 (damaged or truncated
+  // file); the video ends at frame 17". The last good frame stays shown.
+  virtual std::string error() const = 0;
 };
 
 enum class StoreMode { live, offline };
+
+// Versions (MediaContent::current) of everything the store returns come from one process-wide counter: they grow
+// with each new picture of a content and are never shared by two contents, so a texture cache keyed by a
+// content's address cannot mistake a new card or player at a recycled address for the old one.
 
 class MediaStore {
  public:
@@ -41,11 +54,15 @@ class MediaStore {
   MediaStore& operator=(const MediaStore&) = delete;
 
   StoreMode mode() const { return mode_; }
-  // An image (checked path, see media_path.hpp), decoded once and shared while anyone holds it. Null and *error
-  // set ("<path>: corrupt or truncated image data") on failure.
+  // An image (checked path, see media_path.hpp), decoded once and shared while anyone holds it: CV_8UC3 BGR, or
+  // CV_8UC4 BGRA when the file has alpha (grey becomes BGR, 16-bit becomes 8-bit). Null and *error set on
+  // failure, with load_image's message ("<path>: corrupt or truncated image data", "<path>: declares 9000x9000
+  // pixels, more than the limit of 40000000"); *error cleared on success.
   std::shared_ptr<MediaContent> image(const std::string& path, std::string* error);
-  // A new player for the video at `path` (each marker showing a video has its own position). Null and *error
-  // set when it cannot be opened or has no frames.
+  // A new player for the video at `path` (each marker showing a video has its own position), showing its first
+  // frame, which is decoded here. Live mode starts its decoding thread; it ends when the player is released.
+  // Null and *error set when it cannot be used: "<path>: cannot open the video", "<path>: has no frames that
+  // can be decoded", "<path>: frames of 9000x9000 pixels, more than 40000000"; *error cleared on success.
   std::shared_ptr<VideoContent> video(const std::string& path, bool loop, std::string* error);
   // A card with the text (several lines allowed), drawn with cairo in spec.font_px, spec.colour on
   // spec.background; cached by text and style, so a text that changes every frame costs one drawing per change.

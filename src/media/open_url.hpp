@@ -7,7 +7,10 @@
 
 namespace arwb::media {
 
-// Empty on success (the opener was started; it is not waited for), else the reason.
+// Empty on success (the opener was started; it is not waited for, but reaped by a detached thread when it
+// ends, so it leaves no zombie), else the reason: check_url's ("ftp://x: only http and https links are
+// opened") or "cannot start xdg-open: No such file or directory". ARWB_URL_OPENER is one program (looked up in
+// PATH like xdg-open), not a command line.
 std::string open_url(const std::string& url);
 
 }  // namespace arwb::media

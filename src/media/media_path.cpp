@@ -1,0 +1,191 @@
+#include "media/media_path.hpp"
+
+#include "core/image_io.hpp"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cctype>
+#include <string_view>
+#include <system_error>
+
+namespace fs = std::filesystem;
+
+namespace arwb::media {
+
+namespace {
+
+constexpr size_t kMaxUrlLength = 2048;
+
+// What the author wrote, fit for one line of a message: control characters shown as '?', long text cut.
+std::string shown(std::string_view s) {
+  constexpr size_t kMaxShown = 120;
+  std::string out;
+  size_t n = std::min(s.size(), kMaxShown);
+  while (n < s.size() && n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // whole characters
+  for (const char c : s.substr(0, n)) {
+    const auto u = static_cast<unsigned char>(c);
+    out += (u < 0x20 || u == 0x7f) ? '?' : c;
+  }
+  if (s.size() > kMaxShown) out += "\u2026";
+  return out;
+}
+
+// True when `inner` is `outer` or lies under it. Both must be canonical; compares whole components, so
+// "/scenes/a2" is not inside "/scenes/a".
+bool is_inside(const fs::path& inner, const fs::path& outer) {
+  auto i = inner.begin();
+  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+    if (o->empty()) continue;  // a trailing separator yields an empty last component
+    if (i == inner.end() || *i != *o) return false;
+  }
+  return true;
+}
+
+const char* file_type_name(mode_t mode) {
+  if (S_ISDIR(mode)) return "folder";
+  if (S_ISFIFO(mode)) return "FIFO";
+  if (S_ISCHR(mode)) return "character device";
+  if (S_ISBLK(mode)) return "block device";
+  if (S_ISSOCK(mode)) return "socket";
+  return "special file";
+}
+
+// The video container's name from read_image_header's documented refusal, "not an image (video: MP4/MOV)".
+std::string video_format(const std::string& path) {
+  std::string reason;
+  (void)read_image_header(path, &reason);
+  const std::string_view prefix = "not an image (video: ";
+  if (reason.starts_with(prefix) && reason.ends_with(")"))
+    return reason.substr(prefix.size(), reason.size() - prefix.size() - 1);
+  return "video";
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// The scheme of `url` in lower case when it is followed by "//" (http://, https://), else "".
+// A URL is split as scheme "://" authority [path] [?query] [#fragment]; authority is [userinfo@]host[:port].
+std::string_view authority_of(std::string_view url, std::string* scheme) {
+  const size_t colon = url.find(':');
+  if (colon == std::string_view::npos) return {};
+  *scheme = lower(url.substr(0, colon));
+  if (url.substr(colon + 1, 2) != "//") return {};
+  std::string_view rest = url.substr(colon + 3);
+  return rest.substr(0, rest.find_first_of("/?#"));
+}
+
+}  // namespace
+
+CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relative) {
+  CheckedPath out;
+  const std::string name = shown(relative);
+  const auto fail = [&](const std::string& reason) {
+    out.path.clear();
+    out.error = name + ": " + reason;
+    return out;
+  };
+
+  // Everything that can be decided from the text is decided before the file system is asked anything.
+  if (relative.empty()) return fail("empty path");
+  if (relative.find('\0') != std::string::npos) return fail("contains a NUL character");
+  const fs::path rel(relative);
+  if (rel.is_absolute() || rel.has_root_path()) return fail("absolute paths are not allowed");
+  for (const fs::path& part : rel)
+    if (part == "..") return fail("leaves the scene's folder");
+
+  std::error_code ec;
+  const fs::path base = fs::canonical(scene_dir, ec);
+  if (ec) return fail("the scene's folder " + scene_dir.string() + " cannot be resolved (" + ec.message() + ")");
+  // Symbolic links are resolved, so one inside the folder that leads out is caught by the containment test.
+  const fs::path resolved = fs::weakly_canonical(base / rel, ec);
+  if (ec) return fail("cannot resolve (" + ec.message() + ")");
+  if (!is_inside(resolved, base)) return fail("leaves the scene's folder");
+
+  struct stat st {};
+  if (::stat(resolved.c_str(), &st) != 0) {
+    if (errno == ENOENT || errno == ENOTDIR) return fail("no such file");
+    return fail(std::string("cannot access (") + std::generic_category().message(errno) + ")");
+  }
+  // A FIFO or device would block or never end when read; a folder is not media.
+  if (!S_ISREG(st.st_mode)) return fail(std::string("not a regular file (") + file_type_name(st.st_mode) + ")");
+
+  out.path = resolved.string();
+  switch (classify_path(out.path)) {
+    case PathKind::image: {
+      std::string reason;
+      const std::optional<ImageHeader> header = read_image_header(out.path, &reason);
+      if (!header) return fail(reason);
+      const std::string declared =
+          "declares " + std::to_string(header->width) + "x" + std::to_string(header->height) + " pixels, ";
+      if (static_cast<long long>(header->width) * header->height > kMaxMediaPixels)
+        return fail(declared + "more than " + std::to_string(kMaxMediaPixels));
+      if (header->width > kMaxImageSide || header->height > kMaxImageSide)
+        return fail(declared + "a side longer than " + std::to_string(kMaxImageSide));
+      out.kind = MediaFileKind::image;
+      out.size = cv::Size(header->width, header->height);
+      out.format = header->format;
+      return out;
+    }
+    case PathKind::video:
+      out.kind = MediaFileKind::video;
+      out.format = video_format(out.path);
+      return out;
+    case PathKind::missing: return fail("no such file");  // removed since the stat above
+    case PathKind::folder: return fail("not a regular file (folder)");
+    case PathKind::other: break;
+  }
+  // Say more than "not an image or video" where image_io knows more (empty, GIF, unreadable).
+  std::string reason;
+  (void)read_image_header(out.path, &reason);
+  if (reason.starts_with("empty file") || reason.starts_with("unsupported image format") ||
+      reason.starts_with("cannot open"))
+    return fail(reason);
+  return fail("not an image or video");
+}
+
+std::string check_url(const std::string& url) {
+  const std::string name = shown(url);
+  if (url.empty()) return "(empty link): only http and https links are opened";
+  if (url.size() > kMaxUrlLength)
+    return name + ": longer than " + std::to_string(kMaxUrlLength) + " characters";
+  for (const char c : url) {
+    const auto u = static_cast<unsigned char>(c);
+    // Spaces must be written %20; control characters have no place in a link and could confuse an opener.
+    if (u <= 0x20 || u == 0x7f) return name + ": contains spaces or control characters";
+  }
+  std::string scheme;
+  const std::string_view authority = authority_of(url, &scheme);
+  if ((scheme != "http" && scheme != "https") || url.find("://") == std::string::npos)
+    return name + ": only http and https links are opened";
+  if (url_host(url).empty()) return name + ": no host";
+  const size_t at = authority.rfind('@');
+  const std::string_view host_port = at == std::string_view::npos ? authority : authority.substr(at + 1);
+  const size_t bracket = host_port.rfind(']');
+  const size_t colon = host_port.rfind(':');
+  if (colon != std::string_view::npos && (bracket == std::string_view::npos || colon > bracket)) {
+    const std::string_view port = host_port.substr(colon + 1);
+    if (port.size() > 5 || !std::all_of(port.begin(), port.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return name + ": invalid port";
+  }
+  return {};
+}
+
+std::string url_host(const std::string& url) {
+  std::string scheme;
+  std::string_view authority = authority_of(url, &scheme);
+  if (scheme != "http" && scheme != "https") return {};
+  const size_t at = authority.rfind('@');  // userinfo is not the host ("https://bank.com@evil.example")
+  if (at != std::string_view::npos) authority = authority.substr(at + 1);
+  if (authority.starts_with('[')) {  // IPv6 literal, brackets kept
+    const size_t close = authority.find(']');
+    return close == std::string_view::npos ? std::string() : std::string(authority.substr(0, close + 1));
+  }
+  return std::string(authority.substr(0, authority.find(':')));
+}
+
+}  // namespace arwb::media
