@@ -16,6 +16,7 @@ constexpr PanelName kPanels[kPanelCount] = {
     {"inspector", "Inspector"},   {"parameters", "Parameters"}, {"timings", "Timings"},
     {"dictionary", "Dictionary"}, {"peers", "Peers"},           {"source", "Source"},
     {"tour", "Tour"},             {"why", "Why not detected?"}, {"log", "Log"},
+    {"scene", "Scene"},           {"script", "Script editor"},  {"console", "Console"},
 };
 }  // namespace
 
@@ -35,7 +36,10 @@ bool panel_from_key(std::string_view key, Panel* out) {
 View::View() {
   open.fill(true);
   // The first start opens what fits the default layout side by side; the rest are one click away (View menu).
-  for (Panel p : {Panel::tour, Panel::why, Panel::dictionary, Panel::peers}) open[static_cast<size_t>(p)] = false;
+  for (Panel p : {Panel::tour, Panel::why, Panel::dictionary, Panel::peers, Panel::scene, Panel::script,
+                  Panel::console}) {
+    open[static_cast<size_t>(p)] = false;
+  }
   show_rejected_stage.fill(true);
   // Regions too small to trace are hundreds of specks per frame: the ledger and the overlay hide them at first.
   show_rejected_stage[static_cast<size_t>(Stage::size_filter)] = false;

@@ -1,7 +1,8 @@
 // Live view: the working frame with the detector's overlays. Accepted markers in green with corner 0 marked and
 // their id; rejected candidates in the colour of the stage that dropped them; the ledger's hovered row in
 // yellow. Left-click selects a candidate for the inspector; with the region tool on, a left-drag marks the
-// rectangle for "Why not detected?".
+// rectangle for "Why not detected?". With a scene loaded and "Media" on, the frame is the workbench's composite
+// (the scene's media drawn on it); a click on a web card opens its URL in the system's browser.
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace arwb::ui {
 
@@ -18,6 +20,7 @@ namespace {
 struct LiveViewState {
   bool dragging = false;
   ImVec2 drag_from{0, 0};
+  std::string pressed_url;   // a web card under the mouse when the left button went down
 };
 
 void overlay_candidates(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
@@ -101,6 +104,26 @@ int candidate_at(const FrameTrace& t, cv::Point2f p) {
   return best;
 }
 
+// The overlay whose drawn quad is under image point `p`, topmost first (later overlays are drawn on top); -1 when
+// none. Only while the media are on screen.
+int overlay_at(const Context& ctx, cv::Point2f p, bool web_only) {
+  if (!ctx.composite) return -1;
+  const std::vector<Overlay>& ov = ctx.frame->overlays;
+  for (size_t i = ov.size(); i-- > 0;) {
+    if (web_only && (ov[i].media.kind != MediaKind::web || ov[i].media.url.empty())) continue;
+    if (ov[i].quad.contains({p.x, p.y})) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+void outline_overlay(const ImageMapping& m, ImDrawList* dl, const Overlay& o, ImU32 colour, float thickness) {
+  ImVec2 pts[4];
+  for (size_t i = 0; i < 4; ++i) {
+    pts[i] = m.to_screen(static_cast<float>(o.quad.corners[i].x), static_cast<float>(o.quad.corners[i].y));
+  }
+  dl->AddPolyline(pts, 4, colour, ImDrawFlags_Closed, thickness);
+}
+
 void toolbar(Context& ctx) {
   View& v = ctx.view;
   ImGui::Checkbox("Markers", &v.show_accepted);
@@ -124,6 +147,13 @@ void toolbar(Context& ctx) {
     ImGui::Checkbox("Truth", &v.show_truth);
     ImGui::SameLine();
   }
+  ImGui::Checkbox("Media", &v.show_media);
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip(ctx.frame && !ctx.frame->scene.file.empty()
+                          ? "Draw the scene's media on the frame (images, videos, web and text cards)."
+                          : "Draw the scene's media on the frame. No scene is loaded: see the Scene panel.");
+  }
+  ImGui::SameLine();
   ImGui::Checkbox("Why? (drag)", &v.region_tool);
   if (ImGui::IsItemHovered()) {
     ImGui::SetTooltip("Drag a rectangle around a marker that is not detected: the 'Why not detected?' panel\n"
@@ -166,7 +196,8 @@ void draw_live_view(Context& ctx) {
   const Frame& f = *ctx.frame;
   ImVec2 avail = ImGui::GetContentRegionAvail();
   avail.y -= ImGui::GetTextLineHeightWithSpacing();
-  const ImageMapping m = image_view(ctx, "live", "frame", f.image, f.index, ctx.view.image, avail);
+  // The composite has the frame's size and pixel coordinates: everything drawn over it stays where it was.
+  const ImageMapping m = image_view(ctx, "live", "frame", f.image, f.index, ctx.view.image, avail, ctx.composite);
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->PushClipRect(m.min, m.max, true);
   overlay_candidates(ctx, m, dl);
@@ -184,6 +215,17 @@ void draw_live_view(Context& ctx) {
       dl->AddRect(m.to_screen(static_cast<float>(c.bbox.x), static_cast<float>(c.bbox.y)),
                   m.to_screen(static_cast<float>(c.bbox.br().x), static_cast<float>(c.bbox.br().y)), col, 0, 0, 3.0f);
     }
+  }
+  // The media under the mouse: a thin outline (a web card's in the link colour).
+  const cv::Point2f mouse{m.mouse_px.x, m.mouse_px.y};
+  const int hovered_overlay = m.hovered ? overlay_at(ctx, mouse, false) : -1;
+  const int hovered_web = m.hovered && !ctx.view.region_tool ? overlay_at(ctx, mouse, true) : -1;
+  if (hovered_overlay >= 0) {
+    const Overlay& o = f.overlays[static_cast<size_t>(hovered_overlay)];
+    outline_overlay(m, dl, o, IM_COL32(255, 255, 255, 150), 1.0f * ctx.scale);
+  }
+  if (hovered_web >= 0) {
+    outline_overlay(m, dl, f.overlays[static_cast<size_t>(hovered_web)], IM_COL32(90, 170, 255, 255), 1.5f * ctx.scale);
   }
   // Region tool: left-drag a rectangle.
   ImGuiIO& io = ImGui::GetIO();
@@ -207,9 +249,24 @@ void draw_live_view(Context& ctx) {
       }
     }
   } else if (m.hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-    const int hit = candidate_at(t, {m.mouse_px.x, m.mouse_px.y});
-    ctx.view.selected_candidate = hit;
-    if (hit >= 0) ctx.view.open[static_cast<size_t>(Panel::inspector)] = true;
+    if (hovered_web >= 0) {
+      // A web card: opened when the button comes up without a drag, over the same card.
+      st.pressed_url = f.overlays[static_cast<size_t>(hovered_web)].media.url;
+    } else {
+      st.pressed_url.clear();
+      const int hit = candidate_at(t, {m.mouse_px.x, m.mouse_px.y});
+      ctx.view.selected_candidate = hit;
+      if (hit >= 0) ctx.view.open[static_cast<size_t>(Panel::inspector)] = true;
+    }
+  }
+  if (!st.pressed_url.empty() && ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {
+    const float drag = io.MouseDragMaxDistanceSqr[ImGuiMouseButton_Left];
+    const float threshold = io.MouseDragThreshold;
+    if (!ctx.view.region_tool && hovered_web >= 0 && drag < threshold * threshold &&
+        f.overlays[static_cast<size_t>(hovered_web)].media.url == st.pressed_url) {
+      ctx.request(RequestKind::open_url, st.pressed_url);
+    }
+    st.pressed_url.clear();
   }
   if (ctx.view.has_region) {
     const cv::Rect2f& r = ctx.view.region;
@@ -217,7 +274,10 @@ void draw_live_view(Context& ctx) {
                 1.5f);
   }
   dl->PopClipRect();
-  if (m.hovered && !ctx.view.region_tool) {
+  if (hovered_web >= 0) {
+    ImGui::SetMouseCursor(ImGuiMouseCursor_Hand);
+    ImGui::SetTooltip("Open %s", f.overlays[static_cast<size_t>(hovered_web)].media.url.c_str());
+  } else if (m.hovered && !ctx.view.region_tool) {
     const int hit = candidate_at(t, {m.mouse_px.x, m.mouse_px.y});
     if (hit >= 0) ImGui::SetTooltip("%s", candidate_line(t, hit).c_str());
   }

@@ -6,7 +6,8 @@ void draw_panels(Context& ctx) {
   using Fn = void (*)(Context&);
   static constexpr Fn kDraw[kPanelCount] = {draw_live_view, draw_pipeline,  draw_candidates, draw_inspector,
                                             draw_parameters, draw_timings,  draw_dictionary, draw_peers,
-                                            draw_source,     draw_tour,     draw_why,        draw_log};
+                                            draw_source,     draw_tour,     draw_why,        draw_log,
+                                            draw_scene,      draw_script,   draw_console};
   for (int i = 0; i < kPanelCount; ++i) {
     if (!ctx.view.open[static_cast<size_t>(i)]) continue;
     if (ctx.place) ctx.place(static_cast<Panel>(i));

@@ -20,6 +20,9 @@ void draw_source(Context& ctx);       // source choice, playback, acquisition, s
 void draw_tour(Context& ctx);         // the guided teaching tour
 void draw_why(Context& ctx);          // "why isn't my marker detected?" report and sweep
 void draw_log(Context& ctx);          // messages, warnings and errors
+void draw_scene(Context& ctx);        // the scene in use: load, examples, mappings, markers in view
+void draw_script(Context& ctx);       // the scene file's text: edit, save, error line marked
+void draw_console(Context& ctx);      // the scene's print output, warnings and errors
 
 // Draws every open panel (View::open), in the order of Panel.
 void draw_panels(Context& ctx);

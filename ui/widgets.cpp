@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string_view>
 
 namespace arwb::ui {
 
@@ -25,6 +26,52 @@ bool waiting_for_frame(const Context& ctx) {
   if (ctx.frame) return false;
   ImGui::TextDisabled("Waiting for the first frame from the source...");
   return true;
+}
+
+void show_script_line(Context& ctx, int line) {
+  ctx.view.script_goto_line = line;
+  ctx.view.open[static_cast<size_t>(Panel::script)] = true;
+  ImGui::SetWindowFocus(panel_title(Panel::script));
+}
+
+int message_line_in(const std::string& message, const std::string& file) {
+  if (file.empty()) return 0;
+  // The first ":digits:" ends the file name.
+  for (size_t i = message.find(':'); i != std::string::npos; i = message.find(':', i + 1)) {
+    size_t j = i + 1;
+    int line = 0;
+    while (j < message.size() && message[j] >= '0' && message[j] <= '9' && line < 100000000) {
+      line = line * 10 + (message[j] - '0');
+      ++j;
+    }
+    if (j == i + 1 || j >= message.size() || message[j] != ':') continue;
+    std::string_view named(message.data(), i);
+    const std::string_view path(file);
+    auto ends_with = [](std::string_view s, std::string_view tail, bool at_slash) {
+      if (tail.empty() || s.size() < tail.size() || s.substr(s.size() - tail.size()) != tail) return false;
+      return !at_slash || s.size() == tail.size() || s[s.size() - tail.size() - 1] == '/';
+    };
+    bool same = named == path || ends_with(named, path, true) || ends_with(path, named, true);
+    if (!same && named.substr(0, 3) == "...") same = ends_with(path, named.substr(3), false);
+    return same ? line : 0;
+  }
+  return 0;
+}
+
+std::string scene_file_to_edit(const SceneStatus& s) {
+  if (!s.file.empty() || s.error.empty()) return s.file;
+  for (size_t i = s.error.find(':'); i != std::string::npos; i = s.error.find(':', i + 1)) {
+    size_t j = i + 1;
+    while (j < s.error.size() && s.error[j] >= '0' && s.error[j] <= '9') ++j;
+    if (j == i + 1 || j >= s.error.size() || s.error[j] != ':') continue;
+    const std::string_view named(s.error.data(), i);
+    auto ends = [&](std::string_view ext) {
+      return named.size() > ext.size() && named.substr(named.size() - ext.size()) == ext;
+    };
+    if (named.substr(0, 3) != "..." && (ends(".lua") || ends(".xml"))) return std::string(named);
+    return {};
+  }
+  return {};
 }
 
 ImU32 accepted_colour(float alpha) { return ImGui::ColorConvertFloat4ToU32({0.1f, 1.0f, 0.2f, alpha}); }
@@ -54,7 +101,7 @@ bool chip(const char* label, ImU32 colour, bool on) {
 }
 
 ImageMapping image_view(Context& ctx, const char* id, const std::string& key, const cv::Mat& image,
-                        uint64_t version, ImageViewState& st, ImVec2 size) {
+                        uint64_t version, ImageViewState& st, ImVec2 size, ImTextureID texture) {
   ImageMapping m;
   ImVec2 avail = ImGui::GetContentRegionAvail();
   if (size.x <= 0) size.x = std::max(avail.x, 32.0f);
@@ -100,7 +147,7 @@ ImageMapping image_view(Context& ctx, const char* id, const std::string& key, co
   if (m.hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Right)) st.fit = true;
   m.zoom = st.zoom;
   m.origin = origin_for(st.zoom, st.centre);
-  const ImTextureID tex = ctx.texture(key, image, version);
+  const ImTextureID tex = texture ? texture : ctx.texture(key, image, version);
   dl->PushClipRect(m.min, m.max, true);
   dl->AddImage(tex, m.origin, {m.origin.x + iw * st.zoom, m.origin.y + ih * st.zoom});
   dl->PopClipRect();

@@ -17,6 +17,16 @@ namespace arwb::ui {
 // The empty state of a panel that needs a frame: says so and returns true while there is none yet.
 bool waiting_for_frame(const Context& ctx);
 
+// Opens the Script editor (and brings it to the front) scrolled to `line` of the scene file (0: where it was):
+// for the line numbers of the Scene panel's mappings, of errors in the console and of the scene's load error.
+void show_script_line(Context& ctx, int line);
+// The line of a scene message that reads "file:line: message" when its file is `file` (the same path, one ending
+// with the other at a '/', or Lua's shortened ".../end/of/path"); 0 otherwise.
+int message_line_in(const std::string& message, const std::string& file);
+// The scene file to show and edit: the one in use or, when none is because its first load failed, the .lua or
+// .xml file the load error names, so it can be fixed in the editor (the worker reloads it when it changes).
+std::string scene_file_to_edit(const SceneStatus& s);
+
 // The colour of a stage (rejected candidates are drawn in the colour of the stage that dropped them).
 ImU32 stage_colour(Stage s, float alpha = 1.0f);
 ImU32 accepted_colour(float alpha = 1.0f);
@@ -37,9 +47,11 @@ struct ImageMapping {
 
 // Draws `image` (uploaded as texture `key` at `version`) in a child region of `size` (0: all available space)
 // with zoom (mouse wheel, about the cursor), pan (drag with the right or middle button) and fit (double-click
-// with the right button, or the state's fit flag). `state` may be shared by several views.
+// with the right button, or the state's fit flag). `state` may be shared by several views. When `texture` is
+// given it is drawn instead of uploading `image`, which then only gives the size (the live view draws the
+// composited frame this way, in the same pixel coordinates).
 ImageMapping image_view(Context& ctx, const char* id, const std::string& key, const cv::Mat& image,
-                        uint64_t version, ImageViewState& state, ImVec2 size = {0, 0});
+                        uint64_t version, ImageViewState& state, ImVec2 size = {0, 0}, ImTextureID texture = nullptr);
 
 // Outline of a quad; corner 0 gets a filled square so the marker's orientation shows.
 void draw_quad(ImDrawList* dl, const ImageMapping& m, const Quad& q, ImU32 colour, float thickness,

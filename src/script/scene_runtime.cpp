@@ -239,6 +239,8 @@ struct SceneRuntime::Impl : Reporter {
   // ---- loading -------------------------------------------------------------------------------------------------
 
   bool fail_load(const std::string& msg, int line) {
+    // With no good scene yet, the file in question is still the one to show and edit.
+    if (!prog) status.file = attempt_path;
     status.error = msg;
     status.error_line = line;
     report(2, msg);

@@ -1,0 +1,285 @@
+// Scene: the Lua scene (or XML database) in use and its state, loading and unloading one, the examples shipped
+// under scripts/, whether its media are drawn, the mappings it declared (ids -> media, placement, state, line)
+// and the markers in view as the tracker follows them. Everything comes from the frame's SceneStatus and
+// tracks; loading is a request the workbench forwards to the worker.
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace arwb::ui {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Example {
+  std::string path;   // as given to load_scene
+  std::string label;  // relative to the scripts folder: "museum/museum.lua"
+};
+
+struct SceneViewState {
+  char path[1024] = "";
+  std::string followed;            // the scene file the path input was last set from
+  std::vector<Example> examples;   // found when the combo opens
+  std::string examples_error;
+};
+
+const ImVec4 kRed{1.0f, 0.35f, 0.35f, 1.0f};
+const ImVec4 kGreen{0.35f, 0.9f, 0.4f, 1.0f};
+const ImVec4 kYellow{1.0f, 0.8f, 0.3f, 1.0f};
+
+bool scene_extension(const fs::path& p) {
+  const std::string ext = p.extension().string();
+  return ext == ".lua" || ext == ".xml";
+}
+
+// *.lua and *.xml in the scripts folder and one folder below it (scripts/museum/museum.lua).
+void scan_examples(SceneViewState& st, const std::string& dir) {
+  st.examples.clear();
+  st.examples_error.clear();
+  if (dir.empty()) {
+    st.examples_error = "no scripts folder";
+    return;
+  }
+  std::error_code ec;
+  const fs::path root(dir);
+  if (!fs::is_directory(root, ec)) {
+    st.examples_error = dir + " is not a folder";
+    return;
+  }
+  auto add = [&](const fs::path& p) {
+    std::error_code e;
+    if (!fs::is_regular_file(p, e) || !scene_extension(p)) return;
+    st.examples.push_back({p.lexically_normal().string(), p.lexically_relative(root).generic_string()});
+  };
+  for (const auto& entry : fs::directory_iterator(root, ec)) {
+    std::error_code e;
+    if (entry.is_directory(e)) {
+      for (const auto& inner : fs::directory_iterator(entry.path(), e)) add(inner.path());
+    } else {
+      add(entry.path());
+    }
+  }
+  std::sort(st.examples.begin(), st.examples.end(),
+            [](const Example& a, const Example& b) { return a.label < b.label; });
+  if (st.examples.empty()) st.examples_error = "no .lua or .xml file in " + dir;
+}
+
+void load_controls(Context& ctx, SceneViewState& st) {
+  // A scene in use, or one whose load failed (the worker watches it for a fix).
+  const bool loaded = ctx.frame && (!ctx.frame->scene.file.empty() || !ctx.frame->scene.error.empty());
+  ImGui::SetNextItemWidth(-(ImGui::CalcTextSize("Load").x + ImGui::CalcTextSize("Unload").x +
+                            ImGui::GetStyle().FramePadding.x * 4 + ImGui::GetStyle().ItemSpacing.x * 2));
+  const bool enter = ImGui::InputTextWithHint("##scene_path", "scene file (.lua or .xml)", st.path, sizeof st.path,
+                                              ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  if ((ImGui::Button("Load") || enter) && st.path[0] != '\0') ctx.request(RequestKind::load_scene, st.path);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Loads the scene; it reloads by itself whenever the file changes.");
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!loaded);
+  if (ImGui::Button("Unload")) ctx.request(RequestKind::load_scene, "");
+  ImGui::EndDisabled();
+
+  ImGui::SetNextItemWidth(std::max(160.0f * ctx.scale, ImGui::GetContentRegionAvail().x * 0.45f));
+  if (ImGui::BeginCombo("##examples", "Examples...", ImGuiComboFlags_HeightLarge)) {
+    // The folder is read when the list opens, not every frame.
+    if (ImGui::IsWindowAppearing()) scan_examples(st, ctx.status.scripts_dir);
+    for (const Example& e : st.examples) {
+      const bool current = ctx.frame && ctx.frame->scene.file == e.path;
+      if (ImGui::Selectable(e.label.c_str(), current)) {
+        std::snprintf(st.path, sizeof st.path, "%s", e.path.c_str());
+        ctx.request(RequestKind::load_scene, e.path);
+      }
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", e.path.c_str());
+    }
+    if (st.examples.empty()) ImGui::TextDisabled("%s", st.examples_error.c_str());
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("The example scenes shipped in %s",
+                      ctx.status.scripts_dir.empty() ? "scripts/" : ctx.status.scripts_dir.c_str());
+  }
+  ImGui::SameLine();
+  ImGui::Checkbox("Show media", &ctx.view.show_media);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Draw the scene's media on the live view.");
+}
+
+// The file, ok or error, the generation; the dictionary the scene asked for.
+void scene_state(Context& ctx) {
+  const SceneStatus& s = ctx.frame->scene;
+  ImGui::TextDisabled("Scene");
+  ImGui::SameLine();
+  const std::string failed = s.file.empty() ? scene_file_to_edit(s) : std::string();
+  if (!s.file.empty()) ImGui::TextUnformatted(s.file.c_str());
+  else if (!failed.empty()) ImGui::Text("(none: %s did not load)", failed.c_str());
+  else ImGui::TextUnformatted("(none)");
+  if (s.ok) {
+    ImGui::TextColored(s.error.empty() ? kGreen : kYellow, "%s", s.error.empty() ? "ok" : "reload failed");
+    ImGui::SameLine();
+    ImGui::TextDisabled("generation %llu%s", static_cast<unsigned long long>(s.generation),
+                        s.error.empty() ? "" : ": the last good version still runs");
+  } else if (!s.error.empty()) {
+    ImGui::TextColored(kRed, "error");
+    ImGui::SameLine();
+    ImGui::TextDisabled("nothing runs");
+  } else if (!s.file.empty()) {
+    ImGui::TextDisabled("loading...");
+  }
+  if (!s.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kRed);
+    ImGui::TextWrapped("%s", s.error.c_str());
+    ImGui::PopStyleColor();
+    if (s.error_line > 0) {
+      if (ImGui::SmallButton("Show in the editor")) {
+        show_script_line(ctx, s.error_line);
+      }
+      ImGui::SameLine();
+    }
+    if (ImGui::SmallButton("Console")) ctx.view.open[static_cast<size_t>(Panel::console)] = true;
+  } else if (!s.file.empty()) {
+    if (ImGui::SmallButton("Edit script")) show_script_line(ctx, 0);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Console")) ctx.view.open[static_cast<size_t>(Panel::console)] = true;
+  }
+  if (!s.dictionary.empty()) {
+    const std::string& reads = ctx.settings.dictionaries.empty() ? std::string() : ctx.settings.dictionaries[0];
+    ImGui::TextDisabled("dictionary %s", s.dictionary.c_str());
+    if (std::find(ctx.settings.dictionaries.begin(), ctx.settings.dictionaries.end(), s.dictionary) ==
+        ctx.settings.dictionaries.end()) {
+      ImGui::SameLine();
+      ImGui::TextColored(kYellow, "the detector reads %s", reads.empty() ? "nothing" : reads.c_str());
+      ImGui::SameLine();
+      if (ImGui::SmallButton("Detect this dictionary")) ctx.settings.dictionaries = {s.dictionary};
+    }
+  }
+}
+
+ImVec4 state_colour(const std::string& state) {
+  if (state.rfind("error", 0) == 0) return kRed;
+  if (state.rfind("visible", 0) == 0) return kGreen;
+  if (state.rfind("held", 0) == 0) return kYellow;
+  return ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled);
+}
+
+void mappings_table(Context& ctx) {
+  const SceneStatus& s = ctx.frame->scene;
+  ImGui::Spacing();
+  ImGui::TextDisabled("Mappings (%zu)", s.mappings.size());
+  ImGui::Separator();
+  if (s.mappings.empty()) {
+    ImGui::TextDisabled("The scene maps no marker.");
+    return;
+  }
+  const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_Resizable |
+                             ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_ScrollY;
+  const float rows_h = ImGui::GetTextLineHeightWithSpacing() * static_cast<float>(std::min<size_t>(s.mappings.size(), 10) + 1);
+  if (!ImGui::BeginTable("mappings", 5, tf, {0, rows_h + ImGui::GetStyle().CellPadding.y * 2})) return;
+  ImGui::TableSetupScrollFreeze(0, 1);
+  ImGui::TableSetupColumn("ID(s)");
+  ImGui::TableSetupColumn("media", ImGuiTableColumnFlags_WidthStretch);
+  ImGui::TableSetupColumn("placement", ImGuiTableColumnFlags_WidthStretch);
+  ImGui::TableSetupColumn("state");
+  ImGui::TableSetupColumn("line");
+  ImGui::TableHeadersRow();
+  for (size_t i = 0; i < s.mappings.size(); ++i) {
+    const MappingRow& r = s.mappings[i];
+    ImGui::PushID(static_cast<int>(i));
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(r.ids.c_str());
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(r.media.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", r.media.c_str());
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(r.placement.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", r.placement.c_str());
+    ImGui::TableNextColumn();
+    ImGui::TextColored(state_colour(r.state), "%s", r.state.c_str());
+    if (ImGui::IsItemHovered() && r.state.size() > 20) ImGui::SetTooltip("%s", r.state.c_str());
+    ImGui::TableNextColumn();
+    if (r.line > 0) {
+      char label[24];
+      std::snprintf(label, sizeof label, "%d", r.line);
+      if (ImGui::Selectable(label)) {
+        show_script_line(ctx, r.line);
+      }
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Show line %d in the Script editor", r.line);
+    } else {
+      ImGui::TextDisabled("-");
+    }
+    ImGui::PopID();
+  }
+  ImGui::EndTable();
+}
+
+void markers_table(Context& ctx) {
+  const Frame& f = *ctx.frame;
+  ImGui::Spacing();
+  ImGui::TextDisabled("Markers in view (%zu)", f.tracks.size());
+  ImGui::SameLine();
+  ImGui::TextDisabled("  Lua %.2f ms this frame", f.scene.script_ms);
+  ImGui::Separator();
+  if (f.tracks.empty()) {
+    ImGui::TextDisabled("No marker in view.");
+    return;
+  }
+  const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingFixedFit;
+  if (!ImGui::BeginTable("tracks", 5, tf)) return;
+  ImGui::TableSetupColumn("id");
+  ImGui::TableSetupColumn("dictionary");
+  ImGui::TableSetupColumn("visible");
+  ImGui::TableSetupColumn("side");
+  ImGui::TableSetupColumn("state");
+  ImGui::TableHeadersRow();
+  for (const TrackedMarker& t : f.tracks) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::Text("%d", t.id);
+    ImGui::TableNextColumn();
+    ImGui::TextDisabled("%s", t.dict.c_str());
+    ImGui::TableNextColumn();
+    ImGui::Text("%.1f s", t.visible_s);
+    ImGui::TableNextColumn();
+    ImGui::Text("%.0f px", t.side_px);
+    ImGui::TableNextColumn();
+    if (t.detected) ImGui::TextColored(kGreen, "detected");
+    else ImGui::TextColored(kYellow, "held");
+    if (!t.detected && ImGui::IsItemHovered()) {
+      ImGui::SetTooltip("Missed on this frame: kept with its last corners for a moment so media do not flicker.");
+    }
+  }
+  ImGui::EndTable();
+}
+
+}  // namespace
+
+void draw_scene(Context& ctx) {
+  static SceneViewState st;
+  // The path input shows the scene in use (or the one that failed) whenever that changes: a load from here, the
+  // menu or --scene.
+  const std::string current = ctx.frame ? scene_file_to_edit(ctx.frame->scene) : std::string();
+  if (ctx.frame && current != st.followed) {
+    st.followed = current;
+    if (!current.empty()) std::snprintf(st.path, sizeof st.path, "%s", current.c_str());
+  }
+  load_controls(ctx, st);
+  ImGui::Separator();
+  if (waiting_for_frame(ctx)) return;
+  const SceneStatus& s = ctx.frame->scene;
+  if (s.file.empty() && s.error.empty()) {
+    ImGui::Spacing();
+    ImGui::TextDisabled("No scene loaded. Pick an example or load a .lua / .xml file.");
+    return;
+  }
+  scene_state(ctx);
+  mappings_table(ctx);
+  markers_table(ctx);
+}
+
+}  // namespace arwb::ui

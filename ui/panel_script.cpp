@@ -1,0 +1,430 @@
+// Script editor: the text of the scene file in use, with line numbers, its load error's line marked in red and
+// the message under it. Save (or Ctrl+S) asks the workbench to write the file, atomically; the scene then reloads
+// by itself. The editor never drops the user's edits silently: when the file changes on disk while there are
+// unsaved edits, or the scene switches to another file, it asks. Reading the file is the editor's own view state
+// (limited to 1 MB); writing it is a request.
+//
+// The text is one InputTextMultiline as tall and wide as its text, so it never scrolls itself, inside a child
+// window that scrolls; the line numbers and the error line's red band are drawn in that child, behind and beside
+// the text, so they stay aligned with it.
+#include "ui/panels.hpp"
+#include "ui/widgets.hpp"
+
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <system_error>
+
+namespace arwb::ui {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr uintmax_t kMaxBytes = 1u << 20;
+constexpr double kDiskCheckS = 0.5;     // how often the file on disk is looked at
+constexpr double kSaveTimeoutS = 3.0;   // a save not seen on disk by then is reported
+// ImGui 1.86's GLFW backend indexes io.KeysDown by GLFW key code, and GLFW_KEY_S is 'S'.
+constexpr int kKeyS = 'S';
+
+const ImVec4 kRed{1.0f, 0.35f, 0.35f, 1.0f};
+const ImVec4 kYellow{1.0f, 0.8f, 0.3f, 1.0f};
+
+// What the file on disk looked like when last read.
+struct DiskStamp {
+  bool exists = false;
+  fs::file_time_type mtime{};
+  uintmax_t size = 0;
+  bool operator==(const DiskStamp&) const = default;
+};
+
+struct ScriptState {
+  std::string followed;      // the scene file (SceneStatus::file) the editor last took
+  std::string path;          // the file in the buffer ("" when none)
+  bool open = false;         // the buffer holds the file's text
+  std::string open_error;    // why it could not be read
+  std::string buffer;        // what the user edits
+  std::string base;          // the text on disk as last read, or as acknowledged with "Keep mine"
+  bool dirty = false;        // buffer != base
+  DiskStamp stamp;
+  double next_check = 0;
+  bool conflict = false;     // the file changed on disk while the buffer had edits
+  std::string disk_text;     // its text then
+  bool gone = false;         // the file is no longer on disk
+  std::string disk_error;    // it is there but cannot be read (too large, permissions)
+  bool save_pending = false; // sent to be saved, not seen on disk yet
+  std::string saved;         // the text sent
+  double save_time = 0;
+  int serial = 0;            // part of the text widget's id: a new one when the buffer is replaced from outside
+  // Layout of the text, recomputed when it changes.
+  int lines = 1;
+  float text_w = 0;
+  // The text cursor, from the widget's callback while it is active.
+  int cursor = -1;
+  bool cursor_moved = false;
+  int cursor_line = 0;       // 0-based
+  float cursor_x = 0;        // from the start of its line
+  int goto_line = 0;         // scroll there on the next draw
+};
+
+DiskStamp stamp_of(const std::string& path) {
+  DiskStamp s;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return s;
+  s.exists = true;
+  s.mtime = fs::last_write_time(path, ec);
+  s.size = fs::file_size(path, ec);
+  if (ec) s.size = 0;
+  return s;
+}
+
+bool read_text(const std::string& path, std::string* text, std::string* error) {
+  std::error_code ec;
+  const uintmax_t size = fs::file_size(path, ec);
+  if (ec) {
+    *error = "cannot read " + path + ": " + ec.message();
+    return false;
+  }
+  if (size > kMaxBytes) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "The file is %.1f MB; the editor opens files up to 1 MB.",
+                  static_cast<double>(size) / (1024.0 * 1024.0));
+    *error = buf;
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    *error = "cannot open " + path;
+    return false;
+  }
+  text->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) {
+    *error = "error reading " + path;
+    return false;
+  }
+  return true;
+}
+
+void relayout(ScriptState& st) {
+  st.lines = 1 + static_cast<int>(std::count(st.buffer.begin(), st.buffer.end(), '\n'));
+  st.text_w = ImGui::CalcTextSize(st.buffer.data(), st.buffer.data() + st.buffer.size()).x;
+}
+
+// Replaces the buffer with `text` (from disk): the widget gets a new id so an active one lets go of its copy.
+void set_buffer(ScriptState& st, const std::string& text) {
+  st.buffer = text;
+  st.base = text;
+  st.dirty = false;
+  st.conflict = false;
+  st.disk_text.clear();
+  ++st.serial;
+  st.cursor = -1;
+  relayout(st);
+}
+
+// Takes `path` into the editor, dropping what was there (the caller made sure there were no edits to keep).
+void open_file(ScriptState& st, const std::string& path) {
+  st.path = path;
+  st.open = false;
+  st.open_error.clear();
+  st.gone = false;
+  st.disk_error.clear();
+  st.save_pending = false;
+  st.saved.clear();
+  st.stamp = stamp_of(path);
+  std::string text;
+  if (!path.empty() && read_text(path, &text, &st.open_error)) st.open = true;
+  set_buffer(st, st.open ? text : std::string());
+  st.next_check = ImGui::GetTime() + kDiskCheckS;
+}
+
+// Every half second: did the file change on disk? Without edits the editor follows it; with edits that differ
+// from the new text it asks (conflict) rather than overwrite either.
+void check_disk(ScriptState& st) {
+  const double now = ImGui::GetTime();
+  if (st.path.empty() || now < st.next_check) return;
+  st.next_check = now + kDiskCheckS;
+  const DiskStamp s = stamp_of(st.path);
+  if (s == st.stamp) return;
+  if (!st.open) {
+    open_file(st, st.path);      // it could not be read (too large, missing): try again now that it changed
+    return;
+  }
+  st.stamp = s;
+  st.gone = !s.exists;
+  st.disk_error.clear();
+  if (st.gone) return;
+  std::string text;
+  if (!read_text(st.path, &text, &st.disk_error)) return;
+  if (st.save_pending && text == st.saved) {
+    // Our save landed; it replaced whatever the disk had (saving during a conflict is keeping mine).
+    st.save_pending = false;
+    st.base = text;
+    st.dirty = st.buffer != st.base;
+    st.conflict = false;
+    st.disk_text.clear();
+    return;
+  }
+  if (text == st.base) return;   // touched, not changed
+  if (!st.dirty) {
+    set_buffer(st, text);        // nothing of the user's to keep: follow the file
+  } else if (text == st.buffer) {
+    st.base = text;              // it now says what the buffer says
+    st.dirty = false;
+    st.conflict = false;
+  } else {
+    st.conflict = true;
+    st.disk_text = text;
+  }
+}
+
+void save(Context& ctx, ScriptState& st) {
+  if (st.path.empty()) return;
+  ctx.request(RequestKind::save_script, st.path, 0, {}, st.buffer);
+  st.save_pending = true;
+  st.saved = st.buffer;
+  st.save_time = ImGui::GetTime();
+  st.next_check = 0;   // look for it on the next frame
+}
+
+// The widget's callback (ImGuiInputTextFlags_CallbackAlways, while it is active): where the text cursor is.
+int on_text_event(ImGuiInputTextCallbackData* d) {
+  auto* st = static_cast<ScriptState*>(d->UserData);
+  if (d->EventFlag != ImGuiInputTextFlags_CallbackAlways || d->CursorPos == st->cursor) return 0;
+  st->cursor = d->CursorPos;
+  st->cursor_moved = true;
+  const char* begin = d->Buf;
+  const char* at = d->Buf + std::clamp(d->CursorPos, 0, d->BufTextLen);
+  const char* line_start = begin;
+  int line = 0;
+  for (const char* p = begin; p < at; ++p) {
+    if (*p == '\n') {
+      ++line;
+      line_start = p + 1;
+    }
+  }
+  st->cursor_line = line;
+  st->cursor_x = ImGui::CalcTextSize(line_start, at).x;
+  return 0;
+}
+
+// The text with its line numbers in a scrolling child of `size`; `mark_line` (1-based, 0: none) in red.
+void editor(ScriptState& st, int mark_line, ImVec2 size) {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  ImGui::BeginChild("##editor", size, true, ImGuiWindowFlags_HorizontalScrollbar);
+  const float lh = ImGui::GetTextLineHeight();   // InputText's line height: the font size
+  const ImVec2 pad = style.FramePadding;
+  char widest[16];
+  std::snprintf(widest, sizeof widest, "%d", std::max(st.lines, 999));
+  const float gutter = ImGui::CalcTextSize(widest).x + pad.x * 2;
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const ImVec2 at{origin.x + gutter, origin.y};
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  // As wide and tall as the text (and a line and a few characters more, for what is typed before the next
+  // relayout), and at least the child's size so a click anywhere in it edits.
+  const ImVec2 input_size{std::max(avail.x - gutter, st.text_w + pad.x * 2 + lh * 4),
+                          std::max(avail.y, static_cast<float>(st.lines + 1) * lh + pad.y * 4)};
+  const float text_top = at.y + pad.y;           // where the widget draws its first line
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(at, {at.x + input_size.x, at.y + input_size.y}, ImGui::GetColorU32(ImGuiCol_FrameBg, 0.4f));
+  if (mark_line >= 1 && mark_line <= st.lines) {
+    const float y = text_top + static_cast<float>(mark_line - 1) * lh;
+    dl->AddRectFilled({origin.x, y}, {at.x + input_size.x, y + lh}, IM_COL32(210, 40, 40, 110));
+  }
+  // The line numbers in view.
+  const ImVec2 win = ImGui::GetWindowPos();
+  const float win_h = ImGui::GetWindowHeight();
+  const int first = std::max(0, static_cast<int>((win.y - text_top) / lh));
+  const int last = std::min(st.lines, static_cast<int>((win.y + win_h - text_top) / lh) + 1);
+  const ImU32 number_colour = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+  for (int i = first; i < last; ++i) {
+    char num[16];
+    std::snprintf(num, sizeof num, "%d", i + 1);
+    const float w = ImGui::CalcTextSize(num).x;
+    dl->AddText({at.x - pad.x - w, text_top + static_cast<float>(i) * lh},
+                i + 1 == mark_line ? IM_COL32(255, 120, 120, 255) : number_colour, num);
+  }
+
+  ImGui::SetCursorScreenPos(at);
+  ImGui::PushStyleColor(ImGuiCol_FrameBg, IM_COL32(0, 0, 0, 0));   // the background is drawn above
+  ImGui::PushID(st.serial);
+  st.cursor_moved = false;
+  const ImGuiInputTextFlags flags = ImGuiInputTextFlags_AllowTabInput | ImGuiInputTextFlags_NoHorizontalScroll |
+                                    ImGuiInputTextFlags_CallbackAlways;
+  const bool edited = ImGui::InputTextMultiline("##text", &st.buffer, input_size, flags, on_text_event, &st);
+  ImGui::PopID();
+  ImGui::PopStyleColor();
+  if (edited) {
+    st.dirty = st.buffer != st.base;
+    relayout(st);
+  }
+
+  // The widget never scrolls: this child follows the text cursor when it moves...
+  const ImVec2 cmin = ImGui::GetWindowContentRegionMin(), cmax = ImGui::GetWindowContentRegionMax();
+  if (st.cursor_moved) {
+    const float cy = text_top + static_cast<float>(st.cursor_line) * lh;
+    if (cy < win.y + cmin.y) ImGui::SetScrollFromPosY(cy - win.y - pad.y, 0.0f);
+    else if (cy + lh > win.y + cmax.y) ImGui::SetScrollFromPosY(cy + lh - win.y + pad.y, 1.0f);
+    const float cx = at.x + pad.x + st.cursor_x;
+    if (cx < win.x + cmin.x + gutter) ImGui::SetScrollFromPosX(cx - win.x - gutter - pad.x, 0.0f);
+    else if (cx + lh > win.x + cmax.x) ImGui::SetScrollFromPosX(cx - win.x + lh * 2, 1.0f);
+  }
+  // ...and goes to a line when asked.
+  if (st.goto_line > 0) {
+    const int line = std::min(st.goto_line, st.lines);
+    ImGui::SetScrollFromPosY(text_top + static_cast<float>(line - 1) * lh - win.y, 0.3f);
+    ImGui::SetScrollX(0);
+    st.goto_line = 0;
+  }
+  ImGui::EndChild();
+}
+
+std::string file_name(const std::string& path) {
+  const std::string name = fs::path(path).filename().string();
+  return name.empty() ? path : name;
+}
+
+}  // namespace
+
+void draw_script(Context& ctx) {
+  static ScriptState st;
+  if (ctx.view.script_goto_line > 0) {
+    st.goto_line = ctx.view.script_goto_line;
+    ctx.view.script_goto_line = 0;
+  }
+  if (waiting_for_frame(ctx)) return;
+  const SceneStatus& scene = ctx.frame->scene;
+
+  // Follow the scene's file (or the one whose first load failed), unless that would drop edits.
+  const std::string target = scene_file_to_edit(scene);
+  bool switch_waiting = false;
+  bool opened = false;
+  if (target != st.followed) {
+    if (!st.dirty || !st.open) {
+      st.followed = target;
+      open_file(st, target);
+      opened = true;
+    } else {
+      switch_waiting = true;
+    }
+  }
+  check_disk(st);
+
+  if (st.path.empty()) {
+    ImGui::TextDisabled("No scene loaded: the editor shows the scene file in use (see the Scene panel).");
+    return;
+  }
+
+  // Title line: name, dirty mark, Save, Revert, the path.
+  const bool focused = ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
+  ImGui::TextUnformatted(file_name(st.path).c_str());
+  if (st.dirty) {
+    ImGui::SameLine(0, 2);
+    ImGui::TextColored(kYellow, "*");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Unsaved edits");
+  }
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!st.open);
+  if (ImGui::Button("Save")) save(ctx, st);
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
+    ImGui::SetTooltip("Ctrl+S. Writes the file; the scene reloads by itself.");
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Revert")) {
+    if (st.dirty) ImGui::OpenPopup("revert?");
+    else open_file(st, st.path);
+  }
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Read the file from disk again.");
+  ImGui::EndDisabled();
+  if (ImGui::BeginPopup("revert?")) {
+    ImGui::Text("Drop your unsaved edits to %s?", file_name(st.path).c_str());
+    if (ImGui::Button("Drop them and read the file")) {
+      open_file(st, st.path);
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  const int mark_line = scene.error_line > 0 && message_line_in(scene.error, st.path) > 0 ? scene.error_line : 0;
+  if (opened && mark_line > 0 && st.goto_line == 0) st.goto_line = mark_line;   // a file opened with an error
+  if (mark_line > 0) {
+    ImGui::SameLine();
+    char label[48];
+    std::snprintf(label, sizeof label, "Go to line %d", mark_line);
+    if (ImGui::Button(label)) st.goto_line = mark_line;
+  }
+  if (st.save_pending) {
+    ImGui::SameLine();
+    if (ImGui::GetTime() - st.save_time < kSaveTimeoutS) ImGui::TextDisabled("saving...");
+    else ImGui::TextColored(kYellow, "not saved yet: see the Log");
+  }
+  ImGui::TextDisabled("%s", st.path.c_str());
+  if (st.open && focused && ImGui::GetIO().KeyCtrl && ImGui::IsKeyPressed(kKeyS, false)) save(ctx, st);
+
+  // What needs the user's word before anything is dropped.
+  if (switch_waiting) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kYellow);
+    if (target.empty()) ImGui::TextWrapped("The scene was unloaded. Your unsaved edits are still here.");
+    else ImGui::TextWrapped("The scene now runs %s. Your unsaved edits to %s are still here.", target.c_str(),
+                            file_name(st.path).c_str());
+    ImGui::PopStyleColor();
+    if (ImGui::Button("Save my edits")) save(ctx, st);
+    ImGui::SameLine();
+    if (ImGui::Button(target.empty() ? "Drop my edits" : "Drop my edits and open the new file")) {
+      st.followed = target;
+      open_file(st, target);
+      return;
+    }
+  }
+  if (st.conflict) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kYellow);
+    ImGui::TextWrapped("%s changed on disk while you were editing it.", file_name(st.path).c_str());
+    ImGui::PopStyleColor();
+    if (ImGui::Button("Reload from disk")) set_buffer(st, st.disk_text);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Drops your edits and shows the file as it is now.");
+    ImGui::SameLine();
+    if (ImGui::Button("Keep mine")) {
+      st.base = st.disk_text;
+      st.conflict = false;
+      st.dirty = st.buffer != st.base;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Keeps your text; Save then replaces the file's.");
+  }
+  if (st.gone) ImGui::TextColored(kYellow, "The file is no longer on disk; Save writes it again.");
+  if (!st.disk_error.empty()) ImGui::TextColored(kYellow, "%s", st.disk_error.c_str());
+  if (!st.open) {
+    ImGui::TextColored(kRed, "%s", st.open_error.c_str());
+    return;
+  }
+
+  // The editor, then the error under it and where the cursor is.
+  const float line_h = ImGui::GetTextLineHeightWithSpacing();
+  const bool has_error = !scene.error.empty();
+  float below = line_h;
+  if (has_error) {
+    const float wrap = ImGui::GetContentRegionAvail().x;
+    below += ImGui::CalcTextSize(scene.error.c_str(), nullptr, false, wrap).y + ImGui::GetStyle().ItemSpacing.y;
+  }
+  const float editor_h = std::max(ImGui::GetContentRegionAvail().y - below, line_h * 3);
+  editor(st, mark_line, {0, editor_h});
+  if (has_error) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kRed);
+    ImGui::TextWrapped("%s", scene.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (st.cursor >= 0) ImGui::TextDisabled("line %d of %d", st.cursor_line + 1, st.lines);
+  else ImGui::TextDisabled("%d lines", st.lines);
+  if (scene.ok && scene.error.empty() && st.path == scene.file) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("  loaded, generation %llu", static_cast<unsigned long long>(scene.generation));
+  }
+}
+
+}  // namespace arwb::ui
