@@ -657,6 +657,8 @@ int run_workbench(const WorkbenchOptions& options) {
   if (fs::exists(ini_path)) ImGui::LoadIniSettingsFromDisk(ini_path.c_str());
 
   ImGui::StyleColorsDark();
+  // Opaque windows: panels opened over others (the scene's, on a first start) stay readable.
+  ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.0f;
   app.base_style = ImGui::GetStyle();
   const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   if (fs::exists(font)) {
