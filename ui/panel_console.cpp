@@ -46,13 +46,6 @@ ImU32 level_colour(int level) {
 
 int level_index(int level) { return std::clamp(level, 0, 2); }
 
-bool contains_nocase(std::string_view hay, std::string_view needle) {
-  if (needle.empty()) return true;
-  auto it = std::search(hay.begin(), hay.end(), needle.begin(), needle.end(), [](char a, char b) {
-    return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
-  });
-  return it != hay.end();
-}
 
 bool same_line(const ConsoleLine& a, const ConsoleLine& b) { return a.level == b.level && a.text == b.text; }
 
@@ -120,21 +113,9 @@ void draw_console(Context& ctx) {
     for (size_t i = first; i < s->console.size(); ++i) ++counts[level_index(s->console[i].level)];
     if (first > 0 && anchor_repeats > 0) ++counts[level_index(s->console[first - 1].level)];
   }
-  for (int i = 0; i < 3; ++i) {
-    char label[48];
-    std::snprintf(label, sizeof label, "%s (%d)", level_name(i), counts[i]);
-    ImGui::PushStyleColor(ImGuiCol_Text, level_colour(i));
-    ImGui::Checkbox(label, &st.show[i]);
-    ImGui::PopStyleColor();
-    ImGui::SameLine();
-  }
-  ImGui::SetNextItemWidth(160.0f * ctx.scale);
-  ImGui::InputTextWithHint("##filter", "filter text", st.filter, sizeof st.filter);
-  ImGui::SameLine();
-  if (st.filter[0]) {
-    if (ImGui::SmallButton("x")) st.filter[0] = 0;
-    ImGui::SameLine();
-  }
+  static const char* const kNames[3] = {level_name(0), level_name(1), level_name(2)};
+  static const ImU32 kColours[3] = {level_colour(0), level_colour(1), level_colour(2)};
+  level_filter_bar(kNames, kColours, counts, st.show, st.filter, sizeof st.filter, 160.0f * ctx.scale);
   ImGui::BeginDisabled(!s || first >= s->console.size());
   if (ImGui::Button("Clear") && s) {
     st.cleared = true;

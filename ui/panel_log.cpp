@@ -2,6 +2,7 @@
 // first, with the time since start and the level in colour. Filters by level and by text; follows new messages
 // while scrolled to the bottom; "Copy all" puts the shown lines on the clipboard.
 #include "ui/panels.hpp"
+#include "ui/widgets.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -37,14 +38,6 @@ ImU32 level_colour(LogLevel l) {
   return IM_COL32(255, 255, 255, 255);
 }
 
-// Case-insensitive substring test; an empty needle matches everything.
-bool contains_nocase(std::string_view hay, std::string_view needle) {
-  if (needle.empty()) return true;
-  auto it = std::search(hay.begin(), hay.end(), needle.begin(), needle.end(), [](char a, char b) {
-    return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
-  });
-  return it != hay.end();
-}
 
 bool passes(const LogState& st, const LogEntry& e) {
   return st.show[static_cast<int>(e.level)] && contains_nocase(e.text, st.filter);
@@ -61,22 +54,11 @@ void draw_log(Context& ctx) {
   int counts[3] = {0, 0, 0};
   if (log)
     for (const LogEntry& e : *log) ++counts[static_cast<int>(e.level)];
-  for (int i = 0; i < 3; ++i) {
-    const LogLevel l = static_cast<LogLevel>(i);
-    char label[48];
-    std::snprintf(label, sizeof label, "%s (%d)", level_name(l), counts[i]);
-    ImGui::PushStyleColor(ImGuiCol_Text, level_colour(l));
-    ImGui::Checkbox(label, &st.show[i]);
-    ImGui::PopStyleColor();
-    ImGui::SameLine();
-  }
-  ImGui::SetNextItemWidth(180.0f * ctx.scale);
-  ImGui::InputTextWithHint("##filter", "filter text", st.filter, sizeof st.filter);
-  ImGui::SameLine();
-  if (st.filter[0]) {
-    if (ImGui::SmallButton("x")) st.filter[0] = 0;
-    ImGui::SameLine();
-  }
+  static const char* const kNames[3] = {level_name(LogLevel::info), level_name(LogLevel::warning),
+                                        level_name(LogLevel::error)};
+  static const ImU32 kColours[3] = {level_colour(LogLevel::info), level_colour(LogLevel::warning),
+                                    level_colour(LogLevel::error)};
+  level_filter_bar(kNames, kColours, counts, st.show, st.filter, sizeof st.filter, 180.0f * ctx.scale);
   if (ImGui::Button("Copy all") && log) {
     std::string all;
     for (const LogEntry& e : *log) {

@@ -1,6 +1,7 @@
 #include "ui/widgets.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -324,6 +325,33 @@ bool image_button(Context& ctx, const std::string& key, const cv::Mat& image, ui
   dl->AddRect(p0, {p0.x + size.x, p0.y + size.y}, frame, 0, 0, selected ? 3.0f : 1.0f);
   ImGui::PopID();
   return clicked;
+}
+
+void level_filter_bar(const char* const names[3], const ImU32 colours[3], const int counts[3], bool show[3],
+                      char* filter, size_t filter_size, float filter_width) {
+  for (int i = 0; i < 3; ++i) {
+    char label[48];
+    std::snprintf(label, sizeof label, "%s (%d)", names[i], counts[i]);
+    ImGui::PushStyleColor(ImGuiCol_Text, colours[i]);
+    ImGui::Checkbox(label, &show[i]);
+    ImGui::PopStyleColor();
+    ImGui::SameLine();
+  }
+  ImGui::SetNextItemWidth(filter_width);
+  ImGui::InputTextWithHint("##filter", "filter text", filter, filter_size);
+  ImGui::SameLine();
+  if (filter[0]) {
+    if (ImGui::SmallButton("x")) filter[0] = 0;
+    ImGui::SameLine();
+  }
+}
+
+bool contains_nocase(std::string_view hay, std::string_view needle) {
+  if (needle.empty()) return true;
+  auto it = std::search(hay.begin(), hay.end(), needle.begin(), needle.end(), [](char a, char b) {
+    return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+  });
+  return it != hay.end();
 }
 
 }  // namespace arwb::ui

@@ -11,6 +11,7 @@
 #include <imgui.h>
 
 #include <string>
+#include <string_view>
 
 namespace arwb::ui {
 
@@ -83,5 +84,12 @@ bool chip(const char* label, ImU32 colour, bool on = true);
 
 bool image_button(Context& ctx, const std::string& key, const cv::Mat& image, uint64_t version, ImVec2 size,
                   bool selected = false);
+
+// A message list's toolbar (Log, Console): one checkbox per level with its count, in the level's colour, then a
+// text filter with a clear button. `show` and `filter` are the panel's view state.
+void level_filter_bar(const char* const names[3], const ImU32 colours[3], const int counts[3], bool show[3],
+                      char* filter, size_t filter_size, float filter_width);
+// Case-insensitive substring test; an empty needle matches everything.
+bool contains_nocase(std::string_view hay, std::string_view needle);
 
 }  // namespace arwb::ui

@@ -228,18 +228,13 @@ LuaState::LuaState(const ScriptLimits& limits, Reporter* reporter, const std::st
   lua_setwarnf(L_, warn_function, host_.get());
 
   // The library, minus what reaches outside the sandbox.
-  luaL_requiref(L_, LUA_GNAME, luaopen_base, 1);
-  lua_pop(L_, 1);
-  luaL_requiref(L_, LUA_COLIBNAME, luaopen_coroutine, 1);
-  lua_pop(L_, 1);
-  luaL_requiref(L_, LUA_TABLIBNAME, luaopen_table, 1);
-  lua_pop(L_, 1);
-  luaL_requiref(L_, LUA_STRLIBNAME, luaopen_string, 1);
-  lua_pop(L_, 1);
-  luaL_requiref(L_, LUA_MATHLIBNAME, luaopen_math, 1);
-  lua_pop(L_, 1);
-  luaL_requiref(L_, LUA_UTF8LIBNAME, luaopen_utf8, 1);
-  lua_pop(L_, 1);
+  const luaL_Reg libraries[] = {{LUA_GNAME, luaopen_base},          {LUA_COLIBNAME, luaopen_coroutine},
+                                 {LUA_TABLIBNAME, luaopen_table},    {LUA_STRLIBNAME, luaopen_string},
+                                 {LUA_MATHLIBNAME, luaopen_math},    {LUA_UTF8LIBNAME, luaopen_utf8}};
+  for (const luaL_Reg& lib : libraries) {
+    luaL_requiref(L_, lib.name, lib.func, 1);
+    lua_pop(L_, 1);
+  }
   // os: only clock, time and date.
   luaL_requiref(L_, LUA_OSLIBNAME, luaopen_os, 0);
   lua_createtable(L_, 0, 3);
