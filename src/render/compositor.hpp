@@ -33,6 +33,7 @@ class Compositor {
   Compositor& operator=(const Compositor&) = delete;
 
   // Draws `frame` (BGR or grey; `frame_version` changes when its pixels do) with the overlays on top, in order.
+  // When neither the frame version nor any media's version changed since the last call, keeps the last result.
   // False (and error() says why) if the GL objects could not be made; the frame is then not drawn.
   bool draw(const cv::Mat& frame, uint64_t frame_version, const std::vector<Overlay>& overlays);
   // The resolved result as a texture (for ImGui::Image) and its size; 0 before the first draw.
@@ -60,6 +61,8 @@ class Compositor {
   Texture frame_tex_;
   TextureCache media_;
   int uploads_ = 0;
+  uint64_t last_sig_ = 0;   // the frame version and content versions of the last composite
+  bool have_sig_ = false;
   std::string error_;
 };
 
