@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 
 namespace arwb::script {
 namespace {
@@ -62,6 +65,79 @@ void budget_hook(lua_State* L, lua_Debug* ar) {
 }
 
 // ---- message handler, print, load, warn, panic -----------------------------------------------------------------
+
+// Lua's pattern matcher backtracks inside one C call, where the instruction budget cannot see it: 400 "a"s
+// searched for ".-.-.-.-b" would take hours. Its worst case is about len^(q + 1) steps for q backtracking
+// quantifiers (* + -), or len^q when anchored with ^, so patterns with two or more of them are refused on
+// subjects long enough to pass kMaxPatternSteps. Scenes match short labels; a real search still passes.
+constexpr double kMaxPatternSteps = 1e8;
+
+size_t skip_set(std::string_view p, size_t i) {   // p[i] == '['; returns the index after the closing ']'
+  ++i;
+  if (i < p.size() && p[i] == '^') ++i;
+  do {   // a ']' right after '[' or '[^' is a member, as in Lua
+    if (i >= p.size()) return p.size();
+    i += p[i] == '%' ? 2 : 1;
+  } while (i < p.size() && p[i] != ']');
+  return i + 1;
+}
+
+int backtracking_quantifiers(std::string_view p) {
+  int q = 0;
+  size_t i = !p.empty() && p[0] == '^' ? 1 : 0;
+  while (i < p.size()) {
+    size_t end;
+    if (p[i] == '%' && i + 1 < p.size() && p[i + 1] == 'b') {
+      i += 4;   // %bxy
+      continue;
+    }
+    if (p[i] == '%' && i + 1 < p.size() && p[i + 1] == 'f') {
+      i = skip_set(p, i + 2);   // %f[set]
+      continue;
+    }
+    if (p[i] == '(' || p[i] == ')') {
+      ++i;
+      continue;
+    }
+    if (p[i] == '%') end = i + 2;
+    else if (p[i] == '[') end = skip_set(p, i);
+    else end = i + 1;
+    if (end < p.size() && (p[end] == '*' || p[end] == '+' || p[end] == '-')) {
+      ++q;
+      ++end;
+    } else if (end < p.size() && p[end] == '?') {
+      ++end;
+    }
+    i = end;
+  }
+  return q;
+}
+
+// string.find, match, gmatch and gsub, checked first (upvalue 1: the original; upvalue 2: true for find, whose
+// fourth argument asks for a plain search).
+int w_guarded_pattern(lua_State* L) {
+  const bool plain = lua_toboolean(L, lua_upvalueindex(2)) && lua_toboolean(L, 4);
+  if (!plain && lua_type(L, 1) == LUA_TSTRING && lua_type(L, 2) == LUA_TSTRING) {
+    size_t len = 0, plen = 0;
+    lua_tolstring(L, 1, &len);
+    const char* pat = lua_tolstring(L, 2, &plen);
+    const std::string_view pv(pat, plen);
+    const int q = backtracking_quantifiers(pv);
+    const bool anchored = plen > 0 && pat[0] == '^';
+    if (q >= 2 && std::pow(double(len) + 1, q + (anchored ? 0 : 1)) > kMaxPatternSteps) {
+      // No C++ objects here: luaL_error does not return.
+      lua_pushlstring(L, pat, plen > 40 ? 40 : plen);
+      return luaL_error(L,
+                        "pattern '%s' is too costly for a scene: %d backtracking quantifiers on a %d-character "
+                        "string could take hours (shorten the string, anchor the pattern with ^, or split the search)",
+                        lua_tostring(L, -1), q, static_cast<int>(len));
+    }
+  }
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+  return lua_gettop(L);
+}
 
 // The error as a string, with no traceback added.
 int message_handler(lua_State* L) {
@@ -251,6 +327,12 @@ LuaState::LuaState(const ScriptLimits& limits, Reporter* reporter, const std::st
   lua_getglobal(L_, "string");
   lua_pushnil(L_);
   lua_setfield(L_, -2, "dump");
+  for (const char* name : {"find", "match", "gmatch", "gsub"}) {
+    lua_getfield(L_, -1, name);
+    lua_pushboolean(L_, std::strcmp(name, "find") == 0);
+    lua_pushcclosure(L_, w_guarded_pattern, 2);
+    lua_setfield(L_, -2, name);
+  }
   lua_pop(L_, 1);
   lua_getglobal(L_, "load");
   lua_pushcclosure(L_, w_load, 1);

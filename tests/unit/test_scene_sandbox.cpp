@@ -390,5 +390,35 @@ TEST(Sandbox, GarbageMadeByTheHostIsCollected) {
   EXPECT_LT(ls.host().used, start + (1u << 20));   // 100000 tables of 64+ bytes would be over 6 MB
 }
 
+// ---- pattern matching ----------------------------------------------------------------------------------------
+
+// Backtracking happens inside one C call, out of the budget's sight: a pattern that would run for hours is refused
+// up front with its line, and ordinary searches still work.
+TEST(Sandbox, CostlyPatternsAreRefusedAndOrdinaryOnesWork) {
+  SceneFixture s;
+  const auto p = s.write("scene.lua", R"lua(marker(7, { media = text "seven" })
+marker(30, { on_enter = function(m)
+  local a = string.rep("a", 400)
+  print(a:find(".-.-.-.-b"))
+end })
+marker(31, { on_enter = function(m)
+  print(("ID 150 at 3.5"):match("(%a+) (%d+) at ([%d%.]+)"))
+  print(("x=1, y=2"):gsub("(%w+)=(%w+)", "%2=%1"))
+  print(string.rep("a", 100000):find("aab", 1, true), string.rep("ab", 5000):find("^(a)(b)"))
+end })
+)lua");
+  ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
+  const auto ov = s.update({track(7, 100, 100), track(30, 300, 100), track(31, 500, 100)}, enters({7, 30, 31}));
+  const auto l = s.lines("too costly");
+  ASSERT_EQ(l.size(), 1u) << s.console();
+  EXPECT_NE(l[0].text.find("scene.lua:4:"), std::string::npos) << l[0].text;
+  EXPECT_NE(l[0].text.find("4 backtracking quantifiers on a 400-character string"), std::string::npos) << l[0].text;
+  EXPECT_TRUE(find_overlay(ov, 7));
+  const std::string out = s.console();
+  EXPECT_NE(out.find("ID\t150\t3.5"), std::string::npos) << out;
+  EXPECT_NE(out.find("1=x, 2=y\t2"), std::string::npos) << out;
+  EXPECT_NE(out.find("nil\t1\t2\ta\tb"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace arwb::script::test
