@@ -292,7 +292,7 @@ int w_text(lua_State* L) {
     opt.finish({"size", "colour", "color", "background"});
     if (!std::isfinite(v->spec.font_px) || v->spec.font_px <= 0 || v->spec.font_px > 1000) {
       char b[64];
-      std::snprintf(b, sizeof b, "%g", v->spec.font_px);
+      std::snprintf(b, sizeof b, "%g", std::isnan(v->spec.font_px) ? std::abs(v->spec.font_px) : v->spec.font_px);
       opt.fail(std::string("size must be a number of pixels in (0, 1000] (got ") + b + ")");
     }
     switch (lua_type(L, 1)) {
