@@ -107,13 +107,7 @@ int candidate_at(const FrameTrace& t, cv::Point2f p) {
 // The overlay whose drawn quad is under image point `p`, topmost first (later overlays are drawn on top); -1 when
 // none. Only while the media are on screen.
 int overlay_at(const Context& ctx, cv::Point2f p, bool web_only) {
-  if (!ctx.composite) return -1;
-  const std::vector<Overlay>& ov = ctx.frame->overlays;
-  for (size_t i = ov.size(); i-- > 0;) {
-    if (web_only && (ov[i].media.kind != MediaKind::web || ov[i].media.url.empty())) continue;
-    if (ov[i].quad.contains({p.x, p.y})) return static_cast<int>(i);
-  }
-  return -1;
+  return ctx.composite ? arwb::overlay_at(ctx.frame->overlays, {p.x, p.y}, web_only) : -1;
 }
 
 void outline_overlay(const ImageMapping& m, ImDrawList* dl, const Overlay& o, ImU32 colour, float thickness) {

@@ -330,16 +330,9 @@ void App::run_action(const Action& a) {
       error("--actions click=" + a.arg + ": expected X,Y in image pixels");
       return;
     }
-    bool hit = false;
-    if (frame) {
-      for (auto it = frame->overlays.rbegin(); it != frame->overlays.rend() && !hit; ++it) {
-        if (it->media.kind == MediaKind::web && it->quad.contains({x, y})) {
-          requests.push_back({ui::RequestKind::open_url, it->media.url, 0, {}, {}});
-          hit = true;
-        }
-      }
-    }
-    if (!hit) info("click " + a.arg + ": no web card there");
+    const int hit = frame ? overlay_at(frame->overlays, {x, y}, true) : -1;
+    if (hit >= 0) requests.push_back({ui::RequestKind::open_url, frame->overlays[size_t(hit)].media.url, 0, {}, {}});
+    else info("click " + a.arg + ": no web card there");
   } else if (a.verb == "peers") {
     settings.peer_opencv = settings.peer_apriltag = true;
   }

@@ -50,4 +50,8 @@ struct SceneStatus {
   double script_ms = 0;               // time spent in Lua on this frame
 };
 
+// The topmost overlay whose quad holds image point p (the last drawn wins), only web cards when `web_only`;
+// -1 when none. What a click on the live view, or `--actions click=X,Y`, lands on.
+int overlay_at(const std::vector<Overlay>& overlays, cv::Point2d p, bool web_only);
+
 }  // namespace arwb
