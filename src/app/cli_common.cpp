@@ -195,4 +195,17 @@ std::optional<std::vector<int>> parse_id_list(std::string_view spec, const Dicti
 }
 
 
+bool open_video_writer(cv::VideoWriter& writer, const std::string& path, double fps, cv::Size size,
+                       std::string* codec) {
+  const std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+  const bool avi = ext == ".avi" || ext == ".AVI";
+  for (const char* cc : avi ? std::vector<const char*>{"MJPG"} : std::vector<const char*>{"avc1", "mp4v"}) {
+    if (writer.open(path, cv::CAP_FFMPEG, cv::VideoWriter::fourcc(cc[0], cc[1], cc[2], cc[3]), fps, size, true)) {
+      if (codec) *codec = cc;
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace arwb

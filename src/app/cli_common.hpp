@@ -5,6 +5,8 @@
 #include "core/dictionary.hpp"
 #include "core/params.hpp"
 
+#include <opencv2/videoio.hpp>
+
 #include <optional>
 #include <set>
 #include <string>
@@ -49,5 +51,11 @@ bool load_params_option(const std::string& path, const char* command, DetectorPa
 // "0-49", "3,7,10-12": ids in the order given, each once, all in the dictionary. nullopt and a message naming the
 // bad part (and the dictionary's range) otherwise.
 std::optional<std::vector<int>> parse_id_list(std::string_view spec, const Dictionary& dict, std::string* error);
+
+// Opens `writer` on `path` through FFmpeg for 8-bit BGR frames: MJPG for .avi; otherwise H.264 ("avc1"), which
+// plays in browsers and phones, else MPEG-4 part 2 ("mp4v"), which every FFmpeg build has. False when FFmpeg
+// refused all; *codec names the one used.
+bool open_video_writer(cv::VideoWriter& writer, const std::string& path, double fps, cv::Size size,
+                       std::string* codec = nullptr);
 
 }  // namespace arwb

@@ -82,10 +82,7 @@ bool orbit(const std::string& path, std::string* error) {
   const int fps = 25, frames = 75;
   const cv::Size size(320, 240);
   cv::VideoWriter w;
-  for (const char* cc : {"avc1", "mp4v"}) {
-    if (w.open(path, cv::CAP_FFMPEG, cv::VideoWriter::fourcc(cc[0], cc[1], cc[2], cc[3]), fps, size, true)) break;
-  }
-  if (!w.isOpened()) {
+  if (!open_video_writer(w, path, fps, size)) {
     *error = "FFmpeg cannot write MP4 here";
     return false;
   }

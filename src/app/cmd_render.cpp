@@ -212,17 +212,7 @@ int cmd_render(int argc, char** argv) {
     if (to_video) {
       if (!writer.isOpened()) {
         size = picture.size();
-        const std::string ext = fs::path(out).extension().string();
-        const bool avi = ext == ".avi" || ext == ".AVI";
-        // H.264 plays everywhere (browsers, phones); MPEG-4 part 2 is the fallback every FFmpeg build has.
-        const std::vector<std::string> codecs = avi ? std::vector<std::string>{"MJPG"} : std::vector<std::string>{"avc1", "mp4v"};
-        for (const std::string& cc : codecs) {
-          writer.open(out, cv::CAP_FFMPEG, cv::VideoWriter::fourcc(cc[0], cc[1], cc[2], cc[3]), fps, size, true);
-          if (writer.isOpened()) {
-            codec = cc;
-            break;
-          }
-        }
+        open_video_writer(writer, out, fps, size, &codec);
         if (!writer.isOpened()) {
           std::fprintf(stderr, "arwb render: cannot write %s (FFmpeg refused every codec)\n", out.c_str());
           return 1;

@@ -37,12 +37,13 @@ class StageContent : public MediaContent {
   uint64_t version_;
 };
 
-// A copy (the worker may reuse the view's buffer for the next frame), as BGR or BGRA.
+// The frame's stage picture as BGR or BGRA. Colour views are shared, not copied: each Frame draws its views into
+// fresh buffers and never touches them after it is published.
 std::shared_ptr<MediaContent> make_stage_content(const cv::Mat& view, uint64_t version) {
   if (view.empty() || view.depth() != CV_8U) return nullptr;
   auto m = std::make_shared<cv::Mat>();
   if (view.channels() == 1) cv::cvtColor(view, *m, cv::COLOR_GRAY2BGR);
-  else if (view.channels() == 3 || view.channels() == 4) *m = view.clone();
+  else if (view.channels() == 3 || view.channels() == 4) *m = view;
   else return nullptr;
   return std::make_shared<StageContent>(std::move(m), version);
 }
