@@ -4,12 +4,13 @@
 // forwards edited settings and requests to it after the panels are drawn.
 #pragma once
 
-#include "core/diagnose.hpp"
-#include "core/frame.hpp"
-#include "core/params.hpp"
-#include "core/scene.hpp"
-#include "core/source.hpp"
-#include "core/trace.hpp"
+#include "detect/diagnose.hpp"
+#include "workbench/frame.hpp"
+#include "detect/params.hpp"
+#include "synth/synthetic_world.hpp"
+#include "capture/source.hpp"
+#include "detect/trace.hpp"
+#include "workbench/log.hpp"
 
 #include <imgui.h>
 #include <opencv2/core.hpp>
@@ -43,7 +44,7 @@ struct Settings {
   std::vector<std::string> dictionaries{"ARUCO_ORIGINAL"};
   AcquisitionSettings acquisition;
   Playback playback;
-  SceneControls scene;
+  SyntheticControls synthetic;
   bool frozen = false;
   bool peer_opencv = false;
   bool peer_apriltag = false;
@@ -72,12 +73,8 @@ struct Request {
   std::string payload;
 };
 
-enum class LogLevel { info, warning, error };
-struct LogEntry {
-  double time_s = 0;   // since the workbench started
-  LogLevel level = LogLevel::info;
-  std::string text;
-};
+using arwb::LogEntry;
+using arwb::LogLevel;
 
 struct SweepStatus {
   bool running = false;

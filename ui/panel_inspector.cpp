@@ -2,7 +2,7 @@
 // contour and fitted quad over the frame (a view of its own, centred on the candidate), the frontal view with the
 // cell grid, the Otsu histogram, the bit grid beside the nearest marker's bits, and the nearest id in each of the
 // four rotations. Whatever the candidate did not reach is said, not left blank.
-#include "core/pipeline.hpp"
+#include "detect/pipeline.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 

@@ -119,9 +119,9 @@ void acquisition(Context& ctx) {
   }
 }
 
-void scene_controls(Context& ctx) {
+void synthetic_controls(Context& ctx) {
   if (!ctx.frame || ctx.frame->source.kind != SourceKind::synthetic) return;
-  SceneControls& c = ctx.settings.scene;
+  SyntheticControls& c = ctx.settings.synthetic;
   section("Synthetic scene");
   ImGui::Checkbox("animate", &c.animate);
   auto slider = [&](const char* label, double& v, float lo, float hi, const char* fmt) {
@@ -156,7 +156,7 @@ void scene_controls(Context& ctx) {
     ImGui::SameLine();
     if (ImGui::SmallButton("Detect this dictionary")) ctx.settings.dictionaries = {c.dict};
   }
-  if (ImGui::Button("Reset scene")) c = SceneControls{};
+  if (ImGui::Button("Reset synthetic")) c = SyntheticControls{};
 }
 
 }  // namespace
@@ -166,7 +166,7 @@ void draw_source(Context& ctx) {
   source_choice(ctx, st);
   playback(ctx);
   acquisition(ctx);
-  scene_controls(ctx);
+  synthetic_controls(ctx);
 }
 
 }  // namespace arwb::ui

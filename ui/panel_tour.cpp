@@ -2,7 +2,7 @@
 // with the stage's picture, its figures for this frame, a short explanation read from assets/teaching/tour.txt
 // (teachers edit or translate that file) and the parameters that step is about. The pipeline panel follows the
 // tour's stage, so the large view shows what the text explains.
-#include "core/tour.hpp"
+#include "teach/tour.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 

@@ -3,9 +3,9 @@
 // grid. Reused by the live view, the pipeline, the ledger's tooltips, the inspector and the teaching tour.
 #pragma once
 
-#include "core/dictionary.hpp"
-#include "core/params.hpp"
-#include "core/trace.hpp"
+#include "detect/dictionary.hpp"
+#include "detect/params.hpp"
+#include "detect/trace.hpp"
 #include "ui/context.hpp"
 
 #include <imgui.h>

@@ -1,6 +1,6 @@
 #include "media/media_store.hpp"
 
-#include "core/image_io.hpp"
+#include "capture/image_io.hpp"
 #include "media/media_path.hpp"
 
 #include <cairo.h>

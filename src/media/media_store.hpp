@@ -7,7 +7,7 @@
 // returns, so a render is the same every time.
 #pragma once
 
-#include "core/media.hpp"
+#include "track/media_spec.hpp"
 
 #include <cstddef>
 #include <list>

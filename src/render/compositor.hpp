@@ -14,7 +14,7 @@
 // freed after a while.
 #pragma once
 
-#include "core/overlay.hpp"
+#include "track/overlay.hpp"
 #include "render/texture.hpp"
 
 #include <opencv2/core.hpp>

@@ -5,8 +5,8 @@
 // become Lua errors, tables are read with raw access, and Lua errors are raised only once the body's C++
 // objects are gone. Bad values never raise: a constructor returns a value carrying its error, and marker()
 // reports it with the line and skips that call, so the rest of the scene still works.
-#include "core/dictionary.hpp"
-#include "core/trace.hpp"
+#include "detect/dictionary.hpp"
+#include "detect/trace.hpp"
 #include "media/media_path.hpp"
 #include "script/scene_model.hpp"
 

@@ -1,6 +1,6 @@
 // The paper's database as a scene: an XML table of marker ids and resources (docs/scene-api.md, "The XML
 // database"). A URL becomes a web card, a path an image or a looping video, each placed on its marker.
-#include "core/dictionary.hpp"
+#include "detect/dictionary.hpp"
 #include "media/media_path.hpp"
 #include "script/scene_model.hpp"
 #include "script/xml_reader.hpp"

@@ -2,8 +2,8 @@
 // runtime (scene_runtime.cpp). Internal to src/script.
 #pragma once
 
-#include "core/media.hpp"
-#include "core/placement.hpp"
+#include "track/media_spec.hpp"
+#include "track/placement.hpp"
 #include "script/lua_host.hpp"
 
 #include <filesystem>

@@ -7,9 +7,9 @@
 // bad values (id -1, a NaN size, an unknown placement) are reported with their line and skipped.
 #pragma once
 
-#include "core/overlay.hpp"
-#include "core/trace.hpp"
-#include "core/tracker.hpp"
+#include "track/overlay.hpp"
+#include "detect/trace.hpp"
+#include "track/tracker.hpp"
 
 #include <opencv2/core.hpp>
 

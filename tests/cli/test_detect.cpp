@@ -1,7 +1,7 @@
 // `arwb detect`, `arwb synth` and `arwb bench` run as a user runs them: the JSON line checked field by field
 // against a synthetic set's truth, folders, videos, and every kind of bad input named in one line.
-#include "core/dictionary.hpp"
-#include "core/synth.hpp"
+#include "detect/dictionary.hpp"
+#include "synth/synth.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The shipped example scenes load without a single error and place media on the synthetic scene's markers, and
 // make-media paints the files they use.
-#include "core/image_io.hpp"
+#include "capture/image_io.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>

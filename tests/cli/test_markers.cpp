@@ -1,7 +1,7 @@
 // `arwb markers`: PNGs that decode back to the dictionary's bits, sheets whose markers have the size asked for on
 // paper, and one-line errors naming the bad value.
-#include "app/marker_sheet.hpp"
-#include "core/dictionary.hpp"
+#include "synth/marker_sheet.hpp"
+#include "detect/dictionary.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>

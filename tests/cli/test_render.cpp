@@ -1,7 +1,7 @@
 // arwb render: media land inside the quads the placement defines, on PNG frames and in a video; the output is
 // never overwritten unasked; scene and usage errors are one line.
-#include "core/detector.hpp"
-#include "core/image_io.hpp"
+#include "detect/detector.hpp"
+#include "capture/image_io.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,0 +1,287 @@
+// arwb bench: arwb against OpenCV 4.6 aruco (default parameters) and AprilTag 3 (AprilTag families), one thread,
+// the same frames: median ms per frame by resolution, recall, false positives, corner error, and the ratios.
+#include "cli/cli_common.hpp"
+#include "cli/commands.hpp"
+#include "detect/peers.hpp"
+#include "synth/synth_set.hpp"
+#include "detect/detector.hpp"
+#include "base/json.hpp"
+
+#include <opencv2/core/utility.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <map>
+
+namespace arwb {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: arwb bench [DIR] [--dict NAME[,NAME...]] [--params FILE.yml] [--count N] [--seed S] [--reps R] [--json]\n"
+    "\n"
+    "Runs arwb, OpenCV 4.6 cv::aruco::detectMarkers (default parameters) and, for AprilTag families, AprilTag 3\n"
+    "(default parameters) on one thread over the same images, and prints per resolution: median ms per frame,\n"
+    "recall, false positives (all, and on images without markers), mean corner error of found markers, and\n"
+    "arwb's time as a ratio of each peer's. DIR is a set with a truth.jsonl (see arwb synth); without it a\n"
+    "synthetic set is made in memory for each dictionary: --count images (default 90), mixed 640x480,\n"
+    "1280x720 and 1920x1080. Each detector runs --reps times per image (default 3) and keeps its fastest time.\n"
+    "Default dictionaries: ARUCO_ORIGINAL,APRILTAG_36h11.\n";
+
+struct Tally {
+  std::vector<double> ms;
+  int truth = 0, found = 0, false_pos = 0, false_pos_empty = 0, empty_images = 0;
+  double corner_err = 0;
+  int corner_n = 0;
+};
+
+using DetectFn = std::function<PeerResult(const cv::Mat&)>;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// A detection finds a truth marker when dictionary and id agree and its corners lie within a tenth of the
+// marker's side (at least 3 px) on average; anything else it reports is a false positive.
+void score(const std::vector<Marker>& found, const std::vector<TruthMarker>& truth, Tally& t) {
+  std::vector<bool> used(truth.size(), false);
+  t.truth += int(truth.size());
+  if (truth.empty()) ++t.empty_images;
+  for (const Marker& m : found) {
+    bool match = false;
+    for (size_t i = 0; i < truth.size() && !match; ++i) {
+      if (used[i] || truth[i].id != m.id || truth[i].dict != m.dict) continue;
+      double err = 0, side = 0;
+      for (int k = 0; k < 4; ++k) {
+        err += cv::norm(truth[i].corners[size_t(k)] - m.corners[size_t(k)]) / 4;
+        side += cv::norm(truth[i].corners[size_t(k)] - truth[i].corners[size_t((k + 1) % 4)]) / 4;
+      }
+      if (err > std::max(3.0, 0.1 * side)) continue;
+      used[i] = match = true;
+      ++t.found;
+      t.corner_err += err;
+      ++t.corner_n;
+    }
+    if (!match) {
+      ++t.false_pos;
+      if (truth.empty()) ++t.false_pos_empty;
+    }
+  }
+}
+
+struct Row {
+  std::string set, resolution, detector;
+  Tally tally;
+};
+
+}  // namespace
+
+int cmd_bench(int argc, char** argv) {
+  Args args(argc, argv);
+  if (args.flag("--help") || args.flag("-h")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  const bool as_json = args.flag("--json");
+  const std::string dict_arg = args.value("--dict", "ARUCO_ORIGINAL,APRILTAG_36h11");
+  const int count = args.int_value("--count", 90, 1, 100000);
+  const int seed = args.int_value("--seed", 1, 0, 2147483647);
+  const int reps = args.int_value("--reps", 3, 1, 100);
+  const std::string params_path = args.value("--params", "");
+  if (!args.ok()) return args.fail("arwb bench");
+  DetectorParams params;
+  if (!load_params_option(params_path, "arwb bench", params)) return 2;
+  const std::vector<std::string> pos = args.positional();
+  if (pos.size() > 1) {
+    std::fprintf(stderr, "arwb bench: one DIR at most (see arwb bench --help)\n");
+    return 2;
+  }
+  const auto dicts = dictionaries_option(dict_arg, "arwb bench");
+  if (!dicts) return 2;
+  cv::setNumThreads(1);  // every detector on one thread
+
+  // The sets: one per dictionary, or the folder's, each with the dictionaries its detectors search.
+  struct Set {
+    std::string name;
+    std::vector<SetItem> items;
+    std::vector<Dictionary> dicts;
+  };
+  std::vector<Set> sets;
+  if (pos.size() == 1) {
+    std::vector<std::string> errors;
+    auto items = read_set(pos[0], &errors);
+    for (const auto& e : errors) std::fprintf(stderr, "%s\n", e.c_str());
+    if (!items || items->empty()) {
+      std::fprintf(stderr, "arwb bench: %s: no usable images\n", pos[0].c_str());
+      return 1;
+    }
+    // The dictionaries the truth uses (--dict for a folder without markers).
+    std::vector<Dictionary> used;
+    for (const auto& it : *items)
+      for (const auto& m : it.truth)
+        if (std::none_of(used.begin(), used.end(), [&](const Dictionary& d) { return d.name() == m.dict; }))
+          if (auto d = dictionary_by_name(m.dict)) used.push_back(*d);
+    if (used.empty()) used = *dicts;
+    sets.push_back({pos[0], std::move(*items), std::move(used)});
+  } else {
+    for (const Dictionary& d : *dicts) {
+      std::vector<SetItem> items;
+      for (int i = 0; i < count; ++i) items.push_back(make_set_item({d}, mixed_sizes(), uint64_t(seed), i));
+      sets.push_back({"synthetic " + d.name(), std::move(items), {d}});
+    }
+  }
+
+  std::vector<Row> rows;
+  // What recording the trace costs, on the first set's 640x480 images: median ms at each level.
+  std::array<std::vector<double>, 3> trace_ms;
+  for (const auto& [set_name, items, used] : sets) {
+    const Detector arwb_det(used, params);
+    std::vector<std::pair<std::string, DetectFn>> detectors;
+    detectors.emplace_back("arwb", [&arwb_det](const cv::Mat& img) {
+      PeerResult r;
+      const auto t0 = std::chrono::steady_clock::now();
+      r.markers = arwb_det.detect(img);
+      r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      return r;
+    });
+    // Peers search one dictionary each: with several, each runs once per dictionary and the times add up.
+    std::vector<OpenCvArucoPeer> ocv;
+    std::vector<AprilTagPeer> april;
+    for (const auto& d : used) {
+      ocv.emplace_back(d.name());
+      if (AprilTagPeer::supports(d.name())) april.emplace_back(d.name());
+    }
+    auto combine = [](auto& peers) {
+      return [&peers](const cv::Mat& img) {
+        PeerResult all;
+        for (const auto& p : peers) {
+          PeerResult r = p.detect(img);
+          all.ms += r.ms;
+          all.markers.insert(all.markers.end(), r.markers.begin(), r.markers.end());
+        }
+        return all;
+      };
+    };
+    detectors.emplace_back("opencv", combine(ocv));
+    if (!april.empty() && april.size() == used.size()) detectors.emplace_back("apriltag", combine(april));
+
+    if (trace_ms[0].empty())
+      for (const auto& item : items) {
+        if (item.image.cols != 640 || item.image.rows != 480) continue;
+        for (int level = 0; level < 3; ++level) {
+          double best = 1e18;
+          for (int r = 0; r < reps; ++r) {
+            FrameTrace t;
+            const auto t0 = std::chrono::steady_clock::now();
+            arwb_det.detect(item.image, &t, static_cast<TraceLevel>(level));
+            best = std::min(best, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          }
+          trace_ms[size_t(level)].push_back(best);
+        }
+      }
+    std::map<std::string, std::map<std::string, Tally>> by_res;  // resolution -> detector -> tally
+    for (const auto& item : items) {
+      const std::string res = std::to_string(item.image.cols) + "x" + std::to_string(item.image.rows);
+      for (const auto& [name, fn] : detectors) {
+        PeerResult first;
+        double best = 1e18;
+        for (int r = 0; r < reps; ++r) {
+          PeerResult pr = fn(item.image);
+          best = std::min(best, pr.ms);
+          if (r == 0) first = std::move(pr);
+        }
+        for (auto* t : {&by_res[res][name], &by_res["all"][name]}) {
+          t->ms.push_back(best);
+          score(first.markers, item.truth, *t);
+        }
+      }
+    }
+    std::vector<std::string> order;
+    for (const auto& [res, _] : by_res)
+      if (res != "all") order.push_back(res);
+    auto pixels = [](const std::string& res) {
+      int w = 0, h = 0;
+      std::sscanf(res.c_str(), "%dx%d", &w, &h);
+      return long(w) * h;
+    };
+    std::sort(order.begin(), order.end(), [&](const auto& a, const auto& b) { return pixels(a) < pixels(b); });
+    order.push_back("all");
+    for (const auto& res : order)
+      for (const auto& [name, _] : detectors) rows.push_back({set_name, res, name, by_res.at(res).at(name)});
+  }
+
+  // Report: a table, or one JSON object.
+  auto find = [&](const Row& r, const char* det) -> const Row* {
+    for (const auto& o : rows)
+      if (o.set == r.set && o.resolution == r.resolution && o.detector == det) return &o;
+    return nullptr;
+  };
+  if (as_json) {
+    std::string out = "{\"threads\":1,\"reps\":" + std::to_string(reps) + ",\"rows\":[";
+    for (size_t i = 0; i < rows.size(); ++i) {
+      const Row& r = rows[i];
+      const Tally& t = r.tally;
+      out += (i ? "," : "");
+      out += "{\"set\":" + json::quote(r.set) + ",\"resolution\":" + json::quote(r.resolution) +
+             ",\"detector\":" + json::quote(r.detector) + ",\"images\":" + std::to_string(t.ms.size()) +
+             ",\"median_ms\":" + json::number(median(t.ms)) + ",\"markers\":" + std::to_string(t.truth) +
+             ",\"found\":" + std::to_string(t.found) +
+             ",\"recall\":" + json::number(t.truth ? double(t.found) / t.truth : 1.0, 4) +
+             ",\"false_positives\":" + std::to_string(t.false_pos) +
+             ",\"false_positives_on_empty\":" + std::to_string(t.false_pos_empty) +
+             ",\"empty_images\":" + std::to_string(t.empty_images) +
+             ",\"corner_error_px\":" + (t.corner_n ? json::number(t.corner_err / t.corner_n, 4) : "null");
+      if (r.detector == "arwb")
+        for (const char* peer : {"opencv", "apriltag"})
+          if (const Row* p = find(r, peer))
+            out += std::string(",\"time_ratio_") + peer + "\":" + json::number(median(t.ms) / median(p->tally.ms), 3);
+      out += "}";
+    }
+    out += "]";
+    if (!trace_ms[0].empty())
+      out += ",\"trace_cost_640x480\":{\"images\":" + std::to_string(trace_ms[0].size()) +
+             ",\"off_ms\":" + json::number(median(trace_ms[0])) + ",\"summary_ms\":" + json::number(median(trace_ms[1])) +
+             ",\"full_ms\":" + json::number(median(trace_ms[2])) +
+             ",\"full_over_off\":" + json::number(median(trace_ms[2]) / median(trace_ms[0])) + "}";
+    std::printf("%s}\n", out.c_str());
+    return 0;
+  }
+  std::string last_set;
+  for (const Row& r : rows) {
+    if (r.set != last_set) {
+      Row all{r.set, "all", "arwb", {}};
+      const Row* total = find(all, "arwb");
+      std::printf("\n%s (%zu images, one thread, fastest of %d runs per image)\n", r.set.c_str(),
+                  total ? total->tally.ms.size() : size_t(0), reps);
+      std::printf("%-10s %-9s %9s %8s %7s %6s %9s %11s %s\n", "resolution", "detector", "median_ms", "recall",
+                  "found", "FP", "FP_empty", "corner_px", "time ratio");
+      last_set = r.set;
+    }
+    const Tally& t = r.tally;
+    std::string ratio;
+    if (r.detector == "arwb")
+      for (const char* peer : {"opencv", "apriltag"})
+        if (const Row* p = find(r, peer)) {
+          char buf[64];
+          std::snprintf(buf, sizeof buf, "%s%.2fx %s", ratio.empty() ? "" : ", ", median(t.ms) / median(p->tally.ms),
+                        peer);
+          ratio += buf;
+        }
+    std::printf("%-10s %-9s %9.2f %7.1f%% %3d/%-3d %6d %5d/%-3d %11s %s\n", r.resolution.c_str(), r.detector.c_str(),
+                median(t.ms), t.truth ? 100.0 * t.found / t.truth : 100.0, t.found, t.truth, t.false_pos,
+                t.false_pos_empty, t.empty_images,
+                t.corner_n ? json::number(t.corner_err / t.corner_n, 3).c_str() : "-", ratio.c_str());
+  }
+  if (!trace_ms[0].empty())
+    std::printf("\ntrace cost at 640x480 (%zu images, median ms): off %.2f, summary %.2f (%.2fx), full %.2f (%.2fx)\n",
+                trace_ms[0].size(), median(trace_ms[0]), median(trace_ms[1]), median(trace_ms[1]) / median(trace_ms[0]),
+                median(trace_ms[2]), median(trace_ms[2]) / median(trace_ms[0]));
+  return 0;
+}
+
+}  // namespace arwb

@@ -1,0 +1,162 @@
+// arwb detect: markers in images, folders of images and videos, as text or one JSON line per frame.
+#include "cli/cli_common.hpp"
+#include "cli/commands.hpp"
+#include "detect/detector.hpp"
+#include "capture/image_io.hpp"
+#include "base/json.hpp"
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace arwb {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: arwb detect [--dict NAME[,NAME...]] [--params FILE.yml] [--threads N] [--json] PATH...\n"
+    "\n"
+    "Detects markers in each PATH: an image, a folder (its images in name order) or a video.\n"
+    "  --dict      dictionaries searched in one pass, OpenCV's names without DICT_, case-insensitive,\n"
+    "              or a custom dictionary file in OpenCV's YAML format (default ARUCO_ORIGINAL)\n"
+    "  --params    a YAML preset of detector parameters (see arwb's parameter table)\n"
+    "  --threads   threads for the detector (default 1)\n"
+    "  --json      one line per frame: {\"source\",\"frame\",\"width\",\"height\",\"ms\",\"markers\":[...]}\n"
+    "Problems with one PATH are reported on stderr and the others still processed; the exit status is\n"
+    "non-zero only when no frame could be processed.\n";
+
+struct Output {
+  bool json = false;
+  int frames = 0;
+};
+
+void report(Output& out, const std::string& source, int frame, const cv::Mat& image, const Detector& det,
+            int threads) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<Marker> markers = det.detect(image, nullptr, TraceLevel::off, threads);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ++out.frames;
+  if (out.json) {
+    std::string line = "{\"source\":" + json::quote(source) + ",\"frame\":" + std::to_string(frame) +
+                       ",\"width\":" + std::to_string(image.cols) + ",\"height\":" + std::to_string(image.rows) +
+                       ",\"ms\":" + json::number(ms) + ",\"markers\":[";
+    for (size_t i = 0; i < markers.size(); ++i) {
+      const Marker& m = markers[i];
+      line += (i ? ",{" : "{");
+      line += "\"id\":" + std::to_string(m.id) + ",\"dict\":" + json::quote(m.dict) + ",\"corners\":[";
+      for (int k = 0; k < 4; ++k)
+        line += std::string(k ? "," : "") + "[" + json::number(m.corners[size_t(k)].x) + "," +
+                json::number(m.corners[size_t(k)].y) + "]";
+      line += "],\"hamming\":" + std::to_string(m.hamming) + "}";
+    }
+    line += "]}\n";
+    std::fputs(line.c_str(), stdout);
+  } else {
+    std::printf("%s", source.c_str());
+    if (frame > 0 || source.empty()) std::printf(" frame %d", frame);
+    std::printf(": %zu marker%s (%dx%d, %.2f ms)\n", markers.size(), markers.size() == 1 ? "" : "s", image.cols,
+                image.rows, ms);
+    for (const Marker& m : markers) {
+      std::printf("  id %d %s hamming %d corners", m.id, m.dict.c_str(), m.hamming);
+      for (const auto& c : m.corners) std::printf(" (%.2f, %.2f)", c.x, c.y);
+      std::printf("\n");
+    }
+  }
+  std::fflush(stdout);
+}
+
+void run_video(Output& out, const std::string& path, const Detector& det, int threads) {
+  cv::VideoCapture cap;
+  try {
+    cap.open(path, cv::CAP_FFMPEG);
+  } catch (const cv::Exception& e) {
+    std::fprintf(stderr, "%s: cannot open video (%s)\n", path.c_str(), e.msg.c_str());
+    return;
+  }
+  if (!cap.isOpened()) {
+    std::fprintf(stderr, "%s: cannot open video (unreadable or unsupported)\n", path.c_str());
+    return;
+  }
+  const double declared = cap.get(cv::CAP_PROP_FRAME_COUNT);
+  int frame = 0;
+  cv::Mat image;
+  for (;;) {
+    bool ok = false;
+    try {
+      ok = cap.read(image);
+    } catch (const cv::Exception&) {
+      ok = false;
+    }
+    if (!ok || image.empty()) break;
+    report(out, path, frame++, image, det, threads);
+  }
+  if (frame == 0) std::fprintf(stderr, "%s: video has no readable frame\n", path.c_str());
+  else if (declared > 0 && frame < static_cast<int>(declared) - 1)
+    std::fprintf(stderr, "%s: video ended early, after %d of %.0f declared frames\n", path.c_str(), frame, declared);
+}
+
+void run_image(Output& out, const std::string& path, const Detector& det, int threads) {
+  LoadedImage img = load_image(path);
+  if (!img.ok()) {
+    std::fprintf(stderr, "%s\n", img.error.c_str());
+    return;
+  }
+  report(out, path, 0, img.image, det, threads);
+}
+
+}  // namespace
+
+int cmd_detect(int argc, char** argv) {
+  Args args(argc, argv);
+  if (args.flag("--help") || args.flag("-h")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  Output out;
+  out.json = args.flag("--json");
+  const std::string dict_arg = args.value("--dict", "ARUCO_ORIGINAL");
+  const std::string params_path = args.value("--params", "");
+  const int threads = args.int_value("--threads", 1, 1, 64);
+  if (!args.ok()) return args.fail("arwb detect");
+  std::vector<std::string> paths = args.positional();
+  if (paths.empty()) {
+    std::fprintf(stderr, "arwb detect: no PATH given (see arwb detect --help)\n");
+    return 2;
+  }
+
+  const auto dicts = dictionaries_option(dict_arg, "arwb detect");
+  if (!dicts) return 2;
+  DetectorParams params;
+  if (!load_params_option(params_path, "arwb detect", params)) return 2;
+  cv::setNumThreads(threads);
+  const Detector det(std::move(*dicts), params);
+
+  for (const std::string& path : paths) {
+    switch (classify_path(path)) {
+      case PathKind::image: run_image(out, path, det, threads); break;
+      case PathKind::video: run_video(out, path, det, threads); break;
+      case PathKind::folder: {
+        std::vector<std::string> skipped;
+        std::string folder_error;
+        const auto images = list_images(path, &skipped, &folder_error);
+        if (!folder_error.empty()) std::fprintf(stderr, "%s\n", folder_error.c_str());
+        for (const auto& s : skipped) std::fprintf(stderr, "%s\n", s.c_str());
+        if (images.empty() && folder_error.empty()) std::fprintf(stderr, "%s: folder has no images\n", path.c_str());
+        for (const auto& image : images) run_image(out, image, det, threads);
+        break;
+      }
+      case PathKind::missing: std::fprintf(stderr, "%s: no such file or folder\n", path.c_str()); break;
+      case PathKind::other: {
+        // load_image names the reason (empty, unknown signature, unsupported format ...).
+        run_image(out, path, det, threads);
+        break;
+      }
+    }
+  }
+  return out.frames > 0 ? 0 : 1;
+}
+
+}  // namespace arwb

@@ -1,0 +1,157 @@
+// arwb markers: makes markers to use. A folder gets one PNG per marker, for documents, screens and test scenes; a
+// .pdf or .svg file gets A4 sheets with the markers at a true physical size, which calibration and pose estimation
+// rely on, plus a measuring bar to prove the printer kept that size.
+#include "cli/cli_common.hpp"
+#include "cli/commands.hpp"
+#include "synth/marker_sheet.hpp"
+#include "detect/dictionary.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace arwb {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kMinPx = 1, kMaxPx = 1000;
+
+std::string format_g(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+void usage(std::FILE* to) {
+  // The dictionary names, wrapped under the option's description.
+  std::string dicts, line;
+  for (const auto& n : dictionary_names()) {
+    if (!line.empty() && line.size() + n.size() + 2 > 90) {
+      dicts += line + ",\n                  ";
+      line.clear();
+    }
+    line += (line.empty() ? "" : ", ") + n;
+  }
+  dicts += line;
+  std::fprintf(to,
+               "usage: arwb markers [--dict NAME] [--ids LIST] --out DIR|FILE.pdf|FILE.svg [--size-mm MM] [--px N]\n"
+               "\n"
+               "Writes markers as PNG images or as printable A4 sheets at true size.\n"
+               "\n"
+               "  --dict NAME     dictionary, case-insensitive (default ARUCO_ORIGINAL):\n"
+               "                  %s\n"
+               "  --ids LIST      ids such as 0-49 or 3,7,10-12 (default 0-9)\n"
+               "  --out DIR       one PNG per marker, DIR/<dict>_<id>.png (id in 4 digits), with a one-cell\n"
+               "                  white quiet zone; DIR is created if needed\n"
+               "  --out FILE.pdf  A4 pages of markers at --size-mm, each in a one-cell quiet zone with a cut\n"
+               "                  outline and a label, and a 100 mm bar to check that the printer did not scale\n"
+               "  --out FILE.svg  the same as SVG, one file per page: FILE.svg, FILE-2.svg, ...\n"
+               "  --size-mm MM    sheets: the outer black edge of each marker, %g..%g and small enough to fit\n"
+               "                  on the page with its quiet zone (default 50)\n"
+               "  --px N          PNGs: pixels per cell, %d..%d (default 20)\n",
+               dicts.c_str(), kSheetMinMarkerMm, kSheetMaxMarkerMm, kMinPx, kMaxPx);
+}
+
+int fail(int status, const std::string& message) {
+  std::fprintf(stderr, "arwb markers: %s\n", message.c_str());
+  return status;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+
+// One PNG per marker with a one-cell white quiet zone, since a detector needs white around the black border.
+int write_pngs(const Dictionary& dict, const std::vector<int>& ids, int px, const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    return fail(1, "cannot write PNGs to '" + dir + "': it exists and is not a folder");
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir, ec))
+    return fail(1, "cannot create folder '" + dir + "': " + (ec ? ec.message() : "unknown reason"));
+  int side = 0;
+  for (int id : ids) {
+    cv::Mat img;
+    cv::copyMakeBorder(dict.render(id, px), img, px, px, px, px, cv::BORDER_CONSTANT, cv::Scalar(255));
+    side = img.cols;
+    char name[32];
+    std::snprintf(name, sizeof name, "_%04d.png", id);
+    const std::string file = (fs::path(dir) / (dict.name() + name)).string();
+    bool ok = false;
+    try {
+      ok = cv::imwrite(file, img);
+    } catch (const cv::Exception&) {
+      ok = false;
+    }
+    if (!ok) return fail(1, "cannot write '" + file + "'");
+  }
+  std::printf("wrote %zu %s marker%s (%dx%d px) to %s\n", ids.size(), dict.name().c_str(), ids.size() == 1 ? "" : "s",
+              side, side, dir.c_str());
+  return 0;
+}
+
+int write_sheet(const Dictionary& dict, const std::vector<int>& ids, double size_mm, SheetFormat format,
+                const std::string& path) {
+  SheetResult r;
+  try {
+    r = write_marker_sheet(dict, ids, size_mm, format, path);
+  } catch (const std::invalid_argument& e) {
+    return fail(2, e.what());
+  } catch (const std::runtime_error& e) {
+    return fail(1, e.what());
+  }
+  std::string files = r.files.front();
+  if (r.files.size() == 2) files += ", " + r.files.back();
+  if (r.files.size() > 2) files += ", " + r.files[1] + " ... " + r.files.back();
+  std::printf("wrote %d page%s (%zu %s marker%s, %g mm) to %s\n", r.pages, r.pages == 1 ? "" : "s", ids.size(),
+              dict.name().c_str(), ids.size() == 1 ? "" : "s", size_mm, files.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int cmd_markers(int argc, char** argv) {
+  Args args(argc, argv);
+  if (args.flag("--help") || args.flag("-h")) {
+    usage(stdout);
+    return 0;
+  }
+  const std::string dict_name = args.value("--dict", "ARUCO_ORIGINAL");
+  const std::string id_spec = args.value("--ids", "0-9");
+  const std::string out = args.value("--out", "");
+  const double size_mm = args.double_value("--size-mm", 50, kSheetMinMarkerMm, kSheetMaxMarkerMm);
+  const int px = args.int_value("--px", 20, kMinPx, kMaxPx);
+  if (!args.ok() || !args.no_positional()) return args.fail("arwb markers");
+  if (out.empty()) return fail(2, "--out is required: a folder for PNGs, or a .pdf or .svg file");
+
+  std::string error;
+  const auto dict = dictionary_by_name(dict_name, &error);
+  if (!dict) return fail(2, error);
+  const auto ids = parse_id_list(id_spec, *dict, &error);
+  if (!ids) return fail(2, error);
+
+  const std::string ext = lower_extension(out);
+  if (ext != ".pdf" && ext != ".svg") return write_pngs(*dict, *ids, px, out);
+
+  if (!sheet_layout(size_mm, dict->marker_size()).fits())
+    return fail(2, "--size-mm " + format_g(size_mm) + " does not fit on an A4 page: with a one-cell quiet zone and " +
+                       format_g(kSheetMarginMm) + " mm margins, " + dict->name() + " markers can be at most " +
+                       format_g(max_sheet_marker_mm(dict->marker_size())) + " mm");
+  return write_sheet(*dict, *ids, size_mm, ext == ".pdf" ? SheetFormat::pdf : SheetFormat::svg, out);
+}
+
+}  // namespace arwb

@@ -1,0 +1,249 @@
+// arwb render: the paper's player and export, offline. Every input frame goes through the same steps as in the
+// workbench (detection, tracker, the scene, placement, the OpenGL compositor), then into a video or PNG frames.
+// Runs without a display (EGL), so a demo can be rendered on a server and shared.
+#include "cli/cli_common.hpp"
+#include "cli/commands.hpp"
+#include "workbench/scene_stage.hpp"
+#include "detect/detector.hpp"
+#include "synth/synthetic_source.hpp"
+#include "detect/trace_view.hpp"
+#include "render/compositor.hpp"
+#include "render/offscreen.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace arwb {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kUsage =
+    "usage: arwb render --scene FILE.lua|FILE.xml --input VIDEO|DIR|IMAGE|synthetic --out OUT.mp4|OUT.avi|DIR\n"
+    "                   [--frames N] [--fps F] [--size WxH] [--dict NAME] [--params FILE.yml] [--samples N]\n"
+    "                   [--force]\n"
+    "\n"
+    "Composites the scene's media onto every input frame, as the workbench shows them, and writes a video\n"
+    "(.mp4: H.264 where FFmpeg has it, else MPEG-4 part 2; .avi: MJPG) or PNG frames frame_000000.png upward\n"
+    "into DIR. Needs no display.\n"
+    "  --scene    a Lua scene or the paper's XML database (docs/scene-api.md)\n"
+    "  --input    a video, a folder of images (name order), one image, or the synthetic scene\n"
+    "  --frames   stop after N frames (needed for synthetic; default: the whole input, synthetic 100)\n"
+    "  --fps      the scene's clock and the video's rate (default: the input video's, else 20)\n"
+    "  --size     resize frames to WxH first, as the workbench's acquisition does (default: the input's size)\n"
+    "  --dict     the detector's dictionaries (default: the scene's `dictionary`, else ARUCO_ORIGINAL)\n"
+    "  --params   a YAML preset of detector parameters\n"
+    "  --samples  MSAA samples for the media's edges (default 4; 1 turns it off)\n"
+    "  --force    replace an existing OUT file, or frame_*.png files already in DIR\n"
+    "Scene errors are printed as file:line: message; the render goes on with the rest of the scene.\n";
+
+bool is_video_name(const std::string& out) {
+  const std::string ext = fs::path(out).extension().string();
+  return ext == ".mp4" || ext == ".avi" || ext == ".mkv" || ext == ".MP4" || ext == ".AVI" || ext == ".MKV";
+}
+
+// Console lines the scene added since the last call, to stderr (the scene's print output to stdout).
+struct ConsoleEcho {
+  uint64_t serial = 0;
+  size_t shown = 0;
+  void echo(const SceneStatus& s) {
+    if (s.console_serial == serial) return;
+    serial = s.console_serial;
+    // Lines are collapsed by the scene (repeats); print each distinct line once, when it first appears.
+    if (shown > s.console.size()) shown = 0;
+    for (size_t i = shown; i < s.console.size(); ++i) {
+      const ConsoleLine& l = s.console[i];
+      std::fprintf(l.level == 0 ? stdout : stderr, "%s%s\n", l.level == 2 ? "scene: " : "", l.text.c_str());
+    }
+    shown = s.console.size();
+  }
+};
+
+}  // namespace
+
+int cmd_render(int argc, char** argv) {
+  Args args(argc, argv);
+  if (args.flag("--help")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  const std::string scene_file = args.value("--scene", "");
+  const std::string input = args.value("--input", "");
+  const std::string out = args.value("--out", "");
+  const int max_frames = args.int_value("--frames", 0, 0, 10'000'000);
+  const double fps_opt = args.double_value("--fps", 0, 0, 1000);
+  const std::string size_text = args.value("--size", "");
+  const std::string dict_opt = args.value("--dict", "");
+  const std::string params_file = args.value("--params", "");
+  const int samples = args.int_value("--samples", 4, 1, 16);
+  const bool force = args.flag("--force");
+  if (!args.no_positional() || !args.ok()) return args.fail("render");
+  auto usage_error = [](const std::string& m) {
+    std::fprintf(stderr, "arwb render: %s (see arwb render --help)\n", m.c_str());
+    return 2;
+  };
+  if (scene_file.empty()) return usage_error("--scene is required");
+  if (input.empty()) return usage_error("--input is required");
+  if (out.empty()) return usage_error("--out is required");
+  AcquisitionSettings acq;
+  acq.fps_cap = 0;
+  acq.resize = false;
+  if (!size_text.empty()) {
+    int w = 0, h = 0;
+    char tail = 0;
+    if (std::sscanf(size_text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
+      return usage_error("--size " + size_text + ": expected WxH, each 16..8192");
+    acq.resize = true;
+    acq.size = {w, h};
+  }
+  SourceSpec spec;
+  std::string err;
+  if (!parse_source_spec(input, &spec, &err)) return usage_error("--input " + err);
+  if (spec.kind == SourceKind::camera) return usage_error("--input " + input + ": render reads files; the workbench shows cameras");
+
+  // Never overwrite what is there unless asked.
+  const bool to_video = is_video_name(out);
+  std::error_code ec;
+  if (to_video) {
+    if (fs::exists(out, ec) && !force) return usage_error("--out " + out + " exists; add --force to replace it");
+  } else {
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec)) return usage_error("--out " + out + " is a file, not a folder");
+    if (fs::is_directory(out, ec) && !force) {
+      for (const auto& e : fs::directory_iterator(out, ec)) {
+        const std::string n = e.path().filename().string();
+        if (n.rfind("frame_", 0) == 0 && e.path().extension() == ".png")
+          return usage_error("--out " + out + " already holds frame_*.png; add --force to replace them");
+      }
+    }
+  }
+
+  SceneStage stage(media::StoreMode::offline);
+  if (!stage.load(scene_file)) {
+    std::fprintf(stderr, "arwb render: %s\n", stage.status().error.c_str());
+    return 1;
+  }
+  ConsoleEcho console;
+  console.echo(stage.status());
+
+  std::string dict_list = dict_opt.empty() ? stage.dictionary() : dict_opt;
+  if (dict_list.empty()) dict_list = "ARUCO_ORIGINAL";
+  auto dicts = dictionaries_option(dict_list, "render");
+  if (!dicts) return 2;
+  DetectorParams params;
+  if (!load_params_option(params_file, "render", params)) return 2;
+  Detector detector(std::move(*dicts), params);
+
+  auto source = open_source(spec, &err);
+  if (!source) {
+    std::fprintf(stderr, "arwb render: %s\n", err.c_str());
+    return 1;
+  }
+  Playback pb;
+  pb.loop = false;
+  source->set_playback(pb);
+  const SourceInfo info0 = source->info();
+  const double fps = fps_opt > 0 ? fps_opt : (spec.kind == SourceKind::video && info0.native_fps > 0 ? info0.native_fps : 20.0);
+  const int limit = max_frames > 0 ? max_frames : (spec.kind == SourceKind::synthetic ? 100 : 0);
+
+  render::OffscreenContext gl;
+  if (!gl.ok()) {
+    std::fprintf(stderr, "arwb render: %s\n", gl.error().c_str());
+    return 1;
+  }
+  render::Compositor compositor(samples);
+  cv::VideoWriter writer;
+  if (!to_video && !fs::is_directory(out, ec)) {
+    fs::create_directories(out, ec);
+    if (ec) {
+      std::fprintf(stderr, "arwb render: cannot create %s (%s)\n", out.c_str(), ec.message().c_str());
+      return 1;
+    }
+  }
+
+  using Clock = std::chrono::steady_clock;
+  auto ms_since = [](Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); };
+  double detect_ms = 0, scene_ms = 0, composite_ms = 0, write_ms = 0;
+  int frames = 0, with_markers = 0, overlays = 0, errors = 0;
+  cv::Size size;
+  std::string codec;
+  cv::Mat raw;
+  for (int i = 0; limit == 0 || i < limit; ++i) {
+    if (i > 0) source->step(1);
+    const double t = i / fps;
+    const SourceStatus st = source->next(t, raw);
+    if (st.status == FrameStatus::end || st.status == FrameStatus::gone) break;
+    if (st.status == FrameStatus::same && spec.kind != SourceKind::synthetic) break;   // one image: done
+    if (st.status == FrameStatus::error) {
+      std::fprintf(stderr, "arwb render: %s\n", st.message.c_str());
+      if (++errors > 100) break;
+      continue;
+    }
+    if (raw.empty()) continue;
+    Frame f;
+    f.index = uint64_t(frames) + 1;
+    f.time_s = t;
+    acquire(raw, acq, f.image);
+    if (f.image.channels() == 1) cv::cvtColor(f.image, f.image, cv::COLOR_GRAY2BGR);
+    auto t0 = Clock::now();
+    detector.detect(f.image, &f.trace, TraceLevel::full, 1);
+    render_stage_views(f.image, f.trace, f.views);
+    detect_ms += ms_since(t0);
+    t0 = Clock::now();
+    stage.run(f, t, 1e9);   // offline: the file is read once
+    scene_ms += ms_since(t0);
+    console.echo(f.scene);
+    if (!f.trace.markers.empty()) ++with_markers;
+    overlays += int(f.overlays.size());
+    t0 = Clock::now();
+    if (!compositor.draw(f.image, f.index, f.overlays)) {
+      std::fprintf(stderr, "arwb render: %s\n", compositor.error().c_str());
+      return 1;
+    }
+    const cv::Mat picture = compositor.read();
+    composite_ms += ms_since(t0);
+    t0 = Clock::now();
+    if (to_video) {
+      if (!writer.isOpened()) {
+        size = picture.size();
+        open_video_writer(writer, out, fps, size, &codec);
+        if (!writer.isOpened()) {
+          std::fprintf(stderr, "arwb render: cannot write %s (FFmpeg refused every codec)\n", out.c_str());
+          return 1;
+        }
+      }
+      writer.write(picture);
+    } else {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%06d.png", frames);
+      const std::string path = (fs::path(out) / name).string();
+      if (!cv::imwrite(path, picture)) {
+        std::fprintf(stderr, "arwb render: cannot write %s\n", path.c_str());
+        return 1;
+      }
+      size = picture.size();
+    }
+    write_ms += ms_since(t0);
+    ++frames;
+  }
+  writer.release();
+  if (frames == 0) {
+    std::fprintf(stderr, "arwb render: %s gave no frames\n", input.c_str());
+    return 1;
+  }
+  const double n = frames;
+  std::printf("rendered %d frames (%dx%d, %.3g fps) to %s%s%s\n", frames, size.width, size.height, fps, out.c_str(),
+              codec.empty() ? "" : " with ", codec.c_str());
+  std::printf("markers on %d frames, %d overlays drawn; scene %s\n", with_markers, overlays, scene_file.c_str());
+  std::printf("ms per frame: detect %.2f, scene %.2f, composite %.2f (MSAA x%d, %s), write %.2f\n", detect_ms / n,
+              scene_ms / n, composite_ms / n, compositor.samples(), gl.renderer().c_str(), write_ms / n);
+  return 0;
+}
+
+}  // namespace arwb

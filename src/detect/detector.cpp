@@ -1,0 +1,387 @@
+// Chains the stages of pipeline.hpp over one frame and fills the trace.
+// Step 1: find quads (acquisition .. nested_filter), whole-image work on the calling thread.
+// Step 2: read each quad (perspective_removal .. corner_refinement), per candidate, spread over threads.
+// Step 3: resolve duplicates and map corners back to the input image.
+#include "detect/detector.hpp"
+
+#include "detect/pipeline.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+namespace arwb {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The per-candidate stages, whose times are summed over candidates.
+constexpr Stage kCandidateStages[] = {Stage::perspective_removal, Stage::otsu, Stage::bit_grid,
+                                      Stage::border_check, Stage::identification, Stage::corner_refinement};
+constexpr int kCandidateStageCount = static_cast<int>(std::size(kCandidateStages));
+
+// What step 2 produces for one quad.
+struct Reading {
+  CandidateRecord record;
+  int dict_index = -1;
+  DictMatch match;
+  Quad corners{};  // marker's own order, refined, working pixels
+  std::array<double, kCandidateStageCount> ms{};
+  int reached = 0;  // how far it got, to choose which reading to report when several sizes were tried
+};
+
+std::string fmt_msg(const char* f, double a, double b, double c = 0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+}  // namespace
+
+Detector::Detector(std::vector<Dictionary> dictionaries, DetectorParams params)
+    : dictionaries_(std::move(dictionaries)), params_(params) {}
+
+std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, TraceLevel level, int threads) const {
+  const DetectorParams& p = params_;
+  FrameTrace local;
+  FrameTrace& t = trace ? *trace : local;
+  t = FrameTrace{};
+  if (!trace) level = TraceLevel::off;
+  t.level = level;
+  const bool timed = level != TraceLevel::off, full = level == TraceLevel::full;
+  const auto frame_start = Clock::now();
+  t.width = image.cols;
+  t.height = image.rows;
+  if (image.empty() || dictionaries_.empty()) return {};
+
+  auto stage_start = Clock::now();
+  auto close_stage = [&](Stage s, int in, int out, cv::Mat img = {}) {
+    if (!timed) return;
+    t.stages.push_back(StageRecord{s, ms_since(stage_start), in, out, full ? img : cv::Mat()});
+    stage_start = Clock::now();
+  };
+
+  // Step 1: find quads.
+  const cv::Mat grey = stages::acquire(image, p, &t.scale_x, &t.scale_y);
+  t.work_width = grey.cols;
+  t.work_height = grey.rows;
+  close_stage(Stage::acquisition, 1, 1, grey);
+
+  const cv::Mat binary = stages::adaptive_threshold(grey, p);
+  close_stage(Stage::adaptive_threshold, 1, 1, binary);
+
+  std::vector<stages::SmallRegion> small;
+  int regions = 0;
+  std::vector<std::vector<cv::Point>> contours =
+      stages::find_contours(binary, p.min_perimeter_px, &regions, full ? &small : nullptr);
+  close_stage(Stage::contours, 1, regions);
+
+  struct QuadCandidate {
+    int record;   // index into t.candidates, or -1 when not traced
+    int contour;
+    Quad quad;
+  };
+  std::vector<QuadCandidate> quads;
+  std::vector<int> size_passed;
+  const cv::Size work_size = grey.size();
+  auto add_record = [&](int contour_index, std::optional<Rejection> fate) -> int {
+    CandidateRecord r;
+    const auto& c = contours[size_t(contour_index)];
+    r.contour = full ? contour_index : -1;
+    r.bbox = cv::boundingRect(c);
+    r.perimeter = double(c.size());
+    if (fate) r.fate = std::move(*fate);
+    t.candidates.push_back(std::move(r));
+    return int(t.candidates.size()) - 1;
+  };
+  if (full) {
+    // Regions too small to trace: their box bounds the border they could have.
+    for (const auto& s : small) {
+      CandidateRecord r;
+      r.bbox = s.bbox;
+      r.perimeter = 2.0 * (s.bbox.width + s.bbox.height);
+      r.fate = Rejection{Stage::size_filter, "min_perimeter_px", r.perimeter, p.min_perimeter_px,
+                         fmt_msg("region %.0fx%.0f px: border at most %.0f px < min_perimeter_px",
+                                 s.bbox.width, s.bbox.height, r.perimeter)};
+      t.candidates.push_back(std::move(r));
+    }
+  }
+  for (int i = 0; i < int(contours.size()); ++i) {
+    if (auto why = stages::size_filter(contours[size_t(i)], work_size, p, full)) {
+      if (full) add_record(i, std::move(why));
+      continue;
+    }
+    size_passed.push_back(i);
+  }
+  close_stage(Stage::size_filter, regions, int(size_passed.size()));
+
+  for (int i : size_passed) {
+    Quad q;
+    auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q);
+    if (why) {
+      if (timed) add_record(i, std::move(why));
+      continue;
+    }
+    const int rec = timed ? add_record(i, std::nullopt) : -1;
+    if (rec >= 0) {
+      t.candidates[size_t(rec)].has_quad = true;
+      t.candidates[size_t(rec)].quad = q;
+    }
+    quads.push_back({rec, i, q});
+  }
+  close_stage(Stage::quad_fit, int(size_passed.size()), int(quads.size()));
+
+  std::vector<Quad> quad_list;
+  quad_list.reserve(quads.size());
+  for (const auto& q : quads) quad_list.push_back(q.quad);
+  const std::vector<int> replaced_by = stages::nested_filter(quad_list, p);
+  std::vector<int> live;
+  for (int i = 0; i < int(quads.size()); ++i) {
+    if (replaced_by[size_t(i)] < 0) {
+      live.push_back(i);
+    } else if (quads[size_t(i)].record >= 0) {
+      const int outer = replaced_by[size_t(i)];
+      t.candidates[size_t(quads[size_t(i)].record)].fate =
+          Rejection{Stage::nested_filter, "min_marker_distance_rate", 0, p.min_marker_distance_rate,
+                    "same border as the outer quad of contour " + std::to_string(quads[size_t(outer)].contour) +
+                        " (closer than min_marker_distance_rate)"};
+    }
+  }
+  close_stage(Stage::nested_filter, int(quads.size()), int(live.size()));
+
+  // Step 2: read each quad, once per distinct marker size.
+  std::vector<int> sizes;
+  for (const auto& d : dictionaries_)
+    if (std::find(sizes.begin(), sizes.end(), d.marker_size()) == sizes.end()) sizes.push_back(d.marker_size());
+
+  // readings[i] belongs to quads[i]; a quad merged into an outer one is read only when the outer one is no marker
+  // (a white quiet zone on a grey page makes a quad one cell outside the marker).
+  std::vector<Reading> readings(quads.size());
+  auto read_one = [&](size_t k) {
+    const Quad& quad = quads[k].quad;
+    Reading best;
+    best.reached = -1;
+    for (int n : sizes) {
+      Reading r;
+      auto t0 = Clock::now();
+      auto lap = [&](int stage_slot) {
+        if (!timed) return;
+        const auto now = Clock::now();
+        r.ms[size_t(stage_slot)] += std::chrono::duration<double, std::milli>(now - t0).count();
+        t0 = now;
+      };
+      const int cells = n + 2;
+      Quad q = quad;
+      stages::refine_corners(grey, q, cells, p);
+      cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
+      lap(0);
+      r.reached = 1;
+      const stages::OtsuResult o = stages::otsu(warp);
+      r.record.otsu_threshold = o.threshold;
+      r.record.stddev = o.stddev;
+      if (full) {
+        r.record.warp = warp;
+        r.record.histogram.assign(o.histogram.begin(), o.histogram.end());
+      }
+      lap(1);
+      if (o.stddev < p.otsu_min_stddev) {
+        r.record.fate = Rejection{Stage::otsu, "otsu_min_stddev", o.stddev, p.otsu_min_stddev,
+                                  fmt_msg("grey stddev %.1f < otsu_min_stddev %.1f: uniform patch", o.stddev,
+                                          p.otsu_min_stddev)};
+      } else {
+        r.reached = 2;
+        cv::Mat bits = stages::sample_bits(warp, cells, o.threshold, p);
+        if (full) r.record.bits = bits;
+        lap(2);
+        r.record.border_errors = stages::border_errors(bits);
+        r.record.border_cells = 4 * (cells - 1);
+        const int allowed = static_cast<int>(p.border_max_error_rate * r.record.border_cells);
+        lap(3);
+        if (r.record.border_errors > allowed) {
+          r.reached = 3;
+          r.record.fate = Rejection{Stage::border_check, "border_max_error_rate", double(r.record.border_errors),
+                                    double(allowed),
+                                    fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
+                                            r.record.border_errors, r.record.border_cells, allowed)};
+        } else {
+          r.reached = 4;
+          const uint64_t code = stages::inner_code(bits);
+          DictMatch nearest{-1, 0, 65};
+          int nearest_dict = -1;
+          for (int di = 0; di < int(dictionaries_.size()); ++di) {
+            const Dictionary& d = dictionaries_[size_t(di)];
+            if (d.marker_size() != n) continue;
+            const DictMatch m = d.nearest(code);
+            if (nearest_dict < 0 || m.hamming < nearest.hamming) {
+              nearest = m;
+              nearest_dict = di;
+              if (timed) r.record.per_rotation = d.nearest_per_rotation(code);
+            }
+            if (m.hamming <= stages::correction_budget(d, p)) break;  // first dictionary that claims it
+          }
+          const Dictionary& d = dictionaries_[size_t(nearest_dict)];
+          r.record.dict = d.name();
+          const int budget = stages::correction_budget(d, p);
+          lap(4);
+          if (nearest.hamming > budget) {
+            r.record.fate = Rejection{Stage::identification, "error_correction_rate", double(nearest.hamming),
+                                      double(budget),
+                                      fmt_msg("nearest id %.0f is %.0f bits away > budget %.0f (error_correction_rate"
+                                              " x max_correction_bits)",
+                                              nearest.id, nearest.hamming, budget)};
+          } else {
+            r.reached = 5;
+            r.dict_index = nearest_dict;
+            r.match = nearest;
+            for (int j = 0; j < 4; ++j) r.corners[size_t(j)] = q[size_t((j + nearest.rotation) % 4)];
+            lap(5);
+          }
+        }
+      }
+      if (r.reached > best.reached) best = std::move(r);
+      if (best.reached == 5) break;
+    }
+    readings[k] = std::move(best);
+  };
+
+  const int nthreads = std::clamp(threads, 1, 64);
+  auto read_all = [&](const std::vector<int>& which) {
+    if (nthreads == 1 || which.size() < 2) {
+      for (int k : which) read_one(size_t(k));
+      return;
+    }
+    std::atomic<size_t> next{0};
+    auto worker = [&] {
+      for (size_t i; (i = next.fetch_add(1)) < which.size();) read_one(size_t(which[i]));
+    };
+    std::vector<std::thread> pool;
+    for (int i = 1; i < std::min<int>(nthreads, int(which.size())); ++i) pool.emplace_back(worker);
+    worker();
+    for (auto& th : pool) th.join();
+  };
+  read_all(live);
+  std::vector<int> retry;
+  for (int i = 0; i < int(quads.size()); ++i)
+    if (replaced_by[size_t(i)] >= 0 && readings[size_t(replaced_by[size_t(i)])].reached != 5) retry.push_back(i);
+  read_all(retry);
+  std::vector<int> read = live;
+  read.insert(read.end(), retry.begin(), retry.end());
+
+  if (timed) {
+    // Counts: how many readings entered each per-candidate stage and how many left it.
+    std::array<int, kCandidateStageCount + 1> entered{};
+    std::array<double, kCandidateStageCount> ms{};
+    for (int k : read) {
+      const Reading& r = readings[size_t(k)];
+      for (int s = 0; s < kCandidateStageCount; ++s) ms[size_t(s)] += r.ms[size_t(s)];
+      // reached: 1 warped, 2 past otsu, 3 border rejected, 4 identification tried, 5 identified
+      entered[0]++;
+      if (r.reached >= 1) entered[1]++;
+      if (r.reached >= 2) entered[2]++, entered[3]++;
+      if (r.reached >= 4) entered[4]++;
+      if (r.reached >= 5) entered[5]++, entered[6]++;
+    }
+    for (int s = 0; s < kCandidateStageCount; ++s)
+      t.stages.push_back(StageRecord{kCandidateStages[s], ms[size_t(s)], entered[size_t(s)],
+                                     s + 1 < kCandidateStageCount ? entered[size_t(s + 1)] : entered[size_t(s)], {}});
+    stage_start = Clock::now();
+  }
+
+  // Step 3: duplicates. The same id seen twice, or a marker inside another marker, keeps the larger one.
+  std::vector<size_t> accepted;
+  for (int k : read)
+    if (readings[size_t(k)].reached == 5) accepted.push_back(size_t(k));
+  auto perimeter = [](const Quad& q) {
+    double s = 0;
+    for (int i = 0; i < 4; ++i) s += cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)]);
+    return s;
+  };
+  std::sort(accepted.begin(), accepted.end(), [&](size_t a, size_t b) {
+    const double pa = perimeter(readings[a].corners), pb = perimeter(readings[b].corners);
+    return pa != pb ? pa > pb : a < b;
+  });
+  std::vector<size_t> kept;
+  std::vector<std::string> dup_reason(readings.size());
+  for (size_t k : accepted) {
+    const Reading& r = readings[k];
+    cv::Point2f centre(0, 0);
+    for (const auto& c : r.corners) centre += c * 0.25f;
+    bool drop = false;
+    for (size_t o : kept) {
+      const Reading& big = readings[o];
+      std::vector<cv::Point2f> poly(big.corners.begin(), big.corners.end());
+      const bool inside = cv::pointPolygonTest(poly, centre, false) >= 0;
+      if (inside) {
+        drop = true;
+        dup_reason[k] = (r.dict_index == big.dict_index && r.match.id == big.match.id)
+                            ? "id " + std::to_string(r.match.id) + " already found here"
+                            : "inside marker " + std::to_string(big.match.id);
+        break;
+      }
+    }
+    if (!drop) kept.push_back(k);
+  }
+  std::sort(kept.begin(), kept.end(), [&](size_t a, size_t b) {
+    const Reading &ra = readings[a], &rb = readings[b];
+    if (ra.dict_index != rb.dict_index) return ra.dict_index < rb.dict_index;
+    if (ra.match.id != rb.match.id) return ra.match.id < rb.match.id;
+    return a < b;
+  });
+  std::vector<Marker> markers;
+  markers.reserve(kept.size());
+  for (size_t k : kept) {
+    const Reading& r = readings[k];
+    Marker m;
+    m.id = r.match.id;
+    m.dict = dictionaries_[size_t(r.dict_index)].name();
+    m.hamming = r.match.hamming;
+    m.rotation = r.match.rotation;
+    for (int j = 0; j < 4; ++j) {
+      // Working pixels to input pixels, pixel centres at integers in both.
+      const cv::Point2f c = r.corners[size_t(j)];
+      m.corners[size_t(j)] = cv::Point2f(float((c.x + 0.5) * t.scale_x - 0.5), float((c.y + 0.5) * t.scale_y - 0.5));
+    }
+    markers.push_back(m);
+  }
+  close_stage(Stage::duplicates, int(accepted.size()), int(kept.size()));
+
+  if (timed) {
+    for (int ki : read) {
+      const size_t k = size_t(ki);
+      const int rec = quads[k].record;
+      if (rec < 0) continue;
+      CandidateRecord& dst = t.candidates[size_t(rec)];
+      CandidateRecord& src = readings[k].record;
+      dst.warp = std::move(src.warp);
+      dst.otsu_threshold = src.otsu_threshold;
+      dst.stddev = src.stddev;
+      dst.histogram = std::move(src.histogram);
+      dst.bits = std::move(src.bits);
+      dst.border_errors = src.border_errors;
+      dst.border_cells = src.border_cells;
+      dst.dict = std::move(src.dict);
+      dst.per_rotation = src.per_rotation;
+      dst.fate = std::move(src.fate);
+      if (readings[k].reached == 5 && !dup_reason[k].empty())
+        dst.fate = Rejection{Stage::duplicates, "", 0, 0, dup_reason[k]};
+    }
+    for (int mi = 0; mi < int(kept.size()); ++mi) {
+      const int rec = quads[kept[size_t(mi)]].record;
+      if (rec >= 0) t.candidates[size_t(rec)].marker = mi;
+    }
+    if (full) t.contours = std::move(contours);
+  }
+  t.markers = markers;
+  t.total_ms = ms_since(frame_start);
+  return markers;
+}
+
+}  // namespace arwb

@@ -1,0 +1,306 @@
+#include "detect/dictionary.hpp"
+
+#include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+namespace arwb {
+
+Dictionary::Dictionary(std::string name, int marker_size, std::vector<uint64_t> codes_rot0, int max_correction_bits)
+    : name_(std::move(name)), marker_size_(marker_size), max_correction_bits_(max_correction_bits) {
+  CV_Assert(marker_size >= 2 && marker_size * marker_size <= 64);
+  codes_.reserve(codes_rot0.size());
+  for (uint64_t c : codes_rot0) {
+    std::array<uint64_t, 4> r{};
+    r[0] = c;
+    for (int k = 1; k < 4; ++k) r[static_cast<size_t>(k)] = rotate_cw(r[static_cast<size_t>(k - 1)], marker_size);
+    codes_.push_back(r);
+  }
+}
+
+uint64_t Dictionary::pack(const cv::Mat& bits01) {
+  CV_Assert(bits01.type() == CV_8UC1 && bits01.rows == bits01.cols && bits01.rows * bits01.cols <= 64);
+  uint64_t code = 0;
+  for (int r = 0; r < bits01.rows; ++r)
+    for (int c = 0; c < bits01.cols; ++c) code = (code << 1) | (bits01.at<uint8_t>(r, c) ? 1u : 0u);
+  return code;
+}
+
+cv::Mat Dictionary::unpack(uint64_t code, int n) {
+  cv::Mat bits(n, n, CV_8UC1);
+  const int total = n * n;
+  for (int i = 0; i < total; ++i) bits.at<uint8_t>(i / n, i % n) = static_cast<uint8_t>((code >> (total - 1 - i)) & 1u);
+  return bits;
+}
+
+uint64_t Dictionary::rotate_cw(uint64_t code, int n) {
+  // Turning the grid clockwise: the new cell (r, c) comes from the old cell (n-1-c, r).
+  const int total = n * n;
+  uint64_t out = 0;
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) {
+      const int src = (n - 1 - c) * n + r;
+      out = (out << 1) | ((code >> (total - 1 - src)) & 1u);
+    }
+  return out;
+}
+
+cv::Mat Dictionary::bits(int id) const { return unpack(code(id), marker_size_); }
+
+cv::Mat Dictionary::render(int id, int px_per_cell) const {
+  const int cells = marker_size_ + 2;
+  cv::Mat img(cells * px_per_cell, cells * px_per_cell, CV_8UC1, cv::Scalar(0));
+  const cv::Mat b = bits(id);
+  for (int r = 0; r < marker_size_; ++r)
+    for (int c = 0; c < marker_size_; ++c)
+      if (b.at<uint8_t>(r, c))
+        img(cv::Rect((c + 1) * px_per_cell, (r + 1) * px_per_cell, px_per_cell, px_per_cell)).setTo(255);
+  return img;
+}
+
+DictMatch Dictionary::nearest(uint64_t code) const {
+  DictMatch best{-1, 0, 65};
+  for (size_t id = 0; id < codes_.size(); ++id)
+    for (int k = 0; k < 4; ++k) {
+      const int d = std::popcount(code ^ codes_[id][static_cast<size_t>(k)]);
+      if (d < best.hamming) best = {static_cast<int>(id), k, d};
+    }
+  return best;
+}
+
+std::array<DictMatch, 4> Dictionary::nearest_per_rotation(uint64_t code) const {
+  std::array<DictMatch, 4> best;
+  for (auto& b : best) b = {-1, 0, 65};
+  for (size_t id = 0; id < codes_.size(); ++id)
+    for (int k = 0; k < 4; ++k) {
+      const int d = std::popcount(code ^ codes_[id][static_cast<size_t>(k)]);
+      if (d < best[static_cast<size_t>(k)].hamming) best[static_cast<size_t>(k)] = {static_cast<int>(id), k, d};
+    }
+  return best;
+}
+
+int Dictionary::min_distance() const {
+  int best = bit_count();
+  for (size_t i = 0; i < codes_.size(); ++i) {
+    // A marker must not look like itself turned.
+    for (int k = 1; k < 4; ++k) best = std::min(best, std::popcount(codes_[i][0] ^ codes_[i][static_cast<size_t>(k)]));
+    for (size_t j = i + 1; j < codes_.size(); ++j)
+      for (int k = 0; k < 4; ++k) best = std::min(best, std::popcount(codes_[i][0] ^ codes_[j][static_cast<size_t>(k)]));
+  }
+  return best;
+}
+
+Dictionary make_aruco_original() {
+  // Each row carries two data bits in columns 2 and 4; columns 1, 3 and 5 are parity bits of a Hamming code
+  // whose first bit is inverted, so that an all-black marker is no valid code. The four row words, for the data
+  // values 00, 01, 10 and 11 read from (column 2, column 4):
+  constexpr uint64_t kRowWord[4] = {0b10000, 0b10111, 0b01001, 0b01110};
+  std::vector<uint64_t> codes;
+  codes.reserve(1024);
+  for (uint64_t id = 0; id < 1024; ++id) {
+    uint64_t code = 0;
+    for (int row = 0; row < 5; ++row) {
+      const uint64_t data = (id >> (2 * (4 - row))) & 3u;  // the first row carries the most significant bits
+      code = (code << 5) | kRowWord[data];
+    }
+    codes.push_back(code);
+  }
+  // The budget OpenCV gives this dictionary; its rotations leave no room for safe correction.
+  return Dictionary("ARUCO_ORIGINAL", 5, std::move(codes), 0);
+}
+
+namespace {
+
+std::string upper(std::string_view s) {
+  std::string out(s);
+  for (auto& ch : out) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  return out;
+}
+
+Dictionary from_opencv(const std::string& name, cv::aruco::PREDEFINED_DICTIONARY_NAME which) {
+  const cv::Ptr<cv::aruco::Dictionary> d = cv::aruco::getPredefinedDictionary(which);
+  std::vector<uint64_t> codes;
+  codes.reserve(static_cast<size_t>(d->bytesList.rows));
+  for (int id = 0; id < d->bytesList.rows; ++id)
+    codes.push_back(Dictionary::pack(cv::aruco::Dictionary::getBitsFromByteList(d->bytesList.row(id), d->markerSize)));
+  return Dictionary(name, d->markerSize, std::move(codes), d->maxCorrectionBits);
+}
+
+const std::vector<std::pair<std::string, cv::aruco::PREDEFINED_DICTIONARY_NAME>>& opencv_table() {
+  using namespace cv::aruco;
+  static const std::vector<std::pair<std::string, PREDEFINED_DICTIONARY_NAME>> table = {
+      {"4X4_50", DICT_4X4_50},       {"4X4_100", DICT_4X4_100},       {"4X4_250", DICT_4X4_250},
+      {"4X4_1000", DICT_4X4_1000},   {"5X5_50", DICT_5X5_50},         {"5X5_100", DICT_5X5_100},
+      {"5X5_250", DICT_5X5_250},     {"5X5_1000", DICT_5X5_1000},     {"6X6_50", DICT_6X6_50},
+      {"6X6_100", DICT_6X6_100},     {"6X6_250", DICT_6X6_250},       {"6X6_1000", DICT_6X6_1000},
+      {"7X7_50", DICT_7X7_50},       {"7X7_100", DICT_7X7_100},       {"7X7_250", DICT_7X7_250},
+      {"7X7_1000", DICT_7X7_1000},   {"APRILTAG_16h5", DICT_APRILTAG_16h5},
+      {"APRILTAG_25h9", DICT_APRILTAG_25h9}, {"APRILTAG_36h10", DICT_APRILTAG_36h10},
+      {"APRILTAG_36h11", DICT_APRILTAG_36h11},
+  };
+  return table;
+}
+
+}  // namespace
+
+const std::vector<std::string>& dictionary_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n{"ARUCO_ORIGINAL"};
+    for (const auto& [name, _] : opencv_table()) n.push_back(name);
+    return n;
+  }();
+  return names;
+}
+
+std::optional<Dictionary> dictionary_by_name(std::string_view name, std::string* error) {
+  std::string key = upper(name);
+  if (key.rfind("DICT_", 0) == 0) key = key.substr(5);
+  // Built once per name: the code tables are immutable and cheap to copy.
+  static std::mutex mutex;
+  static std::map<std::string, Dictionary> cache;
+  std::lock_guard lock(mutex);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  if (key == "ARUCO_ORIGINAL") return cache[key] = make_aruco_original();
+  for (const auto& [n, which] : opencv_table())
+    if (upper(n) == key) return cache[key] = from_opencv(n, which);
+  if (error) {
+    std::string all;
+    for (const auto& n : dictionary_names()) all += (all.empty() ? "" : ", ") + n;
+    *error = "unknown dictionary '" + std::string(name) + "' (known: " + all + ")";
+  }
+  return std::nullopt;
+}
+
+std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::string* error) {
+  auto fail = [&](const std::string& why) -> std::optional<Dictionary> {
+    if (error) *error = path + ": " + why;
+    return std::nullopt;
+  };
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) return fail("cannot open as a dictionary file");
+    int n = 0, size = 0, corr = 0;
+    if (fs["nmarkers"].empty() || fs["markersize"].empty()) return fail("needs nmarkers and markersize");
+    fs["nmarkers"] >> n;
+    fs["markersize"] >> size;
+    if (!fs["maxCorrectionBits"].empty()) fs["maxCorrectionBits"] >> corr;
+    if (size < 2 || size > 8) return fail("markersize " + std::to_string(size) + " outside 2..8");
+    if (n < 1 || n > 100000) return fail("nmarkers " + std::to_string(n) + " outside 1..100000");
+    if (corr < 0 || corr > size * size) return fail("maxCorrectionBits " + std::to_string(corr) + " out of range");
+    std::vector<uint64_t> codes;
+    for (int i = 0; i < n; ++i) {
+      const std::string key = "marker_" + std::to_string(i);
+      std::string bits;
+      if (fs[key].empty()) return fail("missing " + key);
+      fs[key] >> bits;
+      if (static_cast<int>(bits.size()) != size * size) return fail(key + " has " + std::to_string(bits.size()) +
+                                                                   " bits, expected " + std::to_string(size * size));
+      uint64_t code = 0;
+      for (char ch : bits) {
+        if (ch != '0' && ch != '1') return fail(key + " has a character other than 0 and 1");
+        code = (code << 1) | (ch == '1' ? 1u : 0u);
+      }
+      codes.push_back(code);
+    }
+    std::string stem = path.substr(path.find_last_of('/') + 1);
+    return Dictionary(stem, size, std::move(codes), corr);
+  } catch (const cv::Exception& e) {
+    return fail(std::string("not valid YAML: ") + e.msg);
+  }
+}
+
+// [SECTION] dictionary explorer
+
+namespace {
+
+// Calls f(a, b, rotation, distance) for every explorer entry, a ascending, then b ascending from a (itself first).
+// The four rotations of all codes sit in one flat array so the inner loop is four XOR-popcounts on adjacent words.
+template <class F>
+void for_each_pair(const Dictionary& d, F&& f) {
+  const int n = d.size();
+  std::vector<uint64_t> rot(size_t(n) * 4);
+  for (int id = 0; id < n; ++id)
+    for (int k = 0; k < 4; ++k) rot[size_t(id) * 4 + size_t(k)] = d.code(id, k);
+  for (int a = 0; a < n; ++a) {
+    const uint64_t ca = rot[size_t(a) * 4];
+    int best = 65, best_k = 1;
+    for (int k = 1; k < 4; ++k) {
+      const int dist = std::popcount(ca ^ rot[size_t(a) * 4 + size_t(k)]);
+      if (dist < best) {
+        best = dist;
+        best_k = k;
+      }
+    }
+    f(a, a, best_k, best);
+    for (int b = a + 1; b < n; ++b) {
+      const uint64_t* rb = &rot[size_t(b) * 4];
+      best = std::popcount(ca ^ rb[0]);
+      best_k = 0;
+      for (int k = 1; k < 4; ++k) {
+        const int dist = std::popcount(ca ^ rb[k]);
+        if (dist < best) {
+          best = dist;
+          best_k = k;
+        }
+      }
+      f(a, b, best_k, best);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<int> distance_histogram(const Dictionary& d) {
+  std::vector<int> hist(size_t(d.bit_count()) + 1, 0);
+  for_each_pair(d, [&](int, int, int, int dist) { ++hist[size_t(dist)]; });
+  return hist;
+}
+
+std::vector<DictPair> closest_pairs(const Dictionary& d, int max_pairs) {
+  std::vector<DictPair> out;
+  if (max_pairs <= 0 || d.size() == 0) return out;
+  // Two passes instead of keeping every entry (500 000 for 1000 ids): the histogram gives the distance at which
+  // the list fills up; the second pass keeps everything closer and, at that distance, the first entries in (a, b)
+  // order, which is the order the visit produces.
+  const std::vector<int> hist = distance_histogram(d);
+  int cutoff = 0;
+  long long below = 0;  // entries closer than cutoff
+  while (cutoff < int(hist.size()) - 1 && below + hist[size_t(cutoff)] < max_pairs) below += hist[size_t(cutoff++)];
+  long long room_at_cutoff = max_pairs - below;
+  out.reserve(size_t(std::min<long long>(max_pairs, below + hist[size_t(cutoff)])));
+  for_each_pair(d, [&](int a, int b, int rotation, int dist) {
+    if (dist < cutoff || (dist == cutoff && room_at_cutoff-- > 0)) out.push_back({a, b, rotation, dist});
+  });
+  std::sort(out.begin(), out.end(), [](const DictPair& x, const DictPair& y) {
+    if (x.distance != y.distance) return x.distance < y.distance;
+    if (x.a != y.a) return x.a < y.a;
+    return x.b < y.b;
+  });
+  return out;
+}
+
+std::optional<std::vector<Dictionary>> parse_dictionaries(const std::string& list, std::string* error) {
+  std::vector<Dictionary> out;
+  std::stringstream ss(list);
+  std::string name;
+  while (std::getline(ss, name, ',')) {
+    if (name.empty()) continue;
+    const bool file = name.size() > 4 && (name.ends_with(".yml") || name.ends_with(".yaml"));
+    auto d = file ? load_dictionary_yaml(name, error) : dictionary_by_name(name, error);
+    if (!d) return std::nullopt;
+    out.push_back(std::move(*d));
+  }
+  if (out.empty()) {
+    if (error) *error = "no dictionary named";
+    return std::nullopt;
+  }
+  return out;
+}
+
+}  // namespace arwb

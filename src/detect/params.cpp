@@ -1,0 +1,183 @@
+#include "detect/params.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace arwb {
+namespace {
+
+using P = DetectorParams;
+
+#define ARWB_INT(field, stage, unit, def, lo, hi, help) {#field, stage, unit, def, lo, hi, true, help, &P::field, nullptr}
+#define ARWB_DBL(field, stage, unit, def, lo, hi, help) {#field, stage, unit, def, lo, hi, false, help, nullptr, &P::field}
+
+const ParamInfo kTable[] = {
+    ARWB_INT(resize_width, "acquisition", "px", 0, 0, 8192,
+             "Width the frame is resized to before detection; 0 keeps it. Smaller is faster, loses small markers."),
+    ARWB_INT(resize_height, "acquisition", "px", 0, 0, 8192,
+             "Height the frame is resized to; 0 keeps the aspect ratio of resize_width (or the frame's size)."),
+    ARWB_INT(threshold_window_px, "adaptive_threshold", "px", 17, 3, 201,
+             "Side of the square whose mean each pixel is compared with (odd). Larger keeps thick borders whole, "
+             "smaller separates touching dark regions."),
+    ARWB_DBL(threshold_offset, "adaptive_threshold", "grey", 7, 0, 100,
+             "How much darker than its neighbourhood mean a pixel must be to count as black. Higher ignores faint "
+             "texture and noise, lower finds low-contrast markers."),
+    ARWB_DBL(min_perimeter_px, "size_filter", "px", 48, 4, 100000,
+             "Contours shorter than this are dropped before fitting. Lower finds smaller markers, costs time."),
+    ARWB_DBL(max_perimeter_rate, "size_filter", "rate", 4, 0.1, 8,
+             "Contours longer than this times the frame's larger side are dropped."),
+    ARWB_DBL(polygon_epsilon_rate, "quad_fit", "rate", 0.03, 0.005, 0.2,
+             "Polygon approximation tolerance as a fraction of the contour's perimeter. Higher accepts rounder "
+             "or blurrier quads, and more clutter."),
+    ARWB_DBL(min_side_rate, "quad_fit", "rate", 0.1, 0, 0.25,
+             "Shortest quad side allowed, as a fraction of its perimeter. 0.1 still admits a square tilted 75 "
+             "degrees away; lower admits slivers such as thin outlined frames, which read as ARUCO_ORIGINAL 1023."),
+    ARWB_INT(min_border_distance_px, "quad_fit", "px", 3, 0, 100,
+             "Quads with a corner closer than this to the image edge are dropped (they are usually cut off)."),
+    ARWB_DBL(min_marker_distance_rate, "nested_filter", "rate", 0.05, 0, 1,
+             "Two quads whose corners are closer than this fraction of the smaller perimeter are one candidate; "
+             "the outer one is kept."),
+    ARWB_INT(warp_cell_px, "perspective_removal", "px", 4, 1, 32,
+             "Pixels per cell in the frontal view. More samples each cell better, costs time."),
+    ARWB_DBL(warp_margin_rate, "perspective_removal", "rate", 0.13, 0, 0.45,
+             "Part of each cell's side ignored at its edges when sampling, so blur from neighbours does not count."),
+    ARWB_DBL(otsu_min_stddev, "otsu", "grey", 5, 0, 128,
+             "A frontal view whose grey levels vary less than this is uniform (all black or white), not a marker."),
+    ARWB_DBL(border_max_error_rate, "border_check", "rate", 0.35, 0, 1,
+             "Share of border cells allowed to be white. Higher tolerates occlusion and glare, and more clutter."),
+    ARWB_DBL(error_correction_rate, "identification", "rate", 0.6, 0, 1,
+             "Share of the dictionary's correction budget used: bits that may be wrong = rate x max correction."),
+    ARWB_INT(corner_refinement, "corner_refinement", "", 1, 0, 1,
+             "1 refines the four corners to subpixel accuracy on the grey image; 0 keeps the polygon's corners."),
+    ARWB_INT(subpix_window_px, "corner_refinement", "px", 5, 1, 20,
+             "How far each edge profile reaches either side of a side: at most this + 1 px and 0.6 of a cell."),
+    ARWB_INT(subpix_max_iterations, "corner_refinement", "", 1, 1, 50,
+             "Passes of the edge fit. More re-profile across the sides the last pass found: corners about 25% more "
+             "precise on the bench set, detection about 15% slower."),
+    ARWB_DBL(subpix_epsilon_px, "corner_refinement", "px", 0.05, 0.001, 1,
+             "Refinement stops when no corner moved more than this in a pass."),
+};
+
+#undef ARWB_INT
+#undef ARWB_DBL
+
+std::string fmt(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+}  // namespace
+
+DetectorParams::DetectorParams() {
+  for (const auto& info : kTable) set_param(*this, info, info.default_value);
+}
+
+std::span<const ParamInfo> param_table() { return kTable; }
+
+const ParamInfo* find_param(const std::string& name) {
+  for (const auto& info : kTable)
+    if (name == info.name) return &info;
+  return nullptr;
+}
+
+double get_param(const DetectorParams& p, const ParamInfo& info) {
+  return info.integer ? static_cast<double>(p.*(info.int_field)) : p.*(info.double_field);
+}
+
+bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::string* error) {
+  if (!std::isfinite(value) || value < info.min_value || value > info.max_value) {
+    if (error)
+      *error = std::string(info.name) + " = " + fmt(value) + " is outside " + fmt(info.min_value) + ".." +
+               fmt(info.max_value);
+    return false;
+  }
+  if (info.integer) {
+    if (value != std::floor(value)) {
+      if (error) *error = std::string(info.name) + " = " + fmt(value) + " must be a whole number";
+      return false;
+    }
+    p.*(info.int_field) = static_cast<int>(value);
+  } else {
+    p.*(info.double_field) = value;
+  }
+  return true;
+}
+
+bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors) {
+  auto report = [&](const std::string& msg) {
+    if (errors) errors->push_back(path + ": " + msg);
+  };
+  DetectorParams next = out;
+  bool ok = true;
+  try {
+    // OpenCV's reader wants a "%YAML:1.0" first line; plain YAML as people write it gets one added.
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+      report("cannot read");
+      return false;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    if (yaml.rfind("%YAML", 0) != 0) yaml = "%YAML:1.0\n---\n" + yaml;
+    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+    if (!fs.isOpened()) {
+      report("cannot open as a YAML parameter file");
+      return false;
+    }
+    const cv::FileNode root = fs.root();
+    if (!root.isMap()) {
+      report("expected a map of parameter: value");
+      return false;
+    }
+    for (const auto& node : root) {
+      const std::string key = node.name();
+      const ParamInfo* info = find_param(key);
+      if (!info) {
+        report("unknown parameter '" + key + "'");
+        ok = false;
+        continue;
+      }
+      if (!node.isInt() && !node.isReal()) {
+        report(key + " is not a number");
+        ok = false;
+        continue;
+      }
+      std::string err;
+      if (!set_param(next, *info, node.real(), &err)) {
+        report(err);
+        ok = false;
+      }
+    }
+  } catch (const cv::Exception& e) {
+    report("malformed YAML: " + e.msg);
+    return false;
+  }
+  if (ok) out = next;
+  return ok;
+}
+
+bool save_params_yaml(const std::string& path, const DetectorParams& p, std::string* error) {
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
+    if (!fs.isOpened()) {
+      if (error) *error = path + ": cannot write";
+      return false;
+    }
+    for (const auto& info : kTable) {
+      if (info.integer) fs << info.name << p.*(info.int_field);
+      else fs << info.name << p.*(info.double_field);
+    }
+    return true;
+  } catch (const cv::Exception& e) {
+    if (error) *error = path + ": " + e.msg;
+    return false;
+  }
+}
+
+}  // namespace arwb

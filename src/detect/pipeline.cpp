@@ -1,0 +1,491 @@
+#include "detect/pipeline.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace arwb::stages {
+namespace {
+
+std::string fmt(const char* f, double a, double b) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, f, a, b);
+  return buf;
+}
+
+Rejection reject(Stage s, std::string_view param, double value, double limit, std::string message) {
+  return Rejection{s, param, value, limit, std::move(message)};
+}
+
+}  // namespace
+
+// [SECTION] acquisition
+
+cv::Mat acquire(const cv::Mat& input, const DetectorParams& p, double* scale_x, double* scale_y) {
+  cv::Mat grey;
+  if (input.channels() == 3) cv::cvtColor(input, grey, cv::COLOR_BGR2GRAY);
+  else if (input.channels() == 4) cv::cvtColor(input, grey, cv::COLOR_BGRA2GRAY);
+  else grey = input;
+  if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
+  *scale_x = *scale_y = 1.0;
+  if (p.resize_width > 0 || p.resize_height > 0) {
+    int w = p.resize_width, h = p.resize_height;
+    if (w == 0) w = static_cast<int>(std::lround(grey.cols * double(h) / grey.rows));
+    if (h == 0) h = static_cast<int>(std::lround(grey.rows * double(w) / grey.cols));
+    if (w != grey.cols || h != grey.rows) {
+      cv::Mat resized;
+      cv::resize(grey, resized, cv::Size(std::max(w, 1), std::max(h, 1)), 0, 0, cv::INTER_AREA);
+      *scale_x = double(grey.cols) / resized.cols;
+      *scale_y = double(grey.rows) / resized.rows;
+      grey = resized;
+    }
+  }
+  return grey;
+}
+
+// [SECTION] adaptive_threshold
+
+cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
+  cv::Mat binary;
+  const int window = p.threshold_window_px | 1;  // the mean needs an odd window
+  cv::adaptiveThreshold(grey, binary, 255, cv::ADAPTIVE_THRESH_MEAN_C, cv::THRESH_BINARY_INV, window,
+                        p.threshold_offset);
+  return binary;
+}
+
+// [SECTION] contours
+
+namespace {
+
+struct Run {
+  int x0, x1;  // [x0, x1) on its row
+  int y;
+  int parent;  // union-find; a root is the first run of its region in raster order
+};
+
+int find_root(std::vector<Run>& runs, int i) {
+  while (runs[size_t(i)].parent != i) {
+    runs[size_t(i)].parent = runs[size_t(runs[size_t(i)].parent)].parent;  // path halving
+    i = runs[size_t(i)].parent;
+  }
+  return i;
+}
+
+void unite(std::vector<Run>& runs, int a, int b) {
+  a = find_root(runs, a);
+  b = find_root(runs, b);
+  if (a == b) return;
+  if (a < b) runs[size_t(b)].parent = a;  // the earlier run stays root: it holds the region's top-left pixel
+  else runs[size_t(a)].parent = b;
+}
+
+uint64_t load64(const uint8_t* p) {
+  uint64_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start`.
+void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::Point>& out) {
+  static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
+  static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+  const int w = binary.cols, h = binary.rows;
+  auto on = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && binary.ptr<uint8_t>(y)[x] != 0; };
+  out.clear();
+  out.push_back(start);
+  // The pixel to the west of the top-left pixel is background: the first scan starts there.
+  auto next = [&](cv::Point p, int from, int* dir) -> bool {
+    for (int k = 0; k < 8; ++k) {
+      const int d = (from + k) & 7;
+      if (on(p.x + dx[d], p.y + dy[d])) {
+        *dir = d;
+        return true;
+      }
+    }
+    return false;
+  };
+  int d = 0;
+  if (!next(start, 4, &d)) return;  // a single pixel
+  const cv::Point second(start.x + dx[d], start.y + dy[d]);
+  cv::Point p = second;
+  for (size_t guard = 0; guard < size_t(4) * size_t(w) * size_t(h) + 8; ++guard) {
+    // The background pixel examined just before the step, seen from the new pixel.
+    const int from = (d & 1) ? (d + 5) & 7 : (d + 6) & 7;
+    int nd = 0;
+    next(p, from, &nd);
+    const cv::Point q(p.x + dx[nd], p.y + dy[nd]);
+    if (p == start && q == second) break;  // back where we began, going the same way
+    out.push_back(p);
+    p = q;
+    d = nd;
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
+                                                  int* region_count, std::vector<SmallRegion>* small) {
+  CV_Assert(binary.type() == CV_8UC1);
+  const int w = binary.cols, h = binary.rows;
+  std::vector<Run> runs;
+  runs.reserve(size_t(h) * 8);
+  int prev_begin = 0, prev_end = 0;
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* row = binary.ptr<uint8_t>(y);
+    const int begin = int(runs.size());
+    int x = 0;
+    while (x < w) {
+      while (x + 8 <= w && load64(row + x) == 0) x += 8;
+      while (x < w && !row[x]) ++x;
+      if (x >= w) break;
+      const int x0 = x;
+      while (x + 8 <= w && load64(row + x) == ~uint64_t(0)) x += 8;
+      while (x < w && row[x]) ++x;
+      const int id = int(runs.size());
+      runs.push_back({x0, x, y, id});
+    }
+    // 8-connected: [a0,a1) and [b0,b1) on neighbouring rows touch when a0 <= b1 and b0 <= a1.
+    int i = prev_begin, j = begin;
+    const int end = int(runs.size());
+    while (i < prev_end && j < end) {
+      const Run &a = runs[size_t(i)], &b = runs[size_t(j)];
+      if (a.x0 <= b.x1 && b.x0 <= a.x1) unite(runs, i, j);
+      if (a.x1 < b.x1) ++i;
+      else ++j;
+    }
+    prev_begin = begin;
+    prev_end = end;
+  }
+  // Bounding box of each region, gathered at its root.
+  struct Box {
+    int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+  };
+  std::vector<Box> boxes(runs.size());
+  for (int i = 0; i < int(runs.size()); ++i) {
+    const int r = find_root(runs, i);
+    Box& b = boxes[size_t(r)];
+    const Run& run = runs[size_t(i)];
+    b.x0 = std::min(b.x0, run.x0);
+    b.x1 = std::max(b.x1, run.x1 - 1);
+    b.y0 = std::min(b.y0, run.y);
+    b.y1 = std::max(b.y1, run.y);
+  }
+  std::vector<std::vector<cv::Point>> contours;
+  int regions = 0;
+  for (int i = 0; i < int(runs.size()); ++i) {
+    if (runs[size_t(i)].parent != i) continue;
+    ++regions;
+    const Box& b = boxes[size_t(i)];
+    const int bw = b.x1 - b.x0 + 1, bh = b.y1 - b.y0 + 1;
+    if (2.0 * (bw + bh) < min_perimeter_px) {
+      if (small) small->push_back({cv::Rect(b.x0, b.y0, bw, bh)});
+      continue;
+    }
+    contours.emplace_back();
+    trace_outer_border(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
+  }
+  if (region_count) *region_count = regions;
+  return contours;
+}
+
+// [SECTION] size_filter
+
+std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
+                                     bool explain) {
+  const double perimeter = static_cast<double>(contour.size());
+  if (perimeter < p.min_perimeter_px)
+    return reject(Stage::size_filter, "min_perimeter_px", perimeter, p.min_perimeter_px,
+                  explain ? fmt("perimeter %.0f px < min_perimeter_px %.0f px", perimeter, p.min_perimeter_px) : "");
+  const double max_px = p.max_perimeter_rate * std::max(image.width, image.height);
+  if (perimeter > max_px)
+    return reject(Stage::size_filter, "max_perimeter_rate", perimeter, max_px,
+                  explain ? fmt("perimeter %.0f px > max_perimeter_rate x frame = %.0f px", perimeter, max_px) : "");
+  return std::nullopt;
+}
+
+// [SECTION] quad_fit
+
+std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
+                                  Quad* quad) {
+  const double perimeter = static_cast<double>(contour.size());
+  std::vector<cv::Point> poly;
+  cv::approxPolyDP(contour, poly, p.polygon_epsilon_rate * perimeter, true);
+  if (poly.size() != 4)
+    return reject(Stage::quad_fit, "polygon_epsilon_rate", double(poly.size()), 4,
+                  fmt("polygon has %.0f corners, not 4 (polygon_epsilon_rate %g)", double(poly.size()),
+                      p.polygon_epsilon_rate));
+  if (!cv::isContourConvex(poly)) return reject(Stage::quad_fit, "", 0, 0, "quad is not convex");
+  double min_side = 1e18;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point d = poly[size_t(i)] - poly[size_t((i + 1) % 4)];
+    min_side = std::min(min_side, std::sqrt(double(d.dot(d))));
+  }
+  const double min_allowed = p.min_side_rate * perimeter;
+  if (min_side < min_allowed)
+    return reject(Stage::quad_fit, "min_side_rate", min_side, min_allowed,
+                  fmt("shortest side %.1f px < min_side_rate x perimeter = %.1f px", min_side, min_allowed));
+  int edge = 1 << 30;
+  for (const auto& pt : poly)
+    edge = std::min({edge, pt.x, pt.y, image.width - 1 - pt.x, image.height - 1 - pt.y});
+  if (edge < p.min_border_distance_px)
+    return reject(Stage::quad_fit, "min_border_distance_px", edge, p.min_border_distance_px,
+                  fmt("corner %.0f px from the image edge < min_border_distance_px %.0f px", edge,
+                      p.min_border_distance_px));
+  // Clockwise on screen (y down): the cross product of the first two edges is positive.
+  const cv::Point a = poly[1] - poly[0], b = poly[2] - poly[0];
+  if (double(a.x) * b.y - double(a.y) * b.x < 0) std::swap(poly[1], poly[3]);
+  for (int i = 0; i < 4; ++i) (*quad)[size_t(i)] = cv::Point2f(poly[size_t(i)]);
+  return std::nullopt;
+}
+
+// [SECTION] nested_filter
+
+namespace {
+double quad_perimeter(const Quad& q) {
+  double s = 0;
+  for (int i = 0; i < 4; ++i) s += cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)]);
+  return s;
+}
+}  // namespace
+
+std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p) {
+  // Thick borders give two contours for one marker (outer and inner edge of the thresholded line); keep the
+  // outer one. Two quads are the same when, for some cyclic pairing of corners, their mean corner distance is
+  // below min_marker_distance_rate times the smaller perimeter.
+  const size_t n = quads.size();
+  std::vector<double> perim(n);
+  std::vector<cv::Rect> box(n);
+  for (size_t i = 0; i < n; ++i) {
+    perim[i] = quad_perimeter(quads[i]);
+    box[i] = cv::boundingRect(std::vector<cv::Point2f>(quads[i].begin(), quads[i].end()));
+  }
+  std::vector<int> replaced_by(n, -1);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if ((box[i] & box[j]).area() <= 0) continue;
+      const double limit = p.min_marker_distance_rate * std::min(perim[i], perim[j]);
+      double best = 1e18;
+      for (int shift = 0; shift < 4; ++shift) {
+        double d = 0;
+        for (int k = 0; k < 4; ++k) d += cv::norm(quads[i][size_t(k)] - quads[j][size_t((k + shift) % 4)]);
+        best = std::min(best, d / 4);
+      }
+      if (best >= limit) continue;
+      const size_t inner = perim[i] < perim[j] ? i : j, outer = inner == i ? j : i;
+      if (replaced_by[inner] < 0) replaced_by[inner] = static_cast<int>(outer);
+    }
+  return replaced_by;
+}
+
+// [SECTION] perspective_removal
+
+namespace {
+
+// Bilinear interpolation at (x, y), pixel centres at integers, clamped to the image.
+double sample_bilinear(const cv::Mat& grey, double x, double y) {
+  x = std::clamp(x, 0.0, double(grey.cols - 1));
+  y = std::clamp(y, 0.0, double(grey.rows - 1));
+  const int x0 = std::min(int(x), grey.cols - 2 < 0 ? 0 : grey.cols - 2);
+  const int y0 = std::min(int(y), grey.rows - 2 < 0 ? 0 : grey.rows - 2);
+  const int x1 = std::min(x0 + 1, grey.cols - 1), y1 = std::min(y0 + 1, grey.rows - 1);
+  const double fx = x - x0, fy = y - y0;
+  const uint8_t* r0 = grey.ptr<uint8_t>(y0);
+  const uint8_t* r1 = grey.ptr<uint8_t>(y1);
+  const double top = r0[x0] + fx * (r0[x1] - r0[x0]);
+  const double bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
+  return top + fy * (bottom - top);
+}
+
+}  // namespace
+
+
+cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, const DetectorParams& p) {
+  const int side = cells * p.warp_cell_px;
+  const float s = static_cast<float>(side);
+  const cv::Point2f square[4] = {{0, 0}, {s, 0}, {s, s}, {0, s}};
+  const cv::Matx33d H = cv::getPerspectiveTransform(square, quad.data());
+  cv::Mat warp(side, side, CV_8UC1);
+  for (int v = 0; v < side; ++v) {
+    uint8_t* row = warp.ptr<uint8_t>(v);
+    const double y = v + 0.5;
+    for (int u = 0; u < side; ++u) {
+      const double x = u + 0.5;
+      const double w = H(2, 0) * x + H(2, 1) * y + H(2, 2);
+      const double px = (H(0, 0) * x + H(0, 1) * y + H(0, 2)) / w;
+      const double py = (H(1, 0) * x + H(1, 1) * y + H(1, 2)) / w;
+      row[u] = static_cast<uint8_t>(sample_bilinear(grey, px, py) + 0.5);
+    }
+  }
+  return warp;
+}
+
+// [SECTION] otsu
+
+OtsuResult otsu(const cv::Mat& warp) {
+  OtsuResult r;
+  for (int y = 0; y < warp.rows; ++y) {
+    const uint8_t* row = warp.ptr<uint8_t>(y);
+    for (int x = 0; x < warp.cols; ++x) ++r.histogram[row[x]];
+  }
+  const double total = double(warp.total());
+  double sum = 0, sum_sq = 0;
+  for (int i = 0; i < 256; ++i) {
+    sum += double(i) * r.histogram[size_t(i)];
+    sum_sq += double(i) * i * r.histogram[size_t(i)];
+  }
+  const double mean = sum / total;
+  r.stddev = std::sqrt(std::max(0.0, sum_sq / total - mean * mean));
+  // Maximise the between-class variance w0 w1 (m0 - m1)^2.
+  // Two-level images tie over a whole range of thresholds; the middle of the tie is the natural cut.
+  double w0 = 0, sum0 = 0, best = -1;
+  int last_best = 0;
+  for (int t = 0; t < 256; ++t) {
+    w0 += r.histogram[size_t(t)];
+    sum0 += double(t) * r.histogram[size_t(t)];
+    const double w1 = total - w0;
+    if (w0 == 0) continue;
+    if (w1 == 0) break;
+    const double m0 = sum0 / w0, m1 = (sum - sum0) / w1;
+    const double between = w0 * w1 * (m0 - m1) * (m0 - m1);
+    if (between > best * (1 + 1e-12)) {
+      best = between;
+      r.threshold = last_best = t;
+    } else if (between >= best * (1 - 1e-12)) {
+      last_best = t;
+    }
+  }
+  r.threshold = (r.threshold + last_best) / 2;
+  return r;
+}
+
+// [SECTION] bit_grid
+
+cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const DetectorParams& p) {
+  const int cp = p.warp_cell_px;
+  const int margin = std::min(static_cast<int>(p.warp_margin_rate * cp + 0.5), (cp - 1) / 2);
+  cv::Mat bits(cells, cells, CV_8UC1);
+  for (int r = 0; r < cells; ++r)
+    for (int c = 0; c < cells; ++c) {
+      int white = 0, count = 0;
+      for (int y = r * cp + margin; y < (r + 1) * cp - margin; ++y) {
+        const uint8_t* row = warp.ptr<uint8_t>(y);
+        for (int x = c * cp + margin; x < (c + 1) * cp - margin; ++x) {
+          white += row[x] > threshold;
+          ++count;
+        }
+      }
+      bits.at<uint8_t>(r, c) = static_cast<uint8_t>(2 * white > count);
+    }
+  return bits;
+}
+
+// [SECTION] border_check
+
+int border_errors(const cv::Mat& bits) {
+  int errors = 0;
+  const int n = bits.rows;
+  for (int i = 0; i < n; ++i) {
+    errors += bits.at<uint8_t>(0, i) + bits.at<uint8_t>(n - 1, i);
+    if (i > 0 && i < n - 1) errors += bits.at<uint8_t>(i, 0) + bits.at<uint8_t>(i, n - 1);
+  }
+  return errors;
+}
+
+// [SECTION] identification
+
+uint64_t inner_code(const cv::Mat& bits) {
+  return Dictionary::pack(bits(cv::Rect(1, 1, bits.cols - 2, bits.rows - 2)).clone());
+}
+
+int correction_budget(const Dictionary& dict, const DetectorParams& p) {
+  return static_cast<int>(dict.max_correction_bits() * p.error_correction_rate);
+}
+
+// [SECTION] corner_refinement
+
+
+namespace {
+
+// One pass of refine_corners; false when an edge could not be trusted (the corners are then left as they were).
+bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
+  // Each side of the marker is the edge between its black border (inside) and the white quiet zone (outside).
+  // Along the side, profiles across the edge locate it to a fraction of a pixel (the centroid of the rising
+  // gradient, which sits on the edge for any symmetric blur); a line is fitted through those points and the
+  // corners are where neighbouring lines meet. A corner that would move more than half a cell keeps its place.
+  double min_side = 1e18;
+  for (int i = 0; i < 4; ++i)
+    min_side = std::min(min_side, double(cv::norm(corners[size_t(i)] - corners[size_t((i + 1) % 4)])));
+  const double cell = min_side / cells;
+  const double reach = std::clamp(0.6 * cell, 2.5, double(p.subpix_window_px) + 1.0);
+  const double step = 0.5;
+  const int samples = static_cast<int>(std::lround(2 * reach / step)) + 1;
+  cv::Point2f centre(0, 0);
+  for (const auto& c : corners) centre += c * 0.25f;
+
+  cv::Vec3d lines[4];  // a x + b y = c, (a, b) unit
+  for (int i = 0; i < 4; ++i) {
+    const cv::Point2d a = corners[size_t(i)], b = corners[size_t((i + 1) % 4)];
+    const cv::Point2d dir = (b - a) / cv::norm(b - a);
+    cv::Point2d normal(dir.y, -dir.x);
+    if (normal.dot(cv::Point2d(centre) - a) > 0) normal = -normal;  // outward
+    const int count = std::clamp(static_cast<int>(cv::norm(b - a) / 3), 6, 16);
+    std::vector<cv::Point2d> pts;
+    std::vector<double> profile(static_cast<size_t>(samples));
+    for (int k = 0; k < count; ++k) {
+      const double t = 0.12 + 0.76 * (k + 0.5) / count;  // away from the corners
+      const cv::Point2d base = a + (b - a) * t;
+      for (int j = 0; j < samples; ++j) {
+        const cv::Point2d q = base + normal * (-reach + j * step);
+        profile[size_t(j)] = sample_bilinear(grey, q.x, q.y);
+      }
+      double wsum = 0, xsum = 0, lo = 1e9, hi = -1e9;
+      for (int j = 0; j + 1 < samples; ++j) {
+        const double g = profile[size_t(j + 1)] - profile[size_t(j)];
+        lo = std::min(lo, profile[size_t(j)]);
+        hi = std::max(hi, profile[size_t(j)]);
+        if (g <= 0) continue;
+        wsum += g;
+        xsum += g * (-reach + (j + 0.5) * step);
+      }
+      if (wsum <= 0 || hi - lo < 10) continue;  // no edge here (occluded, glare)
+      pts.push_back(base + normal * (xsum / wsum));
+    }
+    if (pts.size() < 3) return false;  // not enough edge to trust: keep the corners as they are
+    cv::Vec4f line;
+    std::vector<cv::Point2f> ptsf(pts.begin(), pts.end());
+    cv::fitLine(ptsf, line, cv::DIST_L2, 0, 0.01, 0.01);
+    const double la = -line[1], lb = line[0];
+    lines[i] = cv::Vec3d(la, lb, la * line[2] + lb * line[3]);
+  }
+  Quad refined = corners;
+  for (int i = 0; i < 4; ++i) {
+    const cv::Vec3d &l1 = lines[(i + 3) % 4], &l2 = lines[i];  // corner i joins side i-1 and side i
+    const double det = l1[0] * l2[1] - l1[1] * l2[0];
+    if (std::abs(det) < 1e-9) return false;
+    const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det), float((l1[0] * l2[2] - l1[2] * l2[0]) / det));
+    if (cv::norm(c - corners[size_t(i)]) > std::max(cell, 2.0)) return false;
+    refined[size_t(i)] = c;
+  }
+  corners = refined;
+  return true;
+}
+
+}  // namespace
+
+void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
+  if (p.corner_refinement == 0) return;
+  // Each pass profiles across the sides found by the last one, so the profiles end up square to the true edges;
+  // it stops when no corner moves more than subpix_epsilon_px (usually after two or three passes).
+  for (int it = 0; it < p.subpix_max_iterations; ++it) {
+    const Quad before = corners;
+    if (!refine_corners_once(grey, corners, cells, p)) return;
+    double moved = 0;
+    for (size_t k = 0; k < 4; ++k) moved = std::max(moved, double(cv::norm(corners[k] - before[k])));
+    if (moved < p.subpix_epsilon_px) return;
+  }
+}
+
+}  // namespace arwb::stages

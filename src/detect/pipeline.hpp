@@ -1,0 +1,71 @@
+// The detection pipeline's stages as functions, each readable and testable on its own (the paper, section 4.2.2).
+// detector.cpp chains them and fills the trace; tests call them directly on crafted images.
+#pragma once
+
+#include "detect/dictionary.hpp"
+#include "detect/params.hpp"
+#include "detect/trace.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <optional>
+#include <vector>
+
+namespace arwb::stages {
+
+// acquisition: grey, resized when params ask for it. scale_x/scale_y: input pixels per output pixel.
+cv::Mat acquire(const cv::Mat& input, const DetectorParams& p, double* scale_x, double* scale_y);
+
+// adaptive_threshold: 255 where a pixel is darker than its window mean by more than threshold_offset.
+cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p);
+
+// contours: the outer border of every connected region (8-connected) of the binary image, all points kept,
+// clockwise on screen from the region's top-left pixel. A marker's black frame is a region of its own (the quiet
+// zone separates it), so its outer border is the marker's edge; hole borders are not needed.
+// Regions whose bounding box is too small to hold a border of min_perimeter_px (a convex border is never longer
+// than the box's perimeter) are not traced: they are most regions of a frame. They are returned in `small`.
+struct SmallRegion {
+  cv::Rect bbox;
+};
+std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
+                                                  int* region_count = nullptr,
+                                                  std::vector<SmallRegion>* small = nullptr);
+
+// size_filter: nullopt when the contour may go on, else the rejection. Most contours of a frame stop here, so the
+// message is only written when `explain` asks for it.
+std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
+                                     bool explain = true);
+
+// quad_fit: a convex quad, clockwise on screen, or the rejection.
+std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
+                                  Quad* quad);
+
+// nested_filter: for each quad, -1 to keep it or the index of the quad that replaces it (same border, outer kept).
+std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p);
+
+// perspective_removal: the quad seen from the front, `cells` cells of warp_cell_px pixels a side, bilinear.
+cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, const DetectorParams& p);
+
+// otsu: the threshold that best separates the frontal view's two grey populations; also its histogram and stddev.
+struct OtsuResult {
+  int threshold = 0;
+  double stddev = 0;
+  std::array<int, 256> histogram{};
+};
+OtsuResult otsu(const cv::Mat& warp);
+
+// bit_grid: cells x cells bits (1 white), each the majority of its cell's centre (margins ignored).
+cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const DetectorParams& p);
+
+// border_check: the number of white cells in the outer ring.
+int border_errors(const cv::Mat& bits);
+
+// identification: the inner bits as a packed code (see Dictionary).
+uint64_t inner_code(const cv::Mat& bits);
+// The largest Hamming distance accepted for a dictionary under these parameters.
+int correction_budget(const Dictionary& dict, const DetectorParams& p);
+
+// corner_refinement: the four corners refined to subpixel accuracy on the grey image.
+void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p);
+
+}  // namespace arwb::stages

@@ -1,0 +1,47 @@
+#include "detect/trace.hpp"
+
+namespace arwb {
+namespace {
+constexpr std::string_view kStageNames[] = {
+    "acquisition", "adaptive_threshold", "contours", "size_filter", "quad_fit", "nested_filter",
+    "perspective_removal", "otsu", "bit_grid", "border_check", "identification", "corner_refinement",
+    "duplicates", "accepted"};
+static_assert(std::size(kStageNames) == kStageCount + 1);
+}  // namespace
+
+std::string_view stage_name(Stage s) { return kStageNames[static_cast<int>(s)]; }
+
+bool stage_from_name(std::string_view name, Stage* out) {
+  for (int i = 0; i <= kStageCount; ++i)
+    if (kStageNames[i] == name) {
+      *out = static_cast<Stage>(i);
+      return true;
+    }
+  return false;
+}
+
+std::string_view trace_level_name(TraceLevel level) {
+  switch (level) {
+    case TraceLevel::off: return "off";
+    case TraceLevel::summary: return "summary";
+    case TraceLevel::full: return "full";
+  }
+  return "?";
+}
+
+int CandidateRecord::best_rotation() const {
+  int best = -1;
+  for (int k = 0; k < 4; ++k) {
+    const DictMatch& m = per_rotation[size_t(k)];
+    if (m.id >= 0 && (best < 0 || m.hamming < per_rotation[size_t(best)].hamming)) best = k;
+  }
+  return best;
+}
+
+const StageRecord* FrameTrace::stage(Stage s) const {
+  for (const auto& r : stages)
+    if (r.stage == s) return &r;
+  return nullptr;
+}
+
+}  // namespace arwb

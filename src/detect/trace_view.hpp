@@ -1,0 +1,25 @@
+// Pictures of a frame's trace, one per stage: what the pipeline panel shows as thumbnails and what a snapshot
+// writes as PNGs. The pipeline itself never draws; this reads its trace afterwards.
+//
+// Stages that work on the whole image are drawn at the working image's size, so they line up pixel for pixel
+// with the live view: acquisition (grey), adaptive_threshold (binary), contours, size_filter, quad_fit,
+// nested_filter, corner_refinement and duplicates (drawings over a dimmed frame). Stages that work on each
+// candidate's frontal view are mosaics of tiles, one per candidate that reached them: perspective_removal,
+// otsu, bit_grid, border_check and identification.
+#pragma once
+
+#include "detect/trace.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <array>
+
+namespace arwb {
+
+// True for the stages drawn as mosaics of per-candidate tiles (not aligned with the frame).
+bool stage_view_is_mosaic(Stage s);
+
+// Fills `out[stage]` for every stage the trace has (full level); others are left empty. BGR images.
+void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out);
+
+}  // namespace arwb

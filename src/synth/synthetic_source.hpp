@@ -1,0 +1,35 @@
+// The synthetic source: the synthetic world (synthetic_world.hpp) played in time as a FrameSource, with the exact
+// markers of the frame it last gave. And open_source, which opens every kind of source: the synthetic one here,
+// the others through capture.
+#pragma once
+
+#include "capture/source.hpp"
+#include "synth/synthetic_world.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+class SyntheticSource : public FrameSource {
+ public:
+  SourceStatus next(double now_s, cv::Mat& out) override;
+  SourceInfo info() const override;
+  // The world's controls (the workbench's sliders).
+  SyntheticWorld& world() { return world_; }
+  // The exact markers of the frame `next` last returned, in its pixels.
+  const std::vector<TruthMarker>& truth() const { return truth_; }
+
+ private:
+  SyntheticWorld world_;
+  std::vector<TruthMarker> truth_;
+  double clock_ = 0, last_now_ = 0;
+  bool have_last_ = false;
+};
+
+// Opens any source: the synthetic one, or a camera, video, image or folder (capture's open_capture_source). Null
+// and a one-line message when it cannot be opened.
+std::unique_ptr<FrameSource> open_source(const SourceSpec& spec, std::string* error);
+
+}  // namespace arwb

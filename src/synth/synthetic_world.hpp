@@ -1,0 +1,60 @@
+// The built-in synthetic scene: markers moving in 3D in front of a pinhole camera, turning, coming closer and
+// going away, under changing light, with exact ground truth for every frame. It is what the workbench shows
+// when there is no camera, and what the GUI tests look at.
+#pragma once
+
+#include "detect/dictionary.hpp"
+#include "synth/synth.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+// The scene's controls (the workbench's sliders). Ranges are in the comments; values outside are clamped.
+struct SyntheticControls {
+  bool animate = true;           // false: the scene holds still at `time_s`
+  double time_s = 0;             // scene clock when not animated
+  double speed = 1.0;            // 0 .. 4, animation speed
+  double distance_m = 0.6;       // 0.2 .. 3, camera to the centre of the marker group
+  double tilt_deg = 30;          // 0 .. 80, largest tilt of the markers out of the image plane
+  double light = 1.0;            // 0.2 .. 1.5, overall brightness (light also varies over time and across the frame)
+  double blur_px = 0.0;          // 0 .. 5, Gaussian sigma
+  double noise = 2.0;            // 0 .. 40, Gaussian noise sigma in grey levels
+  double marker_size_m = 0.08;   // 0.02 .. 0.3, printed side of each marker (black border included)
+  int markers = 3;               // 1 .. 8
+  int first_id = 0;              // ids first_id, first_id+1, ... (ids a dictionary reads ambiguously are skipped)
+  std::string dict = "ARUCO_ORIGINAL";
+  bool operator==(const SyntheticControls&) const = default;
+};
+
+struct SyntheticFrame {
+  cv::Mat image;                      // BGR
+  std::vector<TruthMarker> markers;   // the markers fully inside the frame, corners exact
+};
+
+class SyntheticWorld {
+ public:
+  explicit SyntheticWorld(cv::Size size = {640, 480}, double focal_px = 600, uint64_t seed = 1);
+
+  // The scene at time t (seconds); the same controls and t give the same image (noise included).
+  SyntheticFrame render(double t) const;
+
+  SyntheticControls& controls() { return controls_; }
+  const SyntheticControls& controls() const { return controls_; }
+  void set_controls(const SyntheticControls& c);   // clamps into range; an unknown dictionary keeps the old one
+  cv::Size size() const { return size_; }
+
+ private:
+  cv::Size size_;
+  double focal_px_;
+  uint64_t seed_;
+  SyntheticControls controls_;
+  cv::Mat background_;   // rendered once
+  cv::Mat noise_;        // CV_16SC1 normal samples, read at a per-frame offset: noise without a draw per pixel
+};
+
+}  // namespace arwb

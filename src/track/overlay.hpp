@@ -1,0 +1,57 @@
+// What a scene decided for one frame: the media to draw, each with its quad (placement.hpp), and the scene's
+// state for the workbench's Scene panel and console. Produced by src/script (Lua scenes and XML databases) on the
+// worker, drawn by src/render on screen and by `arwb render` offline.
+#pragma once
+
+#include "track/media_spec.hpp"
+#include "track/placement.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+struct Overlay {
+  int marker_id = -1;          // -1 for a screen placement not tied to a marker
+  int mapping = -1;            // index into SceneStatus::mappings
+  MediaSpec media;
+  PlaceSpec place;
+  MediaQuad quad;
+  std::shared_ptr<MediaContent> content;   // the pixels; null when the media failed to load (reported)
+};
+
+// One row of the Scene panel: a marker(...) call or a database row.
+struct MappingRow {
+  std::string ids;             // "7", "100-199"
+  std::string media;           // MediaSpec::describe(), or "callbacks only"
+  std::string placement;       // PlaceSpec::describe()
+  std::string state;           // "waiting", "visible 3.2 s", "held", "error: ..."
+  int line = 0;                // where it was declared in the scene file (0 for none)
+};
+
+struct ConsoleLine {
+  int level = 0;               // 0 print output, 1 warning, 2 error
+  std::string text;            // errors read "file:line: message"
+  int repeats = 1;             // the same line in a row is shown once with its count
+};
+
+struct SceneStatus {
+  std::string file;            // the scene file in use ("" when none is loaded)
+  std::string dictionary;      // what the scene asked for ("" when it did not)
+  bool ok = false;             // a scene is loaded (the last good one stays when a reload fails)
+  std::string error;           // the last load error, "file:line: message"; empty after a good load
+  int error_line = 0;
+  uint64_t generation = 0;     // increases at every successful (re)load
+  std::vector<MappingRow> mappings;
+  std::vector<ConsoleLine> console;   // the newest lines, oldest first
+  uint64_t console_serial = 0;        // increases whenever a line is added or repeated
+  double script_ms = 0;               // time spent in Lua on this frame
+};
+
+// The topmost overlay whose quad holds image point p (the last drawn wins), only web cards when `web_only`;
+// -1 when none. What a click on the live view, or `--actions click=X,Y`, lands on.
+int overlay_at(const std::vector<Overlay>& overlays, cv::Point2d p, bool web_only);
+
+}  // namespace arwb

@@ -1,0 +1,17 @@
+// Scripted workbench steps for tests and demos: "N:verb[=arg];..." run at UI frame N (see `arwb --help`).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+struct Action {
+  int frame = 0;
+  std::string verb, arg;
+};
+
+// Parses every spec into `out`, sorted by frame (stable). False and a message naming the bad item otherwise.
+bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* out, std::string* error);
+
+}  // namespace arwb

@@ -1,0 +1,374 @@
+#include "workbench/engine.hpp"
+
+#include "detect/peers.hpp"
+#include "workbench/scene_stage.hpp"
+#include "detect/trace_view.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <deque>
+#include <optional>
+
+namespace arwb {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+}  // namespace
+
+struct Engine::Pending {
+  std::optional<SourceSpec> source;
+  std::optional<DetectorParams> params;
+  std::optional<std::vector<std::string>> dictionaries;
+  std::optional<AcquisitionSettings> acquisition;
+  std::optional<Playback> playback;
+  std::vector<int> steps;
+  std::optional<int> seek;
+  std::optional<SyntheticControls> synthetic;
+  std::optional<bool> frozen;
+  bool next_frame = false;
+  std::optional<std::pair<bool, bool>> peers;
+  std::optional<TraceLevel> level;
+  std::optional<std::string> scene_file;
+  bool any() const {
+    return source || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
+           next_frame || peers || level || scene_file;
+  }
+};
+
+struct Engine::Worker {
+  EngineConfig config;
+  std::unique_ptr<FrameSource> source;
+  // The user's playback and scene settings, given to every source opened, so a source switched back to (or
+  // fallen back to) shows what the sliders say.
+  Playback playback;
+  SyntheticControls synthetic;
+  std::optional<Detector> detector;
+  bool frozen = false;
+  bool take_one = false;
+  bool peer_opencv = false, peer_apriltag = false;
+  std::unique_ptr<OpenCvArucoPeer> opencv;
+  std::unique_ptr<AprilTagPeer> apriltag;
+  std::string peers_dict;        // the dictionary the peers were made for
+  cv::Mat raw;                   // the source's last frame, before acquisition
+  std::vector<TruthMarker> raw_truth;
+  SourceInfo info;
+  double capture_ms = 0;
+  bool redetect = false;
+  bool ended_logged = false;
+  double next_due = 0;
+  std::deque<double> finished;   // finish times of the last second
+  std::unique_ptr<SceneStage> stage;   // the Lua scene or XML database, once one was asked for
+  uint64_t index = 0;
+  Clock::time_point t0 = Clock::now();
+};
+
+Engine::Engine(EngineConfig config, LogFn log)
+    : log_(std::move(log)), pending_(std::make_unique<Pending>()), worker_(std::make_unique<Worker>()) {
+  worker_->config = std::move(config);
+  pending_->source = worker_->config.source;
+  pending_->dictionaries = worker_->config.dictionaries;
+  if (!worker_->config.scene_file.empty()) pending_->scene_file = worker_->config.scene_file;
+  source_in_use_ = worker_->config.source;
+}
+
+Engine::~Engine() { stop(); }
+
+void Engine::start() {
+  if (running_.exchange(true)) return;
+  thread_ = std::thread([this] { run(); });
+}
+
+void Engine::stop() {
+  if (!running_.exchange(false)) return;
+  published_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+std::shared_ptr<const Frame> Engine::latest() const {
+  std::lock_guard lock(mutex_);
+  return latest_;
+}
+
+std::shared_ptr<const Frame> Engine::wait_newer(uint64_t after, double timeout_s) const {
+  std::unique_lock lock(mutex_);
+  published_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                      [&] { return (latest_ && latest_->index > after) || !running_; });
+  return latest_;
+}
+
+#define ARWB_SET(field, value)    \
+  do {                            \
+    std::lock_guard lock(mutex_); \
+    pending_->field = value;      \
+  } while (0)
+
+void Engine::open_source(const SourceSpec& spec) { ARWB_SET(source, spec); }
+SourceSpec Engine::source() const {
+  std::lock_guard lock(mutex_);
+  return source_in_use_;
+}
+void Engine::set_params(const DetectorParams& p) { ARWB_SET(params, p); }
+void Engine::set_dictionaries(const std::vector<std::string>& names) { ARWB_SET(dictionaries, names); }
+void Engine::set_acquisition(const AcquisitionSettings& a) { ARWB_SET(acquisition, a); }
+void Engine::set_playback(const Playback& p) { ARWB_SET(playback, p); }
+void Engine::seek(int position) { ARWB_SET(seek, position); }
+void Engine::set_synthetic(const SyntheticControls& c) { ARWB_SET(synthetic, c); }
+void Engine::set_frozen(bool frozen) { ARWB_SET(frozen, frozen); }
+void Engine::next_frame() { ARWB_SET(next_frame, true); }
+void Engine::set_peers(bool opencv, bool apriltag) { ARWB_SET(peers, std::make_pair(opencv, apriltag)); }
+void Engine::set_trace_level(TraceLevel level) { ARWB_SET(level, level); }
+void Engine::load_scene(const std::string& path) { ARWB_SET(scene_file, path); }
+#undef ARWB_SET
+void Engine::step(int delta) {
+  std::lock_guard lock(mutex_);
+  pending_->steps.push_back(delta);
+}
+
+double Engine::detect_fps() const { return detect_fps_.load(); }
+uint64_t Engine::frames_done() const { return frames_.load(); }
+
+void Engine::publish(std::shared_ptr<Frame> f) {
+  {
+    std::lock_guard lock(mutex_);
+    latest_ = std::move(f);
+  }
+  published_.notify_all();
+}
+
+void Engine::run() {
+  Worker& w = *worker_;
+  auto adopt = [&](std::unique_ptr<FrameSource> src) {
+    w.source = std::move(src);
+    if (!w.source) return;
+    w.source->set_playback(w.playback);
+    if (auto* syn = dynamic_cast<SyntheticSource*>(w.source.get())) syn->world().set_controls(w.synthetic);
+  };
+  auto fall_back = [&](const std::string& why) {
+    log_(2, why + "; showing the synthetic source");
+    std::string err;
+    adopt(arwb::open_source(SourceSpec{}, &err));
+    w.config.source = SourceSpec{};
+    std::lock_guard lock(mutex_);
+    source_in_use_ = SourceSpec{};
+  };
+  while (running_) {
+    // 1. Take what the UI changed.
+    Pending p;
+    {
+      std::lock_guard lock(mutex_);
+      p = std::move(*pending_);
+      *pending_ = Pending{};
+    }
+    if (p.source) {
+      std::string err;
+      auto src = arwb::open_source(*p.source, &err);
+      if (src) {
+        adopt(std::move(src));
+        w.config.source = *p.source;
+        w.ended_logged = false;
+        w.next_due = 0;
+        w.take_one = true;   // show the new source's first frame even when frozen
+        {
+          std::lock_guard lock(mutex_);
+          source_in_use_ = *p.source;
+        }
+        log_(0, "source: " + p.source->text());
+      } else if (!w.source) {
+        fall_back(err);
+      } else {
+        log_(2, err + "; keeping " + w.config.source.text());
+      }
+    }
+    if (p.dictionaries) {
+      std::string list;
+      for (const auto& n : *p.dictionaries) list += (list.empty() ? "" : ",") + n;
+      std::string err;
+      if (auto dicts = parse_dictionaries(list, &err)) {
+        w.config.dictionaries = *p.dictionaries;
+        w.detector.emplace(std::move(*dicts), w.config.params);
+        w.redetect = true;
+      } else {
+        log_(2, "dictionaries: " + err);
+      }
+    }
+    if (!w.detector) {
+      w.detector.emplace(std::vector<Dictionary>{make_aruco_original()}, w.config.params);
+    }
+    if (p.params) {
+      w.config.params = *p.params;
+      w.detector->set_params(*p.params);
+      w.redetect = true;
+    }
+    if (p.acquisition) {
+      w.config.acquisition = *p.acquisition;
+      w.next_due = 0;
+      w.redetect = true;
+    }
+    if (p.level) {
+      w.config.level = *p.level;
+      w.redetect = true;
+    }
+    if (p.peers) {
+      w.peer_opencv = p.peers->first;
+      w.peer_apriltag = p.peers->second;
+      w.redetect = true;
+    }
+    if (p.playback) w.playback = *p.playback;
+    if (p.synthetic) w.synthetic = *p.synthetic;
+    if (w.source) {
+      if (p.playback) w.source->set_playback(*p.playback);
+      for (int d : p.steps) {
+        w.source->step(d);
+        w.take_one = true;
+      }
+      if (p.seek) {
+        w.source->seek(*p.seek);
+        w.take_one = true;
+      }
+      auto* syn = dynamic_cast<SyntheticSource*>(w.source.get());
+      if (p.synthetic && syn) {
+        syn->world().set_controls(*p.synthetic);
+        if (w.frozen) w.take_one = true;   // a frozen synthetic source still shows the new slider values
+      }
+    }
+    if (p.frozen) w.frozen = *p.frozen;
+    if (p.next_frame) w.take_one = true;
+    if (p.scene_file) {
+      if (!w.stage) w.stage = std::make_unique<SceneStage>(media::StoreMode::live);
+      if (w.stage->load(*p.scene_file)) {
+        log_(0, p.scene_file->empty() ? "scene unloaded" : "scene: " + *p.scene_file);
+      } else {
+        log_(2, w.stage->status().error + (w.stage->status().ok ? " (the last good scene stays)" : ""));
+      }
+      w.redetect = true;   // show the new scene on the current frame, even when frozen
+    }
+
+    // 2. A new frame when it is due (the fps cap), unless frozen.
+    const double now = seconds_since(w.t0);
+    bool fresh = false;
+    const double period = w.config.acquisition.fps_cap > 0 ? 1.0 / w.config.acquisition.fps_cap : 0.0;
+    if (w.source && ((!w.frozen && now >= w.next_due) || w.take_one)) {
+      w.take_one = false;
+      const auto c0 = Clock::now();
+      cv::Mat next;
+      const SourceStatus st = w.source->next(now, next);
+      w.capture_ms = ms_between(c0, Clock::now());
+      // Keep to the cap's grid, but never try to catch up on frames missed while busy.
+      w.next_due = std::max(w.next_due + period, now);
+      switch (st.status) {
+        case FrameStatus::ok:
+          if (!next.empty()) {
+            w.raw = std::move(next);
+            const auto* syn = dynamic_cast<const SyntheticSource*>(w.source.get());
+            w.raw_truth = syn ? syn->truth() : std::vector<TruthMarker>{};
+            fresh = true;
+          }
+          break;
+        case FrameStatus::same: break;
+        case FrameStatus::end:
+          if (!w.ended_logged) log_(0, w.config.source.text() + ": end (the last frame stays; seek or enable loop)");
+          w.ended_logged = true;
+          break;
+        case FrameStatus::error: log_(1, st.message); break;
+        case FrameStatus::gone: fall_back(st.message); break;
+      }
+      w.info = w.source->info();
+    }
+
+    // 3. Detect and publish.
+    if ((fresh || w.redetect) && !w.raw.empty() && w.detector) {
+      w.redetect = false;
+      auto f = std::make_shared<Frame>();
+      f->index = ++w.index;
+      f->time_s = now;
+      f->source = w.info;
+      const auto a0 = Clock::now();
+      acquire(w.raw, w.config.acquisition, f->image);
+      if (f->image.channels() == 1) cv::cvtColor(f->image, f->image, cv::COLOR_GRAY2BGR);
+      f->capture_ms = w.capture_ms + ms_between(a0, Clock::now());
+      const double sx = double(f->image.cols) / w.raw.cols, sy = double(f->image.rows) / w.raw.rows;
+      for (TruthMarker t : w.raw_truth) {
+        for (auto& c : t.corners) c = {float((c.x + 0.5) * sx - 0.5), float((c.y + 0.5) * sy - 0.5)};
+        f->truth.push_back(std::move(t));
+      }
+      const auto d0 = Clock::now();
+      w.detector->detect(f->image, &f->trace, w.config.level, w.config.threads);
+      f->detect_ms = ms_between(d0, Clock::now());
+      if (w.config.level == TraceLevel::full) render_stage_views(f->image, f->trace, f->views);
+      auto shrink = [](const cv::Mat& in, cv::Mat& out) {
+        if (in.empty()) return;
+        const double s = std::min({192.0 / in.cols, 144.0 / in.rows, 1.0});
+        cv::resize(in, out, cv::Size(std::max(1, int(in.cols * s)), std::max(1, int(in.rows * s))), 0, 0,
+                   cv::INTER_AREA);
+      };
+      if (w.stage && w.stage->loaded()) {
+        const uint64_t before = w.stage->status().generation;
+        const std::string before_error = w.stage->status().error;
+        w.stage->run(*f, now);
+        // Reloads after an edit on disk are news for the log too.
+        const SceneStatus& st = f->scene;
+        if (st.generation != before && before != 0) log_(0, "scene reloaded: " + st.file);
+        if (!st.error.empty() && st.error != before_error) log_(2, st.error);
+      }
+      shrink(f->image, f->image_thumb);
+      for (int i = 0; i < kStageCount; ++i) shrink(f->views[size_t(i)], f->thumbs[size_t(i)]);
+      // Peers, on the first dictionary.
+      const std::string& dict = w.config.dictionaries.empty() ? std::string("ARUCO_ORIGINAL") : w.config.dictionaries[0];
+      if (w.peers_dict != dict) {
+        w.opencv.reset();
+        w.apriltag.reset();
+        w.peers_dict = dict;
+      }
+      if (w.peer_opencv) {
+        PeerDetections pd{"opencv_aruco", dict, {}, 0, {}};
+        try {
+          if (!w.opencv) w.opencv = std::make_unique<OpenCvArucoPeer>(dict);
+          PeerResult r = w.opencv->detect(f->image);
+          pd.markers = std::move(r.markers);
+          pd.ms = r.ms;
+        } catch (const std::exception& e) {
+          pd.error = std::string("OpenCV aruco cannot read ") + dict + ": " + e.what();
+        }
+        f->peers.push_back(std::move(pd));
+      }
+      if (w.peer_apriltag) {
+        PeerDetections pd{"apriltag", dict, {}, 0, {}};
+        if (!AprilTagPeer::supports(dict)) {
+          pd.error = "AprilTag reads only the APRILTAG_* families, not " + dict;
+        } else {
+          try {
+            if (!w.apriltag) w.apriltag = std::make_unique<AprilTagPeer>(dict);
+            PeerResult r = w.apriltag->detect(f->image);
+            pd.markers = std::move(r.markers);
+            pd.ms = r.ms;
+          } catch (const std::exception& e) {
+            pd.error = e.what();
+          }
+        }
+        f->peers.push_back(std::move(pd));
+      }
+      const double done = seconds_since(w.t0);
+      w.finished.push_back(done);
+      while (!w.finished.empty() && w.finished.front() < done - 1.0) w.finished.pop_front();
+      detect_fps_ = double(w.finished.size());
+      ++frames_;
+      publish(std::move(f));
+      continue;
+    }
+    // 4. Idle until the next frame is due or a setting changes.
+    const double wait = std::clamp(w.next_due - seconds_since(w.t0), 0.001, 0.02);
+    std::unique_lock lock(mutex_);
+    published_.wait_for(lock, std::chrono::duration<double>(wait), [&] { return !running_ || pending_->any(); });
+    const double idle_since = seconds_since(w.t0);
+    while (!w.finished.empty() && w.finished.front() < idle_since - 1.0) w.finished.pop_front();
+    detect_fps_ = double(w.finished.size());
+  }
+}
+
+}  // namespace arwb

@@ -1,0 +1,92 @@
+// The workbench's worker: capture and detection on their own thread. It pulls frames from the source at the
+// acquisition's fps cap, resizes them, runs the detector with the full trace (and the peer detectors when asked),
+// draws the stage views and publishes the finished Frame. The UI thread takes the latest one without waiting.
+//
+// Settings reach the worker through setters that only store the new value; the worker applies them before its
+// next frame. A source that fails is logged and replaced by the synthetic source, so the loop never stops.
+#pragma once
+
+#include "detect/detector.hpp"
+#include "workbench/frame.hpp"
+#include "detect/params.hpp"
+#include "synth/synthetic_source.hpp"
+#include "capture/source.hpp"
+
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace arwb {
+
+struct EngineConfig {
+  SourceSpec source;
+  std::vector<std::string> dictionaries{"ARUCO_ORIGINAL"};
+  DetectorParams params;
+  AcquisitionSettings acquisition;
+  TraceLevel level = TraceLevel::full;
+  int threads = 1;   // detector threads (the UI has the other core)
+  std::string scene_file;   // a Lua scene or XML database to load at start ("" none)
+};
+
+class Engine {
+ public:
+  // `log(level, message)` is called from the worker thread for what a user should see (0 info, 1 warning, 2 error).
+  using LogFn = std::function<void(int level, const std::string& message)>;
+  Engine(EngineConfig config, LogFn log);
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  void start();
+  void stop();
+
+  // The newest finished frame, or null before the first. Never blocks on detection.
+  std::shared_ptr<const Frame> latest() const;
+  // Waits (up to timeout_s) for a frame newer than `after`; for scripted runs and tests.
+  std::shared_ptr<const Frame> wait_newer(uint64_t after, double timeout_s) const;
+
+  void open_source(const SourceSpec& spec);
+  SourceSpec source() const;
+  void set_params(const DetectorParams& p);
+  void set_dictionaries(const std::vector<std::string>& names);
+  void set_acquisition(const AcquisitionSettings& a);
+  void set_playback(const Playback& p);
+  void step(int delta);
+  void seek(int position);
+  void set_synthetic(const SyntheticControls& c);
+  void set_frozen(bool frozen);
+  void next_frame();                         // while frozen: take one new frame
+  void set_peers(bool opencv, bool apriltag);
+  void set_trace_level(TraceLevel level);
+  // Loads a scene (Lua or XML database; "" unloads). Errors reach the frame's SceneStatus and the log; the last
+  // good scene stays. The file is then watched and reloaded when it changes on disk.
+  void load_scene(const std::string& path);
+
+  double detect_fps() const;                 // finished frames per second over the last second or so
+  uint64_t frames_done() const;
+
+ private:
+  void run();
+  void publish(std::shared_ptr<Frame> f);
+
+  struct Pending;                            // settings changed since the worker last looked
+  struct Worker;                             // state only the worker thread touches
+  LogFn log_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable published_;
+  std::unique_ptr<Pending> pending_;
+  std::unique_ptr<Worker> worker_;
+  std::shared_ptr<const Frame> latest_;
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+  std::atomic<uint64_t> frames_{0};
+  std::atomic<double> detect_fps_{0};
+  SourceSpec source_in_use_;
+};
+
+}  // namespace arwb

@@ -1,0 +1,53 @@
+// One finished frame as the workbench's worker publishes it: the acquired image, the detector's trace and what
+// the peer detectors found on the same image. The UI draws only from this (through a const reference).
+#pragma once
+
+#include "track/overlay.hpp"
+#include "capture/source.hpp"
+#include "track/tracker.hpp"
+#include "detect/trace.hpp"
+#include "synth/synth.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+// Another detector's markers on the same frame (OpenCV's aruco, AprilTag), in arwb's corner convention.
+struct PeerDetections {
+  std::string name;           // "opencv_aruco", "apriltag"
+  std::string dict;
+  std::vector<Marker> markers;
+  double ms = 0;
+  std::string error;          // when it could not run on this dictionary
+};
+
+struct Frame {
+  uint64_t index = 0;         // increases by one per published frame
+  double time_s = 0;          // worker clock when it was captured
+  cv::Mat image;              // BGR, after acquisition (the working image)
+  FrameTrace trace;
+  // One picture per stage for the pipeline panel and snapshots (trace_view.hpp), made by the worker from the
+  // full trace: stage images where the pipeline has them, drawings of contours, quads, frontal views and grids
+  // otherwise. Empty below the full level.
+  std::array<cv::Mat, kStageCount> views;
+  // The same, and the working image, shrunk to fit 192x144 for thumbnails: uploading full-size pictures of every
+  // stage 20 times a second would cost a software renderer more than drawing the whole UI.
+  std::array<cv::Mat, kStageCount> thumbs;
+  cv::Mat image_thumb;
+  std::vector<PeerDetections> peers;
+  std::vector<TruthMarker> truth;   // synthetic scene only, in working-image pixels
+  SourceInfo source;
+  double capture_ms = 0;      // reading the source and acquisition
+  double detect_ms = 0;       // Detector::detect, trace included
+  // The scene (Lua or XML database): markers over time, the media it places on this frame and its state.
+  std::vector<TrackedMarker> tracks;
+  std::vector<Overlay> overlays;
+  SceneStatus scene;
+};
+
+}  // namespace arwb

@@ -1,0 +1,30 @@
+// What the workbench is started with: the engine's configuration and the window's options (cli/cmd_workbench.cpp
+// reads them from the command line; ui/window.hpp runs the window with them).
+#pragma once
+
+#include "workbench/engine.hpp"
+
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+struct WorkbenchOptions {
+  EngineConfig engine;
+  int frames = 0;                 // > 0: draw this many UI frames, then exit (scripted runs, tests)
+  std::string screenshot;         // write the window to this PNG before exiting
+  bool stats = false;             // print one JSON line of figures at exit
+  bool verbose = false;           // every log line to stderr, not only warnings and errors
+  cv::Size window{1600, 900};
+  bool presentation = false;
+  std::string config_dir;         // layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)
+  std::string snapshot_dir = "snapshots";
+  std::string tour_path;          // default assets/teaching/tour.txt
+  // Scripted actions for tests and demos: "N:verb[=arg]" run at UI frame N. Verbs: open=PANEL, close=PANEL,
+  // source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX, region=X,Y,W,H, sweep, tour,
+  // presentation, preset=FILE, peers.
+  std::vector<std::string> actions;
+};
+
+
+}  // namespace arwb

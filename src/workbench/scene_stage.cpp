@@ -1,0 +1,53 @@
+#include "workbench/scene_stage.hpp"
+
+#include <algorithm>
+
+namespace arwb {
+
+SceneStage::SceneStage(media::StoreMode mode, script::ScriptLimits limits)
+    : store_(mode), runtime_(std::make_unique<script::SceneRuntime>(store_, limits)) {}
+
+SceneStage::~SceneStage() = default;
+
+bool SceneStage::load(const std::string& path) {
+  if (path.empty()) {
+    runtime_->unload();
+    tracker_.clear();
+    file_.clear();
+    store_.trim();
+    return true;
+  }
+  const bool ok = runtime_->load(path);
+  // A failed first load still names the file, so the editor can open it and the watcher can pick up the fix.
+  file_ = path;
+  tracker_.clear();   // a (re)loaded scene starts with every marker entering
+  store_.trim();
+  return ok;
+}
+
+std::string SceneStage::dictionary() const { return runtime_->dictionary(); }
+const SceneStatus& SceneStage::status() const { return runtime_->status(); }
+
+void SceneStage::run(Frame& f, double t_s, double poll_s) {
+  if (file_.empty()) return;
+  if (last_poll_ < 0 || t_s - last_poll_ >= poll_s || t_s < last_poll_) {
+    last_poll_ = t_s;
+    if (runtime_->reload_if_changed()) tracker_.clear();
+  }
+  const std::vector<TrackEvent> events = tracker_.update(f.trace.markers, t_s);
+  const double dt = last_t_ < 0 ? 0.0 : std::clamp(t_s - last_t_, 0.0, 1.0);
+  last_t_ = t_s;
+  script::SceneInput in;
+  in.tracks = &tracker_.tracks();
+  in.events = &events;
+  in.t_s = t_s;
+  in.dt_s = dt;
+  in.frame = f.image.size();
+  in.views = f.views[0].empty() && f.views[1].empty() ? nullptr : &f.views;
+  in.frame_index = f.index;
+  f.overlays = runtime_->update(in);
+  f.tracks = tracker_.tracks();
+  f.scene = runtime_->status();
+}
+
+}  // namespace arwb

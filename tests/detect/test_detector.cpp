@@ -1,0 +1,235 @@
+// The detector end to end on synthetic scenes with exact truth: many poses, negatives, bit errors, corner
+// accuracy, thread-count independence, multiple dictionaries and the trace.
+#include "detect/detector.hpp"
+#include "synth/synth_set.hpp"
+#include "synth/synth.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace arwb;
+
+namespace {
+double mean_corner_error(const Marker& m, const TruthMarker& t) {
+  double e = 0;
+  for (int k = 0; k < 4; ++k) e += cv::norm(m.corners[size_t(k)] - t.corners[size_t(k)]);
+  return e / 4;
+}
+}  // namespace
+
+TEST(Detector, FindsEveryMarkerAtManyPosesWithItsCornerOrder) {
+  const Dictionary d = make_aruco_original();
+  const Detector det({d});
+  int cases = 0;
+  for (double tilt_x : {-50.0, -25.0, 0.0, 25.0, 50.0})
+    for (double tilt_y : {-45.0, 0.0, 45.0})
+      for (double roll : {0.0, 33.0, 90.0, 200.0})
+        for (double side : {40.0, 120.0}) {
+          cv::Mat img(240, 320, CV_8UC3, cv::Scalar(180, 190, 200));
+          const Quad q = project_square({160, 120}, side, roll, tilt_x, tilt_y, 350);
+          const int id = (cases * 37) % 1000;  // ids 1000+ include 1023, which reads the same upside down
+          draw_marker(img, d, id, q);
+          const auto found = det.detect(img);
+          ASSERT_EQ(found.size(), 1u) << "tilt " << tilt_x << "," << tilt_y << " roll " << roll << " side " << side;
+          EXPECT_EQ(found[0].id, id);
+          EXPECT_LT(mean_corner_error(found[0], {id, d.name(), q}), 0.3)
+              << "tilt " << tilt_x << "," << tilt_y << " roll " << roll << " side " << side;
+          ++cases;
+        }
+  EXPECT_EQ(cases, 120);
+}
+
+TEST(Detector, CornerErrorUnderAThirdOfAPixelOnCleanRenders) {
+  const Dictionary d = make_aruco_original();
+  const Detector det({d});
+  SynthOptions opt;
+  opt.dictionaries = {d};
+  opt.effects = false;
+  opt.empty_fraction = 0;
+  double err = 0;
+  int n = 0;
+  for (int i = 0; i < 20; ++i) {
+    const SynthImage s = synth_photo(opt, 5, i);
+    const auto found = det.detect(s.image);
+    EXPECT_EQ(found.size(), s.markers.size()) << "image " << i;
+    for (const auto& m : found)
+      for (const auto& t : s.markers)
+        if (t.id == m.id) err += mean_corner_error(m, t), ++n;
+  }
+  ASSERT_GT(n, 30);
+  EXPECT_LT(err / n, 0.3);
+}
+
+// corner_refinement's three parameters each change the corners: off keeps the polygon's corners (worse), more
+// passes converge (no worse than one), and the corners move between one pass and several.
+TEST(Detector, CornerRefinementParametersTakeEffect) {
+  const Dictionary d = make_aruco_original();
+  SynthOptions opt;
+  opt.dictionaries = {d};
+  opt.effects = false;
+  opt.empty_fraction = 0;
+  DetectorParams off, one, many;
+  off.corner_refinement = 0;
+  many.subpix_max_iterations = 10;
+  double err_off = 0, err_one = 0, err_many = 0, moved = 0;
+  int n = 0;
+  for (int i = 0; i < 12; ++i) {
+    const SynthImage s = synth_photo(opt, 9, i);
+    const auto a = Detector({d}, off).detect(s.image), b = Detector({d}, one).detect(s.image),
+               c = Detector({d}, many).detect(s.image);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_EQ(b.size(), c.size());
+    for (size_t k = 0; k < b.size(); ++k)
+      for (const auto& t : s.markers)
+        if (t.id == b[k].id) {
+          err_off += mean_corner_error(a[k], t);
+          err_one += mean_corner_error(b[k], t);
+          err_many += mean_corner_error(c[k], t);
+          moved += mean_corner_error(c[k], {t.id, t.dict, b[k].corners});
+          ++n;
+        }
+  }
+  ASSERT_GT(n, 20);
+  EXPECT_GT(err_off / n, 1.5 * err_one / n) << "refinement off should keep the rougher polygon corners";
+  EXPECT_LE(err_many / n, err_one / n * 1.05);
+  EXPECT_GT(moved / n, 0.005);
+}
+
+TEST(Detector, NegativesGiveNoMarkers) {
+  const Detector det({make_aruco_original(), *dictionary_by_name("4X4_50"), *dictionary_by_name("APRILTAG_36h11")});
+  cv::Mat blank(480, 640, CV_8UC1, cv::Scalar(128));
+  cv::Mat noise(480, 640, CV_8UC1);
+  cv::RNG rng(3);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat checker(480, 640, CV_8UC1, cv::Scalar(255));
+  for (int y = 0; y < 480; y += 40)
+    for (int x = 0; x < 640; x += 40)
+      if ((x / 40 + y / 40) % 2) checker(cv::Rect(x, y, 40, 40)).setTo(0);
+  cv::Mat text(480, 640, CV_8UC1, cv::Scalar(240));
+  for (int line = 0; line < 12; ++line)
+    cv::putText(text, "The quick brown fox 0123456789 [#] ArUco", {10, 35 + line * 38}, cv::FONT_HERSHEY_DUPLEX,
+                0.9, cv::Scalar(10), 2);
+  for (const cv::Mat* img : {&blank, &noise, &checker, &text}) EXPECT_TRUE(det.detect(*img).empty());
+}
+
+TEST(Detector, ThinOutlinedFrameIsNoMarker) {
+  // Image 57 of the bench's ARUCO_ORIGINAL set (seed 1) holds a thin red frame, 124x21 px, that stretched to a
+  // square reads as id 1023 (01110 in every row). min_side_rate 0.1 drops such slivers; 0.05 let it through.
+  const Dictionary d = make_aruco_original();
+  const SetItem item = make_set_item({d}, mixed_sizes(), 1, 57);
+  auto has_1023 = [](const std::vector<Marker>& ms) {
+    return std::any_of(ms.begin(), ms.end(), [](const Marker& m) { return m.id == 1023; });
+  };
+  for (const auto& t : item.truth) ASSERT_NE(t.id, 1023);
+  EXPECT_FALSE(has_1023(Detector({d}).detect(item.image)));
+  DetectorParams loose;
+  loose.min_side_rate = 0.05;
+  EXPECT_TRUE(has_1023(Detector({d}, loose).detect(item.image)));
+}
+
+TEST(Detector, MoreBitErrorsThanTheBudgetGiveNoMarker) {
+  // 4X4_50 corrects 1 bit at the default rate (max 1 x 0.6 rounds down to 0 ... so use rate 1).
+  const Dictionary d = *dictionary_by_name("4X4_50");
+  DetectorParams p;
+  p.error_correction_rate = 1.0;
+  const Detector det({d}, p);
+  const int budget = d.max_correction_bits();
+  ASSERT_GE(budget, 1);
+  for (int flips = 0; flips <= budget + 1; ++flips) {
+    uint64_t code = d.code(9);
+    for (int b = 0; b < flips; ++b) code ^= uint64_t(1) << (b * 5);
+    const Dictionary one("4X4_50", 4, {code}, 0);  // draws the corrupted pattern
+    cv::Mat img(200, 200, CV_8UC1, cv::Scalar(255));
+    draw_marker(img, one, 0, Quad{cv::Point2f(50, 50), {150, 50}, {150, 150}, {50, 150}});
+    const auto found = det.detect(img);
+    if (d.nearest(code).hamming <= budget) {
+      ASSERT_EQ(found.size(), 1u) << flips << " flipped";
+      EXPECT_EQ(found[0].id, d.nearest(code).id);
+      EXPECT_EQ(found[0].hamming, flips);
+    } else {
+      EXPECT_TRUE(found.empty()) << flips << " flipped";
+    }
+  }
+}
+
+TEST(Detector, SameResultsForAnyThreadCount) {
+  const Dictionary d = make_aruco_original();
+  const Detector det({d});
+  SynthOptions opt;
+  opt.dictionaries = {d};
+  opt.size = {1280, 720};
+  for (int i = 0; i < 6; ++i) {
+    const SynthImage s = synth_photo(opt, 11, i);
+    const auto one = det.detect(s.image, nullptr, TraceLevel::off, 1);
+    for (int threads : {2, 3, 8}) {
+      const auto many = det.detect(s.image, nullptr, TraceLevel::off, threads);
+      ASSERT_EQ(one.size(), many.size());
+      for (size_t k = 0; k < one.size(); ++k) {
+        EXPECT_EQ(one[k].id, many[k].id);
+        for (int c = 0; c < 4; ++c) EXPECT_EQ(one[k].corners[size_t(c)], many[k].corners[size_t(c)]);
+      }
+    }
+  }
+}
+
+TEST(Detector, SeveralDictionariesInOnePass) {
+  const Dictionary a = make_aruco_original(), b = *dictionary_by_name("APRILTAG_36h11"),
+                   c = *dictionary_by_name("4X4_50");
+  cv::Mat img(300, 600, CV_8UC1, cv::Scalar(220));
+  draw_marker(img, a, 700, Quad{cv::Point2f(30, 80), {170, 80}, {170, 220}, {30, 220}});
+  draw_marker(img, b, 400, Quad{cv::Point2f(230, 80), {370, 80}, {370, 220}, {230, 220}});
+  draw_marker(img, c, 42, Quad{cv::Point2f(430, 80), {570, 80}, {570, 220}, {430, 220}});
+  const auto found = Detector({a, b, c}).detect(img);
+  ASSERT_EQ(found.size(), 3u);
+  EXPECT_EQ(found[0].dict, "ARUCO_ORIGINAL");
+  EXPECT_EQ(found[0].id, 700);
+  EXPECT_EQ(found[1].dict, "APRILTAG_36h11");
+  EXPECT_EQ(found[1].id, 400);
+  EXPECT_EQ(found[2].dict, "4X4_50");
+  EXPECT_EQ(found[2].id, 42);
+}
+
+TEST(Trace, RecordsEveryStageAndEachCandidatesFate) {
+  const Dictionary d = make_aruco_original();
+  cv::Mat img(240, 320, CV_8UC1, cv::Scalar(230));
+  draw_marker(img, d, 77, Quad{cv::Point2f(40, 40), {140, 40}, {140, 140}, {40, 140}});
+  cv::rectangle(img, cv::Rect(200, 60, 80, 80), cv::Scalar(20), -1);  // a black square: a quad, no marker
+  const Detector det({d});
+  FrameTrace t;
+  const auto found = det.detect(img, &t, TraceLevel::full);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(t.stages.size(), size_t(kStageCount));
+  for (int s = 0; s < kStageCount; ++s) EXPECT_EQ(t.stages[size_t(s)].stage, static_cast<Stage>(s));
+  EXPECT_FALSE(t.stage(Stage::adaptive_threshold)->image.empty());
+  EXPECT_FALSE(t.contours.empty());
+  int accepted = 0, uniform = 0;
+  for (const auto& c : t.candidates) {
+    if (c.fate.stage == Stage::accepted) {
+      ++accepted;
+      EXPECT_EQ(c.marker, 0);
+      EXPECT_EQ(c.warp.size(), cv::Size(28, 28));
+      EXPECT_EQ(c.bits.size(), cv::Size(7, 7));
+      EXPECT_EQ(c.histogram.size(), 256u);
+      EXPECT_EQ(c.border_errors, 0);
+      EXPECT_EQ(c.per_rotation[size_t(found[0].rotation)].id, 77);
+    }
+    if (c.fate.stage == Stage::otsu) {
+      ++uniform;
+      EXPECT_EQ(c.fate.param, "otsu_min_stddev");
+    }
+    if (c.fate.stage != Stage::accepted) {
+      EXPECT_FALSE(c.fate.message.empty());
+    }
+  }
+  EXPECT_EQ(accepted, 1);
+  EXPECT_EQ(uniform, 1);  // the black square's inside is one grey level
+
+  FrameTrace off;
+  det.detect(img, &off, TraceLevel::off);
+  EXPECT_TRUE(off.stages.empty());
+  EXPECT_TRUE(off.candidates.empty());
+  EXPECT_EQ(off.markers.size(), 1u);
+}

@@ -1,0 +1,116 @@
+// Dictionaries: the paper's ARUCO_ORIGINAL built from its description equals OpenCV's bit for bit; the
+// predefined tables, rotations, nearest-match search and custom YAML dictionaries.
+#include "detect/dictionary.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/aruco.hpp>
+
+using namespace arwb;
+
+TEST(Dictionary, ArucoOriginalFromThePaperEqualsOpenCvBitForBit) {
+  const Dictionary ours = make_aruco_original();
+  const auto theirs = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_ARUCO_ORIGINAL);
+  ASSERT_EQ(ours.size(), 1024);
+  ASSERT_EQ(theirs->bytesList.rows, 1024);
+  ASSERT_EQ(ours.marker_size(), theirs->markerSize);
+  for (int id = 0; id < 1024; ++id) {
+    const cv::Mat a = ours.bits(id);
+    const cv::Mat b = cv::aruco::Dictionary::getBitsFromByteList(theirs->bytesList.row(id), 5);
+    ASSERT_EQ(cv::countNonZero(a != b), 0) << "id " << id;
+  }
+}
+
+TEST(Dictionary, ArucoOriginalRowsFollowThePaperCode) {
+  // ID 0 is coded 10000 in every row (the inverted first parity bit keeps an all-black marker invalid).
+  const Dictionary d = make_aruco_original();
+  const cv::Mat zero = d.bits(0);
+  for (int r = 0; r < 5; ++r) {
+    EXPECT_EQ(zero.at<uint8_t>(r, 0), 1);
+    for (int c = 1; c < 5; ++c) EXPECT_EQ(zero.at<uint8_t>(r, c), 0);
+  }
+  // Data bits are columns 2 and 4, most significant row first: id 1023 is 01110 in every row, id 1 ends 10111.
+  const cv::Mat all = d.bits(1023);
+  for (int r = 0; r < 5; ++r)
+    for (int c = 0; c < 5; ++c) EXPECT_EQ(all.at<uint8_t>(r, c), (c >= 1 && c <= 3) ? 1 : 0);
+  const cv::Mat one = d.bits(1);
+  EXPECT_EQ(one.at<uint8_t>(4, 0) * 16 + one.at<uint8_t>(4, 1) * 8 + one.at<uint8_t>(4, 2) * 4 + one.at<uint8_t>(4, 3) * 2 + one.at<uint8_t>(4, 4), 0b10111);
+}
+
+TEST(Dictionary, EveryPredefinedDictionaryMatchesOpenCv) {
+  const std::pair<const char*, cv::aruco::PREDEFINED_DICTIONARY_NAME> cases[] = {
+      {"4X4_50", cv::aruco::DICT_4X4_50}, {"5x5_1000", cv::aruco::DICT_5X5_1000},
+      {"DICT_6X6_250", cv::aruco::DICT_6X6_250}, {"7X7_1000", cv::aruco::DICT_7X7_1000},
+      {"apriltag_16h5", cv::aruco::DICT_APRILTAG_16h5}, {"APRILTAG_36h11", cv::aruco::DICT_APRILTAG_36h11}};
+  for (const auto& [name, which] : cases) {
+    std::string err;
+    auto d = dictionary_by_name(name, &err);
+    ASSERT_TRUE(d) << err;
+    const auto cvd = cv::aruco::getPredefinedDictionary(which);
+    ASSERT_EQ(d->size(), cvd->bytesList.rows) << name;
+    EXPECT_EQ(d->max_correction_bits(), cvd->maxCorrectionBits) << name;
+    for (int id = 0; id < d->size(); id += 7) {
+      const cv::Mat b = cv::aruco::Dictionary::getBitsFromByteList(cvd->bytesList.row(id), cvd->markerSize);
+      ASSERT_EQ(cv::countNonZero(d->bits(id) != b), 0) << name << " id " << id;
+    }
+  }
+  EXPECT_EQ(dictionary_names().size(), 21u);
+}
+
+TEST(Dictionary, UnknownNameIsRefusedWithTheNameInTheMessage) {
+  std::string err;
+  EXPECT_FALSE(dictionary_by_name("8X8_42", &err));
+  EXPECT_NE(err.find("8X8_42"), std::string::npos);
+  EXPECT_NE(err.find("ARUCO_ORIGINAL"), std::string::npos);  // lists what is known
+}
+
+TEST(Dictionary, RotationsAreQuarterTurnsClockwise) {
+  // A single white bit at the top-left moves to the top-right after one clockwise quarter-turn.
+  cv::Mat bits = cv::Mat::zeros(4, 4, CV_8UC1);
+  bits.at<uint8_t>(0, 0) = 1;
+  const uint64_t turned = Dictionary::rotate_cw(Dictionary::pack(bits), 4);
+  EXPECT_EQ(Dictionary::unpack(turned, 4).at<uint8_t>(0, 3), 1);
+  EXPECT_EQ(cv::countNonZero(Dictionary::unpack(turned, 4)), 1);
+  const Dictionary d = *dictionary_by_name("4X4_50");
+  for (int k = 0; k < 4; ++k) {
+    const DictMatch m = d.nearest(d.code(17, k));
+    EXPECT_EQ(m.id, 17);
+    EXPECT_EQ(m.rotation, k);
+    EXPECT_EQ(m.hamming, 0);
+  }
+}
+
+TEST(Dictionary, NearestCountsFlippedBits) {
+  const Dictionary d = *dictionary_by_name("6X6_250");
+  const uint64_t code = d.code(100, 2) ^ 0b1001;  // two bits flipped
+  const DictMatch m = d.nearest(code);
+  EXPECT_EQ(m.id, 100);
+  EXPECT_EQ(m.rotation, 2);
+  EXPECT_EQ(m.hamming, 2);
+  const auto per = d.nearest_per_rotation(code);
+  EXPECT_EQ(per[2].id, 100);
+  EXPECT_GT(per[0].hamming, 2);
+}
+
+TEST(Dictionary, MinimumDistanceOfTheSmallTables) {
+  EXPECT_EQ(dictionary_by_name("4X4_50")->min_distance(), 4);
+  EXPECT_EQ(make_aruco_original().min_distance(), 0);  // some ids equal others turned: why OpenCV corrects 0 bits
+}
+
+TEST(Dictionary, CustomYamlInOpenCvFormat) {
+  test::TempDir dir;
+  test::write_file(dir.str("mine.yml"),
+                   "%YAML:1.0\nnmarkers: 2\nmarkersize: 3\nmaxCorrectionBits: 1\n"
+                   "marker_0: \"101010101\"\nmarker_1: \"111000111\"\n");
+  std::string err;
+  auto d = load_dictionary_yaml(dir.str("mine.yml"), &err);
+  ASSERT_TRUE(d) << err;
+  EXPECT_EQ(d->size(), 2);
+  EXPECT_EQ(d->marker_size(), 3);
+  EXPECT_EQ(d->code(1), 0b111000111u);
+
+  test::write_file(dir.str("bad.yml"), "%YAML:1.0\nnmarkers: 2\nmarkersize: 3\nmarker_0: \"10101\"\n");
+  EXPECT_FALSE(load_dictionary_yaml(dir.str("bad.yml"), &err));
+  EXPECT_NE(err.find("bad.yml"), std::string::npos);
+  EXPECT_NE(err.find("marker_0"), std::string::npos);
+}

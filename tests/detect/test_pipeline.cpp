@@ -1,0 +1,198 @@
+// Each stage on small crafted images, and the parameter table.
+#include "detect/detector.hpp"
+#include "detect/params.hpp"
+#include "detect/pipeline.hpp"
+#include "synth/synth.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+using namespace arwb;
+
+namespace {
+// A white canvas with one marker drawn axis-aligned, its outer corners at (x0,y0)..(x0+side,y0+side).
+cv::Mat canvas_with_marker(const Dictionary& d, int id, float x0, float y0, float side, cv::Size size = {200, 200}) {
+  cv::Mat img(size, CV_8UC1, cv::Scalar(255));
+  draw_marker(img, d, id, Quad{cv::Point2f(x0, y0), {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}});
+  return img;
+}
+}  // namespace
+
+TEST(Stages, AcquisitionMakesGreyAndResizes) {
+  cv::Mat bgr(100, 200, CV_8UC3, cv::Scalar(10, 20, 30));
+  DetectorParams p;
+  double sx = 0, sy = 0;
+  cv::Mat g = stages::acquire(bgr, p, &sx, &sy);
+  EXPECT_EQ(g.type(), CV_8UC1);
+  EXPECT_EQ(g.size(), cv::Size(200, 100));
+  p.resize_width = 100;
+  g = stages::acquire(bgr, p, &sx, &sy);
+  EXPECT_EQ(g.size(), cv::Size(100, 50));  // aspect kept
+  EXPECT_DOUBLE_EQ(sx, 2.0);
+  EXPECT_DOUBLE_EQ(sy, 2.0);
+}
+
+TEST(Stages, AdaptiveThresholdMarksDarkAgainstItsNeighbourhood) {
+  cv::Mat grey(60, 60, CV_8UC1, cv::Scalar(200));
+  cv::rectangle(grey, cv::Rect(20, 20, 20, 20), cv::Scalar(40), -1);
+  DetectorParams p;
+  const cv::Mat bin = stages::adaptive_threshold(grey, p);
+  EXPECT_EQ(bin.at<uint8_t>(21, 21), 255);  // dark edge pixel
+  EXPECT_EQ(bin.at<uint8_t>(5, 5), 0);      // flat light area
+  // A flat area, however dark, is not "darker than its neighbourhood".
+  const cv::Mat flat = stages::adaptive_threshold(cv::Mat(60, 60, CV_8UC1, cv::Scalar(30)), p);
+  EXPECT_EQ(cv::countNonZero(flat), 0);
+}
+
+TEST(Stages, ContoursTraceOuterBordersClockwiseAndSkipSpecks) {
+  cv::Mat bin = cv::Mat::zeros(50, 50, CV_8UC1);
+  cv::rectangle(bin, cv::Rect(10, 10, 20, 15), cv::Scalar(255), -1);  // a block
+  cv::rectangle(bin, cv::Rect(14, 14, 5, 5), cv::Scalar(0), -1);      // with a hole: no second border
+  bin.at<uint8_t>(40, 40) = 255;                                      // a speck
+  int regions = 0;
+  std::vector<stages::SmallRegion> small;
+  const auto contours = stages::find_contours(bin, 20, &regions, &small);
+  EXPECT_EQ(regions, 2);
+  ASSERT_EQ(contours.size(), 1u);
+  ASSERT_EQ(small.size(), 1u);
+  EXPECT_EQ(small[0].bbox, cv::Rect(40, 40, 1, 1));
+  const auto& c = contours[0];
+  EXPECT_EQ(c.front(), cv::Point(10, 10));
+  EXPECT_EQ(cv::boundingRect(c), cv::Rect(10, 10, 20, 15));
+  EXPECT_EQ(c.size(), size_t(2 * (19 + 14)));  // every border pixel once
+  EXPECT_GT(cv::contourArea(c, true), 0);      // clockwise on screen (y down) is positive in OpenCV's sense
+}
+
+TEST(Stages, SizeFilterNamesTheParameterAndValue) {
+  DetectorParams p;
+  std::vector<cv::Point> small(31, cv::Point(0, 0));
+  auto why = stages::size_filter(small, {640, 480}, p);
+  ASSERT_TRUE(why);
+  EXPECT_EQ(why->stage, Stage::size_filter);
+  EXPECT_EQ(why->param, "min_perimeter_px");
+  EXPECT_EQ(why->value, 31);
+  EXPECT_EQ(why->message, "perimeter 31 px < min_perimeter_px 48 px");
+  EXPECT_FALSE(stages::size_filter(std::vector<cv::Point>(100), {640, 480}, p));
+}
+
+TEST(Stages, QuadFitAcceptsSquaresAndRejectsOtherShapes) {
+  DetectorParams p;
+  cv::Mat bin = cv::Mat::zeros(100, 100, CV_8UC1);
+  cv::rectangle(bin, cv::Rect(20, 20, 40, 40), cv::Scalar(255), -1);
+  auto contours = stages::find_contours(bin, 10);
+  Quad q;
+  EXPECT_FALSE(stages::fit_quad(contours.at(0), bin.size(), p, &q));
+  const cv::Point2f a = q[1] - q[0], b = q[2] - q[0];
+  EXPECT_GT(a.x * b.y - a.y * b.x, 0);  // clockwise on screen
+
+  cv::Mat disc = cv::Mat::zeros(100, 100, CV_8UC1);
+  cv::circle(disc, {50, 50}, 30, cv::Scalar(255), -1);
+  auto why = stages::fit_quad(stages::find_contours(disc, 10).at(0), disc.size(), p, &q);
+  ASSERT_TRUE(why);
+  EXPECT_EQ(why->stage, Stage::quad_fit);
+  EXPECT_EQ(why->param, "polygon_epsilon_rate");
+
+  cv::Mat edge = cv::Mat::zeros(100, 100, CV_8UC1);
+  cv::rectangle(edge, cv::Rect(0, 30, 40, 40), cv::Scalar(255), -1);  // touches the image edge
+  why = stages::fit_quad(stages::find_contours(edge, 10).at(0), edge.size(), p, &q);
+  ASSERT_TRUE(why);
+  EXPECT_EQ(why->param, "min_border_distance_px");
+}
+
+TEST(Stages, NestedFilterKeepsTheOuterOfTwoTracesOfOneBorder) {
+  DetectorParams p;
+  const Quad outer{cv::Point2f(10, 10), {110, 10}, {110, 110}, {10, 110}};
+  const Quad inner{cv::Point2f(12, 12), {108, 12}, {108, 108}, {12, 108}};
+  const Quad far{cv::Point2f(200, 200), {250, 200}, {250, 250}, {200, 250}};
+  const auto r = stages::nested_filter({inner, outer, far}, p);
+  EXPECT_EQ(r[0], 1);  // inner replaced by outer
+  EXPECT_EQ(r[1], -1);
+  EXPECT_EQ(r[2], -1);
+}
+
+TEST(Stages, PerspectiveOtsuBitsBorderAndIdentification) {
+  const Dictionary d = make_aruco_original();
+  const cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
+  DetectorParams p;
+  const Quad q{cv::Point2f(40, 50), {145, 50}, {145, 155}, {40, 155}};
+  const cv::Mat warp = stages::remove_perspective(img, q, 7, p);
+  EXPECT_EQ(warp.size(), cv::Size(28, 28));
+  const auto o = stages::otsu(warp);
+  EXPECT_GT(o.threshold, 20);
+  EXPECT_LT(o.threshold, 235);
+  EXPECT_GT(o.stddev, 50);
+  int total = 0;
+  for (int v : o.histogram) total += v;
+  EXPECT_EQ(total, 28 * 28);
+  const cv::Mat bits = stages::sample_bits(warp, 7, o.threshold, p);
+  EXPECT_EQ(stages::border_errors(bits), 0);
+  EXPECT_EQ(cv::countNonZero(bits(cv::Rect(1, 1, 5, 5)) != d.bits(321)), 0);
+  const DictMatch m = d.nearest(stages::inner_code(bits));
+  EXPECT_EQ(m.id, 321);
+  EXPECT_EQ(m.hamming, 0);
+  EXPECT_EQ(stages::correction_budget(*dictionary_by_name("6X6_250"), p), 3);  // OpenCV's 5 bits x rate 0.6
+  EXPECT_EQ(stages::correction_budget(d, p), 0);
+}
+
+TEST(Stages, CornerRefinementReachesTheTrueCorner) {
+  const Dictionary d = make_aruco_original();
+  const Quad truth{cv::Point2f(40.3f, 50.6f), {146.1f, 48.2f}, {150.7f, 151.9f}, {37.5f, 155.4f}};
+  cv::Mat img(220, 220, CV_8UC1, cv::Scalar(255));
+  draw_marker(img, d, 5, truth);
+  cv::GaussianBlur(img, img, cv::Size(0, 0), 0.8);
+  Quad guess = truth;
+  for (auto& c : guess) c += cv::Point2f(1.2f, -0.9f);
+  stages::refine_corners(img, guess, 7, DetectorParams{});
+  for (int k = 0; k < 4; ++k) EXPECT_LT(cv::norm(guess[size_t(k)] - truth[size_t(k)]), 0.2) << "corner " << k;
+}
+
+TEST(Params, TableDrivesDefaultsRangesAndYaml) {
+  const DetectorParams p;
+  for (const auto& info : param_table()) {
+    EXPECT_EQ(get_param(p, info), info.default_value) << info.name;
+    EXPECT_LE(info.min_value, info.default_value) << info.name;
+    EXPECT_GE(info.max_value, info.default_value) << info.name;
+    EXPECT_STRNE(info.help, "") << info.name;
+    Stage s;
+    EXPECT_TRUE(stage_from_name(info.stage, &s)) << info.name << " names stage " << info.stage;
+  }
+  DetectorParams q;
+  std::string err;
+  EXPECT_FALSE(set_param(q, *find_param("threshold_window_px"), 2.5, &err));
+  EXPECT_NE(err.find("threshold_window_px"), std::string::npos);
+  EXPECT_FALSE(set_param(q, *find_param("warp_cell_px"), 1000, &err));
+  EXPECT_NE(err.find("1..32"), std::string::npos);
+
+  test::TempDir dir;
+  q.threshold_offset = 11;
+  q.warp_cell_px = 6;
+  ASSERT_TRUE(save_params_yaml(dir.str("p.yml"), q, &err)) << err;
+  DetectorParams back;
+  std::vector<std::string> errors;
+  ASSERT_TRUE(load_params_yaml(dir.str("p.yml"), back, &errors));
+  EXPECT_EQ(back.threshold_offset, 11);
+  EXPECT_EQ(back.warp_cell_px, 6);
+
+  test::write_file(dir.str("plain.yml"), "threshold_offset: 9\n");  // no %YAML header, as people write it
+  ASSERT_TRUE(load_params_yaml(dir.str("plain.yml"), back, &errors));
+  EXPECT_EQ(back.threshold_offset, 9);
+}
+
+TEST(Params, BadPresetsChangeNothingAndNameFileAndKey) {
+  test::TempDir dir;
+  DetectorParams p;
+  std::vector<std::string> errors;
+  test::write_file(dir.str("bad.yml"), "threshold_offset: 3\nno_such_param: 1\nwarp_cell_px: 99\n");
+  EXPECT_FALSE(load_params_yaml(dir.str("bad.yml"), p, &errors));
+  EXPECT_EQ(p.threshold_offset, DetectorParams{}.threshold_offset);  // nothing applied
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_NE(errors[0].find("bad.yml"), std::string::npos);
+  EXPECT_NE(errors[0].find("no_such_param"), std::string::npos);
+  EXPECT_NE(errors[1].find("warp_cell_px"), std::string::npos);
+  errors.clear();
+  test::write_file(dir.str("broken.yml"), "threshold_offset: [1, 2\n  : :\n");
+  EXPECT_FALSE(load_params_yaml(dir.str("broken.yml"), p, &errors));
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors[0].find("broken.yml"), std::string::npos);
+}

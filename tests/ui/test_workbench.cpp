@@ -1,0 +1,250 @@
+// The workbench window, run for real under xvfb-run (Mesa's software OpenGL): what a person sees in the
+// screenshot, the --stats line, switching panels and sources, surviving sources that fail, the layout kept
+// between runs, snapshots, the "why not detected" sweep and the teaching tour.
+#include "detect/dictionary.hpp"
+#include "synth/synth.hpp"
+#include "detect/trace.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <filesystem>
+#include <regex>
+#include <string>
+
+namespace arwb {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunResult;
+using test::TempDir;
+
+// The live view's outline colour for accepted markers (ui/widgets.cpp accepted_colour: 0.1, 1.0, 0.2).
+bool accepted_green(const cv::Vec3b& bgr) { return bgr[1] > 225 && bgr[2] < 90 && bgr[0] < 110; }
+
+// Green outline pixels inside a screen rectangle of the screenshot.
+int green_pixels(const cv::Mat& shot, cv::Rect area) {
+  area &= cv::Rect(0, 0, shot.cols, shot.rows);
+  int n = 0;
+  for (int y = area.y; y < area.br().y; ++y)
+    for (int x = area.x; x < area.br().x; ++x) n += accepted_green(shot.at<cv::Vec3b>(y, x));
+  return n;
+}
+
+// The live view's place in the first start's layout of a 1600x900 window: the top-left of the screen.
+const cv::Rect kLiveView(0, 40, 800, 520);
+
+double stat(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\":(-?[0-9.]+)"))) return -1;
+  return std::stod(m[1]);
+}
+
+std::string stat_text(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\":\"([^\"]*)\""))) return {};
+  return m[1];
+}
+
+// A 640x480 photo-like image with ARUCO_ORIGINAL marker `id` in the middle, `side` px wide.
+cv::Mat marker_image(int id, double side, int background = 170, int black = 0) {
+  cv::Mat img(480, 640, CV_8UC3, cv::Scalar::all(background));
+  const Dictionary d = make_aruco_original();
+  draw_marker(img, d, id, project_square({320, 240}, side, 12, 10, 0, 800), 1.0, 4, black, 255);
+  return img;
+}
+
+std::string window_args(const TempDir& tmp, const std::string& more) {
+  return "--config-dir '" + tmp.str("config") + "' --snapshot-dir '" + tmp.str("snaps") + "' " + more;
+}
+
+TEST(Workbench, ScreenshotShowsTheSyntheticMarkersOutlined) {
+  TempDir tmp;
+  const RunResult r =
+      test::run_arwb_window(window_args(tmp, "--frames 60 --screenshot '" + tmp.str("shot.png") + "' --stats"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const cv::Mat shot = cv::imread(tmp.str("shot.png"));
+  ASSERT_FALSE(shot.empty()) << "no screenshot";
+  EXPECT_EQ(shot.size(), cv::Size(1600, 900));
+  EXPECT_GE(stat(r.out, "markers"), 1) << r.out;
+  // The accepted markers' outlines are drawn in the live view, and nowhere else in this layout.
+  EXPECT_GT(green_pixels(shot, kLiveView), 300) << r.out;
+}
+
+TEST(Workbench, NoOutlineWhenThereIsNoMarker) {
+  TempDir tmp;
+  cv::imwrite(tmp.str("blank.png"), cv::Mat(480, 640, CV_8UC3, cv::Scalar(120, 140, 160)));
+  const RunResult r = test::run_arwb_window(window_args(
+      tmp, "--source '" + tmp.str("blank.png") + "' --frames 40 --screenshot '" + tmp.str("shot.png") + "' --stats"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const cv::Mat shot = cv::imread(tmp.str("shot.png"));
+  ASSERT_FALSE(shot.empty());
+  EXPECT_EQ(stat(r.out, "markers"), 0) << r.out;
+  EXPECT_LT(green_pixels(shot, kLiveView), 20);
+}
+
+TEST(Workbench, StatsLineHasTheFramesRatesAndEveryStage) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(window_args(tmp, "--frames 45 --stats"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(r.out.front(), '{') << r.out;
+  EXPECT_EQ(stat(r.out, "frames"), 45);
+  EXPECT_GT(stat(r.out, "ui_fps"), 0);
+  EXPECT_GT(stat(r.out, "detect_fps"), 0);
+  EXPECT_GT(stat(r.out, "detected"), 0);
+  for (int i = 0; i < kStageCount; ++i) {
+    const std::string name(stage_name(static_cast<Stage>(i)));
+    EXPECT_GE(stat(r.out, name), 0) << name << " missing in " << r.out;
+  }
+  EXPECT_EQ(stat_text(r.out, "source"), "synthetic");
+}
+
+TEST(Workbench, SwitchesPanelsAndSourcesWhileRunning) {
+  TempDir tmp;
+  cv::imwrite(tmp.str("one.png"), marker_image(37, 160));
+  fs::create_directories(tmp.str("folder"));
+  cv::imwrite(tmp.str("folder/a.png"), marker_image(5, 120));
+  cv::imwrite(tmp.str("folder/b.png"), marker_image(6, 140));
+  {
+    cv::VideoWriter w(tmp.str("clip.avi"), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 20, {640, 480});
+    ASSERT_TRUE(w.isOpened());
+    for (int i = 0; i < 30; ++i) w.write(marker_image(9, 100 + 2 * i));
+  }
+  const std::string actions = "5:open=all;10:source=" + tmp.str("one.png") + ";35:stage=otsu;40:source=" +
+                              tmp.str("folder") + ";70:close=all;71:open=live_view;75:source=" + tmp.str("clip.avi");
+  const RunResult r = test::run_arwb_window(window_args(
+      tmp, "--frames 110 --verbose --stats --screenshot '" + tmp.str("shot.png") + "' --actions '" + actions + "'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("source: " + tmp.str("one.png")), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("source: " + tmp.str("folder")), std::string::npos) << r.err;
+  EXPECT_EQ(stat_text(r.out, "source"), tmp.str("clip.avi")) << r.out;
+  EXPECT_EQ(stat(r.out, "problems"), 0) << r.err;
+  EXPECT_EQ(stat(r.out, "markers"), 1) << r.out;   // the video's marker, id 9
+  EXPECT_GT(green_pixels(cv::imread(tmp.str("shot.png")), kLiveView), 100);
+}
+
+TEST(Workbench, SurvivesSourcesThatFail) {
+  TempDir tmp;
+  // A file that looks like an MP4 but is not one, a folder with a corrupt image, a camera that is not there.
+  test::write_file(tmp.str("broken.mp4"), std::string("\0\0\0\x18" "ftypmp42", 12) + std::string(4000, 'x'));
+  fs::create_directories(tmp.str("folder"));
+  cv::imwrite(tmp.str("folder/a.png"), marker_image(5, 120));
+  test::write_file(tmp.str("folder/b.png"), "\x89PNG\r\n\x1a\n garbage");
+  const std::string actions = "5:source=" + tmp.str("missing.mp4") + ";10:source=" + tmp.str("broken.mp4") +
+                              ";15:source=camera:97;20:source=" + tmp.str("folder") + ";25:next";
+  const RunResult r = test::run_arwb_window(window_args(
+      tmp, "--frames 120 --stats --screenshot '" + tmp.str("shot.png") + "' --actions '" + actions + "'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("missing.mp4"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("broken.mp4"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("camera:97"), std::string::npos) << r.err;
+  EXPECT_GE(stat(r.out, "problems"), 3) << r.out;
+  // Still running and detecting: the folder's good image is shown.
+  EXPECT_EQ(stat_text(r.out, "source"), tmp.str("folder")) << r.out;
+  EXPECT_FALSE(cv::imread(tmp.str("shot.png")).empty());
+}
+
+TEST(Workbench, FallsBackToTheSyntheticSceneWhenTheSourceCannotOpen) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(window_args(tmp, "--source camera:97 --frames 40 --stats"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("camera:97"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("synthetic"), std::string::npos) << r.err;
+  EXPECT_EQ(stat_text(r.out, "source"), "synthetic");
+  EXPECT_GE(stat(r.out, "markers"), 1);
+}
+
+TEST(Workbench, KeepsTheLayoutBetweenRuns) {
+  TempDir tmp;
+  RunResult r = test::run_arwb_window(window_args(tmp, "--frames 20 --actions '5:close=timings;6:open=dictionary'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string ini = test::read_file(tmp.str("config/imgui.ini"));
+  EXPECT_NE(ini.find("[Window][Live view]"), std::string::npos) << ini;
+  EXPECT_NE(ini.find("timings=0"), std::string::npos) << ini;
+  EXPECT_NE(ini.find("dictionary=1"), std::string::npos) << ini;
+  // A second run without actions starts from that layout and keeps it.
+  r = test::run_arwb_window(window_args(tmp, "--frames 10"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  ini = test::read_file(tmp.str("config/imgui.ini"));
+  EXPECT_NE(ini.find("timings=0"), std::string::npos) << ini;
+  EXPECT_NE(ini.find("dictionary=1"), std::string::npos) << ini;
+}
+
+TEST(Workbench, SnapshotSavesTheFrameEveryStageAndTheTrace) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(window_args(tmp, "--frames 40 --actions '30:snapshot'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<fs::path> dirs;
+  for (const auto& e : fs::directory_iterator(tmp.str("snaps"))) dirs.push_back(e.path());
+  ASSERT_EQ(dirs.size(), 1u);
+  EXPECT_TRUE(fs::exists(dirs[0] / "frame.png"));
+  EXPECT_NE(test::read_file((dirs[0] / "trace.json").string()).find("\"adaptive_threshold\""), std::string::npos);
+  for (int i = 0; i < kStageCount; ++i) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%02d_%s.png", i, std::string(stage_name(static_cast<Stage>(i))).c_str());
+    EXPECT_TRUE(fs::exists(dirs[0] / name)) << name;
+  }
+}
+
+TEST(Workbench, WhyNotDetectedFindsTheParameterToChange) {
+  TempDir tmp;
+  // A faint marker (black printed at 120 on a 170 page) with a threshold offset too high to see it.
+  cv::imwrite(tmp.str("faint.png"), marker_image(12, 150, 170, 120));
+  test::write_file(tmp.str("strict.yml"), "threshold_offset: 60\n");
+  const RunResult r = test::run_arwb_window(
+      window_args(tmp, "--source '" + tmp.str("faint.png") + "' --params '" + tmp.str("strict.yml") +
+                           "' --frames 200 --verbose --stats --actions '5:region=220,140,200,200;6:sweep'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(stat(r.out, "markers"), 0) << r.out;
+  // The smallest change relative to each parameter's range; which parameter wins is the sweep's call.
+  EXPECT_TRUE(std::regex_search(r.err, std::regex("sweep: [a-z_]+ [0-9.]+ -> [0-9.]+.* finds ARUCO_ORIGINAL id 12")))
+      << r.err;
+}
+
+TEST(Workbench, BadPresetIsReportedAndTheWorkbenchGoesOn) {
+  TempDir tmp;
+  test::write_file(tmp.str("bad.yml"), "threshold_offset: 7\nno_such_param: 3\nmin_perimeter_px: -5\n");
+  const RunResult r = test::run_arwb_window(
+      window_args(tmp, "--frames 40 --stats --actions '5:preset=" + tmp.str("bad.yml") + "'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("no_such_param"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bad.yml"), std::string::npos) << r.err;
+  EXPECT_GE(stat(r.out, "markers"), 1) << r.out;   // the parameters were left as they were
+}
+
+TEST(Workbench, TourAndPresentationModeRun) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(
+      window_args(tmp, "--frames 40 --stats --screenshot '" + tmp.str("shot.png") + "' --actions '5:tour=4;6:presentation'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("tour:"), std::string::npos) << r.err;   // the shipped tour loads cleanly
+  EXPECT_FALSE(cv::imread(tmp.str("shot.png")).empty());
+}
+
+TEST(Workbench, BrokenTourFileIsReportedWithItsLine) {
+  TempDir tmp;
+  test::write_file(tmp.str("tour.txt"), "[overview]\ntitle: Hello\nText.\n\n[otsuu]\ntitle: x\ny\n");
+  const RunResult r = test::run_arwb_window(
+      window_args(tmp, "--frames 10 --tour '" + tmp.str("tour.txt") + "' --actions '2:tour'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("tour.txt:5:"), std::string::npos) << r.err;
+}
+
+TEST(Workbench, BadOptionsAreOneLineErrors) {
+  TempDir tmp;
+  RunResult r = test::run_arwb(window_args(tmp, "--frames many"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--frames"), std::string::npos) << r.err;
+  r = test::run_arwb(window_args(tmp, "--source /no/such/file.mp4"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("/no/such/file.mp4"), std::string::npos) << r.err;
+  r = test::run_arwb(window_args(tmp, "--actions '5:explode'"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("explode"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace arwb

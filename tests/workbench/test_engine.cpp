@@ -1,0 +1,150 @@
+// The workbench's worker (src/app/engine.hpp) without a window: it publishes frames, holds still when frozen,
+// re-detects a frozen frame when the parameters change, and falls back to the synthetic scene when its source
+// goes away while running.
+#include "workbench/engine.hpp"
+#include "synth/synth.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+namespace arwb {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Logged {
+  std::mutex m;
+  std::vector<std::pair<int, std::string>> lines;
+  Engine::LogFn fn() {
+    return [this](int level, const std::string& s) {
+      std::lock_guard lock(m);
+      lines.emplace_back(level, s);
+    };
+  }
+  bool has(int level, const std::string& part) {
+    std::lock_guard lock(m);
+    for (const auto& [l, s] : lines)
+      if (l == level && s.find(part) != std::string::npos) return true;
+    return false;
+  }
+};
+
+EngineConfig synthetic_config() {
+  EngineConfig c;
+  c.acquisition.fps_cap = 50;
+  return c;
+}
+
+TEST(Engine, PublishesDetectedFramesOfTheSyntheticScene) {
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  e.start();
+  auto f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  f = e.wait_newer(f->index, 5.0);   // a second, newer frame arrives
+  ASSERT_TRUE(f);
+  EXPECT_GE(f->index, 2u);
+  EXPECT_EQ(f->image.size(), cv::Size(640, 480));
+  EXPECT_EQ(f->trace.level, TraceLevel::full);
+  EXPECT_FALSE(f->views[static_cast<size_t>(Stage::contours)].empty());
+  EXPECT_FALSE(f->truth.empty());
+  EXPECT_EQ(f->trace.markers.size(), f->truth.size());
+}
+
+TEST(Engine, FrozenHoldsTheFrameUntilNextFrameIsAsked) {
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  e.start();
+  ASSERT_TRUE(e.wait_newer(0, 5.0));
+  e.set_frozen(true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));   // let a frame already in flight land
+  const uint64_t held = e.latest()->index;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(e.latest()->index, held);
+  e.next_frame();
+  const auto next = e.wait_newer(held, 5.0);
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->index, held + 1);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(e.latest()->index, held + 1);
+}
+
+TEST(Engine, NewParametersRedetectTheFrozenFrame) {
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  e.start();
+  ASSERT_TRUE(e.wait_newer(0, 5.0));
+  e.set_frozen(true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto before = e.latest();
+  ASSERT_FALSE(before->trace.markers.empty());
+  DetectorParams p;
+  p.min_perimeter_px = 5000;   // longer than any marker's border here
+  e.set_params(p);
+  const auto after = e.wait_newer(before->index, 5.0);
+  ASSERT_TRUE(after);
+  EXPECT_TRUE(after->trace.markers.empty());
+  EXPECT_EQ(cv::norm(before->image, after->image, cv::NORM_INF), 0.0);   // the same frame, read again
+}
+
+TEST(Engine, SceneSettingsSurviveASwitchToAnotherSourceAndBack) {
+  test::TempDir tmp;
+  cv::imwrite(tmp.str("still.png"), cv::Mat(480, 640, CV_8UC3, cv::Scalar::all(128)));
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  SyntheticControls one;
+  one.markers = 1;
+  e.set_synthetic(one);
+  e.start();
+  auto f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  SourceSpec still;
+  still.kind = SourceKind::image;
+  still.path = tmp.str("still.png");
+  e.open_source(still);
+  for (int i = 0; i < 100 && (!f || f->source.kind != SourceKind::image); ++i) f = e.wait_newer(f->index, 0.1);
+  ASSERT_EQ(f->source.kind, SourceKind::image);
+  e.open_source(SourceSpec{});
+  for (int i = 0; i < 100 && f->source.kind != SourceKind::synthetic; ++i) f = e.wait_newer(f->index, 0.1);
+  ASSERT_EQ(f->source.kind, SourceKind::synthetic);
+  EXPECT_EQ(f->truth.size(), 1u) << "the new synthetic source got the scene's sliders";
+}
+
+TEST(Engine, FallsBackToTheSyntheticSceneWhenTheFolderGoes) {
+  test::TempDir tmp;
+  const std::string folder = tmp.str("shots");
+  fs::create_directories(folder);
+  const Dictionary d = make_aruco_original();
+  for (int i = 0; i < 3; ++i) {
+    cv::Mat img(480, 640, CV_8UC3, cv::Scalar::all(170));
+    draw_marker(img, d, 10 + i, project_square({320, 240}, 140, 10.0 * i, 0, 0, 800));
+    cv::imwrite(folder + "/" + std::to_string(i) + ".png", img);
+  }
+  Logged log;
+  EngineConfig c = synthetic_config();
+  c.source.kind = SourceKind::folder;
+  c.source.path = folder;
+  Engine e(c, log.fn());
+  e.set_playback({true, true, 8.0});   // eight images a second
+  e.start();
+  auto f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->source.kind, SourceKind::folder);
+  fs::remove_all(folder);
+  for (int i = 0; i < 100 && e.source().kind != SourceKind::synthetic; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_EQ(e.source().kind, SourceKind::synthetic);
+  EXPECT_TRUE(log.has(2, "shots")) << "the error names the folder";
+  f = e.wait_newer(e.latest()->index, 5.0);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->source.kind, SourceKind::synthetic);
+}
+
+}  // namespace
+}  // namespace arwb
