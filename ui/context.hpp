@@ -117,7 +117,7 @@ struct View {
   bool show_accepted = true;
   bool show_rejected = true;
   std::array<bool, kStageCount> show_rejected_stage{};  // per stage, when show_rejected
-  bool show_truth = false;       // synthetic scene: the exact corners
+  bool show_truth = false;       // synthetic source: the exact corners
   bool show_peer_opencv = true;  // when the peer ran
   bool show_peer_apriltag = true;
   // "Why isn't my marker detected?": the rectangle dragged on the live view (working-image pixels).

@@ -1,5 +1,5 @@
-// Source: where frames come from (synthetic scene, camera, video, image, folder), playback, the paper's
-// acquisition step (fps cap and resize), and the synthetic scene's sliders.
+// Source: where frames come from (synthetic source, camera, video, image, folder), playback, the paper's
+// acquisition step (fps cap and resize), and the synthetic source's sliders.
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
@@ -29,7 +29,7 @@ constexpr const char* kSizes[] = {"320x240", "640x480", "800x600", "1280x720", "
 void source_choice(Context& ctx, SourceViewState& st) {
   const SourceSpec& now = ctx.status.source;
   ImGui::Text("Source: %s", now.text().c_str());
-  if (ImGui::Button("Synthetic scene")) ctx.request(RequestKind::open_source, "synthetic");
+  if (ImGui::Button("Synthetic source")) ctx.request(RequestKind::open_source, "synthetic");
   ImGui::SameLine();
   ImGui::TextDisabled("(markers moving in 3D, with exact truth)");
 
@@ -122,14 +122,14 @@ void acquisition(Context& ctx) {
 void synthetic_controls(Context& ctx) {
   if (!ctx.frame || ctx.frame->source.kind != SourceKind::synthetic) return;
   SyntheticControls& c = ctx.settings.synthetic;
-  section("Synthetic scene");
+  section("Synthetic source");
   ImGui::Checkbox("animate", &c.animate);
   auto slider = [&](const char* label, double& v, float lo, float hi, const char* fmt) {
     float f = static_cast<float>(v);
     ImGui::SetNextItemWidth(180 * ctx.scale);
     if (ImGui::SliderFloat(label, &f, lo, hi, fmt)) v = f;
   };
-  if (c.animate) slider("speed##scene", c.speed, 0.0f, 4.0f, "%.2fx");
+  if (c.animate) slider("speed##synthetic", c.speed, 0.0f, 4.0f, "%.2fx");
   else slider("time", c.time_s, 0.0f, 120.0f, "%.1f s");
   slider("distance", c.distance_m, 0.2f, 3.0f, "%.2f m");
   slider("tilt", c.tilt_deg, 0.0f, 80.0f, "%.0f deg");
@@ -143,7 +143,7 @@ void synthetic_controls(Context& ctx) {
   ImGui::InputInt("first id", &c.first_id);
   c.first_id = std::max(0, c.first_id);
   ImGui::SetNextItemWidth(180 * ctx.scale);
-  if (ImGui::BeginCombo("dictionary##scene", c.dict.c_str())) {
+  if (ImGui::BeginCombo("dictionary##synthetic", c.dict.c_str())) {
     for (const std::string& n : dictionary_names()) {
       if (ImGui::Selectable(n.c_str(), n == c.dict)) c.dict = n;
     }

@@ -16,7 +16,7 @@ void draw_parameters(Context& ctx);   // the parameter table as sliders, reset, 
 void draw_timings(Context& ctx);      // ms per stage, fps, history plot
 void draw_dictionary(Context& ctx);   // markers of a dictionary, min distance, closest pairs
 void draw_peers(Context& ctx);        // OpenCV aruco and AprilTag on the same frame
-void draw_source(Context& ctx);       // source choice, playback, acquisition, synthetic scene controls
+void draw_source(Context& ctx);       // source choice, playback, acquisition, synthetic source controls
 void draw_tour(Context& ctx);         // the guided teaching tour
 void draw_why(Context& ctx);          // "why isn't my marker detected?" report and sweep
 void draw_log(Context& ctx);          // messages, warnings and errors

@@ -424,7 +424,7 @@ void App::set_presentation(bool on) {
 void App::draw_menu(GLFWwindow* window) {
   if (!ImGui::BeginMainMenuBar()) return;
   if (ImGui::BeginMenu("File")) {
-    if (ImGui::MenuItem("Synthetic scene")) requests.push_back({ui::RequestKind::open_source, "synthetic", 0, {}, {}});
+    if (ImGui::MenuItem("Synthetic source")) requests.push_back({ui::RequestKind::open_source, "synthetic", 0, {}, {}});
     if (ImGui::MenuItem("Open source...")) view.open[static_cast<size_t>(ui::Panel::source)] = true;
     if (ImGui::MenuItem("Snapshot", "S")) requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
     if (ImGui::MenuItem("Print marker sheet (PDF)")) {

@@ -1,5 +1,5 @@
 -- A museum room: each exhibit's marker shows its painting on the marker, a caption beside it, and marker 2
--- plays a short film next to itself. Works on the built-in synthetic scene (ids 0, 1, 2) and on printed
+-- plays a short film next to itself. Works on the built-in synthetic source (ids 0, 1, 2) and on printed
 -- ARUCO_ORIGINAL markers (`arwb markers --ids 0-5 --pdf museum.pdf`). The media were painted by
 -- `arwb make-media`.
 dictionary "ARUCO_ORIGINAL"

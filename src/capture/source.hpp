@@ -1,9 +1,9 @@
 // Frame sources and acquisition: where frames come from (camera, video file, image, folder of images, the
-// synthetic scene) and the paper's acquisition step (an fps cap and a resize, 20 fps and 640x480 by default).
+// synthetic source) and the paper's acquisition step (an fps cap and a resize, 20 fps and 640x480 by default).
 //
 // A source is pulled by one thread (the workbench's worker). It never throws: a failure is returned as a
 // SourceStatus with a message naming the device, file or frame, and the caller decides what to do (the
-// workbench logs it and falls back to the synthetic scene when the source is gone).
+// workbench logs it and falls back to the synthetic source when the source is gone).
 #pragma once
 
 

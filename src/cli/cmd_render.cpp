@@ -34,7 +34,7 @@ constexpr const char* kUsage =
     "(.mp4: H.264 where FFmpeg has it, else MPEG-4 part 2; .avi: MJPG) or PNG frames frame_000000.png upward\n"
     "into DIR. Needs no display.\n"
     "  --scene    a Lua scene or the paper's XML database (docs/scene-api.md)\n"
-    "  --input    a video, a folder of images (name order), one image, or the synthetic scene\n"
+    "  --input    a video, a folder of images (name order), one image, or the synthetic source\n"
     "  --frames   stop after N frames (needed for synthetic; default: the whole input, synthetic 100)\n"
     "  --fps      the scene's clock and the video's rate (default: the input video's, else 20)\n"
     "  --size     resize frames to WxH first, as the workbench's acquisition does (default: the input's size)\n"

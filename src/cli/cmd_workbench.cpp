@@ -16,7 +16,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
         "            [--scene FILE.lua|FILE.xml] [--actions 'N:verb[=arg];...']\n\n"
         "Opens the workbench window. --frames N draws N frames and exits; --screenshot writes the window to a PNG\n"
         "then; --stats prints one JSON line of figures at exit. Without --source it shows the first camera, or the\n"
-        "built-in synthetic scene when there is none. --scene loads a Lua scene or XML database (docs/scene-api.md)\n"
+        "built-in synthetic source when there is none. --scene loads a Lua scene or XML database (docs/scene-api.md)\n"
         "and reloads it whenever the file changes.\n"
         "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, source=SPEC,\n"
         "freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, sweep, tour[=STEP],\n"
@@ -27,8 +27,8 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
     return 0;
   }
   WorkbenchOptions o;
-  // No --source: the first camera when there is one (a failing one falls back to the synthetic scene, with a
-  // message), else the synthetic scene.
+  // No --source: the first camera when there is one (a failing one falls back to the synthetic source, with a
+  // message), else the synthetic source.
   const std::vector<int> cameras = list_cameras();
   const std::string source =
       args.value("--source", cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front()));

@@ -24,7 +24,7 @@ constexpr Subcommand kSubcommands[] = {
     {"synth", arwb::cmd_synth, "make synthetic photographs of markers with a truth.jsonl"},
     {"bench", arwb::cmd_bench, "compare arwb with OpenCV aruco and AprilTag on a synthetic set"},
     {"make-media", arwb::cmd_make_media, "paint the example scenes' pictures and clip (no downloads)"},
-    {"render", arwb::cmd_render, "composite a scene's media onto a video, images or the synthetic scene (no display)"},
+    {"render", arwb::cmd_render, "composite a scene's media onto a video, images or the synthetic source (no display)"},
 };
 
 void usage(std::FILE* to) {

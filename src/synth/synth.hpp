@@ -1,4 +1,4 @@
-// Synthetic scenes with exact ground truth: markers rendered through a homography with supersampling, and
+// Synthetic frames with exact ground truth: markers rendered through a homography with supersampling, and
 // photograph-like images for the benchmark (perspective, scale, rotation, blur, noise, light, shadows, JPEG,
 // clutter that looks like markers, and images with no marker at all).
 //
@@ -35,7 +35,7 @@ Quad project_square(cv::Point2d centre, double side_px, double roll_deg, double 
                     double focal_px);
 
 // False when marker `id` reads the same as itself turned, or as another marker in some rotation: its id or
-// orientation cannot be told, so synthetic scenes skip it.
+// orientation cannot be told, so synthetic frames skip it.
 bool unambiguous(const Dictionary& dict, int id);
 
 struct SynthOptions {

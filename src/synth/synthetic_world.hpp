@@ -1,4 +1,4 @@
-// The built-in synthetic scene: markers moving in 3D in front of a pinhole camera, turning, coming closer and
+// The built-in synthetic source: markers moving in 3D in front of a pinhole camera, turning, coming closer and
 // going away, under changing light, with exact ground truth for every frame. It is what the workbench shows
 // when there is no camera, and what the GUI tests look at.
 #pragma once
@@ -14,10 +14,10 @@
 
 namespace arwb {
 
-// The scene's controls (the workbench's sliders). Ranges are in the comments; values outside are clamped.
+// The world's controls (the workbench's sliders). Ranges are in the comments; values outside are clamped.
 struct SyntheticControls {
-  bool animate = true;           // false: the scene holds still at `time_s`
-  double time_s = 0;             // scene clock when not animated
+  bool animate = true;           // false: the world holds still at `time_s`
+  double time_s = 0;             // the world's clock when not animated
   double speed = 1.0;            // 0 .. 4, animation speed
   double distance_m = 0.6;       // 0.2 .. 3, camera to the centre of the marker group
   double tilt_deg = 30;          // 0 .. 80, largest tilt of the markers out of the image plane
@@ -40,7 +40,7 @@ class SyntheticWorld {
  public:
   explicit SyntheticWorld(cv::Size size = {640, 480}, double focal_px = 600, uint64_t seed = 1);
 
-  // The scene at time t (seconds); the same controls and t give the same image (noise included).
+  // The world at time t (seconds); the same controls and t give the same image (noise included).
   SyntheticFrame render(double t) const;
 
   SyntheticControls& controls() { return controls_; }

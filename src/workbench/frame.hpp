@@ -40,7 +40,7 @@ struct Frame {
   std::array<cv::Mat, kStageCount> thumbs;
   cv::Mat image_thumb;
   std::vector<PeerDetections> peers;
-  std::vector<TruthMarker> truth;   // synthetic scene only, in working-image pixels
+  std::vector<TruthMarker> truth;   // synthetic source only, in working-image pixels
   SourceInfo source;
   double capture_ms = 0;      // reading the source and acquisition
   double detect_ms = 0;       // Detector::detect, trace included

@@ -1,4 +1,4 @@
-// The detector end to end on synthetic scenes with exact truth: many poses, negatives, bit errors, corner
+// The detector end to end on synthetic frames with exact truth: many poses, negatives, bit errors, corner
 // accuracy, thread-count independence, multiple dictionaries and the trace.
 #include "detect/detector.hpp"
 #include "synth/synth_set.hpp"

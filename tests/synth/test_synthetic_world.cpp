@@ -1,4 +1,4 @@
-// Tests for core/scene: the built-in animated synthetic scene. Its truth is checked against arwb's own detector,
+// Tests for synth/synthetic_world: the built-in animated synthetic world. Its truth is checked against arwb's own detector,
 // so a wrong corner order, an off-by-half-pixel projection or a marker drawn but not listed shows up here.
 #include "detect/detector.hpp"
 #include "synth/synthetic_world.hpp"

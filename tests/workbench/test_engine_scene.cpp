@@ -1,4 +1,4 @@
-// Scenes in the workbench's worker, without a window: media placed on the synthetic scene's markers, the file
+// Scenes in the workbench's worker, without a window: media placed on the synthetic source's markers, the file
 // reloaded when it changes on disk (a broken edit keeps the last good scene), and a runaway callback or a
 // memory bomb stopped with a message while frames keep coming.
 #include "workbench/engine.hpp"
