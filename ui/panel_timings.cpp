@@ -248,7 +248,7 @@ void draw_timings(Context& ctx) {
   }
   ImGui::SameLine(0, 24.0f * ctx.scale);
   ImGui::Text("capture %.2f ms", f.capture_ms);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Reading the source and the acquisition resize.");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Reading the source; acquisition's resize is the acquisition stage.");
   ImGui::TextDisabled("working image %dx%d, trace level %s", f.trace.work_width, f.trace.work_height,
                       std::string(trace_level_name(f.trace.level)).c_str());
   stage_table(ctx, f.trace);

@@ -299,9 +299,11 @@ void App::handle_requests() {
         break;
       }
       case ui::RequestKind::load_preset: {
-        std::vector<std::string> errors;
+        std::vector<std::string> errors, notes;
         DetectorParams p = settings.params;
-        if (load_params_yaml(r.text, p, &errors)) {
+        const bool ok = load_params_yaml(r.text, p, &errors, &notes);
+        for (const auto& n : notes) warn("preset: " + n);
+        if (ok) {
           settings.params = p;
           info("preset: loaded " + r.text);
         } else {

@@ -121,8 +121,10 @@ std::optional<std::vector<Dictionary>> dictionaries_option(const std::string& li
 
 bool load_params_option(const std::string& path, const char* command, DetectorParams& p) {
   if (path.empty()) return true;
-  std::vector<std::string> errors;
-  if (load_params_yaml(path, p, &errors)) return true;
+  std::vector<std::string> errors, notes;
+  const bool ok = load_params_yaml(path, p, &errors, &notes);
+  for (const auto& n : notes) std::fprintf(stderr, "%s: --params %s\n", command, n.c_str());
+  if (ok) return true;
   for (const auto& e : errors) std::fprintf(stderr, "%s: --params %s\n", command, e.c_str());
   return false;
 }

@@ -139,6 +139,7 @@ int cmd_render(int argc, char** argv) {
   DetectorParams params;
   if (!load_params_option(params_file, "render", params)) return 2;
   Detector detector(std::move(*dicts), params);
+  detector.set_acquisition(acq);
 
   auto source = open_source(spec, &err);
   if (!source) {
@@ -189,10 +190,9 @@ int cmd_render(int argc, char** argv) {
     Frame f;
     f.index = uint64_t(frames) + 1;
     f.time_s = t;
-    acquire(raw, acq, f.image);
-    if (f.image.channels() == 1) cv::cvtColor(f.image, f.image, cv::COLOR_GRAY2BGR);
     auto t0 = Clock::now();
-    detector.detect(f.image, &f.trace, TraceLevel::full, 1);
+    detector.detect(raw, &f.trace, TraceLevel::full, 1, &f.image);   // acquisition's resize is its first stage
+    if (f.image.channels() == 1) cv::cvtColor(f.image, f.image, cv::COLOR_GRAY2BGR);
     render_stage_views(f.image, f.trace, f.views);
     detect_ms += ms_since(t0);
     t0 = Clock::now();

@@ -1,7 +1,8 @@
 // Chains the stages of pipeline.hpp over one frame and fills the trace.
 // Step 1: find quads (acquisition .. nested_filter), whole-image work on the calling thread.
-// Step 2: read each quad (perspective_removal .. corner_refinement), per candidate, spread over threads.
+// Step 2: read each quad (corner_refinement .. identification), per candidate, spread over threads.
 // Step 3: resolve duplicates and map corners back to the input image.
+// Each stage's time and counts are its own: the trace lists the stages in the order they run here.
 #include "detect/detector.hpp"
 
 #include "detect/pipeline.hpp"
@@ -23,9 +24,9 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// The per-candidate stages, whose times are summed over candidates.
-constexpr Stage kCandidateStages[] = {Stage::perspective_removal, Stage::otsu, Stage::bit_grid,
-                                      Stage::border_check, Stage::identification, Stage::corner_refinement};
+// The per-candidate stages in the order read_one runs them, whose times are summed over candidates.
+constexpr Stage kCandidateStages[] = {Stage::corner_refinement, Stage::perspective_removal, Stage::otsu,
+                                      Stage::bit_grid, Stage::border_check, Stage::identification};
 constexpr int kCandidateStageCount = static_cast<int>(std::size(kCandidateStages));
 
 // What step 2 produces for one quad.
@@ -49,7 +50,8 @@ std::string fmt_msg(const char* f, double a, double b, double c = 0) {
 Detector::Detector(std::vector<Dictionary> dictionaries, DetectorParams params)
     : dictionaries_(std::move(dictionaries)), params_(params) {}
 
-std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, TraceLevel level, int threads) const {
+std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, TraceLevel level, int threads,
+                                     cv::Mat* acquired) const {
   const DetectorParams& p = params_;
   FrameTrace local;
   FrameTrace& t = trace ? *trace : local;
@@ -60,7 +62,10 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   const auto frame_start = Clock::now();
   t.width = image.cols;
   t.height = image.rows;
-  if (image.empty() || dictionaries_.empty()) return {};
+  if (image.empty() || dictionaries_.empty()) {
+    if (acquired) acquired->release();
+    return {};
+  }
 
   auto stage_start = Clock::now();
   auto close_stage = [&](Stage s, int in, int out, cv::Mat img = {}) {
@@ -70,9 +75,15 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   };
 
   // Step 1: find quads.
-  const cv::Mat grey = stages::acquire(image, p, &t.scale_x, &t.scale_y);
+  const cv::Mat grey = stages::acquire(image, acquisition_, &t.scale_x, &t.scale_y, acquired);
   t.work_width = grey.cols;
   t.work_height = grey.rows;
+  if (acquired) {
+    // The caller works in the acquired image: it is the input from here on.
+    t.width = grey.cols;
+    t.height = grey.rows;
+    t.scale_x = t.scale_y = 1;
+  }
   close_stage(Stage::acquisition, 1, 1, grey);
 
   const cv::Mat binary = stages::adaptive_threshold(grey, p);
@@ -181,8 +192,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       const int cells = n + 2;
       Quad q = quad;
       stages::refine_corners(grey, q, cells, p);
-      cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
       lap(0);
+      cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
+      lap(1);
       r.reached = 1;
       const stages::OtsuResult o = stages::otsu(warp);
       r.record.otsu_threshold = o.threshold;
@@ -191,7 +203,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         r.record.warp = warp;
         r.record.histogram.assign(o.histogram.begin(), o.histogram.end());
       }
-      lap(1);
+      lap(2);
       if (o.stddev < p.otsu_min_stddev) {
         r.record.fate = Rejection{Stage::otsu, "otsu_min_stddev", o.stddev, p.otsu_min_stddev,
                                   fmt_msg("grey stddev %.1f < otsu_min_stddev %.1f: uniform patch", o.stddev,
@@ -200,11 +212,11 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         r.reached = 2;
         cv::Mat bits = stages::sample_bits(warp, cells, o.threshold, p);
         if (full) r.record.bits = bits;
-        lap(2);
+        lap(3);
         r.record.border_errors = stages::border_errors(bits);
         r.record.border_cells = 4 * (cells - 1);
         const int allowed = static_cast<int>(p.border_max_error_rate * r.record.border_cells);
-        lap(3);
+        lap(4);
         if (r.record.border_errors > allowed) {
           r.reached = 3;
           r.record.fate = Rejection{Stage::border_check, "border_max_error_rate", double(r.record.border_errors),
@@ -230,7 +242,6 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
           const Dictionary& d = dictionaries_[size_t(nearest_dict)];
           r.record.dict = d.name();
           const int budget = stages::correction_budget(d, p);
-          lap(4);
           if (nearest.hamming > budget) {
             r.record.fate = Rejection{Stage::identification, "error_correction_rate", double(nearest.hamming),
                                       double(budget),
@@ -242,8 +253,8 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
             r.dict_index = nearest_dict;
             r.match = nearest;
             for (int j = 0; j < 4; ++j) r.corners[size_t(j)] = q[size_t((j + nearest.rotation) % 4)];
-            lap(5);
           }
+          lap(5);
         }
       }
       if (r.reached > best.reached) best = std::move(r);
@@ -276,22 +287,23 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   read.insert(read.end(), retry.begin(), retry.end());
 
   if (timed) {
-    // Counts: how many readings entered each per-candidate stage and how many left it.
+    // Counts: how many readings entered each per-candidate stage and how many left it (the next one's entry).
     std::array<int, kCandidateStageCount + 1> entered{};
     std::array<double, kCandidateStageCount> ms{};
     for (int k : read) {
       const Reading& r = readings[size_t(k)];
       for (int s = 0; s < kCandidateStageCount; ++s) ms[size_t(s)] += r.ms[size_t(s)];
-      // reached: 1 warped, 2 past otsu, 3 border rejected, 4 identification tried, 5 identified
+      // reached: 1 refined and warped, 2 past otsu, 3 border rejected, 4 identification tried, 5 identified.
+      // corner_refinement and perspective_removal drop nothing.
       entered[0]++;
-      if (r.reached >= 1) entered[1]++;
-      if (r.reached >= 2) entered[2]++, entered[3]++;
-      if (r.reached >= 4) entered[4]++;
-      if (r.reached >= 5) entered[5]++, entered[6]++;
+      if (r.reached >= 1) entered[1]++, entered[2]++;
+      if (r.reached >= 2) entered[3]++, entered[4]++;
+      if (r.reached >= 4) entered[5]++;
+      if (r.reached >= 5) entered[6]++;
     }
     for (int s = 0; s < kCandidateStageCount; ++s)
       t.stages.push_back(StageRecord{kCandidateStages[s], ms[size_t(s)], entered[size_t(s)],
-                                     s + 1 < kCandidateStageCount ? entered[size_t(s + 1)] : entered[size_t(s)], {}});
+                                     entered[size_t(s + 1)], {}});
     stage_start = Clock::now();
   }
 

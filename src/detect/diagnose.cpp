@@ -279,28 +279,14 @@ std::vector<double> side_values(const ParamInfo& info, double cur, int dir) {
 struct ParamValues {
   const ParamInfo* info = nullptr;
   double cur = 0;       // as set
-  double effective = 0; // as the detector sees it (resize 0 means the frame's size)
   std::vector<double> down, up;
 };
 
-ParamValues values_for(const ParamInfo& info, const DetectorParams& p, cv::Size frame) {
+// The resize is not tried: it is acquisition's (one resize, before the frame reaches the detector's table).
+ParamValues values_for(const ParamInfo& info, const DetectorParams& p) {
   ParamValues pv;
   pv.info = &info;
-  pv.cur = pv.effective = get_param(p, info);
-  const bool rw = std::strcmp(info.name, "resize_width") == 0, rh = std::strcmp(info.name, "resize_height") == 0;
-  if (rw || rh) {
-    // A resize is tried at a few scales of the frame, not stepped pixel by pixel.
-    if (pv.cur <= 0) pv.effective = rw ? frame.width : frame.height;
-    for (double s : {0.75, 0.5}) {
-      const double v = std::round(pv.effective * s);
-      if (v >= 16 && v < pv.effective) pv.down.push_back(v);
-    }
-    for (double s : {1.5, 2.0}) {
-      const double v = std::round(pv.effective * s);
-      if (v <= info.max_value && v > pv.effective) pv.up.push_back(v);
-    }
-    return pv;
-  }
+  pv.cur = get_param(p, info);
   pv.down = side_values(info, pv.cur, -1);
   pv.up = side_values(info, pv.cur, +1);
   return pv;
@@ -328,7 +314,7 @@ SweepResult sweep_region(const cv::Mat& image, const Detector& detector, cv::Rec
   FrameTrace t0;
   const std::vector<Marker> before = det.detect(image, &t0, TraceLevel::off);
   res.runs = 1;
-  // Region and marker centres in the working pixels of the current parameters, whatever a trial resizes to.
+  // Region and marker centres in the working pixels (the detector's acquisition, which no trial changes).
   const double sx = t0.scale_x, sy = t0.scale_y;
   const cv::Rect2f r = clip_region(region, t0.work_width, t0.work_height);
   const cv::Point2f rc(r.x + r.width / 2, r.y + r.height / 2);
@@ -353,10 +339,10 @@ SweepResult sweep_region(const cv::Mat& image, const Detector& detector, cv::Rec
 
   const auto table = param_table();
   std::vector<ParamValues> values;
-  for (const auto& info : table) values.push_back(values_for(info, base, image.size()));
+  for (const auto& info : table) values.push_back(values_for(info, base));
   auto cost = [&](int i, double v) {
     const ParamInfo& info = *values[size_t(i)].info;
-    return std::fabs(v - values[size_t(i)].effective) / (info.max_value - info.min_value);
+    return std::fabs(v - values[size_t(i)].cur) / (info.max_value - info.min_value);
   };
 
   std::vector<Trial> singles;
@@ -405,9 +391,9 @@ SweepResult sweep_region(const cv::Mat& image, const Detector& detector, cv::Rec
       const int i = which == 0 ? t.a : t.b;
       double& v = which == 0 ? t.va : t.vb;
       const ParamValues& pv = values[size_t(i)];
-      const auto& side = v < pv.effective ? pv.down : pv.up;
+      const auto& side = v < pv.cur ? pv.down : pv.up;
       for (double closer : side) {
-        if (std::fabs(closer - pv.effective) >= std::fabs(v - pv.effective)) break;
+        if (std::fabs(closer - pv.cur) >= std::fabs(v - pv.cur)) break;
         if (cancel && cancel->load()) return t;
         DetectorParams p = base;
         if (!set_param(p, *values[size_t(t.a)].info, which == 0 ? closer : t.va) ||

@@ -16,10 +16,6 @@ using P = DetectorParams;
 #define ARWB_DBL(field, stage, unit, def, lo, hi, help) {#field, stage, unit, def, lo, hi, false, help, nullptr, &P::field}
 
 const ParamInfo kTable[] = {
-    ARWB_INT(resize_width, "acquisition", "px", 0, 0, 8192,
-             "Width the frame is resized to before detection; 0 keeps it. Smaller is faster, loses small markers."),
-    ARWB_INT(resize_height, "acquisition", "px", 0, 0, 8192,
-             "Height the frame is resized to; 0 keeps the aspect ratio of resize_width (or the frame's size)."),
     ARWB_INT(threshold_window_px, "adaptive_threshold", "px", 17, 3, 201,
              "Side of the square whose mean each pixel is compared with (odd). Larger keeps thick borders whole, "
              "smaller separates touching dark regions."),
@@ -41,6 +37,15 @@ const ParamInfo kTable[] = {
     ARWB_DBL(min_marker_distance_rate, "nested_filter", "rate", 0.05, 0, 1,
              "Two quads whose corners are closer than this fraction of the smaller perimeter are one candidate; "
              "the outer one is kept."),
+    ARWB_INT(corner_refinement, "corner_refinement", "", 1, 0, 1,
+             "1 refines the four corners to subpixel accuracy on the grey image; 0 keeps the polygon's corners."),
+    ARWB_INT(subpix_window_px, "corner_refinement", "px", 5, 1, 20,
+             "How far each edge profile reaches either side of a side: at most this + 1 px and 0.6 of a cell."),
+    ARWB_INT(subpix_max_iterations, "corner_refinement", "", 1, 1, 50,
+             "Passes of the edge fit. More re-profile across the sides the last pass found: corners about 25% more "
+             "precise on the bench set, detection about 15% slower."),
+    ARWB_DBL(subpix_epsilon_px, "corner_refinement", "px", 0.05, 0.001, 1,
+             "Refinement stops when no corner moved more than this in a pass."),
     ARWB_INT(warp_cell_px, "perspective_removal", "px", 4, 1, 32,
              "Pixels per cell in the frontal view. More samples each cell better, costs time."),
     ARWB_DBL(warp_margin_rate, "perspective_removal", "rate", 0.13, 0, 0.45,
@@ -51,15 +56,6 @@ const ParamInfo kTable[] = {
              "Share of border cells allowed to be white. Higher tolerates occlusion and glare, and more clutter."),
     ARWB_DBL(error_correction_rate, "identification", "rate", 0.6, 0, 1,
              "Share of the dictionary's correction budget used: bits that may be wrong = rate x max correction."),
-    ARWB_INT(corner_refinement, "corner_refinement", "", 1, 0, 1,
-             "1 refines the four corners to subpixel accuracy on the grey image; 0 keeps the polygon's corners."),
-    ARWB_INT(subpix_window_px, "corner_refinement", "px", 5, 1, 20,
-             "How far each edge profile reaches either side of a side: at most this + 1 px and 0.6 of a cell."),
-    ARWB_INT(subpix_max_iterations, "corner_refinement", "", 1, 1, 50,
-             "Passes of the edge fit. More re-profile across the sides the last pass found: corners about 25% more "
-             "precise on the bench set, detection about 15% slower."),
-    ARWB_DBL(subpix_epsilon_px, "corner_refinement", "px", 0.05, 0.001, 1,
-             "Refinement stops when no corner moved more than this in a pass."),
 };
 
 #undef ARWB_INT
@@ -108,9 +104,13 @@ bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::stri
   return true;
 }
 
-bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors) {
+bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors,
+                      std::vector<std::string>* notes) {
   auto report = [&](const std::string& msg) {
     if (errors) errors->push_back(path + ": " + msg);
+  };
+  auto note = [&](const std::string& msg) {
+    if (notes) notes->push_back(path + ": " + msg);
   };
   DetectorParams next = out;
   bool ok = true;
@@ -138,6 +138,19 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
     for (const auto& node : root) {
       const std::string key = node.name();
       const ParamInfo* info = find_param(key);
+      if (!info && (key == "resize_width" || key == "resize_height")) {
+        // Once a second resize inside the detector; now the one resize is acquisition's. 0 (every shipped preset)
+        // meant "no second resize", which is what happens; anything else is named so that nothing changes unseen.
+        const double v = (node.isInt() || node.isReal()) ? node.real() : -1;
+        if (v == 0)
+          note(key + ": 0 is no longer needed: the detector does not resize again; the one resize is "
+                     "acquisition's (arwb --resize WxH, arwb render --size WxH, the Source panel)");
+        else
+          note(key + " = " + (v < 0 ? std::string("?") : fmt(v)) +
+               " is not applied: the detector no longer resizes; set acquisition's resize instead "
+               "(arwb --resize WxH, arwb render --size WxH, the Source panel)");
+        continue;
+      }
       if (!info) {
         report("unknown parameter '" + key + "'");
         ok = false;

@@ -9,10 +9,9 @@
 
 namespace arwb {
 
+// Acquisition's resize is not here: it is the source's acquisition setting (capture/source.hpp), one for the
+// workbench, the CLI and the detector.
 struct DetectorParams {
-  // acquisition
-  int resize_width = 0;              // 0: keep the frame's size
-  int resize_height = 0;
   // adaptive_threshold
   int threshold_window_px = 0;       // filled from the table's defaults by the constructor
   double threshold_offset = 0;
@@ -25,6 +24,11 @@ struct DetectorParams {
   int min_border_distance_px = 0;
   // nested_filter
   double min_marker_distance_rate = 0;
+  // corner_refinement
+  int corner_refinement = 0;         // 0 off, 1 on
+  int subpix_window_px = 0;
+  int subpix_max_iterations = 0;
+  double subpix_epsilon_px = 0;
   // perspective_removal
   int warp_cell_px = 0;
   double warp_margin_rate = 0;
@@ -34,11 +38,6 @@ struct DetectorParams {
   double border_max_error_rate = 0;
   // identification
   double error_correction_rate = 0;
-  // corner_refinement
-  int corner_refinement = 0;         // 0 off, 1 on
-  int subpix_window_px = 0;
-  int subpix_max_iterations = 0;
-  double subpix_epsilon_px = 0;
 
   DetectorParams();  // every field at its table default
   bool operator==(const DetectorParams&) const = default;
@@ -67,7 +66,10 @@ bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::stri
 
 // YAML presets (OpenCV FileStorage YAML): a map of name: value. Loading checks every key against the table:
 // unknown names and out-of-range values are errors naming the file and the key; nothing is changed then.
-bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors);
+// Presets written before the resize became acquisition's still load: their resize_width and resize_height are
+// not applied, and `notes` says so and where the resize is set now.
+bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors,
+                      std::vector<std::string>* notes = nullptr);
 bool save_params_yaml(const std::string& path, const DetectorParams& p, std::string* error = nullptr);
 
 }  // namespace arwb

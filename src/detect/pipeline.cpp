@@ -24,25 +24,29 @@ Rejection reject(Stage s, std::string_view param, double value, double limit, st
 
 // [SECTION] acquisition
 
-cv::Mat acquire(const cv::Mat& input, const DetectorParams& p, double* scale_x, double* scale_y) {
+namespace {
+cv::Mat to_grey(const cv::Mat& input) {
   cv::Mat grey;
   if (input.channels() == 3) cv::cvtColor(input, grey, cv::COLOR_BGR2GRAY);
   else if (input.channels() == 4) cv::cvtColor(input, grey, cv::COLOR_BGRA2GRAY);
   else grey = input;
   if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
-  *scale_x = *scale_y = 1.0;
-  if (p.resize_width > 0 || p.resize_height > 0) {
-    int w = p.resize_width, h = p.resize_height;
-    if (w == 0) w = static_cast<int>(std::lround(grey.cols * double(h) / grey.rows));
-    if (h == 0) h = static_cast<int>(std::lround(grey.rows * double(w) / grey.cols));
-    if (w != grey.cols || h != grey.rows) {
-      cv::Mat resized;
-      cv::resize(grey, resized, cv::Size(std::max(w, 1), std::max(h, 1)), 0, 0, cv::INTER_AREA);
-      *scale_x = double(grey.cols) / resized.cols;
-      *scale_y = double(grey.rows) / resized.rows;
-      grey = resized;
-    }
+  return grey;
+}
+}  // namespace
+
+cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x, double* scale_y,
+                cv::Mat* acquired) {
+  const cv::Size size = acquisition_size(input.size(), a);
+  *scale_x = double(input.cols) / size.width;
+  *scale_y = double(input.rows) / size.height;
+  if (acquired) {
+    arwb::acquire(input, a, *acquired);
+    return to_grey(*acquired);
   }
+  // Nobody shows the resized colour frame: resizing the grey one is the same step with a third of the work.
+  cv::Mat grey = to_grey(input);
+  if (size != grey.size()) arwb::acquire(grey, a, grey);
   return grey;
 }
 

@@ -2,6 +2,7 @@
 // detector.cpp chains them and fills the trace; tests call them directly on crafted images.
 #pragma once
 
+#include "capture/source.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/params.hpp"
 #include "detect/trace.hpp"
@@ -13,8 +14,11 @@
 
 namespace arwb::stages {
 
-// acquisition: grey, resized when params ask for it. scale_x/scale_y: input pixels per output pixel.
-cv::Mat acquire(const cv::Mat& input, const DetectorParams& p, double* scale_x, double* scale_y);
+// acquisition: the frame resized as acquisition says (capture/source.hpp) and made grey. scale_x/scale_y: input
+// pixels per output pixel. `acquired`, when given, receives the resized frame in its own channels (a copy when
+// nothing was resized), for callers that show it; the grey is then made from it.
+cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x, double* scale_y,
+                cv::Mat* acquired = nullptr);
 
 // adaptive_threshold: 255 where a pixel is darker than its window mean by more than threshold_offset.
 cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p);
@@ -65,7 +69,8 @@ uint64_t inner_code(const cv::Mat& bits);
 // The largest Hamming distance accepted for a dictionary under these parameters.
 int correction_budget(const Dictionary& dict, const DetectorParams& p);
 
-// corner_refinement: the four corners refined to subpixel accuracy on the grey image.
+// corner_refinement: the four corners refined to subpixel accuracy on the grey image. The detector runs it on each
+// quad before perspective_removal, so that the frontal view's cell grid lines up with the printed cells.
 void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p);
 
 }  // namespace arwb::stages

@@ -17,20 +17,21 @@
 
 namespace arwb {
 
-// The pipeline's stages in order. Their names (stage_name) are used unchanged in the trace, the UI, Lua and docs.
+// The pipeline's stages in the order the detector runs them. Their names (stage_name) are used unchanged in the
+// trace, the UI, Lua, the tour and docs, always in this order.
 enum class Stage {
-  acquisition,          // grey conversion and optional resize
+  acquisition,          // acquisition's resize (capture/source.hpp) and the grey conversion
   adaptive_threshold,   // dark-against-neighbourhood binary image
   contours,             // borders of the binary regions
   size_filter,          // drop contours too short or too long
   quad_fit,             // approximate to convex quadrilaterals
   nested_filter,        // merge quads that trace the same border twice, keeping the outer one
+  corner_refinement,    // subpixel corners, before the warp so that the cell grid lines up with the printed cells
   perspective_removal,  // homography to a frontal view
   otsu,                 // global threshold of the frontal view
   bit_grid,             // one bit per cell
   border_check,         // the outer ring of cells must be black
   identification,       // inner bits against the dictionary in 4 rotations, within a Hamming budget
-  corner_refinement,    // subpixel corners
   duplicates,           // one marker per id and place
   accepted,             // not a stage: the fate of a candidate that became a marker
 };
@@ -98,7 +99,7 @@ struct CandidateRecord {
 struct FrameTrace {
   TraceLevel level = TraceLevel::off;
   int width = 0, height = 0;              // the input image
-  int work_width = 0, work_height = 0;    // after acquisition's resize
+  int work_width = 0, work_height = 0;    // after acquisition's resize (the working image)
   double scale_x = 1, scale_y = 1;        // input pixels per working pixel
   double total_ms = 0;
   std::vector<StageRecord> stages;                  // in pipeline order (summary, full)

@@ -192,6 +192,7 @@ void Engine::run() {
       if (auto dicts = parse_dictionaries(list, &err)) {
         w.config.dictionaries = *p.dictionaries;
         w.detector.emplace(std::move(*dicts), w.config.params);
+        w.detector->set_acquisition(w.config.acquisition);
         w.redetect = true;
       } else {
         log_(2, "dictionaries: " + err);
@@ -199,6 +200,7 @@ void Engine::run() {
     }
     if (!w.detector) {
       w.detector.emplace(std::vector<Dictionary>{make_aruco_original()}, w.config.params);
+      w.detector->set_acquisition(w.config.acquisition);
     }
     if (p.params) {
       w.config.params = *p.params;
@@ -207,6 +209,7 @@ void Engine::run() {
     }
     if (p.acquisition) {
       w.config.acquisition = *p.acquisition;
+      w.detector->set_acquisition(*p.acquisition);
       w.next_due = 0;
       w.redetect = true;
     }
@@ -288,18 +291,17 @@ void Engine::run() {
       f->index = ++w.index;
       f->time_s = now;
       f->source = w.info;
-      const auto a0 = Clock::now();
-      acquire(w.raw, w.config.acquisition, f->image);
+      f->capture_ms = w.capture_ms;
+      // Acquisition's resize is the detector's first stage, timed in the trace; the frame shows its result.
+      const auto d0 = Clock::now();
+      w.detector->detect(w.raw, &f->trace, w.config.level, w.config.threads, &f->image);
+      f->detect_ms = ms_between(d0, Clock::now());
       if (f->image.channels() == 1) cv::cvtColor(f->image, f->image, cv::COLOR_GRAY2BGR);
-      f->capture_ms = w.capture_ms + ms_between(a0, Clock::now());
       const double sx = double(f->image.cols) / w.raw.cols, sy = double(f->image.rows) / w.raw.rows;
       for (TruthMarker t : w.raw_truth) {
         for (auto& c : t.corners) c = {float((c.x + 0.5) * sx - 0.5), float((c.y + 0.5) * sy - 0.5)};
         f->truth.push_back(std::move(t));
       }
-      const auto d0 = Clock::now();
-      w.detector->detect(f->image, &f->trace, w.config.level, w.config.threads);
-      f->detect_ms = ms_between(d0, Clock::now());
       if (w.config.level == TraceLevel::full) render_stage_views(f->image, f->trace, f->views);
       auto shrink = [](const cv::Mat& in, cv::Mat& out) {
         if (in.empty()) return;

@@ -1,6 +1,7 @@
 // The workbench's worker: capture and detection on their own thread. It pulls frames from the source at the
-// acquisition's fps cap, resizes them, runs the detector with the full trace (and the peer detectors when asked),
-// draws the stage views and publishes the finished Frame. The UI thread takes the latest one without waiting.
+// acquisition's fps cap, runs the detector with the full trace (its first stage is acquisition's resize; the Frame
+// shows the resized image) and the peer detectors when asked, draws the stage views and publishes the finished
+// Frame. The UI thread takes the latest one without waiting.
 //
 // Settings reach the worker through setters that only store the new value; the worker applies them before its
 // next frame. A source that fails is logged and replaced by the synthetic source, so the loop never stops.

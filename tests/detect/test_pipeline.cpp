@@ -21,16 +21,34 @@ cv::Mat canvas_with_marker(const Dictionary& d, int id, float x0, float y0, floa
 
 TEST(Stages, AcquisitionMakesGreyAndResizes) {
   cv::Mat bgr(100, 200, CV_8UC3, cv::Scalar(10, 20, 30));
-  DetectorParams p;
+  AcquisitionSettings a;
+  a.resize = false;
   double sx = 0, sy = 0;
-  cv::Mat g = stages::acquire(bgr, p, &sx, &sy);
+  cv::Mat g = stages::acquire(bgr, a, &sx, &sy);
   EXPECT_EQ(g.type(), CV_8UC1);
   EXPECT_EQ(g.size(), cv::Size(200, 100));
-  p.resize_width = 100;
-  g = stages::acquire(bgr, p, &sx, &sy);
+  a.resize = true;
+  a.size = {100, 0};
+  g = stages::acquire(bgr, a, &sx, &sy);
   EXPECT_EQ(g.size(), cv::Size(100, 50));  // aspect kept
   EXPECT_DOUBLE_EQ(sx, 2.0);
   EXPECT_DOUBLE_EQ(sy, 2.0);
+  // The paper's 640x480 (aspect not kept), and the resized colour frame for callers that show it.
+  a.size = {640, 480};
+  cv::Mat colour;
+  g = stages::acquire(bgr, a, &sx, &sy, &colour);
+  EXPECT_EQ(g.size(), cv::Size(640, 480));
+  EXPECT_EQ(g.type(), CV_8UC1);
+  EXPECT_EQ(colour.size(), cv::Size(640, 480));
+  EXPECT_EQ(colour.type(), CV_8UC3);
+  EXPECT_EQ(colour.at<cv::Vec3b>(240, 320), cv::Vec3b(10, 20, 30));
+  EXPECT_DOUBLE_EQ(sx, 200.0 / 640);
+  EXPECT_DOUBLE_EQ(sy, 100.0 / 480);
+  // Resize off: the colour frame is a copy, never the caller's buffer.
+  a.resize = false;
+  g = stages::acquire(bgr, a, &sx, &sy, &colour);
+  EXPECT_EQ(colour.size(), bgr.size());
+  EXPECT_NE(colour.data, bgr.data);
 }
 
 TEST(Stages, AdaptiveThresholdMarksDarkAgainstItsNeighbourhood) {
@@ -195,4 +213,40 @@ TEST(Params, BadPresetsChangeNothingAndNameFileAndKey) {
   EXPECT_FALSE(load_params_yaml(dir.str("broken.yml"), p, &errors));
   ASSERT_FALSE(errors.empty());
   EXPECT_NE(errors[0].find("broken.yml"), std::string::npos);
+}
+
+// Presets from before the resize became acquisition's still load; their resize keys are named in a note, never
+// silently applied or dropped.
+TEST(Params, OldPresetsWithResizeKeysLoadWithANote) {
+  test::TempDir dir;
+  test::write_file(dir.str("old.yml"), "resize_width: 0\nresize_height: 0\nthreshold_offset: 9\n");
+  DetectorParams p;
+  std::vector<std::string> errors, notes;
+  ASSERT_TRUE(load_params_yaml(dir.str("old.yml"), p, &errors, &notes));
+  EXPECT_TRUE(errors.empty());
+  EXPECT_EQ(p.threshold_offset, 9);
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_NE(notes[0].find("old.yml: resize_width"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("--resize"), std::string::npos) << notes[0];
+
+  test::write_file(dir.str("small.yml"), "resize_width: 320\nwarp_cell_px: 6\n");
+  notes.clear();
+  ASSERT_TRUE(load_params_yaml(dir.str("small.yml"), p, &errors, &notes));
+  EXPECT_EQ(p.warp_cell_px, 6);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("resize_width = 320 is not applied"), std::string::npos) << notes[0];
+
+  // The shipped presets load without a note: they no longer name a resize.
+  for (const char* name : {"default.yml", "small-markers.yml"}) {
+    notes.clear();
+    errors.clear();
+    EXPECT_TRUE(load_params_yaml(std::string(ARWB_SOURCE_DIR) + "/assets/presets/" + name, p, &errors, &notes))
+        << name;
+    EXPECT_TRUE(notes.empty()) << name;
+  }
+  // Still an unknown key elsewhere is an error, and nothing changes.
+  test::write_file(dir.str("typo.yml"), "resize_width: 0\nthreshold_ofset: 3\n");
+  const DetectorParams before = p;
+  EXPECT_FALSE(load_params_yaml(dir.str("typo.yml"), p, &errors, &notes));
+  EXPECT_EQ(p, before);
 }

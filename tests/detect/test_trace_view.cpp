@@ -207,10 +207,12 @@ TEST(TraceView, DetectionAtAReducedSizeDrawsAtTheWorkingSize) {
   const Dictionary d = make_aruco_original();
   std::vector<int> ids;
   const cv::Mat img = page_with_markers(d, 2, 2, 140, &ids);
-  DetectorParams p;
-  p.resize_width = 320;
+  Detector det({d});
+  AcquisitionSettings a;
+  a.size = {320, 0};
+  det.set_acquisition(a);
   FrameTrace t;
-  const auto markers = Detector({d}, p).detect(img, &t, TraceLevel::full);
+  const auto markers = det.detect(img, &t, TraceLevel::full);
   ASSERT_EQ(markers.size(), ids.size());
   ASSERT_EQ(t.work_width, 320);
   Views views;

@@ -146,5 +146,43 @@ TEST(Engine, FallsBackToTheSyntheticSceneWhenTheFolderGoes) {
   EXPECT_EQ(f->source.kind, SourceKind::synthetic);
 }
 
+// Acquisition's resize is the detector's first stage: a 1280x960 image becomes the 640x480 working frame, the
+// trace's acquisition stage times the resize, and the markers are drawn in the working frame's pixels.
+TEST(Engine, AcquisitionResizeIsTheDetectorsFirstStage) {
+  test::TempDir tmp;
+  const Dictionary d = make_aruco_original();
+  cv::Mat big(960, 1280, CV_8UC3, cv::Scalar::all(230));
+  draw_marker(big, d, 12, Quad{cv::Point2f(400, 300), {800, 300}, {800, 700}, {400, 700}});
+  cv::imwrite(tmp.str("big.png"), big);
+  EngineConfig c = synthetic_config();
+  c.source.kind = SourceKind::image;
+  c.source.path = tmp.str("big.png");
+  Logged log;
+  Engine e(c, log.fn());
+  e.start();
+  auto f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->source.kind, SourceKind::image);
+  EXPECT_EQ(f->source.size, cv::Size(1280, 960));
+  EXPECT_EQ(f->image.size(), cv::Size(640, 480));
+  EXPECT_EQ(f->trace.work_width, 640);
+  EXPECT_EQ(f->trace.width, 640);
+  ASSERT_NE(f->trace.stage(Stage::acquisition), nullptr);
+  EXPECT_GT(f->trace.stage(Stage::acquisition)->ms, 0);
+  ASSERT_EQ(f->trace.markers.size(), 1u);
+  EXPECT_NEAR(f->trace.markers[0].corners[0].x, 200 - 0.25, 1.0);   // (400 + 0.5) / 2 - 0.5
+  EXPECT_NEAR(f->trace.markers[0].corners[2].y, 350 - 0.25, 1.0);
+
+  // Resize off: the frame is worked at its own size.
+  AcquisitionSettings off = c.acquisition;
+  off.resize = false;
+  e.set_acquisition(off);
+  for (int i = 0; i < 100 && f->image.cols != 1280; ++i) f = e.wait_newer(f->index, 0.1);
+  EXPECT_EQ(f->image.size(), cv::Size(1280, 960));
+  EXPECT_EQ(f->trace.work_width, 1280);
+  ASSERT_EQ(f->trace.markers.size(), 1u);
+  EXPECT_NEAR(f->trace.markers[0].corners[0].x, 400, 1.0);
+}
+
 }  // namespace
 }  // namespace arwb
