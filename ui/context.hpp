@@ -1,6 +1,6 @@
 // What every panel is handed each UI frame. Panels are immediate-mode drawers: they read the latest finished
 // frame through a const pointer, edit the user's settings and their own view state, and ask for actions by
-// appending requests. They hold no algorithm and never talk to the worker thread; the workbench (src/app)
+// appending requests. They hold no algorithm and never talk to the worker thread; the workbench (ui/window.cpp)
 // forwards edited settings and requests to it after the panels are drawn.
 #pragma once
 

@@ -175,11 +175,7 @@ void region_section(Context& ctx, InspectorState& st, const Frame& f, int index)
   }
   if (c.has_quad) {
     draw_quad(dl, m, c.quad, fate_colour(c.fate.stage, 0.8f), 3.0f * s, true);
-    ImVec2 mid{0, 0};
-    for (const auto& p : c.quad) {
-      const ImVec2 q = m.to_screen(p);
-      mid = {mid.x + q.x * 0.25f, mid.y + q.y * 0.25f};
-    }
+    const ImVec2 mid = m.to_screen(quad_centre(c.quad));
     for (int k = 0; k < 4; ++k) {
       const ImVec2 q = m.to_screen(c.quad[static_cast<size_t>(k)]);
       const float dx = q.x - mid.x, dy = q.y - mid.y;

@@ -47,8 +47,7 @@ void overlay_markers(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   const float s = ctx.scale;
   for (const Marker& mk : ctx.frame->trace.markers) {
     draw_quad(dl, m, mk.corners, accepted_colour(), 2.5f * s, true);
-    cv::Point2f c(0, 0);
-    for (const auto& p : mk.corners) c += p * 0.25f;
+    const cv::Point2f c = quad_centre(mk.corners);
     char label[96];
     std::snprintf(label, sizeof label, "%d %s", mk.id, mk.dict.c_str());
     const ImVec2 at = m.to_screen(c);

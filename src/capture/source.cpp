@@ -1,6 +1,8 @@
 #include "capture/source.hpp"
 
 #include "capture/image_io.hpp"
+#include "capture/pixels.hpp"
+#include "capture/video_reader.hpp"
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -21,14 +23,10 @@ std::string file_name(const std::string& path) {
   return name.empty() ? path : name;
 }
 
-// Sources promise 8-bit BGR; cameras and files may give grey, BGRA or 16-bit frames.
-void to_bgr8(const cv::Mat& in, cv::Mat& out) {
-  cv::Mat m = in;
-  if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 256);
-  else if (m.depth() != CV_8U) m.convertTo(m, CV_8U);
-  if (m.channels() == 1) cv::cvtColor(m, out, cv::COLOR_GRAY2BGR);
-  else if (m.channels() == 4) cv::cvtColor(m, out, cv::COLOR_BGRA2BGR);
-  else m.copyTo(out);
+// Speeds outside 0.1 .. 8 (and NaN) are not playback speeds.
+Playback clamped(Playback p) {
+  p.speed = std::isfinite(p.speed) ? std::clamp(p.speed, 0.1, 8.0) : 1.0;
+  return p;
 }
 
 bool parse_int(std::string_view s, int* v) {
@@ -46,7 +44,7 @@ class CameraSource : public FrameSource {
     if (gone_) return {FrameStatus::gone, name() + ": no frame (unplugged?)"};
     try {
       if (cap_.read(frame_) && !frame_.empty()) {
-        to_bgr8(frame_, out);
+        to_bgr8(frame_).copyTo(out);  // copied: the next read decodes into frame_
         size_ = out.size();
         return {};
       }
@@ -79,18 +77,12 @@ class CameraSource : public FrameSource {
 // [SECTION] video
 
 // Plays in the caller's time: a fractional frame clock advances by elapsed time x fps x speed, and each call
-// shows the frame under the clock, grabbing past the ones in between. So a caller slower than the video skips
+// shows the frame under the clock, skipping past the ones in between. So a caller slower than the video skips
 // frames instead of slowing it down.
 class VideoSource : public FrameSource {
  public:
-  VideoSource(std::string path, cv::VideoCapture cap, cv::Mat first)
-      : path_(std::move(path)), name_(file_name(path_)), cap_(std::move(cap)), frame_(std::move(first)) {
-    fps_ = cap_.get(cv::CAP_PROP_FPS);
-    if (!std::isfinite(fps_) || fps_ <= 0 || fps_ > 1000) fps_ = 0;
-    const double n = cap_.get(cv::CAP_PROP_FRAME_COUNT);
-    count_ = std::isfinite(n) && n > 0 && n < 1e9 ? int(n) : 0;
-    size_ = frame_.size();
-  }
+  VideoSource(VideoReader reader, cv::Mat first)
+      : name_(file_name(reader.path())), reader_(std::move(reader)), frame_(std::move(first)) {}
 
   SourceStatus next(double now_s, cv::Mat& out) override {
     try {
@@ -104,17 +96,14 @@ class VideoSource : public FrameSource {
     SourceInfo i;
     i.kind = SourceKind::video;
     i.name = name_;
-    i.size = size_;
-    i.native_fps = fps_;
+    i.size = reader_.size();
+    i.native_fps = reader_.fps();
     i.position = pos_;
-    i.count = count_;
+    i.count = int(reader_.frame_count());
     return i;
   }
 
-  void set_playback(const Playback& p) override {
-    pb_ = p;
-    pb_.speed = std::isfinite(p.speed) ? std::clamp(p.speed, 0.1, 8.0) : 1.0;
-  }
+  void set_playback(const Playback& p) override { pb_ = clamped(p); }
   void step(int delta) override {
     pb_.playing = false;
     want_ = std::max(0, want_.value_or(pos_) + delta);
@@ -122,7 +111,7 @@ class VideoSource : public FrameSource {
   void seek(int position) override { want_ = std::max(0, position); }
 
  private:
-  double rate() const { return (fps_ > 0 ? fps_ : 25.0) * pb_.speed; }
+  double rate() const { return (reader_.fps() > 0 ? reader_.fps() : 25.0) * pb_.speed; }
 
   SourceStatus advance(double now_s, cv::Mat& out) {
     const double dt = have_last_ && std::isfinite(now_s) ? std::max(0.0, now_s - last_now_) : 0.0;
@@ -135,7 +124,8 @@ class VideoSource : public FrameSource {
     if (want_) {  // a step or seek: show that frame, and play on from it if playing
       int target = *want_;
       want_.reset();
-      if (count_ > 0 && target >= count_) {  // past the end: wrap when looping
+      const int64_t count = reader_.frame_count();
+      if (count > 0 && target >= count) {  // past the end: wrap when looping
         if (!pb_.loop) return {FrameStatus::end, {}};
         target = 0;
       }
@@ -163,48 +153,35 @@ class VideoSource : public FrameSource {
       frame_.copyTo(out);
       return {};
     }
-    if (target < next_ || target - next_ > 64) {
-      cap_.set(cv::CAP_PROP_POS_FRAMES, target);
-      next_ = target;
-    }
-    while (next_ < target) {  // grab decodes less than read; the frames in between are not shown
-      if (!cap_.grab()) return ended(next_);
-      ++next_;
-    }
-    cv::Mat f;
-    if (!cap_.read(f) || f.empty()) return ended(next_);
-    ++next_;
+    if (target < reader_.next_index() || target - reader_.next_index() > 64)
+      if (!reader_.seek(target)) return {FrameStatus::gone, reader_.error()};
+    while (reader_.next_index() < target)  // skipping decodes less than reading; these frames are not shown
+      if (const VideoReader::Read r = reader_.read(nullptr); r != VideoReader::Read::frame) return ended(r);
+    if (const VideoReader::Read r = reader_.read(&frame_); r != VideoReader::Read::frame) return ended(r);
     pos_ = target;
     at_end_ = false;
-    to_bgr8(f, frame_);
     frame_.copyTo(out);
     return {};
   }
 
-  // Frame `index` could not be read. Past the declared count (or near it: the count is an estimate) that is the
-  // end; well before it the file is truncated or corrupt, reported once, and the video ends there from now on.
-  SourceStatus ended(int index) {
+  // No frame where one was asked for: the end of the video, or (reported once) a truncated or corrupt file that
+  // ends there from now on, or a file that can no longer be read at all.
+  SourceStatus ended(VideoReader::Read r) {
     at_end_ = true;
     clock_ = pos_;
-    if (count_ > 0 && index < count_ - 2) {
-      const std::string msg = name_ + ": frame " + std::to_string(index) + " of " + std::to_string(count_) +
-                              " could not be read (truncated or corrupt)";
-      count_ = std::max(index, 1);
-      return {FrameStatus::error, msg};
-    }
-    if (count_ <= 0 || index < count_) count_ = std::max(index, 1);
+    if (reader_.next_index() == 0) return {FrameStatus::gone, reader_.error()};
+    if (r == VideoReader::Read::damaged) return {FrameStatus::error, reader_.error()};
     if (pb_.loop && pb_.playing) return {FrameStatus::same, {}};   // wraps on the next call
     return {FrameStatus::end, {}};
   }
 
-  std::string path_, name_;
-  cv::VideoCapture cap_;
-  cv::Mat frame_;          // the frame shown, index pos_
-  int pos_ = 0, next_ = 1, count_ = 0;   // frame shown, frame the capture reads next, frames in the file
+  std::string name_;
+  VideoReader reader_;
+  cv::Mat frame_;             // the frame shown, index pos_
+  int pos_ = 0;
   std::optional<int> want_;   // a step or seek to do on the next call
-  double fps_ = 0, clock_ = 0, last_now_ = 0;
+  double clock_ = 0, last_now_ = 0;
   bool have_last_ = false, shown_ = false, at_end_ = false;
-  cv::Size size_{};
   Playback pb_;
 };
 
@@ -259,10 +236,7 @@ class FolderSource : public FrameSource {
     i.item = file_name(files_[size_t(pos_)]);
     return i;
   }
-  void set_playback(const Playback& p) override {
-    pb_ = p;
-    pb_.speed = std::isfinite(p.speed) ? std::clamp(p.speed, 0.1, 8.0) : 1.0;
-  }
+  void set_playback(const Playback& p) override { pb_ = clamped(p); }
   void step(int delta) override { want_ = want_.value_or(pos_) + delta; }
   void seek(int position) override { want_ = std::clamp(position, 0, int(files_.size()) - 1); }
 
@@ -303,7 +277,7 @@ class FolderSource : public FrameSource {
     if (classify_path(folder_) != PathKind::folder) return {FrameStatus::gone, folder_ + ": folder is gone"};
     LoadedImage img = load_image(path);
     if (!img.ok()) return {FrameStatus::error, img.error};
-    to_bgr8(img.image, out);
+    to_bgr8(img.image).copyTo(out);
     size_ = out.size();
     return {};
   }
@@ -337,29 +311,21 @@ std::unique_ptr<FrameSource> open_camera(const SourceSpec& spec, std::string* er
 }
 
 std::unique_ptr<FrameSource> open_video(const SourceSpec& spec, std::string* error) {
-  cv::VideoCapture cap;
-  if (!cap.open(spec.path, cv::CAP_FFMPEG) || !cap.isOpened()) {
-    *error = spec.path + ": cannot open the video";
-    return nullptr;
-  }
   cv::Mat first;
-  if (!cap.read(first) || first.empty()) {
-    *error = spec.path + ": no frame could be read from the video";
+  Result<VideoReader> reader = VideoReader::open(spec.path, &first);
+  if (!reader) {
+    *error = reader.error();
     return nullptr;
   }
-  to_bgr8(first, first);
-  return std::make_unique<VideoSource>(spec.path, std::move(cap), std::move(first));
+  return std::make_unique<VideoSource>(std::move(*reader), std::move(first));
 }
-
 std::unique_ptr<FrameSource> open_image(const SourceSpec& spec, std::string* error) {
   LoadedImage img = load_image(spec.path);
   if (!img.ok()) {
     *error = img.error;
     return nullptr;
   }
-  cv::Mat bgr;
-  to_bgr8(img.image, bgr);
-  return std::make_unique<ImageSource>(spec.path, std::move(bgr));
+  return std::make_unique<ImageSource>(spec.path, to_bgr8(img.image));
 }
 
 std::unique_ptr<FrameSource> open_folder(const SourceSpec& spec, std::string* error) {

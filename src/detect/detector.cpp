@@ -311,21 +311,15 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   std::vector<size_t> accepted;
   for (int k : read)
     if (readings[size_t(k)].reached == 5) accepted.push_back(size_t(k));
-  auto perimeter = [](const Quad& q) {
-    double s = 0;
-    for (int i = 0; i < 4; ++i) s += cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)]);
-    return s;
-  };
   std::sort(accepted.begin(), accepted.end(), [&](size_t a, size_t b) {
-    const double pa = perimeter(readings[a].corners), pb = perimeter(readings[b].corners);
+    const double pa = quad_perimeter(readings[a].corners), pb = quad_perimeter(readings[b].corners);
     return pa != pb ? pa > pb : a < b;
   });
   std::vector<size_t> kept;
   std::vector<std::string> dup_reason(readings.size());
   for (size_t k : accepted) {
     const Reading& r = readings[k];
-    cv::Point2f centre(0, 0);
-    for (const auto& c : r.corners) centre += c * 0.25f;
+    const cv::Point2f centre = quad_centre(r.corners);
     bool drop = false;
     for (size_t o : kept) {
       const Reading& big = readings[o];

@@ -42,8 +42,7 @@ cv::Rect2f quad_box(const Quad& q) {
 
 // A marker's centre in working pixels (markers are stored in input pixels).
 cv::Point2f marker_centre_working(const Marker& m, double sx, double sy) {
-  cv::Point2f c(0, 0);
-  for (const auto& p : m.corners) c += p * 0.25f;
+  const cv::Point2f c = quad_centre(m.corners);
   return {float((c.x + 0.5) / sx - 0.5), float((c.y + 0.5) / sy - 0.5)};
 }
 

@@ -1,11 +1,12 @@
 #include "detect/params.hpp"
 
+#include "base/files.hpp"
+
 #include <opencv2/core.hpp>
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
+#include <utility>
 
 namespace arwb {
 namespace {
@@ -104,6 +105,9 @@ bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::stri
   return true;
 }
 
+// A parameter file is a few dozen lines; a larger file is not one.
+constexpr std::uintmax_t kMaxParamsBytes = 1u << 20;
+
 bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors,
                       std::vector<std::string>* notes) {
   auto report = [&](const std::string& msg) {
@@ -116,14 +120,12 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
   bool ok = true;
   try {
     // OpenCV's reader wants a "%YAML:1.0" first line; plain YAML as people write it gets one added.
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-      report("cannot read");
+    Result<std::string> text = read_text_file(path, kMaxParamsBytes);
+    if (!text) {
+      if (errors) errors->push_back(text.error());
       return false;
     }
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string yaml = text.str();
+    std::string yaml = std::move(*text);
     if (yaml.rfind("%YAML", 0) != 0) yaml = "%YAML:1.0\n---\n" + yaml;
     cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) {

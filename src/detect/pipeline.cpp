@@ -247,14 +247,6 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
 
 // [SECTION] nested_filter
 
-namespace {
-double quad_perimeter(const Quad& q) {
-  double s = 0;
-  for (int i = 0; i < 4; ++i) s += cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)]);
-  return s;
-}
-}  // namespace
-
 std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p) {
   // Thick borders give two contours for one marker (outer and inner edge of the thresholded line); keep the
   // outer one. Two quads are the same when, for some cyclic pairing of corners, their mean corner distance is
@@ -426,8 +418,7 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
   const double reach = std::clamp(0.6 * cell, 2.5, double(p.subpix_window_px) + 1.0);
   const double step = 0.5;
   const int samples = static_cast<int>(std::lround(2 * reach / step)) + 1;
-  cv::Point2f centre(0, 0);
-  for (const auto& c : corners) centre += c * 0.25f;
+  const cv::Point2f centre = quad_centre(corners);
 
   cv::Vec3d lines[4];  // a x + b y = c, (a, b) unit
   for (int i = 0; i < 4; ++i) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "detect/dictionary.hpp"
+#include "detect/quad.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -42,8 +43,6 @@ bool stage_from_name(std::string_view name, Stage* out);
 
 enum class TraceLevel { off, summary, full };
 std::string_view trace_level_name(TraceLevel level);
-
-using Quad = std::array<cv::Point2f, 4>;
 
 // A detected marker. Corners are in the input image's pixels (pixel centres at integer coordinates), the marker's
 // own top-left corner first, then clockwise as the marker is printed (OpenCV's order).

@@ -4,6 +4,8 @@
 // draw_chain), and buffers are pooled (ViewPool): the worker calls this every frame.
 #include "detect/trace_view.hpp"
 
+#include "capture/pixels.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -101,11 +103,11 @@ std::array<cv::Point, 4> quad_points(const Quad& q) {
   return {rounded(q[0]), rounded(q[1]), rounded(q[2]), rounded(q[3])};
 }
 
-// Any 8-bit image as BGR, in a pooled buffer (shares nothing with the input).
+// Any image as 8-bit BGR (scaled as capture scales every picture), in a pooled buffer (shares nothing with the
+// input).
 cv::Mat to_bgr(const cv::Mat& img) {
   if (img.empty()) return {};
-  cv::Mat src = img;
-  if (src.depth() != CV_8U) src.convertTo(src, CV_8U);
+  const cv::Mat src = to_8bit(img);
   cv::Mat out = pool().take(src.size(), CV_8UC3);  // the conversions below write into it (same size and type)
   switch (src.channels()) {
     case 1: cv::cvtColor(src, out, cv::COLOR_GRAY2BGR); break;
@@ -248,11 +250,8 @@ cv::Mat view_duplicates(const FrameTrace& t, const cv::Mat& dim) {
   dropped.draw(img, kMagenta);
   for (const auto& m : t.markers) {
     Quad w;
-    cv::Point2f centre(0, 0);
-    for (size_t j = 0; j < 4; ++j) {
-      w[j] = to_work(m.corners[j], t);
-      centre += w[j] * 0.25f;
-    }
+    for (size_t j = 0; j < 4; ++j) w[j] = to_work(m.corners[j], t);
+    const cv::Point2f centre = quad_centre(w);
     const auto pts = quad_points(w);
     // Corner 0: a filled square, as OpenCV's drawDetectedMarkers marks it, under the outline.
     cv::rectangle(img, pts[0] - cv::Point(3, 3), pts[0] + cv::Point(3, 3), kRed, cv::FILLED);

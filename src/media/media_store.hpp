@@ -1,6 +1,7 @@
-// Media as pixels: images decoded once and cached by path, video players, and the cards drawn for text and web
-// links. The scene asks the store on the worker thread; what it returns (MediaContent, core/media.hpp) is then
-// read by the UI thread to update textures, and by `arwb render` to composite offline.
+// Media as pixels: images decoded once and cached by path (here, media_store.cpp), video players (capture's
+// VideoReader behind a clock, video_player.cpp), and the cards drawn for text and web links (cards.cpp). The
+// scene asks the store on the worker thread; what it returns (MediaContent, track/media_spec.hpp) is then read
+// by the UI thread to update textures, and by `arwb render` to composite offline.
 //
 // Live mode: each video decodes on its own thread, paced by its own frame rate, so a slow script or UI never
 // stalls it. Offline mode: nothing runs in the background; set_clock decodes up to the asked time before it

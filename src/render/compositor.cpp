@@ -173,7 +173,6 @@ void Compositor::draw_quad(unsigned texture, const cv::Matx33d& image_to_uv, con
 }
 
 bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::vector<Overlay>& overlays) {
-  uploads_ = 0;
   if (frame.empty()) return false;
   // Nothing new (the same frame, no video moved on): the last result stands. In the workbench the UI draws two
   // or three times per detected frame, and a software renderer pays for every composite.
@@ -257,9 +256,7 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
     char key[64];
     std::snprintf(key, sizeof key, "content:%p", static_cast<const void*>(o.content.get()));
     const std::string name = o.media.kind == MediaKind::image ? "image:" + o.media.path : key;
-    const int before = media_.uploads_this_frame();
     const Texture& t = media_.get(name, *pixels, version, false, true);
-    uploads_ += media_.uploads_this_frame() - before;
     const cv::Matx33d inv = o.quad.H.inv();
     draw_quad(t.id(), inv, o.quad.corners, o.quad.uv_min, o.quad.uv_max, o.quad.opacity);
   }

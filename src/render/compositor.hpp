@@ -1,7 +1,7 @@
 // The paper's texture building and projection: the camera frame and every overlay's media as OpenGL textures,
 // drawn into an offscreen multisampled framebuffer of the frame's size and resolved into a texture the UI shows
 // (or read back as pixels by `arwb render`). The workbench and `arwb render` use this one class, fed by the same
-// placement code (core/placement.hpp), so a media lands on the same pixels on screen and in a rendered video.
+// placement code (track/placement.hpp), so a media lands on the same pixels on screen and in a rendered video.
 //
 // True perspective: the quad's two triangles only say which pixels to shade. Each fragment maps its own pixel
 // position through the inverse of the placement's homography to texture coordinates, so there is no seam or
@@ -43,8 +43,6 @@ class Compositor {
   cv::Mat read() const;
   int samples() const { return samples_; }
   const std::string& error() const { return error_; }
-  // Media textures uploaded by the last draw (a video's new frame, a changed text), for the timings panel.
-  int uploads() const { return uploads_; }
 
  private:
   bool ensure_program();
@@ -60,7 +58,6 @@ class Compositor {
   unsigned ms_fbo_ = 0, ms_rbo_ = 0, resolved_fbo_ = 0, resolved_tex_ = 0;
   Texture frame_tex_;
   TextureCache media_;
-  int uploads_ = 0;
   uint64_t last_sig_ = 0;   // the frame version and content versions of the last composite
   bool have_sig_ = false;
   std::string error_;

@@ -14,7 +14,7 @@ Texture::~Texture() {
 }
 
 Texture::Texture(Texture&& o) noexcept
-    : id_(std::exchange(o.id_, 0u)), width_(o.width_), height_(o.height_), version_(o.version_), uploads_(o.uploads_) {}
+    : id_(std::exchange(o.id_, 0u)), width_(o.width_), height_(o.height_), version_(o.version_) {}
 
 Texture& Texture::operator=(Texture&& o) noexcept {
   if (this != &o) {
@@ -23,7 +23,6 @@ Texture& Texture::operator=(Texture&& o) noexcept {
     width_ = o.width_;
     height_ = o.height_;
     version_ = o.version_;
-    uploads_ = o.uploads_;
   }
   return *this;
 }
@@ -59,22 +58,18 @@ void Texture::upload(const cv::Mat& image, uint64_t version, bool nearest, bool 
   width_ = src.cols;
   height_ = src.rows;
   version_ = version;
-  ++uploads_;
 }
 
 Texture& TextureCache::get(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest,
                            bool mipmaps) {
   Entry& e = entries_[key];
   e.last_used = frame_;
-  const int before = e.texture.uploads_;
   e.texture.upload(image, version, nearest, mipmaps);
-  uploads_ += e.texture.uploads_ - before;
   return e.texture;
 }
 
 void TextureCache::end_frame(int keep_frames) {
   ++frame_;
-  uploads_ = 0;
   for (auto it = entries_.begin(); it != entries_.end();) {
     if (frame_ - it->second.last_used > static_cast<uint64_t>(keep_frames)) it = entries_.erase(it);
     else ++it;

@@ -35,8 +35,6 @@ class Texture {
   unsigned id_ = 0;
   int width_ = 0, height_ = 0;
   uint64_t version_ = UINT64_MAX;
-  int uploads_ = 0;
-  friend class TextureCache;
 };
 
 // Textures by name ("frame", "stage:otsu", "warp:12"...). Textures not asked for during a number of UI frames
@@ -47,7 +45,6 @@ class TextureCache {
               bool mipmaps = false);
   // Call once per UI frame, after drawing.
   void end_frame(int keep_frames = 120);
-  int uploads_this_frame() const { return uploads_; }
   size_t size() const { return entries_.size(); }
 
  private:
@@ -57,7 +54,6 @@ class TextureCache {
   };
   std::unordered_map<std::string, Entry> entries_;
   uint64_t frame_ = 0;
-  int uploads_ = 0;
 };
 
 // The current framebuffer's pixels (the window's back buffer after drawing), BGR, top row first.

@@ -5,6 +5,7 @@
 // become Lua errors, tables are read with raw access, and Lua errors are raised only once the body's C++
 // objects are gone. Bad values never raise: a constructor returns a value carrying its error, and marker()
 // reports it with the line and skips that call, so the rest of the scene still works.
+#include "base/text.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/trace.hpp"
 #include "media/media_path.hpp"
@@ -610,18 +611,6 @@ const luaL_Reg kGlobals[] = {
     {nullptr, nullptr},
 };
 
-int levenshtein(std::string_view a, std::string_view b) {
-  std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = static_cast<int>(i);
-    for (size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
 }  // namespace
 
 // ---- shared with the runtime and the database ------------------------------------------------------------------
@@ -650,16 +639,8 @@ std::string check_id(const SceneDef& def, long long id) {
 }
 
 std::string did_you_mean(std::string_view word, const std::vector<std::string_view>& known) {
-  std::string_view best;
-  int best_d = 3;
-  for (std::string_view k : known) {
-    const int d = levenshtein(word, k);
-    if (d < best_d && d < static_cast<int>(std::max(word.size(), k.size()))) {
-      best_d = d;
-      best = k;
-    }
-  }
-  return best.empty() ? std::string() : "did you mean '" + std::string(best) + "'?";
+  const std::string best = nearest_name(word, known);
+  return best.empty() ? std::string() : "did you mean '" + best + "'?";
 }
 
 const MediaValue* test_media(lua_State* L, int idx) { return test_value<MediaValue>(L, idx, kMediaMeta); }

@@ -1,5 +1,7 @@
 #include "script/scene_runtime.hpp"
 
+#include "base/files.hpp"
+#include "media/contents.hpp"
 #include "media/media_store.hpp"
 #include "script/scene_model.hpp"
 
@@ -10,10 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 
 namespace arwb::script {
 namespace {
@@ -21,21 +21,6 @@ namespace {
 constexpr std::uintmax_t kMaxSceneBytes = 16u << 20;
 constexpr size_t kMaxConsoleText = 4000;
 constexpr size_t kCollapseWindow = 8;   // warnings and errors repeat within this many lines: counted, not repeated
-
-// A stage picture of the current frame as media.
-class StageContent : public MediaContent {
- public:
-  StageContent(std::shared_ptr<const cv::Mat> image, uint64_t version) : image_(std::move(image)), version_(version) {}
-  cv::Size size() const override { return image_->size(); }
-  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
-    if (version) *version = version_;
-    return image_;
-  }
-
- private:
-  std::shared_ptr<const cv::Mat> image_;
-  uint64_t version_;
-};
 
 // The frame's stage picture as BGR or BGRA. Colour views are shared, not copied: each Frame draws its views into
 // fresh buffers and never touches them after it is published.
@@ -45,7 +30,7 @@ std::shared_ptr<MediaContent> make_stage_content(const cv::Mat& view, uint64_t v
   if (view.channels() == 1) cv::cvtColor(view, *m, cv::COLOR_GRAY2BGR);
   else if (view.channels() == 3 || view.channels() == 4) *m = view;
   else return nullptr;
-  return std::make_shared<StageContent>(std::move(m), version);
+  return std::make_shared<media::StillContent>(std::move(m), version);
 }
 
 // One (mapping, marker id): what its callbacks changed and what it shows.
@@ -92,33 +77,6 @@ FileSig file_sig(const std::string& path) {
   s.size = static_cast<long long>(st.st_size);
   s.inode = static_cast<long long>(st.st_ino);
   return s;
-}
-
-bool read_text(const std::string& path, std::string* out, std::string* error) {
-  std::error_code ec;
-  const auto st = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(st)) {
-    *error = "no such file";
-    return false;
-  }
-  if (!std::filesystem::is_regular_file(st)) {
-    *error = "not a regular file";
-    return false;
-  }
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (!ec && size > kMaxSceneBytes) {
-    *error = "larger than 16 MiB";
-    return false;
-  }
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
-    *error = "cannot be read";
-    return false;
-  }
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  *out = ss.str();
-  return true;
 }
 
 // A database is XML: its first character (after a byte-order mark and spaces) is '<', which no Lua chunk
@@ -253,8 +211,10 @@ struct SceneRuntime::Impl : Reporter {
     attempt_path = path;
     attempt_sig = file_sig(path);
     const std::string display = chunk_display_name(path);
-    std::string text, err;
-    if (!read_text(path, &text, &err)) return fail_load(display + ": " + err, 0);
+    const Result<std::string> read = read_text_file(path, kMaxSceneBytes);
+    // The message starts with the path; the console names scenes by their display name.
+    if (!read) return fail_load(display + read.error().substr(path.size()), 0);
+    const std::string& text = *read;
 
     auto p = std::make_unique<Program>();
     p->path = path;

@@ -1,11 +1,12 @@
 #include "synth/synth_set.hpp"
 
-#include "capture/image_io.hpp"
+#include "base/files.hpp"
 #include "base/json.hpp"
+#include "capture/image_io.hpp"
 
 #include <cstdio>
-#include <fstream>
 #include <regex>
+#include <sstream>
 
 namespace arwb {
 
@@ -39,13 +40,17 @@ std::string truth_line(const SetItem& item) {
   return line + "],\"notes\":" + json::quote(item.notes) + "}";
 }
 
+// One line per photograph: a million photographs stay far below this.
+constexpr std::uintmax_t kMaxTruthBytes = 256u << 20;
+
 std::optional<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::string>* errors) {
   const std::string path = dir + "/truth.jsonl";
-  std::ifstream in(path);
-  if (!in) {
-    if (errors) errors->push_back(path + ": cannot read");
+  Result<std::string> text = read_text_file(path, kMaxTruthBytes);
+  if (!text) {
+    if (errors) errors->push_back(text.error());
     return std::nullopt;
   }
+  std::istringstream in(std::move(*text));
   // The set's own format, written by truth_line: a small pattern reader is enough and rejects anything else.
   static const std::regex file_re("\"file\"\\s*:\\s*\"([^\"]+)\"");
   static const std::regex marker_re(

@@ -1,9 +1,10 @@
 #include "teach/tour.hpp"
 
+#include "base/files.hpp"
+#include "base/text.hpp"
 #include "detect/params.hpp"
 
 #include <algorithm>
-#include <fstream>
 #include <sstream>
 #include <string_view>
 
@@ -19,32 +20,9 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-int edit_distance(std::string_view a, std::string_view b) {
-  std::vector<int> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = int(j);
-  for (size_t i = 1; i <= a.size(); ++i) {
-    int diag = row[0];
-    row[0] = int(i);
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const int up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // " (did you mean 'otsu'?)" when one known name is a typo away, so the teacher sees the fix, not just the fault.
 std::string suggestion(std::string_view word, const std::vector<std::string>& known) {
-  int best = 3;
-  std::string name;
-  for (const auto& k : known) {
-    const int d = edit_distance(word, k);
-    if (d < best && d < int(k.size())) {
-      best = d;
-      name = k;
-    }
-  }
+  const std::string name = nearest_name(word, known);
   return name.empty() ? "" : " (did you mean '" + name + "'?)";
 }
 
@@ -76,20 +54,21 @@ bool field(std::string_view line, std::string_view name, std::string_view* value
 
 }  // namespace
 
+// A tour is a few pages of text; anything much larger is not one.
+constexpr std::uintmax_t kMaxTourBytes = 4u << 20;
+
 bool load_tour(const std::string& path, std::vector<TourStep>* steps, std::vector<std::string>* errors) {
   auto report = [&](int line, const std::string& msg) {
     if (errors) errors->push_back(path + ":" + std::to_string(line) + ": " + msg);
   };
   std::vector<TourStep> out;
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buf;
-  if (in) buf << in.rdbuf();
-  if (!in) {
-    if (errors) errors->push_back(path + ": cannot read");
+  Result<std::string> text = read_text_file(path, kMaxTourBytes);
+  if (!text) {
+    if (errors) errors->push_back(text.error());
     if (steps) steps->clear();
     return false;
   }
-  std::string all = buf.str();
+  std::string all = std::move(*text);
   if (all.rfind("\xEF\xBB\xBF", 0) == 0) all.erase(0, 3);  // editors on Windows save translations with a BOM
 
   bool in_step = false;         // lines belong to `cur`

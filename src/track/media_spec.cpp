@@ -2,18 +2,6 @@
 
 namespace arwb {
 
-std::string_view media_kind_name(MediaKind k) {
-  switch (k) {
-    case MediaKind::none: return "none";
-    case MediaKind::image: return "image";
-    case MediaKind::video: return "video";
-    case MediaKind::web: return "web";
-    case MediaKind::text: return "text";
-    case MediaKind::stage: return "stage";
-  }
-  return "none";
-}
-
 std::string MediaSpec::describe() const {
   switch (kind) {
     case MediaKind::none: return "callbacks only";

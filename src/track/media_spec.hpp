@@ -8,13 +8,11 @@
 #include <cstdint>
 #include <memory>
 #include <string>
-#include <string_view>
 
 namespace arwb {
 
 // stage: the current frame's picture of one pipeline stage (trace_view.hpp), by its stage name.
 enum class MediaKind { none, image, video, web, text, stage };
-std::string_view media_kind_name(MediaKind k);   // "none", "image", "video", "web", "text", "stage"
 
 struct MediaSpec {
   MediaKind kind = MediaKind::none;
@@ -23,7 +21,7 @@ struct MediaSpec {
   std::string url;           // web: http or https only
   std::string title;         // web: the card's title (default: the URL's host)
   std::string text;          // text: what it shows on this frame (a computed text is evaluated each frame)
-  std::string stage;         // stage: a stage name from core/trace.hpp ("adaptive_threshold", "bit_grid", ...)
+  std::string stage;         // stage: a stage name from detect/trace.hpp ("adaptive_threshold", "bit_grid", ...)
   bool loop = false;         // video: start again at the end instead of holding the last frame
   double font_px = 32;       // text: glyph height in the card's own pixels (the card is scaled with its placement)
   cv::Scalar colour{255, 255, 255, 255};       // text: BGRA

@@ -1,4 +1,4 @@
-// Tests for core/image_io: recognising, checking and loading image files a user names. Every input is made here:
+// Tests for capture/image_io: recognising, checking and loading image files a user names. Every input is made here:
 // images are encoded with cv::imencode, bad files are crafted from their bytes.
 #include "capture/image_io.hpp"
 #include "support.hpp"

@@ -1,5 +1,6 @@
 // MediaStore: images (conversion, cache), video players (offline: exact frames; live: advancing and pausing),
 // text and web cards (size, straight alpha, cache and its limits).
+#include "capture/source.hpp"
 #include "media/media_store.hpp"
 #include "support.hpp"
 
@@ -404,6 +405,45 @@ TEST(VideoFaults, TruncatedVideoHoldsItsLastGoodFrameAndSaysWhy) {
   EXPECT_EQ(version_of(*v), version);
   v->set_clock(0.2, false);
   EXPECT_EQ(shown_index(*v), 2);
+}
+
+TEST(VideoFaults, TruncatedVideoEndsWhereTheVideoSourceEnds) {
+  // The store's players and the workbench's video source read through capture's one VideoReader: a cut file
+  // ends at the same frame in both, with the same message.
+  TempDir tmp;
+  write_index_video(tmp.str("whole.avi"), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 40, 10);
+  const std::string bytes = arwb::test::read_file(tmp.str("whole.avi"));
+  const std::string cut = tmp.str("cut.avi");
+  write_file(cut, bytes.substr(0, bytes.size() / 2));
+
+  MediaStore store(StoreMode::offline);
+  std::string error;
+  auto v = store.video(cut, false, &error);
+  ASSERT_TRUE(v) << error;
+  v->set_clock(3.9, false);
+
+  arwb::SourceSpec spec;
+  ASSERT_TRUE(arwb::parse_source_spec(cut, &spec, &error)) << error;
+  auto src = arwb::open_capture_source(spec, &error);
+  ASSERT_TRUE(src) << error;
+  arwb::Playback pb;
+  pb.loop = false;
+  src->set_playback(pb);
+  cv::Mat f;
+  int last = -1;
+  std::string message;
+  arwb::SourceStatus s;
+  for (int i = 0; i < 100 && s.status != arwb::FrameStatus::end; ++i) {
+    s = src->next(i * 0.1, f);  // one frame a call at the video's 10 fps
+    ASSERT_NE(s.status, arwb::FrameStatus::gone) << s.message;
+    if (s.status == arwb::FrameStatus::ok) last = frame_index(f);
+    if (s.status == arwb::FrameStatus::error) message = s.message;
+  }
+  EXPECT_EQ(s.status, arwb::FrameStatus::end);
+  EXPECT_EQ(last, shown_index(*v));
+  EXPECT_EQ(message, v->error());
+  EXPECT_NE(message, "");
+  EXPECT_DOUBLE_EQ(src->info().count / 10.0, v->duration_s());
 }
 
 // ---- Cards ---------------------------------------------------------------------------------------------------

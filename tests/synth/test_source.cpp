@@ -1,5 +1,5 @@
-// Tests for core/source: source specs, the five kinds of source, playback in time and acquisition. Videos are
-// written here with cv::VideoWriter, each frame a flat grey whose level tells its index.
+// Tests for capture/source and synth's synthetic source: source specs, the five kinds of source, playback in time
+// and acquisition. Videos are written here with cv::VideoWriter, each frame a flat grey whose level tells its index.
 #include "capture/image_io.hpp"
 #include "synth/synthetic_source.hpp"
 #include "support.hpp"

@@ -208,7 +208,7 @@ TEST(Tour, MissingFileIsAnErrorNamingIt) {
   const std::string path = std::string(ARWB_SOURCE_DIR) + "/assets/teaching/no_such_tour.txt";
   EXPECT_FALSE(load_tour(path, &steps, &errors));
   EXPECT_TRUE(steps.empty());
-  EXPECT_TRUE(has_error(errors, "no_such_tour.txt: cannot read")) << joined(errors);
+  EXPECT_TRUE(has_error(errors, "no_such_tour.txt: no such file")) << joined(errors);
 }
 
 TEST(Tour, NoReadableStepIsFalse) {

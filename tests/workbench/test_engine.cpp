@@ -1,4 +1,4 @@
-// The workbench's worker (src/app/engine.hpp) without a window: it publishes frames, holds still when frozen,
+// The workbench's worker (src/workbench/engine.hpp) without a window: it publishes frames, holds still when frozen,
 // re-detects a frozen frame when the parameters change, and falls back to the synthetic source when its source
 // goes away while running.
 #include "workbench/engine.hpp"
