@@ -1,115 +1,256 @@
 #include "cli/cli_common.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <sstream>
 #include <vector>
 
 namespace arwb {
 
-Args::Args(int argc, char** argv) {
-  bool rest = false;
-  for (int i = 0; i < argc; ++i) {
-    std::string a = argv[i];
-    if (!rest && a == "--") {
-      rest = true;
-      continue;
+namespace {
+
+constexpr size_t kHelpWidth = 110;
+
+// `text` wrapped at kHelpWidth, each line after the first indented by `indent` spaces; '\n' starts a new line.
+std::string wrap(const std::string& text, size_t first_column, size_t indent) {
+  std::string out;
+  size_t column = first_column;
+  std::istringstream lines(text);
+  std::string line;
+  bool first_line = true;
+  while (std::getline(lines, line)) {
+    if (!first_line) {
+      out += "\n" + std::string(indent, ' ');
+      column = indent;
     }
-    if (rest && a.rfind("-", 0) == 0) a = "./" + a;  // after "--", a leading dash is a file name
-    if (!rest && a.rfind("--", 0) == 0 && a.find('=') != std::string::npos) {
-      items_.push_back(a.substr(0, a.find('=')));
-      items_.push_back(a.substr(a.find('=') + 1));
-    } else {
-      items_.push_back(a);
+    first_line = false;
+    std::istringstream words(line);
+    std::string word;
+    bool first_word = true;
+    while (words >> word) {
+      if (!first_word && column + 1 + word.size() > kHelpWidth) {
+        out += "\n" + std::string(indent, ' ');
+        column = indent;
+      } else if (!first_word) {
+        out += ' ';
+        ++column;
+      }
+      out += word;
+      column += word.size();
+      first_word = false;
     }
-  }
-  used_.assign(items_.size(), false);
-}
-
-int Args::find(const std::string& name) {
-  known_.insert(name);
-  for (size_t i = 0; i < items_.size(); ++i)
-    if (!used_[i] && items_[i] == name) return static_cast<int>(i);
-  return -1;
-}
-
-bool Args::flag(const std::string& name) {
-  const int i = find(name);
-  if (i < 0) return false;
-  used_[size_t(i)] = true;
-  return true;
-}
-
-std::string Args::value(const std::string& name, const std::string& fallback) {
-  const int i = find(name);
-  if (i < 0) return fallback;
-  used_[size_t(i)] = true;
-  if (size_t(i) + 1 >= items_.size()) {
-    errors_.push_back(name + " needs a value");
-    return fallback;
-  }
-  used_[size_t(i) + 1] = true;
-  return items_[size_t(i) + 1];
-}
-
-int Args::int_value(const std::string& name, int fallback, int lo, int hi) {
-  const std::string v = value(name, "");
-  if (v.empty()) return fallback;
-  char* end = nullptr;
-  const long n = std::strtol(v.c_str(), &end, 10);
-  if (*end || n < lo || n > hi) {
-    errors_.push_back(name + " " + v + ": expected a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
-    return fallback;
-  }
-  return static_cast<int>(n);
-}
-
-double Args::double_value(const std::string& name, double fallback, double lo, double hi) {
-  const std::string v = value(name, "");
-  if (v.empty()) return fallback;
-  char* end = nullptr;
-  const double n = std::strtod(v.c_str(), &end);
-  if (*end || !(n >= lo && n <= hi)) {
-    std::ostringstream os;
-    os << name << " " << v << ": expected a number in " << lo << ".." << hi;
-    errors_.push_back(os.str());
-    return fallback;
-  }
-  return n;
-}
-
-std::vector<std::string> Args::positional() {
-  std::vector<std::string> out;
-  ok();  // unknown options are errors, not file names
-  for (size_t i = 0; i < items_.size(); ++i) {
-    if (used_[i]) continue;
-    if (items_[i].rfind("-", 0) == 0 && items_[i].size() > 1) continue;  // an option nobody asked for
-    used_[i] = true;
-    out.push_back(items_[i]);
   }
   return out;
 }
 
-bool Args::no_positional() {
-  for (const auto& p : positional()) errors_.push_back("unexpected argument '" + p + "'");
-  return errors_.empty();
+std::string format_g(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
 }
 
-bool Args::ok() {
-  for (size_t i = 0; i < items_.size(); ++i)
-    if (!used_[i] && items_[i].rfind("-", 0) == 0 && items_[i].size() > 1) {
-      errors_.push_back("unknown option " + items_[i]);
-      used_[i] = true;
+}  // namespace
+
+// Help in the house style, made from the options: the usage line (required options and arguments spelled out),
+// what the command does, each option with its value's name, description, range and default, then the notes.
+class HelpFormatter : public CLI::Formatter {
+ public:
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> sections;
+
+  std::string make_help(const CLI::App* app, std::string, CLI::AppFormatMode) const override {
+    const auto options = app->get_options([](const CLI::Option* o) { return o->nonpositional(); });
+    const auto arguments = app->get_options([](const CLI::Option* o) { return o->get_positional(); });
+    std::string usage = "usage: " + app->get_name();
+    for (const CLI::Option* o : options)
+      if (o->get_required()) usage += " " + o->get_name() + " " + value_name(o);
+    usage += " [options]";
+    for (const CLI::Option* o : arguments) {
+      std::string name = o->get_name();
+      if (o->get_expected_max() > 1) name += "...";
+      usage += " " + (o->get_required() ? name : "[" + name + "]");
     }
-  return errors_.empty();
+    std::string out = wrap(usage, 0, 7) + "\n";
+    if (!app->get_description().empty()) out += "\n" + wrap(app->get_description(), 0, 0) + "\n";
+    auto table = [&out](const char* title, const std::vector<std::pair<std::string, std::string>>& rows) {
+      if (rows.empty()) return;
+      size_t column = 0;
+      for (const auto& [left, _] : rows) column = std::max(column, left.size());
+      column = std::min<size_t>(column, 24) + 4;
+      out += std::string("\n") + title + ":\n";
+      for (const auto& [left, text] : rows) {
+        out += "  " + left;
+        if (left.size() + 4 > column) out += "\n" + std::string(column, ' ');
+        else out += std::string(column - left.size() - 2, ' ');
+        out += wrap(text, column, column) + "\n";
+      }
+    };
+    for (const auto& [title, section] : sections) table(title.c_str(), section);
+    std::vector<std::pair<std::string, std::string>> rows;
+    for (const CLI::Option* o : arguments) rows.emplace_back(o->get_name(), o->get_description());
+    table("arguments", rows);
+    rows.clear();
+    auto in_order = options;  // --help last
+    std::stable_partition(in_order.begin(), in_order.end(),
+                          [app](const CLI::Option* o) { return o != app->get_help_ptr(); });
+    for (const CLI::Option* o : in_order) {
+      const std::string value = value_name(o);
+      std::string names;  // "-h,--help" as "-h, --help"
+      for (const char c : o->get_name(false, true)) names += c == ',' ? std::string(", ") : std::string(1, c);
+      rows.emplace_back(names + (value.empty() ? "" : " " + value), option_text(o));
+    }
+    table("options", rows);
+    if (!app->get_footer().empty()) out += "\n" + wrap(app->get_footer(), 0, 0) + "\n";
+    return out;
+  }
+
+ private:
+  // CLI11 appends ":<description>" of each validator to the type name; the ranges are those descriptions. (CLI11
+  // 2.1 has no const access to an option's validators, hence the cast; nothing is changed.)
+  static std::vector<std::string> ranges(const CLI::Option* o) {
+    std::vector<std::string> out;
+    auto* opt = const_cast<CLI::Option*>(o);
+    for (int i = 0;; ++i) {
+      try {
+        if (const std::string d = opt->get_validator(i)->get_description(); !d.empty()) out.push_back(d);
+      } catch (const CLI::OptionNotFound&) {
+        return out;
+      }
+    }
+  }
+  static std::string value_name(const CLI::Option* o) {
+    std::string t = o->get_type_name();
+    for (const auto& r : ranges(o))
+      if (t.size() > r.size()) t = t.substr(0, t.size() - r.size() - 1);
+    return t;
+  }
+  static std::string option_text(const CLI::Option* o) {
+    std::string text = o->get_description();
+    std::vector<std::string> notes = ranges(o);
+    if (!o->get_type_name().empty() && !o->get_default_str().empty()) notes.push_back("default " + o->get_default_str());
+    if (o->get_required()) notes.push_back("required");
+    if (!notes.empty()) {
+      text += " (";
+      for (size_t i = 0; i < notes.size(); ++i) text += (i ? "; " : "") + notes[i];
+      text += ")";
+    }
+    return text;
+  }
+};
+
+CommandLine::CommandLine(std::string command, std::string about, std::string notes)
+    : app(std::move(about), command), command_(std::move(command)) {
+  help_ = std::make_shared<HelpFormatter>();
+  app.formatter(help_);
+  app.set_help_flag("-h,--help", "this help");
+  app.footer(std::move(notes));
+  // Every option's help shows its default value (options whose default is "nothing" show none).
+  app.option_defaults()->always_capture_default();
 }
 
-int Args::fail(const char* command) {
-  // One line: the first problem, and where to read more.
-  std::fprintf(stderr, "%s: %s (see %s --help)\n", command, errors_.empty() ? "bad arguments" : errors_[0].c_str(),
-               command);
+std::optional<int> CommandLine::parse(int argc, char** argv) {
+  std::vector<std::string> args(argv, argv + argc);
+  std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+  try {
+    app.parse(args);
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help().c_str(), stdout);
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    return usage_error(describe(e));
+  }
+  // A required option given as "" is as missing as one not given.
+  for (const CLI::Option* o : app.get_options())
+    if (o->get_required() && o->count() > 0 && o->results().back().empty())
+      return usage_error(o->get_name() + " needs a value");
+  return std::nullopt;
+}
+
+void CommandLine::add_section(std::string title, std::vector<std::pair<std::string, std::string>> rows) {
+  help_->sections.emplace_back(std::move(title), std::move(rows));
+}
+
+int CommandLine::usage_error(const std::string& problem) const {
+  std::fprintf(stderr, "%s: %s (see %s --help)\n", command_.c_str(), problem.c_str(), command_.c_str());
   return 2;
+}
+
+// CLI11's messages say what it expected; ours name the option and the value given, as "--threads 0: ...".
+std::string CommandLine::describe(const CLI::ParseError& e) {
+  const std::string what = e.what();
+  const std::string name = what.substr(0, what.find(':'));
+  const CLI::Option* opt = app.get_option_no_throw(name);
+  // An unknown option comes first: it is likely a misspelt one, which would also be the missing required option.
+  if (const auto rest = app.remaining(); !rest.empty()) {
+    const std::string& first = rest.front();
+    if (first.size() > 1 && first[0] == '-') return "unknown option " + first.substr(0, first.find('='));
+    return "unexpected argument '" + first + "'";
+  }
+  if (opt && dynamic_cast<const CLI::ValidationError*>(&e)) {
+    const auto& given = opt->results();
+    return name + (given.empty() ? "" : " " + given.back()) + what.substr(name.size());
+  }
+  if (opt && dynamic_cast<const CLI::ArgumentMismatch*>(&e))
+    return opt->count() > 1 ? name + " is given more than once" : name + " needs a value";
+  return what;
+}
+
+CLI::Validator whole_number(long long lo, long long hi) {
+  const std::string range = std::to_string(lo) + ".." + std::to_string(hi);
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) {
+        long long v = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
+          return "expected a whole number in " + range;
+        return std::string();
+      },
+      range);
+}
+
+CLI::Validator real_number(double lo, double hi) {
+  const std::string range = format_g(lo) + ".." + format_g(hi);
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end || !(v >= lo && v <= hi)) return "expected a number in " + range;
+        return std::string();
+      },
+      range);
+}
+
+std::optional<cv::Size> parse_frame_size(std::string_view text) {
+  const size_t x = text.find('x');
+  if (x == std::string_view::npos) return std::nullopt;
+  int w = 0, h = 0;
+  const std::string_view ws = text.substr(0, x), hs = text.substr(x + 1);
+  const auto a = std::from_chars(ws.data(), ws.data() + ws.size(), w);
+  const auto b = std::from_chars(hs.data(), hs.data() + hs.size(), h);
+  if (ws.empty() || hs.empty() || a.ec != std::errc() || a.ptr != ws.data() + ws.size() || b.ec != std::errc() ||
+      b.ptr != hs.data() + hs.size() || w <= 0 || h <= 0)
+    return std::nullopt;
+  return cv::Size(w, h);
+}
+
+CLI::Validator frame_size(cv::Size lo, cv::Size hi, std::string word) {
+  std::string range = std::to_string(lo.width) + "x" + std::to_string(lo.height) + ".." + std::to_string(hi.width) +
+                      "x" + std::to_string(hi.height);
+  const std::string expected = "expected WxH between " + std::to_string(lo.width) + "x" + std::to_string(lo.height) +
+                               " and " + std::to_string(hi.width) + "x" + std::to_string(hi.height) +
+                               (word.empty() ? "" : ", or " + word);
+  if (!word.empty()) range += " or " + word;
+  return CLI::Validator(
+      [lo, hi, word, expected](std::string& text) {
+        if (!word.empty() && text == word) return std::string();
+        const auto s = parse_frame_size(text);
+        if (!s || s->width < lo.width || s->height < lo.height || s->width > hi.width || s->height > hi.height)
+          return expected;
+        return std::string();
+      },
+      range);
 }
 
 std::optional<std::vector<Dictionary>> dictionaries_option(const std::string& list, const char* command) {

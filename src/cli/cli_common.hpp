@@ -1,42 +1,52 @@
-// Argument handling shared by the subcommands: options are `--name value` or `--name=value`; every option a
-// command does not ask for is reported as unknown, so a typo never passes silently.
+// The command line shared by the subcommands and the workbench: options are declared once with CLI11 (name, type,
+// description, default, range), and the help is made from them. Options are `--name value` or `--name=value`; an
+// option nobody declared is an error, so a typo never passes silently.
 #pragma once
 
 #include "detect/dictionary.hpp"
 #include "detect/params.hpp"
 
+#include <CLI/CLI.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace arwb {
 
-class Args {
+class HelpFormatter;  // the help's layout (cli_common.cpp)
+
+// One command's line: declare options on `app`, then parse(). Errors are one line on stderr,
+// "<command>: <problem> (see <command> --help)", with exit status 2; --help prints the help to stdout, status 0.
+class CommandLine {
  public:
-  Args(int argc, char** argv);
-  bool flag(const std::string& name);  // present without a value
-  std::string value(const std::string& name, const std::string& fallback);
-  int int_value(const std::string& name, int fallback, int lo, int hi);
-  double double_value(const std::string& name, double fallback, double lo, double hi);
-  // Arguments that are not options (or everything after "--").
-  std::vector<std::string> positional();
-  // For commands that take none: each one is an error ("unexpected argument 'x'"). True when there were none.
-  bool no_positional();
-  // False when a value was bad or an option was not asked for; then fail() prints the first reason in one line.
-  bool ok();
-  int fail(const char* command);
+  // command: as typed ("arwb detect"); about: what it does (the help's first paragraph); notes: after the options.
+  CommandLine(std::string command, std::string about, std::string notes = "");
+  CLI::App app;
+  // nullopt when the command should run; otherwise the exit status, the help or the error already printed.
+  std::optional<int> parse(int argc, char** argv);
+  // A table in the help before the options, e.g. the subcommands: rows of name and summary.
+  void add_section(std::string title, std::vector<std::pair<std::string, std::string>> rows);
+  // A problem found after parsing (a file, a combination of options): the same one-line shape, status 2.
+  int usage_error(const std::string& problem) const;
 
  private:
-  std::vector<std::string> items_;
-  std::vector<bool> used_;
-  std::vector<std::string> errors_;
-  std::set<std::string> known_;
-  int find(const std::string& name);
+  std::string command_;
+  std::shared_ptr<HelpFormatter> help_;
+  std::string describe(const CLI::ParseError& e);
 };
+
+// The one place where values are checked against their ranges; the range shows in the help (e.g. "1..64").
+CLI::Validator whole_number(long long lo, long long hi);          // "expected a whole number in lo..hi"
+CLI::Validator real_number(double lo, double hi);                 // "expected a number in lo..hi" (never NaN)
+// WxH with each side in [lo, hi]; `word` (e.g. "off", "mixed"), when given, is accepted too.
+CLI::Validator frame_size(cv::Size lo, cv::Size hi, std::string word = "");
+// "640x480" as a size; nullopt unless the whole text is WxH of positive whole numbers.
+std::optional<cv::Size> parse_frame_size(std::string_view text);
 
 // --dict NAME[,NAME...]: the dictionaries, or nullopt after printing "<command>: --dict <problem>".
 std::optional<std::vector<Dictionary>> dictionaries_option(const std::string& list, const char* command);

@@ -19,17 +19,6 @@
 namespace arwb {
 namespace {
 
-constexpr const char* kUsage =
-    "usage: arwb bench [DIR] [--dict NAME[,NAME...]] [--params FILE.yml] [--count N] [--seed S] [--reps R] [--json]\n"
-    "\n"
-    "Runs arwb, OpenCV 4.6 cv::aruco::detectMarkers (default parameters) and, for AprilTag families, AprilTag 3\n"
-    "(default parameters) on one thread over the same images, and prints per resolution: median ms per frame,\n"
-    "recall, false positives (all, and on images without markers), mean corner error of found markers, and\n"
-    "arwb's time as a ratio of each peer's. DIR is a set with a truth.jsonl (see arwb synth); without it a\n"
-    "synthetic set is made in memory for each dictionary: --count images (default 90), mixed 640x480,\n"
-    "1280x720 and 1920x1080. Each detector runs --reps times per image (default 3) and keeps its fastest time.\n"
-    "Default dictionaries: ARUCO_ORIGINAL,APRILTAG_36h11.\n";
-
 struct Tally {
   std::vector<double> ms;
   int truth = 0, found = 0, false_pos = 0, false_pos_empty = 0, empty_images = 0;
@@ -82,25 +71,30 @@ struct Row {
 }  // namespace
 
 int cmd_bench(int argc, char** argv) {
-  Args args(argc, argv);
-  if (args.flag("--help") || args.flag("-h")) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  const bool as_json = args.flag("--json");
-  const std::string dict_arg = args.value("--dict", "ARUCO_ORIGINAL,APRILTAG_36h11");
-  const int count = args.int_value("--count", 90, 1, 100000);
-  const int seed = args.int_value("--seed", 1, 0, 2147483647);
-  const int reps = args.int_value("--reps", 3, 1, 100);
-  const std::string params_path = args.value("--params", "");
-  if (!args.ok()) return args.fail("arwb bench");
+  CommandLine cl("arwb bench",
+                 "Runs arwb, OpenCV 4.6 cv::aruco::detectMarkers (default parameters) and, for AprilTag families, "
+                 "AprilTag 3 (default parameters) on one thread over the same images, and prints per resolution: "
+                 "median ms per frame, recall, false positives (all, and on images without markers), mean corner "
+                 "error of found markers, and arwb's time as a ratio of each peer's.",
+                 "Without DIR, a synthetic set is made in memory for each dictionary: --count images, mixed 640x480, "
+                 "1280x720 and 1920x1080.");
+  bool as_json = false;
+  std::string dir, dict_arg = "ARUCO_ORIGINAL,APRILTAG_36h11", params_path;
+  int count = 90, seed = 1, reps = 3;
+  cl.app.add_option("DIR", dir, "a set with a truth.jsonl (see arwb synth)");
+  cl.app.add_option("--dict", dict_arg, "dictionaries, as for arwb detect (a DIR's truth names its own)")
+      ->type_name("NAME[,NAME...]");
+  cl.app.add_option("--params", params_path, "a YAML preset of detector parameters for arwb")->type_name("FILE.yml");
+  cl.app.add_option("--count", count, "images per synthetic set")->type_name("N")->check(whole_number(1, 100000));
+  cl.app.add_option("--seed", seed, "the synthetic sets' seed")->type_name("S")->check(whole_number(0, 2147483647));
+  cl.app.add_option("--reps", reps, "runs of each detector per image; the fastest time is kept")
+      ->type_name("R")
+      ->check(whole_number(1, 100));
+  cl.app.add_flag("--json", as_json, "one JSON object instead of the table");
+  if (const auto status = cl.parse(argc, argv)) return *status;
+  const std::vector<std::string> pos = cl.app.count("DIR") ? std::vector<std::string>{dir} : std::vector<std::string>{};
   DetectorParams params;
   if (!load_params_option(params_path, "arwb bench", params)) return 2;
-  const std::vector<std::string> pos = args.positional();
-  if (pos.size() > 1) {
-    std::fprintf(stderr, "arwb bench: one DIR at most (see arwb bench --help)\n");
-    return 2;
-  }
   const auto dicts = dictionaries_option(dict_arg, "arwb bench");
   if (!dicts) return 2;
   cv::setNumThreads(1);  // every detector on one thread

@@ -16,18 +16,6 @@
 namespace arwb {
 namespace {
 
-constexpr const char* kUsage =
-    "usage: arwb detect [--dict NAME[,NAME...]] [--params FILE.yml] [--threads N] [--json] PATH...\n"
-    "\n"
-    "Detects markers in each PATH: an image, a folder (its images in name order) or a video.\n"
-    "  --dict      dictionaries searched in one pass, OpenCV's names without DICT_, case-insensitive,\n"
-    "              or a custom dictionary file in OpenCV's YAML format (default ARUCO_ORIGINAL)\n"
-    "  --params    a YAML preset of detector parameters (see arwb's parameter table)\n"
-    "  --threads   threads for the detector (default 1)\n"
-    "  --json      one line per frame: {\"source\",\"frame\",\"width\",\"height\",\"ms\",\"markers\":[...]}\n"
-    "Problems with one PATH are reported on stderr and the others still processed; the exit status is\n"
-    "non-zero only when no frame could be processed.\n";
-
 struct Output {
   bool json = false;
   int frames = 0;
@@ -110,22 +98,25 @@ void run_image(Output& out, const std::string& path, const Detector& det, int th
 }  // namespace
 
 int cmd_detect(int argc, char** argv) {
-  Args args(argc, argv);
-  if (args.flag("--help") || args.flag("-h")) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
+  CommandLine cl("arwb detect",
+                 "Detects markers in each PATH: an image, a folder (its images in name order) or a video.",
+                 "Problems with one PATH are reported on stderr and the others still processed; the exit status is "
+                 "non-zero only when no frame could be processed.");
   Output out;
-  out.json = args.flag("--json");
-  const std::string dict_arg = args.value("--dict", "ARUCO_ORIGINAL");
-  const std::string params_path = args.value("--params", "");
-  const int threads = args.int_value("--threads", 1, 1, 64);
-  if (!args.ok()) return args.fail("arwb detect");
-  std::vector<std::string> paths = args.positional();
-  if (paths.empty()) {
-    std::fprintf(stderr, "arwb detect: no PATH given (see arwb detect --help)\n");
-    return 2;
-  }
+  std::string dict_arg = "ARUCO_ORIGINAL", params_path;
+  int threads = 1;
+  std::vector<std::string> paths;
+  cl.app.add_option("PATH", paths, "an image, a folder of images or a video")->required();
+  cl.app.add_option("--dict", dict_arg,
+                    "dictionaries searched in one pass, OpenCV's names without DICT_, case-insensitive, or a custom "
+                    "dictionary file in OpenCV's YAML format")
+      ->type_name("NAME[,NAME...]");
+  cl.app.add_option("--params", params_path, "a YAML preset of detector parameters (see arwb's parameter table)")
+      ->type_name("FILE.yml");
+  cl.app.add_option("--threads", threads, "threads for the detector")->type_name("N")->check(whole_number(1, 64));
+  cl.app.add_flag("--json", out.json,
+                  "one line per frame: {\"source\",\"frame\",\"width\",\"height\",\"ms\",\"markers\":[...]}");
+  if (const auto status = cl.parse(argc, argv)) return *status;
 
   const auto dicts = dictionaries_option(dict_arg, "arwb detect");
   if (!dicts) return 2;

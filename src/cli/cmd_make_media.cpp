@@ -18,13 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kUsage =
-    "usage: arwb make-media [--out DIR] [--force]\n"
-    "\n"
-    "Paints the example scenes' media into DIR (default: scripts): museum/media/composition.png,\n"
-    "museum/media/sunset.png, museum/media/orbit.mp4 and lab/media/flask.png. Existing files are kept unless\n"
-    "--force.\n";
-
 // A gilded frame around a picture: what makes a painting read as a painting on a small marker.
 void frame_it(cv::Mat& img) {
   const int b = img.cols / 18;
@@ -106,14 +99,14 @@ bool orbit(const std::string& path, std::string* error) {
 }  // namespace
 
 int cmd_make_media(int argc, char** argv) {
-  Args args(argc, argv);
-  if (args.flag("--help")) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  const std::string out = args.value("--out", "scripts");
-  const bool force = args.flag("--force");
-  if (!args.no_positional() || !args.ok()) return args.fail("make-media");
+  CommandLine cl("arwb make-media",
+                 "Paints the example scenes' media into DIR: museum/media/composition.png, museum/media/sunset.png, "
+                 "museum/media/orbit.mp4 and lab/media/flask.png. Existing files are kept unless --force.");
+  std::string out = "scripts";
+  bool force = false;
+  cl.app.add_option("--out", out, "the folder the example scenes live in")->type_name("DIR");
+  cl.app.add_flag("--force", force, "replace files that exist");
+  if (const auto status = cl.parse(argc, argv)) return *status;
   int written = 0, kept = 0, failed = 0;
   auto target = [&](const std::string& rel) -> std::string {
     const fs::path p = fs::path(out) / rel;

@@ -34,36 +34,6 @@ std::string format_g(double v) {
   return buf;
 }
 
-void usage(std::FILE* to) {
-  // The dictionary names, wrapped under the option's description.
-  std::string dicts, line;
-  for (const auto& n : dictionary_names()) {
-    if (!line.empty() && line.size() + n.size() + 2 > 90) {
-      dicts += line + ",\n                  ";
-      line.clear();
-    }
-    line += (line.empty() ? "" : ", ") + n;
-  }
-  dicts += line;
-  std::fprintf(to,
-               "usage: arwb markers [--dict NAME] [--ids LIST] --out DIR|FILE.pdf|FILE.svg [--size-mm MM] [--px N]\n"
-               "\n"
-               "Writes markers as PNG images or as printable A4 sheets at true size.\n"
-               "\n"
-               "  --dict NAME     dictionary, case-insensitive (default ARUCO_ORIGINAL):\n"
-               "                  %s\n"
-               "  --ids LIST      ids such as 0-49 or 3,7,10-12 (default 0-9)\n"
-               "  --out DIR       one PNG per marker, DIR/<dict>_<id>.png (id in 4 digits), with a one-cell\n"
-               "                  white quiet zone; DIR is created if needed\n"
-               "  --out FILE.pdf  A4 pages of markers at --size-mm, each in a one-cell quiet zone with a cut\n"
-               "                  outline and a label, and a 100 mm bar to check that the printer did not scale\n"
-               "  --out FILE.svg  the same as SVG, one file per page: FILE.svg, FILE-2.svg, ...\n"
-               "  --size-mm MM    sheets: the outer black edge of each marker, %g..%g and small enough to fit\n"
-               "                  on the page with its quiet zone (default 50)\n"
-               "  --px N          PNGs: pixels per cell, %d..%d (default 20)\n",
-               dicts.c_str(), kSheetMinMarkerMm, kSheetMaxMarkerMm, kMinPx, kMaxPx);
-}
-
 int fail(int status, const std::string& message) {
   std::fprintf(stderr, "arwb markers: %s\n", message.c_str());
   return status;
@@ -125,18 +95,28 @@ int write_sheet(const Dictionary& dict, const std::vector<int>& ids, double size
 }  // namespace
 
 int cmd_markers(int argc, char** argv) {
-  Args args(argc, argv);
-  if (args.flag("--help") || args.flag("-h")) {
-    usage(stdout);
-    return 0;
-  }
-  const std::string dict_name = args.value("--dict", "ARUCO_ORIGINAL");
-  const std::string id_spec = args.value("--ids", "0-9");
-  const std::string out = args.value("--out", "");
-  const double size_mm = args.double_value("--size-mm", 50, kSheetMinMarkerMm, kSheetMaxMarkerMm);
-  const int px = args.int_value("--px", 20, kMinPx, kMaxPx);
-  if (!args.ok() || !args.no_positional()) return args.fail("arwb markers");
-  if (out.empty()) return fail(2, "--out is required: a folder for PNGs, or a .pdf or .svg file");
+  std::string dicts;  // the names, for the help
+  for (const auto& n : dictionary_names()) dicts += (dicts.empty() ? "" : ", ") + n;
+  CommandLine cl("arwb markers", "Writes markers as PNG images or as printable A4 sheets at true size.");
+  std::string dict_name = "ARUCO_ORIGINAL", id_spec = "0-9", out;
+  double size_mm = 50;
+  int px = 20;
+  cl.app.add_option("--dict", dict_name, "dictionary, case-insensitive: " + dicts)->type_name("NAME");
+  cl.app.add_option("--ids", id_spec, "ids such as 0-49 or 3,7,10-12")->type_name("LIST");
+  cl.app.add_option("--out", out,
+                    "DIR: one PNG per marker, DIR/<dict>_<id>.png (id in 4 digits), with a one-cell white quiet zone; "
+                    "DIR is created if needed.\n"
+                    "FILE.pdf: A4 pages of markers at --size-mm, each in a one-cell quiet zone with a cut outline and "
+                    "a label, and a 100 mm bar to check that the printer did not scale.\n"
+                    "FILE.svg: the same as SVG, one file per page: FILE.svg, FILE-2.svg, ...")
+      ->type_name("DIR|FILE.pdf|FILE.svg")
+      ->required();
+  cl.app.add_option("--size-mm", size_mm,
+                    "sheets: the outer black edge of each marker, small enough to fit on the page with its quiet zone")
+      ->type_name("MM")
+      ->check(real_number(kSheetMinMarkerMm, kSheetMaxMarkerMm));
+  cl.app.add_option("--px", px, "PNGs: pixels per cell")->type_name("N")->check(whole_number(kMinPx, kMaxPx));
+  if (const auto status = cl.parse(argc, argv)) return *status;
 
   std::string error;
   const auto dict = dictionary_by_name(dict_name, &error);

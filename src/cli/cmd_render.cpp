@@ -25,25 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kUsage =
-    "usage: arwb render --scene FILE.lua|FILE.xml --input VIDEO|DIR|IMAGE|synthetic --out OUT.mp4|OUT.avi|DIR\n"
-    "                   [--frames N] [--fps F] [--size WxH] [--dict NAME] [--params FILE.yml] [--samples N]\n"
-    "                   [--force]\n"
-    "\n"
-    "Composites the scene's media onto every input frame, as the workbench shows them, and writes a video\n"
-    "(.mp4: H.264 where FFmpeg has it, else MPEG-4 part 2; .avi: MJPG) or PNG frames frame_000000.png upward\n"
-    "into DIR. Needs no display.\n"
-    "  --scene    a Lua scene or the paper's XML database (docs/scene-api.md)\n"
-    "  --input    a video, a folder of images (name order), one image, or the synthetic source\n"
-    "  --frames   stop after N frames (needed for synthetic; default: the whole input, synthetic 100)\n"
-    "  --fps      the scene's clock and the video's rate (default: the input video's, else 20)\n"
-    "  --size     resize frames to WxH first, as the workbench's acquisition does (default: the input's size)\n"
-    "  --dict     the detector's dictionaries (default: the scene's `dictionary`, else ARUCO_ORIGINAL)\n"
-    "  --params   a YAML preset of detector parameters\n"
-    "  --samples  MSAA samples for the media's edges (default 4; 1 turns it off)\n"
-    "  --force    replace an existing OUT file, or frame_*.png files already in DIR\n"
-    "Scene errors are printed as file:line: message; the render goes on with the rest of the scene.\n";
-
 bool is_video_name(const std::string& out) {
   const std::string ext = fs::path(out).extension().string();
   return ext == ".mp4" || ext == ".avi" || ext == ".mkv" || ext == ".MP4" || ext == ".AVI" || ext == ".MKV";
@@ -69,39 +50,50 @@ struct ConsoleEcho {
 }  // namespace
 
 int cmd_render(int argc, char** argv) {
-  Args args(argc, argv);
-  if (args.flag("--help")) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  const std::string scene_file = args.value("--scene", "");
-  const std::string input = args.value("--input", "");
-  const std::string out = args.value("--out", "");
-  const int max_frames = args.int_value("--frames", 0, 0, 10'000'000);
-  const double fps_opt = args.double_value("--fps", 0, 0, 1000);
-  const std::string size_text = args.value("--size", "");
-  const std::string dict_opt = args.value("--dict", "");
-  const std::string params_file = args.value("--params", "");
-  const int samples = args.int_value("--samples", 4, 1, 16);
-  const bool force = args.flag("--force");
-  if (!args.no_positional() || !args.ok()) return args.fail("render");
-  auto usage_error = [](const std::string& m) {
-    std::fprintf(stderr, "arwb render: %s (see arwb render --help)\n", m.c_str());
-    return 2;
-  };
-  if (scene_file.empty()) return usage_error("--scene is required");
-  if (input.empty()) return usage_error("--input is required");
-  if (out.empty()) return usage_error("--out is required");
+  CommandLine cl("arwb render",
+                 "Composites the scene's media onto every input frame, as the workbench shows them, and writes a video "
+                 "(.mp4: H.264 where FFmpeg has it, else MPEG-4 part 2; .avi: MJPG) or PNG frames frame_000000.png "
+                 "upward into DIR. Needs no display.",
+                 "Scene errors are printed as file:line: message; the render goes on with the rest of the scene.");
+  std::string scene_file, input, out, size_text, dict_opt, params_file;
+  int max_frames = 0, samples = 4;
+  double fps_opt = 0;
+  bool force = false;
+  cl.app.add_option("--scene", scene_file, "a Lua scene or the paper's XML database (docs/scene-api.md)")
+      ->type_name("FILE.lua|FILE.xml")
+      ->required();
+  cl.app.add_option("--input", input, "a video, a folder of images (name order), one image, or the synthetic source")
+      ->type_name("VIDEO|DIR|IMAGE|synthetic")
+      ->required();
+  cl.app.add_option("--out", out, "a video (.mp4, .avi, .mkv) or a folder for PNG frames")
+      ->type_name("OUT.mp4|OUT.avi|DIR")
+      ->required();
+  cl.app.add_option("--frames", max_frames, "stop after N frames; 0: the whole input (synthetic: 100)")
+      ->type_name("N")
+      ->check(whole_number(0, 10'000'000));
+  cl.app.add_option("--fps", fps_opt, "the scene's clock and the video's rate; 0: the input video's, else 20")
+      ->type_name("F")
+      ->check(real_number(0, 1000));
+  cl.app.add_option("--size", size_text,
+                    "resize frames to WxH first, as the workbench's acquisition does (default: the input's size)")
+      ->type_name("WxH")
+      ->check(frame_size({16, 16}, {8192, 8192}));
+  cl.app.add_option("--dict", dict_opt, "the detector's dictionaries (default: the scene's `dictionary`, else "
+                                        "ARUCO_ORIGINAL)")
+      ->type_name("NAME[,NAME...]");
+  cl.app.add_option("--params", params_file, "a YAML preset of detector parameters")->type_name("FILE.yml");
+  cl.app.add_option("--samples", samples, "MSAA samples for the media's edges; 1 turns it off")
+      ->type_name("N")
+      ->check(whole_number(1, 16));
+  cl.app.add_flag("--force", force, "replace an existing OUT file, or frame_*.png files already in DIR");
+  if (const auto status = cl.parse(argc, argv)) return *status;
+  auto usage_error = [&cl](const std::string& m) { return cl.usage_error(m); };
   AcquisitionSettings acq;
   acq.fps_cap = 0;
   acq.resize = false;
   if (!size_text.empty()) {
-    int w = 0, h = 0;
-    char tail = 0;
-    if (std::sscanf(size_text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192)
-      return usage_error("--size " + size_text + ": expected WxH, each 16..8192");
     acq.resize = true;
-    acq.size = {w, h};
+    acq.size = *parse_frame_size(size_text);  // checked by frame_size
   }
   SourceSpec spec;
   std::string err;
@@ -134,10 +126,10 @@ int cmd_render(int argc, char** argv) {
 
   std::string dict_list = dict_opt.empty() ? stage.dictionary() : dict_opt;
   if (dict_list.empty()) dict_list = "ARUCO_ORIGINAL";
-  auto dicts = dictionaries_option(dict_list, "render");
+  auto dicts = dictionaries_option(dict_list, "arwb render");
   if (!dicts) return 2;
   DetectorParams params;
-  if (!load_params_option(params_file, "render", params)) return 2;
+  if (!load_params_option(params_file, "arwb render", params)) return 2;
   Detector detector(std::move(*dicts), params);
   detector.set_acquisition(acq);
 

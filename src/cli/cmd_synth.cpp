@@ -10,45 +10,26 @@
 #include <fstream>
 
 namespace arwb {
-namespace {
-constexpr const char* kUsage =
-    "usage: arwb synth --out DIR [--count N] [--seed S] [--dict NAME[,NAME...]] [--size WxH|mixed]\n"
-    "\n"
-    "Writes N synthetic photographs (PNG) and DIR/truth.jsonl: per image its file, size and markers (id, dict,\n"
-    "corners: outer black corners, top-left first, clockwise; pixel centres at integers). Images mix\n"
-    "perspective, scales from tiny to large, in-plane rotation, blur, noise, light gradients and shadows, JPEG,\n"
-    "clutter that looks like markers, and some images with no marker. The same seed gives the same set.\n"
-    "  --count  images (default 30)     --seed  (default 1)     --dict  (default ARUCO_ORIGINAL)\n"
-    "  --size   WxH, or mixed: 640x480, 1280x720 and 1920x1080 in turn (default mixed)\n";
-}  // namespace
 
 int cmd_synth(int argc, char** argv) {
-  Args args(argc, argv);
-  if (args.flag("--help") || args.flag("-h")) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  const std::string out = args.value("--out", "");
-  const int count = args.int_value("--count", 30, 1, 100000);
-  const int seed = args.int_value("--seed", 1, 0, 2147483647);
-  const std::string dict_arg = args.value("--dict", "ARUCO_ORIGINAL");
-  const std::string size_arg = args.value("--size", "mixed");
-  if (!args.ok() || !args.no_positional()) return args.fail("arwb synth");
-  if (out.empty()) {
-    std::fprintf(stderr, "arwb synth: --out DIR is required (see arwb synth --help)\n");
-    return 2;
-  }
+  CommandLine cl("arwb synth",
+                 "Writes N synthetic photographs (PNG) and DIR/truth.jsonl: per image its file, size and markers (id, "
+                 "dict, corners: outer black corners, top-left first, clockwise; pixel centres at integers). Images "
+                 "mix perspective, scales from tiny to large, in-plane rotation, blur, noise, light gradients and "
+                 "shadows, JPEG, clutter that looks like markers, and some images with no marker. The same seed gives "
+                 "the same set.");
+  std::string out, dict_arg = "ARUCO_ORIGINAL", size_arg = "mixed";
+  int count = 30, seed = 1;
+  cl.app.add_option("--out", out, "the folder to write (created if needed)")->type_name("DIR")->required();
+  cl.app.add_option("--count", count, "images")->type_name("N")->check(whole_number(1, 100000));
+  cl.app.add_option("--seed", seed, "the random seed")->type_name("S")->check(whole_number(0, 2147483647));
+  cl.app.add_option("--dict", dict_arg, "dictionaries, as for arwb detect")->type_name("NAME[,NAME...]");
+  cl.app.add_option("--size", size_arg, "WxH, or mixed: 640x480, 1280x720 and 1920x1080 in turn")
+      ->type_name("WxH|mixed")
+      ->check(frame_size({64, 64}, {8192, 8192}, "mixed"));
+  if (const auto status = cl.parse(argc, argv)) return *status;
   std::vector<cv::Size> sizes = mixed_sizes();
-  if (size_arg != "mixed") {
-    int w = 0, h = 0;
-    char tail = 0;
-    if (std::sscanf(size_arg.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 64 || h < 64 || w > 8192 || h > 8192) {
-      std::fprintf(stderr, "arwb synth: --size %s: expected WxH between 64x64 and 8192x8192, or mixed\n",
-                   size_arg.c_str());
-      return 2;
-    }
-    sizes = {cv::Size(w, h)};
-  }
+  if (size_arg != "mixed") sizes = {*parse_frame_size(size_arg)};
   const auto dicts = dictionaries_option(dict_arg, "arwb synth");
   if (!dicts) return 2;
   std::error_code ec;

@@ -1,4 +1,5 @@
-// `arwb [options]`: the workbench's command line, read into WorkbenchOptions and handed to the window.
+// `arwb [options]`: the workbench's command line, read into WorkbenchOptions and handed to the window. Its help is
+// also `arwb --help`, so it lists the subcommands too.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 
@@ -7,66 +8,67 @@
 namespace arwb {
 
 int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
-  Args args(argc, argv);
-  if (args.flag("--help")) {
-    std::printf(
-        "usage: arwb [--source synthetic|camera:N|PATH] [--frames N] [--screenshot FILE.png] [--stats]\n"
-        "            [--dict NAME[,NAME]] [--params FILE.yml] [--size WxH] [--fps-cap F] [--resize WxH|off]\n"
-        "            [--presentation] [--config-dir DIR] [--snapshot-dir DIR] [--tour FILE] [--verbose]\n"
-        "            [--scene FILE.lua|FILE.xml] [--actions 'N:verb[=arg];...']\n\n"
-        "Opens the workbench window. --frames N draws N frames and exits; --screenshot writes the window to a PNG\n"
-        "then; --stats prints one JSON line of figures at exit. Without --source it shows the first camera, or the\n"
-        "built-in synthetic source when there is none. --scene loads a Lua scene or XML database (docs/scene-api.md)\n"
-        "and reloads it whenever the file changes.\n"
-        "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, source=SPEC,\n"
-        "freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, sweep, tour[=STEP],\n"
-        "presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image pixels; opens a web card).\n"
-        "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why log\n"
-        "scene script console.\n"
-        "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Q quit.\n");
-    return 0;
-  }
+  CommandLine cl("arwb",
+                 "Opens the workbench window; `arwb <subcommand> [options]` runs a command-line tool instead. "
+                 "--frames N draws N frames and exits; --screenshot writes the window to a PNG then; --stats prints "
+                 "one JSON line of figures at exit. --scene loads a Lua scene or XML database (docs/scene-api.md) and "
+                 "reloads it whenever the file changes.",
+                 "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, "
+                 "source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
+                 "sweep, tour[=STEP], presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
+                 "pixels; opens a web card).\n"
+                 "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
+                 "log scene script console.\n"
+                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Q quit.");
+  std::vector<std::pair<std::string, std::string>> subcommands;
+  for (const Subcommand& s : arwb_subcommands()) subcommands.emplace_back(s.name, s.summary);
+  cl.add_section("subcommands (`arwb <subcommand> --help` describes each one)", subcommands);
+
   WorkbenchOptions o;
-  // No --source: the first camera when there is one (a failing one falls back to the synthetic source, with a
-  // message), else the synthetic source.
-  const std::vector<int> cameras = list_cameras();
-  const std::string source =
-      args.value("--source", cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front()));
-  o.frames = args.int_value("--frames", 0, 0, 10'000'000);
-  o.screenshot = args.value("--screenshot", "");
-  o.stats = args.flag("--stats");
-  o.verbose = args.flag("--verbose");
-  o.presentation = args.flag("--presentation");
-  o.config_dir = args.value("--config-dir", "");
-  o.snapshot_dir = args.value("--snapshot-dir", "snapshots");
-  o.tour_path = args.value("--tour", "");
-  const std::string dict = args.value("--dict", "ARUCO_ORIGINAL");
-  const std::string params = args.value("--params", "");
-  const std::string size = args.value("--size", "1600x900");
-  o.engine.acquisition.fps_cap = args.double_value("--fps-cap", 20, 0, 240);
-  const std::string resize = args.value("--resize", "640x480");
-  const std::string actions = args.value("--actions", "");
-  o.engine.scene_file = args.value("--scene", "");
-  if (!args.no_positional() || !args.ok()) return args.fail("arwb");
+  std::string source, dict = "ARUCO_ORIGINAL", params, size = "1600x900", resize = "640x480", actions;
+  cl.app.add_option("--source", source,
+                    "what to show (default: the first camera, else the built-in synthetic source; a camera that "
+                    "fails falls back to the synthetic source, with a message)")
+      ->type_name("synthetic|camera:N[@WxH]|PATH");
+  cl.app.add_option("--frames", o.frames, "draw N frames, then exit; 0: run until closed")
+      ->type_name("N")
+      ->check(whole_number(0, 10'000'000));
+  cl.app.add_option("--screenshot", o.screenshot, "write the window to this PNG before exiting")
+      ->type_name("FILE.png");
+  cl.app.add_flag("--stats", o.stats, "print one JSON line of figures at exit");
+  cl.app.add_option("--dict", dict, "the detector's dictionaries, as for arwb detect")->type_name("NAME[,NAME...]");
+  cl.app.add_option("--params", params, "a YAML preset of detector parameters")->type_name("FILE.yml");
+  cl.app.add_option("--size", size, "the window's size")->type_name("WxH")->check(frame_size({320, 240}, {8192, 8192}));
+  cl.app.add_option("--fps-cap", o.engine.acquisition.fps_cap, "frames per second taken from the source; 0: no cap")
+      ->type_name("F")
+      ->check(real_number(0, 240));
+  cl.app.add_option("--resize", resize, "resize every frame to WxH before detection, or off")
+      ->type_name("WxH|off")
+      ->check(frame_size({16, 16}, {8192, 8192}, "off"));
+  cl.app.add_flag("--presentation", o.presentation, "start in presentation mode (F5): fonts and sizes doubled");
+  cl.app.add_option("--config-dir", o.config_dir,
+                    "layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)")
+      ->type_name("DIR");
+  cl.app.add_option("--snapshot-dir", o.snapshot_dir, "where snapshots go")->type_name("DIR");
+  cl.app.add_option("--tour", o.tour_path, "the guided tour (default assets/teaching/tour.txt)")->type_name("FILE");
+  cl.app.add_flag("--verbose", o.verbose, "every log line to stderr, not only warnings and errors");
+  cl.app.add_option("--scene", o.engine.scene_file, "a Lua scene or the paper's XML database")
+      ->type_name("FILE.lua|FILE.xml");
+  cl.app.add_option("--actions", actions, "scripted steps 'N:verb[=arg];...', see below")->type_name("STEPS");
+  if (const auto status = cl.parse(argc, argv)) return *status;
+
   if (!actions.empty()) o.actions.push_back(actions);
+  if (source.empty()) {
+    const std::vector<int> cameras = list_cameras();
+    source = cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front());
+  }
   std::string err;
-  if (!parse_source_spec(source, &o.engine.source, &err)) {
-    std::fprintf(stderr, "arwb: --source %s\n", err.c_str());
-    return 2;
-  }
-  if (std::sscanf(size.c_str(), "%dx%d", &o.window.width, &o.window.height) != 2 || o.window.width < 320 ||
-      o.window.height < 240 || o.window.width > 8192 || o.window.height > 8192) {
-    std::fprintf(stderr, "arwb: --size '%s': expected WxH between 320x240 and 8192x8192\n", size.c_str());
-    return 2;
-  }
+  if (!parse_source_spec(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
+  o.window = *parse_frame_size(size);  // checked by frame_size
   if (resize == "off") {
     o.engine.acquisition.resize = false;
-  } else if (std::sscanf(resize.c_str(), "%dx%d", &o.engine.acquisition.size.width,
-                         &o.engine.acquisition.size.height) != 2 ||
-             o.engine.acquisition.size.width < 16 || o.engine.acquisition.size.height < 16 ||
-             o.engine.acquisition.size.width > 8192 || o.engine.acquisition.size.height > 8192) {
-    std::fprintf(stderr, "arwb: --resize '%s': expected WxH (16..8192) or off\n", resize.c_str());
-    return 2;
+  } else {
+    o.engine.acquisition.size = *parse_frame_size(resize);
   }
   if (!dictionaries_option(dict, "arwb")) return 2;
   o.engine.dictionaries.clear();

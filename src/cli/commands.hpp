@@ -1,8 +1,10 @@
 // The arwb subcommands. Each takes the arguments after its own name and returns the process exit status;
-// each prints its own usage on --help and a one-line error naming the bad argument otherwise.
+// each prints its help on --help and a one-line error naming the bad argument otherwise.
 #pragma once
 
 #include "workbench/options.hpp"
+
+#include <span>
 
 namespace arwb {
 
@@ -13,8 +15,16 @@ int cmd_bench(int argc, char** argv);
 int cmd_render(int argc, char** argv);
 int cmd_make_media(int argc, char** argv);
 
+// The table main dispatches on and `arwb --help` lists.
+struct Subcommand {
+  const char* name;
+  int (*run)(int argc, char** argv);
+  const char* summary;
+};
+std::span<const Subcommand> arwb_subcommands();
+
 // `arwb [options]` with no subcommand: reads the workbench's options and hands them to `run` (the window, which
-// lives above the command line in ui/window.hpp; main passes it in).
+// lives above the command line in ui/window.hpp; main passes it in). Its help is `arwb --help`.
 int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&));
 
 }  // namespace arwb

@@ -1,0 +1,206 @@
+// Calling the scene's Lua functions (on_enter, on_update, on_leave, computed text) with a marker, under the
+// instruction budget and memory cap, and applying what a callback returns ({media = ..., place = ...}).
+#include "script/scene_runtime_impl.hpp"
+
+#include <algorithm>
+
+namespace arwb::script {
+namespace {
+
+void push_marker(lua_State* L, const TrackedMarker& t, const std::string& dict, bool held) {
+  lua_createtable(L, 0, 8);
+  lua_pushinteger(L, t.id);
+  lua_setfield(L, -2, "id");
+  lua_pushlstring(L, dict.data(), dict.size());
+  lua_setfield(L, -2, "dict");
+  lua_createtable(L, 4, 0);
+  for (int k = 0; k < 4; ++k) {
+    lua_createtable(L, 0, 2);
+    lua_pushnumber(L, t.corners[static_cast<size_t>(k)].x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, t.corners[static_cast<size_t>(k)].y);
+    lua_setfield(L, -2, "y");
+    lua_rawseti(L, -2, k + 1);
+  }
+  lua_setfield(L, -2, "corners");
+  lua_createtable(L, 0, 2);
+  lua_pushnumber(L, t.centre.x);
+  lua_setfield(L, -2, "x");
+  lua_pushnumber(L, t.centre.y);
+  lua_setfield(L, -2, "y");
+  lua_setfield(L, -2, "centre");
+  lua_pushnumber(L, t.side_px);
+  lua_setfield(L, -2, "side");
+  lua_pushnumber(L, t.visible_s);
+  lua_setfield(L, -2, "seconds");
+  lua_pushboolean(L, held);
+  lua_setfield(L, -2, "held");
+}
+
+}  // namespace
+
+std::string SceneRuntime::Impl::dict_of(const Program& p, const TrackedMarker& t) const {
+  return t.dict.empty() ? p.def.dict_name : t.dict;
+}
+
+std::string SceneRuntime::Impl::function_prefix(Program& p, int fn) {
+  lua_State* L = p.lua->L();
+  lua_rawgeti(L, LUA_REGISTRYINDEX, fn);
+  lua_Debug ar;
+  lua_getinfo(L, ">S", &ar);
+  return p.display + ":" + std::to_string(std::max(0, ar.linedefined)) + ": ";
+}
+
+bool SceneRuntime::Impl::call(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt,
+                              const std::string& what, Instance* inst) {
+  if (fn == LUA_NOREF || p.disabled.count(fn)) return false;
+  LuaState& ls = *p.lua;
+  lua_State* L = ls.L();
+  lua_checkstack(L, 8);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, fn);
+  push_marker(L, t, dict_of(p, t), held);
+  int nargs = 1;
+  if (dt) {
+    lua_pushnumber(L, *dt);
+    nargs = 2;
+  }
+  const double before = ls.script_ms();
+  const LuaState::Outcome out = ls.pcall(nargs, 1);
+  frame_ms += ls.script_ms() - before;
+  if (out.ok) return true;
+  const std::string ctx = what + " of marker " + std::to_string(t.id);
+  std::string msg;
+  if (out.budget || out.memory) {
+    p.disabled.insert(fn);
+    if (out.budget)
+      msg = (out.message.rfind(p.display + ":", 0) == 0 ? out.message : function_prefix(p, fn) + out.message);
+    else
+      msg = function_prefix(p, fn) + "not enough memory (the cap is " + mib(limits.memory_bytes) + ")";
+    msg += " in " + ctx + "; disabled until the scene reloads";
+    p.mapping_error[static_cast<size_t>(mi)] = msg;
+  } else {
+    msg = out.message.rfind(p.display + ":", 0) == 0 ? out.message : function_prefix(p, fn) + out.message;
+    msg += " (in " + ctx + ")";
+  }
+  report(2, msg);
+  if (inst) inst->error = msg;
+  return false;
+}
+
+void SceneRuntime::Impl::set_media(Program& p, Instance& inst, const MediaSpec& spec, int text_fn) {
+  if (inst.text_fn != LUA_NOREF) luaL_unref(p.lua->L(), LUA_REGISTRYINDEX, inst.text_fn);
+  inst.media_set = true;
+  inst.media = spec;
+  inst.text_fn = text_fn;
+}
+
+void SceneRuntime::Impl::apply_return(Program& p, int fn, Instance& inst, const std::string& ctx) {
+  lua_State* L = p.lua->L();
+  const int r = lua_gettop(L);
+  if (lua_isnil(L, r)) {
+    lua_settop(L, r - 1);
+    return;
+  }
+  if (lua_type(L, r) != LUA_TTABLE) {
+    report(1, function_prefix(p, fn) + ctx + " returned a " + luaL_typename(L, r) +
+                  "; return nothing or a table {media = ..., place = ...}");
+    lua_settop(L, r - 1);
+    return;
+  }
+  static const std::vector<std::string_view> kKnown = {"media", "place"};
+  lua_pushnil(L);
+  while (lua_next(L, r) != 0) {
+    if (lua_type(L, -2) != LUA_TSTRING) {
+      report(1, function_prefix(p, fn) + ctx + " returned a table with a value that is not named; ignored");
+    } else if (std::string key = lua_tostring(L, -2); key != "media" && key != "place") {
+      std::string m = function_prefix(p, fn) + ctx + " returned unknown field '" + key + "'";
+      if (std::string d = did_you_mean(key, kKnown); !d.empty()) m += " (" + d + ")";
+      report(1, m);
+    }
+    lua_pop(L, 1);
+  }
+  lua_pushliteral(L, "media");
+  lua_rawget(L, r);
+  if (lua_type(L, r + 1) == LUA_TBOOLEAN && !lua_toboolean(L, r + 1)) {
+    set_media(p, inst, MediaSpec{}, LUA_NOREF);   // media = false: show nothing
+  } else if (!lua_isnil(L, r + 1)) {
+    const MediaValue* mv = test_media(L, r + 1);
+    if (!mv) {
+      report(2, function_prefix(p, fn) + ctx + " returned media that is not a media value (image, video, web, "
+                                               "text or stage): " + luaL_typename(L, r + 1) + "; ignored");
+    } else if (!mv->error.empty()) {
+      report(2, (mv->where.empty() ? function_prefix(p, fn) : mv->where) + mv->error + "; ignored (" + ctx + ")");
+    } else {
+      int ref = LUA_NOREF;
+      if (mv->computed) {
+        push_text_function(L, r + 1);
+        ref = luaL_ref(L, LUA_REGISTRYINDEX);
+      }
+      set_media(p, inst, mv->spec, ref);
+    }
+  }
+  lua_settop(L, r);
+  lua_pushliteral(L, "place");
+  lua_rawget(L, r);
+  if (lua_type(L, r + 1) == LUA_TSTRING) {
+    PlaceSpec ps;
+    const std::string name = lua_tostring(L, r + 1);
+    if (place_from_name(name, &ps)) {
+      inst.place_set = true;
+      inst.place = ps;
+    } else {
+      report(2, function_prefix(p, fn) + ctx + " returned unknown placement '" + name + "' (" +
+                    place_kind_list() + "); ignored");
+    }
+  } else if (!lua_isnil(L, r + 1)) {
+    const PlaceValue* pv = test_place(L, r + 1);
+    if (!pv) {
+      report(2, function_prefix(p, fn) + ctx + " returned place that is not a placement (" + place_kind_list() +
+                    "): " + luaL_typename(L, r + 1) + "; ignored");
+    } else if (!pv->error.empty()) {
+      report(2, (pv->where.empty() ? function_prefix(p, fn) : pv->where) + pv->error + "; ignored (" + ctx + ")");
+    } else {
+      inst.place_set = true;
+      inst.place = pv->spec;
+    }
+  }
+  lua_settop(L, r - 1);
+}
+
+void SceneRuntime::Impl::run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held,
+                                      const double* dt, const char* what, Instance& inst) {
+  if (fn == LUA_NOREF || !p.lua) return;
+  if (call(p, mi, fn, t, held, dt, what, &inst))
+    apply_return(p, fn, inst, std::string(what) + " of marker " + std::to_string(t.id));
+}
+
+void SceneRuntime::Impl::enter(Program& p, const TrackedMarker& t) {
+  p.inside.insert(t.id);
+  p.last[t.id] = t;
+  for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
+    const Mapping& m = p.def.mappings[mi];
+    if (!m.ids.contains(t.id)) continue;
+    Instance& inst = p.instances[{static_cast<int>(mi), t.id}];
+    inst.inside = true;
+    inst.fresh = true;
+    run_callback(p, static_cast<int>(mi), m.on_enter, t, !t.detected, nullptr, "on_enter", inst);
+  }
+}
+
+void SceneRuntime::Impl::leave(Program& p, int id) {
+  TrackedMarker t;
+  t.id = id;
+  if (auto it = p.last.find(id); it != p.last.end()) t = it->second;
+  p.inside.erase(id);
+  for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
+    const Mapping& m = p.def.mappings[mi];
+    if (!m.ids.contains(id)) continue;
+    Instance& inst = p.instances[{static_cast<int>(mi), id}];
+    inst.inside = false;
+    if (inst.video) inst.video->set_clock(inst.position, false);   // paused where it stopped
+    run_callback(p, static_cast<int>(mi), m.on_leave, t, false, nullptr, "on_leave", inst);
+  }
+  p.last.erase(id);
+}
+
+}  // namespace arwb::script

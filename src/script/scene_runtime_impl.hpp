@@ -1,0 +1,110 @@
+// The scene runtime's inside, shared by its files (internal to src/script):
+//   scene_runtime.cpp   the frame step: enter and leave, on_update, overlays, the Scene panel's rows
+//   scene_load.cpp      loading and reloading a file (Lua or XML), and the console
+//   scene_callbacks.cpp calling the scene's Lua functions and applying what they return
+//   scene_content.cpp   the pixels behind a media: images, cards, video players, stage pictures
+#pragma once
+
+#include "script/scene_runtime.hpp"
+
+#include "media/media_store.hpp"
+#include "script/scene_model.hpp"
+
+#include <array>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace arwb::script {
+
+// One (mapping, marker id): what its callbacks changed and what it shows.
+struct Instance {
+  bool media_set = false;      // a callback's return replaced the media
+  MediaSpec media;
+  int text_fn = LUA_NOREF;     // the replacing media's computed-text function
+  bool place_set = false;
+  PlaceSpec place;
+  std::string content_key;     // image and web content, loaded once per key
+  std::shared_ptr<MediaContent> content;
+  std::string video_key;       // this instance's own video player
+  std::shared_ptr<media::VideoContent> video;
+  double position = 0;         // seconds into the video: grows while the marker is tracked
+  bool inside = false;
+  bool fresh = false;          // entered on this frame (no dt to add yet)
+  std::string error;           // this frame's problem, for the Scene panel
+};
+
+struct Program {
+  std::unique_ptr<LuaState> lua;   // null for an XML database
+  SceneDef def;
+  std::string path, display;
+  std::map<std::pair<int, int>, Instance> instances;   // (mapping, id)
+  std::set<int> disabled;                              // functions stopped by the budget or the memory cap
+  std::vector<std::string> mapping_error;              // per mapping: why part of it is disabled
+  std::set<int> inside;                                // ids entered and not left
+  std::map<int, TrackedMarker> last;                   // their last tracks (for on_leave)
+  bool stage_note = false;                             // "no stage pictures" was said
+};
+
+struct FileSig {
+  bool exists = false;
+  long long mtime_ns = 0, size = 0, inode = 0;
+  bool operator==(const FileSig&) const = default;
+};
+
+// "64 MiB", for messages about the memory cap.
+std::string mib(std::size_t bytes);
+
+struct SceneRuntime::Impl : Reporter {
+  Impl(media::MediaStore& s, ScriptLimits l) : store(s), limits(l) {}
+  ~Impl() override { prog.reset(); }
+
+  media::MediaStore& store;
+  ScriptLimits limits;
+  SceneStatus status;
+  std::unique_ptr<Program> prog;
+  bool attempted = false;
+  std::string attempt_path;
+  FileSig attempt_sig;
+  double frame_ms = 0;
+
+  // [SECTION] Console and loading (scene_load.cpp)
+  void report(int level, const std::string& text_in) override;
+  bool fail_load(const std::string& msg, int line);
+  bool load(const std::string& path);
+  bool load_lua(Program& p, const std::string& text, std::string* msg, int* line);
+  bool load_xml(Program& p, const std::string& text, std::string* msg, int* line);
+  bool reload_if_changed();
+  void unload();
+
+  // [SECTION] Calling Lua (scene_callbacks.cpp)
+  std::string dict_of(const Program& p, const TrackedMarker& t) const;
+  // "scene.lua:LINE: " for a function: where it was defined.
+  std::string function_prefix(Program& p, int fn);
+  // Calls function `fn` with m [, dt]. True with its one result on the stack when it ran; false (reported, and
+  // the function disabled when it ran out of budget or memory) when it failed.
+  bool call(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt, const std::string& what,
+            Instance* inst);
+  void set_media(Program& p, Instance& inst, const MediaSpec& spec, int text_fn);
+  // A callback's result (on top of the stack, popped): nothing, or {media = ..., place = ...}.
+  void apply_return(Program& p, int fn, Instance& inst, const std::string& ctx);
+  void run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt,
+                    const char* what, Instance& inst);
+  void enter(Program& p, const TrackedMarker& t);
+  void leave(Program& p, int id);
+
+  // [SECTION] Media content (scene_content.cpp)
+  // The pixels for a media of an instance; null (reported) when there are none.
+  std::shared_ptr<MediaContent> content_for(Program& p, const Mapping& m, Instance& inst, const MediaSpec& spec,
+                                            const SceneInput& in,
+                                            std::array<std::shared_ptr<MediaContent>, kStageCount>& stages);
+
+  // [SECTION] One frame (scene_runtime.cpp)
+  std::vector<Overlay> update(const SceneInput& in);
+  void fill_rows(const std::map<int, const TrackedMarker*>* seen);
+};
+
+}  // namespace arwb::script
