@@ -310,7 +310,9 @@ struct SceneRuntime::Impl : Reporter {
     if (dir.empty()) dir = ".";
     std::error_code ec;
     const std::filesystem::path abs = std::filesystem::absolute(dir, ec);
-    return load_database(p.path, p.display, text, ec ? dir : abs, &p.def, *this, msg, line);
+    const Status st = load_database(p.display, text, ec ? dir : abs, &p.def, *this);
+    if (!st) *msg = st.error(), *line = line_of(st.error(), p.display);
+    return st.ok();
   }
 
   bool reload_if_changed() {
