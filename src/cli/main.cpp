@@ -3,12 +3,15 @@
 // command-line tool. See `arwb --help`.
 #include "cli/commands.hpp"
 #include "ui/window.hpp"
+#include "cli/opencv_limits.hpp"
 
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <string_view>
+
+#include <unistd.h>
 
 namespace {
 
@@ -43,6 +46,9 @@ int main(int argc, char** argv) {
   // FFmpeg's own log lines ("moov atom not found") would duplicate arwb's one-line messages; a user can
   // still ask for them by setting the variable.
   setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
+  // OpenCV reads its image limits while its library loads, before main(): when they had to be set, start again
+  // with them (once; exec only returns on failure, and then OpenCV's own defaults stay).
+  if (arwb::set_opencv_image_limits()) execv("/proc/self/exe", argv);
   if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
     usage(stdout);
     std::printf("\nthe workbench:\n");
