@@ -11,7 +11,7 @@
 #include "synth/marker_sheet.hpp"
 #include "workbench/snapshot.hpp"
 #include "detect/diagnose.hpp"
-#include "base/json.hpp"
+#include "base/decimals.hpp"
 #include "teach/tour.hpp"
 #include "media/open_url.hpp"
 #include "render/compositor.hpp"
@@ -24,10 +24,12 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 #include <imgui_internal.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -716,38 +718,35 @@ int run_workbench(const WorkbenchOptions& options) {
     }
   }
   if (options.stats) {
-    std::string s = "{\"ui_fps\":" + json::number(elapsed > 0 ? ui_frames / elapsed : 0, 1) +
-                    ",\"detect_fps\":" + json::number(elapsed > 0 ? static_cast<double>(detected) / elapsed : 0, 1) +
-                    ",\"frames\":" + std::to_string(ui_frames) + ",\"detected\":" + std::to_string(detected) +
-                    ",\"stages\":{";
-    bool first = true;
-    for (int i = 0; i < kStageCount; ++i) {
-      if (app.stage_ms_n[static_cast<size_t>(i)] == 0) continue;
-      s += (first ? "" : ",") + json::quote(stage_name(static_cast<Stage>(i))) + ":" +
-           json::number(app.stage_ms_sum[static_cast<size_t>(i)] / app.stage_ms_n[static_cast<size_t>(i)], 3);
-      first = false;
-    }
+    using Json = nlohmann::ordered_json;
+    auto per = [](double sum, int n) { return sum / std::max(1, n); };
+    Json s = {{"ui_fps", round_decimals(elapsed > 0 ? ui_frames / elapsed : 0, 1)},
+              {"detect_fps", round_decimals(elapsed > 0 ? static_cast<double>(detected) / elapsed : 0, 1)},
+              {"frames", ui_frames},
+              {"detected", detected},
+              {"stages", Json::object()}};
+    for (int i = 0; i < kStageCount; ++i)
+      if (const int n = app.stage_ms_n[static_cast<size_t>(i)])
+        s["stages"][std::string(stage_name(static_cast<Stage>(i)))] =
+            round_decimals(app.stage_ms_sum[static_cast<size_t>(i)] / n, 3);
     // Detection against the peers on the same frames (when they ran): the same run, the same machine load.
-    s += "},\"detect_ms\":" + json::number(app.detect_ms_sum / std::max(1, app.detected_seen), 3) + ",\"peers_ms\":{";
-    first = true;
-    for (const auto& [name, v] : app.peer_ms) {
-      s += (first ? "" : ",") + json::quote(name) + ":" + json::number(v.first / std::max(1, v.second), 3);
-      first = false;
-    }
-    s += "},\"fps_cap\":" + json::number(app.settings.acquisition.fps_cap, 1);
-    s += ",\"overlays\":" + std::to_string(app.frame ? app.frame->overlays.size() : 0) +
-         ",\"composite_ms\":" + json::number(app.composite_ms / std::max(1, app.composites), 2) +
-         ",\"scene\":" + json::quote(app.frame ? app.frame->scene.file : "") +
-         ",\"scene_ok\":" + std::string(app.frame && app.frame->scene.ok ? "true" : "false");
-    s += ",\"ui_ms\":{\"panels\":" + json::number(app.ui_ms[0] / std::max(1, ui_frames), 2) +
-         ",\"render\":" + json::number(app.ui_ms[1] / std::max(1, ui_frames), 2) +
-         ",\"swap\":" + json::number(app.ui_ms[2] / std::max(1, ui_frames), 2) +
-         ",\"draw_calls\":" + json::number(app.draw_calls / std::max(1, ui_frames), 0) +
-         ",\"vertices\":" + json::number(app.vertices / std::max(1, ui_frames), 0);
-    s += "},\"markers\":" + std::to_string(app.frame ? app.frame->trace.markers.size() : 0) +
-         ",\"source\":" + json::quote(app.engine->source().text()) + ",\"problems\":" + std::to_string(app.log.problems()) +
-         "}";
-    std::printf("%s\n", s.c_str());
+    s["detect_ms"] = round_decimals(per(app.detect_ms_sum, app.detected_seen), 3);
+    s["peers_ms"] = Json::object();
+    for (const auto& [name, v] : app.peer_ms) s["peers_ms"][name] = round_decimals(per(v.first, v.second), 3);
+    s["fps_cap"] = round_decimals(app.settings.acquisition.fps_cap, 1);
+    s["overlays"] = app.frame ? app.frame->overlays.size() : 0;
+    s["composite_ms"] = round_decimals(per(app.composite_ms, app.composites), 2);
+    s["scene"] = app.frame ? app.frame->scene.file : "";
+    s["scene_ok"] = app.frame && app.frame->scene.ok;
+    s["ui_ms"] = {{"panels", round_decimals(per(app.ui_ms[0], ui_frames), 2)},
+                  {"render", round_decimals(per(app.ui_ms[1], ui_frames), 2)},
+                  {"swap", round_decimals(per(app.ui_ms[2], ui_frames), 2)},
+                  {"draw_calls", std::llround(per(app.draw_calls, ui_frames))},
+                  {"vertices", std::llround(per(app.vertices, ui_frames))}};
+    s["markers"] = app.frame ? app.frame->trace.markers.size() : 0;
+    s["source"] = app.engine->source().text();
+    s["problems"] = app.log.problems();
+    std::printf("%s\n", s.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
   }
   app.textures = render::TextureCache{};
   app.compositor.reset();

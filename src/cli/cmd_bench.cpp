@@ -5,8 +5,9 @@
 #include "detect/peers.hpp"
 #include "synth/synth_set.hpp"
 #include "detect/detector.hpp"
-#include "base/json.hpp"
+#include "base/decimals.hpp"
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 
 #include <algorithm>
@@ -107,9 +108,10 @@ int cmd_bench(int argc, char** argv) {
   };
   std::vector<Set> sets;
   if (pos.size() == 1) {
-    std::vector<std::string> errors;
-    auto items = read_set(pos[0], &errors);
-    for (const auto& e : errors) std::fprintf(stderr, "%s\n", e.c_str());
+    std::vector<std::string> skipped;
+    auto items = read_set(pos[0], &skipped);
+    for (const auto& e : skipped) std::fprintf(stderr, "%s\n", e.c_str());
+    if (!items) std::fprintf(stderr, "%s\n", items.error().c_str());
     if (!items || items->empty()) {
       std::fprintf(stderr, "arwb bench: %s: no usable images\n", pos[0].c_str());
       return 1;
@@ -216,33 +218,35 @@ int cmd_bench(int argc, char** argv) {
     return nullptr;
   };
   if (as_json) {
-    std::string out = "{\"threads\":1,\"reps\":" + std::to_string(reps) + ",\"rows\":[";
-    for (size_t i = 0; i < rows.size(); ++i) {
-      const Row& r = rows[i];
+    using Json = nlohmann::ordered_json;
+    Json out = {{"threads", 1}, {"reps", reps}, {"rows", Json::array()}};
+    for (const Row& r : rows) {
       const Tally& t = r.tally;
-      out += (i ? "," : "");
-      out += "{\"set\":" + json::quote(r.set) + ",\"resolution\":" + json::quote(r.resolution) +
-             ",\"detector\":" + json::quote(r.detector) + ",\"images\":" + std::to_string(t.ms.size()) +
-             ",\"median_ms\":" + json::number(median(t.ms)) + ",\"markers\":" + std::to_string(t.truth) +
-             ",\"found\":" + std::to_string(t.found) +
-             ",\"recall\":" + json::number(t.truth ? double(t.found) / t.truth : 1.0, 4) +
-             ",\"false_positives\":" + std::to_string(t.false_pos) +
-             ",\"false_positives_on_empty\":" + std::to_string(t.false_pos_empty) +
-             ",\"empty_images\":" + std::to_string(t.empty_images) +
-             ",\"corner_error_px\":" + (t.corner_n ? json::number(t.corner_err / t.corner_n, 4) : "null");
+      Json row = {{"set", r.set},
+                  {"resolution", r.resolution},
+                  {"detector", r.detector},
+                  {"images", t.ms.size()},
+                  {"median_ms", round_decimals(median(t.ms), 3)},
+                  {"markers", t.truth},
+                  {"found", t.found},
+                  {"recall", round_decimals(t.truth ? double(t.found) / t.truth : 1.0, 4)},
+                  {"false_positives", t.false_pos},
+                  {"false_positives_on_empty", t.false_pos_empty},
+                  {"empty_images", t.empty_images},
+                  {"corner_error_px", t.corner_n ? Json(round_decimals(t.corner_err / t.corner_n, 4)) : Json()}};
       if (r.detector == "arwb")
         for (const char* peer : {"opencv", "apriltag"})
           if (const Row* p = find(r, peer))
-            out += std::string(",\"time_ratio_") + peer + "\":" + json::number(median(t.ms) / median(p->tally.ms), 3);
-      out += "}";
+            row[std::string("time_ratio_") + peer] = round_decimals(median(t.ms) / median(p->tally.ms), 3);
+      out["rows"].push_back(std::move(row));
     }
-    out += "]";
     if (!trace_ms[0].empty())
-      out += ",\"trace_cost_640x480\":{\"images\":" + std::to_string(trace_ms[0].size()) +
-             ",\"off_ms\":" + json::number(median(trace_ms[0])) + ",\"summary_ms\":" + json::number(median(trace_ms[1])) +
-             ",\"full_ms\":" + json::number(median(trace_ms[2])) +
-             ",\"full_over_off\":" + json::number(median(trace_ms[2]) / median(trace_ms[0])) + "}";
-    std::printf("%s}\n", out.c_str());
+      out["trace_cost_640x480"] = {{"images", trace_ms[0].size()},
+                                   {"off_ms", round_decimals(median(trace_ms[0]), 3)},
+                                   {"summary_ms", round_decimals(median(trace_ms[1]), 3)},
+                                   {"full_ms", round_decimals(median(trace_ms[2]), 3)},
+                                   {"full_over_off", round_decimals(median(trace_ms[2]) / median(trace_ms[0]), 3)}};
+    std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
     return 0;
   }
   std::string last_set;
@@ -269,7 +273,7 @@ int cmd_bench(int argc, char** argv) {
     std::printf("%-10s %-9s %9.2f %7.1f%% %3d/%-3d %6d %5d/%-3d %11s %s\n", r.resolution.c_str(), r.detector.c_str(),
                 median(t.ms), t.truth ? 100.0 * t.found / t.truth : 100.0, t.found, t.truth, t.false_pos,
                 t.false_pos_empty, t.empty_images,
-                t.corner_n ? json::number(t.corner_err / t.corner_n, 3).c_str() : "-", ratio.c_str());
+                t.corner_n ? decimals_text(t.corner_err / t.corner_n, 3).c_str() : "-", ratio.c_str());
   }
   if (!trace_ms[0].empty())
     std::printf("\ntrace cost at 640x480 (%zu images, median ms): off %.2f, summary %.2f (%.2fx), full %.2f (%.2fx)\n",

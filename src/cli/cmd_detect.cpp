@@ -3,8 +3,9 @@
 #include "cli/commands.hpp"
 #include "detect/detector.hpp"
 #include "capture/image_io.hpp"
-#include "base/json.hpp"
+#include "base/decimals.hpp"
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -28,20 +29,17 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ++out.frames;
   if (out.json) {
-    std::string line = "{\"source\":" + json::quote(source) + ",\"frame\":" + std::to_string(frame) +
-                       ",\"width\":" + std::to_string(image.cols) + ",\"height\":" + std::to_string(image.rows) +
-                       ",\"ms\":" + json::number(ms) + ",\"markers\":[";
-    for (size_t i = 0; i < markers.size(); ++i) {
-      const Marker& m = markers[i];
-      line += (i ? ",{" : "{");
-      line += "\"id\":" + std::to_string(m.id) + ",\"dict\":" + json::quote(m.dict) + ",\"corners\":[";
-      for (int k = 0; k < 4; ++k)
-        line += std::string(k ? "," : "") + "[" + json::number(m.corners[size_t(k)].x) + "," +
-                json::number(m.corners[size_t(k)].y) + "]";
-      line += "],\"hamming\":" + std::to_string(m.hamming) + "}";
+    using Json = nlohmann::ordered_json;
+    Json line = {{"source", source}, {"frame", frame}, {"width", image.cols}, {"height", image.rows},
+                 {"ms", round_decimals(ms, 3)}, {"markers", Json::array()}};
+    for (const Marker& m : markers) {
+      Json corners = Json::array();
+      for (const auto& c : m.corners) corners.push_back({round_decimals(c.x, 3), round_decimals(c.y, 3)});
+      line["markers"].push_back(
+          {{"id", m.id}, {"dict", m.dict}, {"corners", std::move(corners)}, {"hamming", m.hamming}});
     }
-    line += "]}\n";
-    std::fputs(line.c_str(), stdout);
+    // A path need not be UTF-8: invalid bytes are replaced rather than thrown on.
+    std::fputs((line.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n").c_str(), stdout);
   } else {
     std::printf("%s", source.c_str());
     if (frame > 0 || source.empty()) std::printf(" frame %d", frame);

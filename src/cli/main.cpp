@@ -2,6 +2,7 @@
 // window (ui/). `arwb [options]` opens the workbench window; `arwb <subcommand> ...` runs a
 // command-line tool. See `arwb --help`.
 #include "cli/commands.hpp"
+#include "cli/opencv_limits.hpp"
 #include "ui/window.hpp"
 
 #include <cstdio>
@@ -9,10 +10,15 @@
 #include <exception>
 #include <string_view>
 
+#include <unistd.h>
+
 int main(int argc, char** argv) {
   // FFmpeg's own log lines ("moov atom not found") would duplicate arwb's one-line messages; a user can
   // still ask for them by setting the variable.
   setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
+  // OpenCV reads its image limits while its library loads, before main(): when they had to be set, start again
+  // with them (once; exec only returns on failure, and then OpenCV's own defaults stay).
+  if (arwb::set_opencv_image_limits()) execv("/proc/self/exe", argv);
   // No subcommand, or options first (--help among them): the workbench, whose help lists the subcommands.
   if (argc < 2 || argv[1][0] == '-') {
     try {

@@ -1,7 +1,7 @@
 // explain_region reads a trace; sweep_region re-runs the detector. Neither draws nor writes files.
 #include "detect/diagnose.hpp"
 
-#include "base/json.hpp"
+#include "base/decimals.hpp"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -13,7 +13,7 @@
 namespace arwb {
 namespace {
 
-std::string num(double v, int decimals = 1) { return json::number(v, decimals); }
+std::string num(double v, int decimals = 1) { return decimals_text(v, decimals); }
 
 // Positive width and height, inside [0,w]x[0,h].
 cv::Rect2f clip_region(cv::Rect2f r, int w, int h) {

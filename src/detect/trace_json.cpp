@@ -1,95 +1,86 @@
 #include "detect/trace_json.hpp"
 
-#include "base/json.hpp"
+#include "base/decimals.hpp"
+
+#include <nlohmann/json.hpp>
 
 namespace arwb {
 namespace {
 
-using json::number;
-using json::quote;
+// ordered_json: fields come out in the order written here, the order the header documents.
+using Json = nlohmann::ordered_json;
 
-// Helpers append rather than prepend ("[" + str): g++ 12 warns falsely (-Wrestrict) on literal + string.
-void point(std::string& s, cv::Point2f p) {
-  s += '[';
-  s += number(p.x);
-  s += ',';
-  s += number(p.y);
-  s += ']';
+Json point(cv::Point2f p) { return Json::array({round_decimals(p.x, 3), round_decimals(p.y, 3)}); }
+
+Json quad(const Quad& q) {
+  Json a = Json::array();
+  for (const auto& p : q) a.push_back(point(p));
+  return a;
 }
 
-std::string quad(const Quad& q) {
-  std::string s = "[";
-  for (size_t k = 0; k < 4; ++k) {
-    if (k) s += ',';
-    point(s, q[k]);
-  }
-  return s += ']';
-}
-
-std::string size_or_null(const cv::Mat& m) {
-  if (m.empty()) return "null";
-  std::string s = "[";
-  s += std::to_string(m.cols);
-  s += ',';
-  s += std::to_string(m.rows);
-  return s += ']';
-}
+Json size_or_null(const cv::Mat& m) { return m.empty() ? Json(nullptr) : Json::array({m.cols, m.rows}); }
 
 // The bit grid row by row as "0"/"1" strings: small, and readable in a text editor.
-std::string bits(const cv::Mat& b) {
-  if (b.empty() || b.type() != CV_8UC1) return "null";
-  std::string s = "[";
+Json bits(const cv::Mat& b) {
+  if (b.empty() || b.type() != CV_8UC1) return nullptr;
+  Json rows = Json::array();
   for (int y = 0; y < b.rows; ++y) {
     std::string row;
     for (int x = 0; x < b.cols; ++x) row += b.at<uint8_t>(y, x) ? '1' : '0';
-    if (y) s += ',';
-    s += quote(row);
+    rows.push_back(row);
   }
-  return s += ']';
+  return rows;
 }
 
 }  // namespace
 
 std::string trace_to_json(const FrameTrace& t) {
-  std::string s = "{\"level\":" + quote(trace_level_name(t.level)) + ",\"width\":" + std::to_string(t.width) +
-                  ",\"height\":" + std::to_string(t.height) + ",\"work_width\":" + std::to_string(t.work_width) +
-                  ",\"work_height\":" + std::to_string(t.work_height) + ",\"scale_x\":" + number(t.scale_x, 6) +
-                  ",\"scale_y\":" + number(t.scale_y, 6) + ",\"total_ms\":" + number(t.total_ms) +
-                  ",\"contours\":" + std::to_string(t.contours.size()) + ",\"stages\":[";
-  for (size_t i = 0; i < t.stages.size(); ++i) {
-    const StageRecord& r = t.stages[i];
-    s += std::string(i ? "," : "") + "{\"name\":" + quote(stage_name(r.stage)) + ",\"ms\":" + number(r.ms) +
-         ",\"in\":" + std::to_string(r.in) + ",\"out\":" + std::to_string(r.out) + ",\"image\":" +
-         size_or_null(r.image) + "}";
-  }
-  s += "],\"markers\":[";
-  for (size_t i = 0; i < t.markers.size(); ++i) {
-    const Marker& m = t.markers[i];
-    s += std::string(i ? "," : "") + "{\"id\":" + std::to_string(m.id) + ",\"dict\":" + quote(m.dict) +
-         ",\"corners\":" + quad(m.corners) + ",\"hamming\":" + std::to_string(m.hamming) +
-         ",\"rotation\":" + std::to_string(m.rotation) + "}";
-  }
-  s += "],\"candidates\":[";
-  for (size_t i = 0; i < t.candidates.size(); ++i) {
-    const CandidateRecord& c = t.candidates[i];
-    s += std::string(i ? "," : "") + "{\"contour\":" + std::to_string(c.contour) + ",\"bbox\":[" +
-         std::to_string(c.bbox.x) + "," + std::to_string(c.bbox.y) + "," + std::to_string(c.bbox.width) + "," +
-         std::to_string(c.bbox.height) + "],\"perimeter\":" + number(c.perimeter) +
-         ",\"quad\":" + (c.has_quad ? quad(c.quad) : "null") + ",\"otsu_threshold\":" +
-         std::to_string(c.otsu_threshold) + ",\"stddev\":" + number(c.stddev) +
-         ",\"border_errors\":" + std::to_string(c.border_errors) + ",\"border_cells\":" +
-         std::to_string(c.border_cells) + ",\"dict\":" + quote(c.dict) + ",\"per_rotation\":[";
+  Json j;
+  j["level"] = trace_level_name(t.level);
+  j["width"] = t.width;
+  j["height"] = t.height;
+  j["work_width"] = t.work_width;
+  j["work_height"] = t.work_height;
+  j["scale_x"] = round_decimals(t.scale_x, 6);
+  j["scale_y"] = round_decimals(t.scale_y, 6);
+  j["total_ms"] = round_decimals(t.total_ms, 3);
+  j["contours"] = t.contours.size();
+  Json& stages = j["stages"] = Json::array();
+  for (const StageRecord& r : t.stages)
+    stages.push_back({{"name", stage_name(r.stage)}, {"ms", round_decimals(r.ms, 3)}, {"in", r.in}, {"out", r.out},
+                      {"image", size_or_null(r.image)}});
+  Json& markers = j["markers"] = Json::array();
+  for (const Marker& m : t.markers)
+    markers.push_back({{"id", m.id}, {"dict", m.dict}, {"corners", quad(m.corners)}, {"hamming", m.hamming},
+                       {"rotation", m.rotation}});
+  Json& candidates = j["candidates"] = Json::array();
+  for (const CandidateRecord& c : t.candidates) {
+    Json per_rotation = Json::array();
     // Rotations are only meaningful once identification ran (a dictionary was named).
     if (!c.dict.empty())
-      for (size_t k = 0; k < 4; ++k)
-        s += std::string(k ? "," : "") + "{\"id\":" + std::to_string(c.per_rotation[k].id) +
-             ",\"distance\":" + std::to_string(c.per_rotation[k].hamming) + "}";
-    s += "],\"marker\":" + std::to_string(c.marker) + ",\"warp\":" + size_or_null(c.warp) +
-         ",\"bits\":" + bits(c.bits) + ",\"fate\":{\"stage\":" + quote(stage_name(c.fate.stage)) +
-         ",\"param\":" + quote(c.fate.param) + ",\"value\":" + number(c.fate.value) +
-         ",\"limit\":" + number(c.fate.limit) + ",\"message\":" + quote(c.fate.message) + "}}";
+      for (const auto& r : c.per_rotation) per_rotation.push_back({{"id", r.id}, {"distance", r.hamming}});
+    candidates.push_back({{"contour", c.contour},
+                          {"bbox", {c.bbox.x, c.bbox.y, c.bbox.width, c.bbox.height}},
+                          {"perimeter", round_decimals(c.perimeter, 3)},
+                          {"quad", c.has_quad ? quad(c.quad) : Json(nullptr)},
+                          {"otsu_threshold", c.otsu_threshold},
+                          {"stddev", round_decimals(c.stddev, 3)},
+                          {"border_errors", c.border_errors},
+                          {"border_cells", c.border_cells},
+                          {"dict", c.dict},
+                          {"per_rotation", std::move(per_rotation)},
+                          {"marker", c.marker},
+                          {"warp", size_or_null(c.warp)},
+                          {"bits", bits(c.bits)},
+                          {"fate",
+                           {{"stage", stage_name(c.fate.stage)},
+                            {"param", c.fate.param},
+                            {"value", round_decimals(c.fate.value, 3)},
+                            {"limit", round_decimals(c.fate.limit, 3)},
+                            {"message", c.fate.message}}}});
   }
-  return s + "]}";
+  // Names and messages are bytes from files and users: invalid UTF-8 is replaced rather than thrown on.
+  return j.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
 }  // namespace arwb

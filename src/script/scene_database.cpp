@@ -45,26 +45,19 @@ std::string quoted(const std::string& s) {
 
 }  // namespace
 
-bool load_database(const std::string& path, const std::string& display, const std::string& text,
-                   const std::filesystem::path& dir, SceneDef* def, Reporter& reporter, std::string* error,
-                   int* error_line) {
-  (void)path;
+Status load_database(const std::string& display, const std::string& text, const std::filesystem::path& dir,
+                     SceneDef* def, Reporter& reporter) {
   auto at = [&](int line) { return display + ":" + std::to_string(line) + ": "; };
-  auto fail = [&](int line, const std::string& message) {
-    *error = at(line) + message;
-    *error_line = line;
-    return false;
-  };
-  XmlError xe;
-  const std::optional<XmlElement> doc = parse_xml(text, &xe);
-  if (!doc) return fail(xe.line, xe.message);
+  const Result<XmlElement> doc = parse_xml(text, display);
+  if (!doc) return fail(doc.error());
   const XmlElement& root = *doc;
-  if (root.name != "database") return fail(root.line, "the root element must be <database>, not <" + root.name + ">");
+  if (root.name != "database")
+    return fail(at(root.line) + "the root element must be <database>, not <" + root.name + ">");
   for (const auto& [k, v] : root.attributes) {
     if (k == "dictionary") {
       std::string err;
       const std::optional<Dictionary> d = dictionary_by_name(trim(v), &err);
-      if (!d) return fail(root.line, "dictionary: " + err);
+      if (!d) return fail(at(root.line) + "dictionary: " + err);
       def->dictionary = trim(v);
       def->dict_name = d->name();
       def->dict_size = d->size();
@@ -153,7 +146,7 @@ bool load_database(const std::string& path, const std::string& display, const st
     else seen[static_cast<int>(id)] = row.line;
     def->mappings.push_back(std::move(m));
   }
-  return true;
+  return {};
 }
 
 }  // namespace arwb::script

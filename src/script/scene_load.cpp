@@ -155,7 +155,9 @@ bool SceneRuntime::Impl::load_xml(Program& p, const std::string& text, std::stri
   if (dir.empty()) dir = ".";
   std::error_code ec;
   const std::filesystem::path abs = std::filesystem::absolute(dir, ec);
-  return load_database(p.path, p.display, text, ec ? dir : abs, &p.def, *this, msg, line);
+  const Status st = load_database(p.display, text, ec ? dir : abs, &p.def, *this);
+  if (!st) *msg = st.error(), *line = line_of(st.error(), p.display);
+  return st.ok();
 }
 
 bool SceneRuntime::Impl::reload_if_changed() {

@@ -5,6 +5,7 @@
 #include "track/media_spec.hpp"
 #include "track/placement.hpp"
 #include "script/lua_host.hpp"
+#include "base/result.hpp"
 
 #include <filesystem>
 #include <string>
@@ -77,10 +78,9 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string_vi
 std::string check_id(const SceneDef& def, long long id);
 
 // The paper's database (an XML table of ids and resources), read into `def`. Bad rows are reported through
-// `reporter` with their line and skipped. False with *error ("file:line: message") and *error_line when the
-// file is not a usable database at all.
-bool load_database(const std::string& path, const std::string& display, const std::string& text,
-                   const std::filesystem::path& dir, SceneDef* def, Reporter& reporter, std::string* error,
-                   int* error_line);
+// `reporter` with their line and skipped. An error ("file:line: message") when the file is not a usable
+// database at all.
+Status load_database(const std::string& display, const std::string& text, const std::filesystem::path& dir,
+                     SceneDef* def, Reporter& reporter);
 
 }  // namespace arwb::script

@@ -1,24 +1,22 @@
+// pugixml parses; this file makes it strict. pugixml is lenient by design (unknown entities, a bare '&', duplicate
+// attributes, several roots and control characters all load), so it runs without decoding entities and the tree
+// is then checked here. Every problem is kept with its place in the text and the first one in document order is
+// reported, so the message is the one a reader of the file meets first. pugixml gives byte offsets; lines are
+// counted from them.
 #include "script/xml_reader.hpp"
 
+#include <pugixml.hpp>
+
+#include <algorithm>
 #include <cstdint>
+#include <optional>
+#include <unordered_set>
 
 namespace arwb::script {
 namespace {
 
 constexpr int kMaxDepth = 64;
-
-struct Fail {
-  int line;
-  std::string message;
-};
-
-bool is_name_start(unsigned char c) {
-  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_' || c == ':' || c >= 0x80;
-}
-bool is_name_char(unsigned char c) {
-  return is_name_start(c) || (c >= '0' && c <= '9') || c == '-' || c == '.';
-}
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+constexpr const char* kNoDoctype = "DOCTYPE declarations are not allowed (no DTD, no external entities)";
 
 bool valid_code_point(uint32_t c) {
   return c == 0x9 || c == 0xA || c == 0xD || (c >= 0x20 && c <= 0xD7FF) || (c >= 0xE000 && c <= 0xFFFD) ||
@@ -43,60 +41,179 @@ void append_utf8(std::string& out, uint32_t c) {
   }
 }
 
-class Parser {
- public:
-  explicit Parser(std::string_view s) : s_(s) {}
+std::string lower(std::string_view s) {
+  std::string out;
+  for (char c : s) out += static_cast<char>((c >= 'A' && c <= 'Z') ? c + 32 : c);
+  return out;
+}
 
-  XmlElement document() {
-    if (starts("\xEF\xBB\xBF")) i_ += 3;
-    if (starts("<?xml") && i_ + 5 < s_.size() && is_space(s_[i_ + 5])) declaration();
-    misc();
-    if (at_end()) fail("no root element");
-    if (!starts("<") || i_ + 1 >= s_.size() || !is_name_start(static_cast<unsigned char>(s_[i_ + 1])))
-      fail("expected the root element");
-    XmlElement root = element(0);
-    misc();
-    if (!at_end()) fail("only one root element is allowed; found more after </" + root.name + ">");
-    return root;
+bool only_space(std::string_view s) { return s.find_first_not_of(" \t\r\n") == std::string_view::npos; }
+
+class Reader {
+ public:
+  explicit Reader(std::string_view text) : text_(text), buf_(text.begin(), text.end()) {
+    // pugixml parsing a fragment in place overwrites the buffer's last character: give it one past the text.
+    buf_.push_back('\n');
+    for (size_t i = 0; i < text.size(); ++i)
+      if (text[i] == '\n') newlines_.push_back(i);
+  }
+
+  Result<XmlElement> read(std::string_view display) {
+    for (size_t i = 0; i < text_.size(); ++i) {
+      const auto c = static_cast<unsigned char>(text_[i]);
+      if (c < 0x20 && c != '\t' && c != '\n' && c != '\r') {
+        problem(i, "control character " + std::to_string(c) + " in the file");
+        break;
+      }
+    }
+    // A fragment, so that text and elements after the root reach the checks below instead of being dropped.
+    const unsigned flags = (pugi::parse_default | pugi::parse_declaration | pugi::parse_doctype |
+                            pugi::parse_comments | pugi::parse_pi | pugi::parse_ws_pcdata | pugi::parse_fragment) &
+                           ~(pugi::parse_escapes | pugi::parse_wconv_attribute);
+    pugi::xml_document doc;
+    const pugi::xml_parse_result r = doc.load_buffer_inplace(buf_.data(), buf_.size(), flags, pugi::encoding_utf8);
+    const size_t bom = text_.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+    std::optional<XmlElement> root;
+    for (const pugi::xml_node n : doc.children()) {
+      const size_t at = offset(n, 0);
+      switch (n.type()) {
+        case pugi::node_declaration:
+          if (at != bom + 2 || std::string_view(n.name()) != "xml")
+            problem(at, "the XML declaration must be at the very start of the file");
+          else declaration(n, at);
+          break;
+        case pugi::node_pcdata:
+          if (!only_space(n.value()))
+            problem(at + std::string_view(n.value()).find_first_not_of(" \t\r\n"), root ? "only one root element is allowed; found text after </" + root->name + ">"
+                             : std::string("expected the root element"));
+          break;
+        case pugi::node_cdata: problem(at, "a CDATA section outside the root element"); break;
+        case pugi::node_element:
+          if (root) problem(at, "only one root element is allowed; found more after </" + root->name + ">");
+          else root = element(n, 0);
+          break;
+        default: other(n, at);
+      }
+    }
+    if (!r) parse_failure(doc, r);
+    if (!root) problem(text_.size(), "no root element");
+    if (first_)
+      return fail(std::string(display) + ":" + std::to_string(first_->line) + ": " + first_->message);
+    return std::move(*root);
   }
 
  private:
-  [[noreturn]] void fail(const std::string& message) { throw Fail{line_, message}; }
-  bool at_end() const { return i_ >= s_.size(); }
-  bool starts(std::string_view p) const { return s_.substr(i_, p.size()) == p; }
-  char peek() const { return at_end() ? '\0' : s_[i_]; }
+  struct Problem {
+    size_t offset;
+    int line;
+    std::string message;
+  };
 
-  // Moves over n characters, counting lines and refusing control characters.
-  void advance(size_t n = 1) {
-    for (size_t k = 0; k < n && i_ < s_.size(); ++k, ++i_) {
-      const unsigned char c = static_cast<unsigned char>(s_[i_]);
-      if (c == '\n') ++line_;
-      else if (c < 0x20 && c != '\t' && c != '\r') fail("control character " + std::to_string(c) + " in the file");
+  int line_at(size_t offset) const {
+    return 1 + static_cast<int>(std::lower_bound(newlines_.begin(), newlines_.end(), offset) - newlines_.begin());
+  }
+  void problem(size_t offset, std::string message, int line = 0) {
+    if (!first_ || offset < first_->offset) first_ = Problem{offset, line ? line : line_at(offset), std::move(message)};
+  }
+  // Where a name or value pugixml returns starts in the text; `fallback` when it is not in the buffer (pugixml
+  // hands out a static empty string for what a failed parse left unset).
+  size_t offset(const char* p, size_t fallback) const {
+    const auto b = reinterpret_cast<uintptr_t>(buf_.data()), q = reinterpret_cast<uintptr_t>(p);
+    return q >= b && q < b + buf_.size() ? q - b : fallback;
+  }
+  size_t offset(const pugi::xml_node& n, size_t fallback) const {
+    const ptrdiff_t d = n.offset_debug();
+    return d >= 0 ? static_cast<size_t>(d) : fallback;
+  }
+
+  // Comments, processing instructions and a DOCTYPE, wherever they are.
+  void other(const pugi::xml_node& n, size_t at) {
+    if (n.type() == pugi::node_doctype) {
+      problem(at, kNoDoctype);
+    } else if (n.type() == pugi::node_comment) {
+      const std::string_view v = n.value();
+      const size_t dash = v.find("--");
+      if (dash != std::string_view::npos || (!v.empty() && v.back() == '-'))
+        problem(at + std::min(dash, v.size() - 1), "'--' is not allowed inside a comment");
+    } else if (n.type() == pugi::node_pi || n.type() == pugi::node_declaration) {
+      if (lower(n.name()) == "xml") problem(at, "the XML declaration must be at the very start of the file");
     }
   }
-  void skip_space() {
-    while (!at_end() && is_space(peek())) advance();
-  }
-  void expect(std::string_view p, const char* what) {
-    if (!starts(p)) fail(std::string("expected ") + what);
-    advance(p.size());
+
+  // <?xml version="1.0" encoding="UTF-8" standalone="yes"?>
+  void declaration(const pugi::xml_node& n, size_t at) {
+    bool version = false;
+    for (const pugi::xml_attribute a : n.attributes()) {
+      const std::string_view k = a.name(), v = a.value();
+      const size_t where = offset(a.value(), at);
+      if (k == "version") {
+        version = true;
+        if (v.substr(0, 2) != "1.") problem(where, "XML version '" + std::string(v) + "' is not supported");
+      } else if (k == "encoding") {
+        const std::string u = lower(v);
+        if (u != "utf-8" && u != "utf8" && u != "us-ascii" && u != "ascii")
+          problem(where, "encoding '" + std::string(v) + "' is not supported (UTF-8 only)");
+      } else if (k != "standalone") {
+        problem(offset(a.name(), at), "unexpected '" + std::string(k) + "' in the XML declaration");
+      }
+    }
+    if (!version) problem(at, "the XML declaration needs a version");
   }
 
-  std::string name() {
-    if (at_end() || !is_name_start(static_cast<unsigned char>(peek()))) fail("expected a name");
-    const size_t start = i_;
-    while (!at_end() && is_name_char(static_cast<unsigned char>(peek()))) advance();
-    return std::string(s_.substr(start, i_ - start));
+  XmlElement element(const pugi::xml_node& n, int depth) {
+    XmlElement e;
+    e.name = n.name();
+    const size_t at = offset(n, 0);
+    e.line = line_at(at);
+    std::unordered_set<std::string_view> names;
+    for (const pugi::xml_attribute a : n.attributes()) {
+      if (!names.insert(a.name()).second)
+        problem(offset(a.name(), at), "attribute '" + std::string(a.name()) + "' given twice in <" + e.name + ">");
+      e.attributes.emplace_back(a.name(), decode(a.value(), offset(a.value(), at), true));
+    }
+    for (const pugi::xml_node c : n.children()) {
+      const size_t cat = offset(c, at);
+      switch (c.type()) {
+        case pugi::node_pcdata: e.text += decode(c.value(), cat, false); break;
+        case pugi::node_cdata: e.text += c.value(); break;
+        case pugi::node_element:
+          // pugixml parses without recursion; building the tree here recurses, so depth is capped.
+          if (depth + 1 > kMaxDepth) problem(cat, "elements nested more than " + std::to_string(kMaxDepth) + " deep");
+          else e.children.push_back(element(c, depth + 1));
+          break;
+        default: other(c, cat);
+      }
+    }
+    return e;
   }
 
-  // &...; at the current position, decoded onto out.
-  void reference(std::string& out) {
-    const int line = line_;
-    advance();   // '&'
-    const size_t end = s_.find(';', i_);
-    if (end == std::string_view::npos || end - i_ > 12) throw Fail{line, "'&' must start an entity such as &amp;"};
-    const std::string_view ref = s_.substr(i_, end - i_);
-    advance(ref.size() + 1);
+  // Character data or an attribute value as pugixml left it (line ends normalised, references not decoded):
+  // references decoded, a bare '&' refused, and in attributes '<' refused and whitespace made spaces.
+  std::string decode(std::string_view v, size_t at, bool attribute) {
+    std::string out;
+    int line = line_at(at);
+    for (size_t i = 0; i < v.size();) {
+      const char c = v[i];
+      if (c == '&') {
+        const size_t end = v.find(';', i);
+        if (end == std::string_view::npos || end - i > 13)
+          return problem(at + i, "'&' must start an entity such as &amp;", line), out;
+        const std::string ref(v.substr(i + 1, end - i - 1));
+        if (std::string why = reference(ref, out); !why.empty()) return problem(at + i, why, line), out;
+        i = end + 1;
+        continue;
+      }
+      if (attribute && c == '<') return problem(at + i, "'<' is not allowed in an attribute value", line), out;
+      if (!attribute && v.substr(i, 3) == "]]>") return problem(at + i, "']]>' is not allowed in text", line), out;
+      if (c == '\n') ++line;
+      out += attribute && (c == '\t' || c == '\n' || c == '\r') ? ' ' : c;   // attribute-value normalisation
+      ++i;
+    }
+    return out;
+  }
+
+  // &ref; decoded onto out, or why not.
+  static std::string reference(const std::string& ref, std::string& out) {
     if (ref == "lt") out += '<';
     else if (ref == "gt") out += '>';
     else if (ref == "amp") out += '&';
@@ -104,184 +221,111 @@ class Parser {
     else if (ref == "quot") out += '"';
     else if (ref.size() >= 2 && ref[0] == '#') {
       const bool hex = ref[1] == 'x';
-      const std::string_view digits = ref.substr(hex ? 2 : 1);
-      if (digits.empty()) throw Fail{line, "empty character reference &" + std::string(ref) + ";"};
+      const std::string digits = ref.substr(hex ? 2 : 1);
+      if (digits.empty()) return "empty character reference &" + ref + ";";
       uint32_t c = 0;
       for (char d : digits) {
         int v = -1;
         if (d >= '0' && d <= '9') v = d - '0';
         else if (hex && d >= 'a' && d <= 'f') v = d - 'a' + 10;
         else if (hex && d >= 'A' && d <= 'F') v = d - 'A' + 10;
-        if (v < 0) throw Fail{line, "bad character reference &" + std::string(ref) + ";"};
+        if (v < 0) return "bad character reference &" + ref + ";";
         c = c * (hex ? 16u : 10u) + static_cast<uint32_t>(v);
         if (c > 0x10FFFF) break;
       }
-      if (!valid_code_point(c)) throw Fail{line, "character reference &" + std::string(ref) + "; is not a valid XML character"};
+      if (!valid_code_point(c)) return "character reference &" + ref + "; is not a valid XML character";
       append_utf8(out, c);
     } else {
-      throw Fail{line, "unknown entity &" + std::string(ref) +
-                           "; (only &lt; &gt; &amp; &apos; &quot; and numeric references; there is no DTD)"};
+      return "unknown entity &" + ref +
+             "; (only &lt; &gt; &amp; &apos; &quot; and numeric references; there is no DTD)";
+    }
+    return "";
+  }
+
+  void parse_failure(const pugi::xml_document& doc, const pugi::xml_parse_result& r) {
+    const size_t at = std::min(static_cast<size_t>(std::max<ptrdiff_t>(r.offset, 0)), text_.size());
+    if (first_ && first_->offset <= at) return;   // an earlier problem is the one to report
+    switch (r.status) {
+      case pugi::status_end_element_mismatch: return mismatch(doc, at);
+      case pugi::status_bad_attribute:
+        return problem(at, "expected name=\"value\" (quoted, after whitespace) or the end of the tag");
+      case pugi::status_bad_doctype: return problem(at, kNoDoctype);
+      case pugi::status_unrecognized_tag: {
+        const size_t lt = text_.rfind('<', at);
+        if (lt != std::string_view::npos && lower(text_.substr(lt, 9)) == "<!doctype") return problem(lt, kNoDoctype);
+        return problem(at, "unexpected markup (a '<' must start a tag, a comment or a CDATA section)");
+      }
+      case pugi::status_bad_pi:
+        return problem(at, "bad processing instruction (the XML declaration must be at the very start of the file)");
+      case pugi::status_bad_comment: return problem(at, "unterminated comment");
+      case pugi::status_bad_cdata: return problem(at, "unterminated CDATA section");
+      case pugi::status_bad_start_element: return problem(at, "bad start tag");
+      case pugi::status_bad_end_element: return problem(at, "bad end tag");
+      case pugi::status_out_of_memory: return problem(at, "not enough memory to read the file");
+      default: return problem(at, lower(r.description()));
     }
   }
 
-  std::string attribute_value() {
-    const char q = peek();
-    if (q != '"' && q != '\'') fail("expected a quoted attribute value");
-    advance();
-    std::string v;
-    while (true) {
-      if (at_end()) fail("unterminated attribute value");
-      const char c = peek();
-      if (c == q) break;
-      if (c == '<') fail("'<' is not allowed in an attribute value");
-      if (c == '&') {
-        reference(v);
+  // pugixml says an end tag does not match (at its name) or the text ended with elements open. The element left
+  // open is found on the partial tree's last branch: the deepest one with fewer end tags in the text since its
+  // start than elements of its name inside it. Nesting is capped above, so the branch is short.
+  void mismatch(const pugi::xml_document& doc, size_t at) {
+    const bool end_tag = at >= 2 && text_.substr(at - 2, 2) == "</";
+    const size_t until = end_tag ? at - 2 : text_.size();
+    std::vector<pugi::xml_node> branch;
+    for (pugi::xml_node n = doc.last_child(); n && branch.size() <= kMaxDepth + 1; n = n.last_child()) {
+      while (n && n.type() != pugi::node_element) n = n.previous_sibling();
+      if (!n) break;
+      branch.push_back(n);
+    }
+    const pugi::xml_node* open = nullptr;
+    for (auto it = branch.rbegin(); it != branch.rend() && !open; ++it) {
+      const std::string_view name = it->name();
+      const size_t from = std::min(offset(*it, until), until);
+      size_t ends = 0;
+      for (size_t p = text_.find("</", from); p < until; p = text_.find("</", p + 2))
+        if (text_.substr(p + 2, name.size()) == name && p + 2 + name.size() < text_.size() &&
+            std::string_view(" \t\r\n>").find(text_[p + 2 + name.size()]) != std::string_view::npos)
+          ++ends;
+      if (ends < named_in(*it, name)) open = &*it;
+    }
+    // Appended, not "<" + name: g++ 12 warns falsely (-Wrestrict) on literal + string.
+    std::string tag = "<";
+    if (open) tag.append(open->name()).append(">");
+    const std::string line = open ? std::to_string(line_at(offset(*open, 0))) : "";
+    if (!end_tag) {
+      problem(at, open ? tag.append(" (line ").append(line).append(") is never closed") : "an element is never closed");
+      return;
+    }
+    size_t e = at;
+    while (e < text_.size() && e - at < 40 && std::string_view(" \t\r\n>").find(text_[e]) == std::string_view::npos)
+      ++e;
+    std::string message = "</";
+    message.append(text_.substr(at, e - at)).append("> closes ");
+    message.append(open ? tag.append(" opened on line ").append(line) : "no open element");
+    problem(at, message);
+  }
+
+  // Elements named `name` in the subtree at top (top included), without recursion.
+  static size_t named_in(const pugi::xml_node& top, std::string_view name) {
+    size_t n = 0;
+    for (pugi::xml_node x = top; x;) {
+      if (x.type() == pugi::node_element && name == x.name()) ++n;
+      if (x.first_child()) {
+        x = x.first_child();
         continue;
       }
-      v += (c == '\t' || c == '\n' || c == '\r') ? ' ' : c;   // attribute-value normalisation
-      advance();
+      while (x != top && !x.next_sibling()) x = x.parent();
+      if (x == top) break;
+      x = x.next_sibling();
     }
-    advance();
-    return v;
+    return n;
   }
 
-  // <?xml version="1.0" encoding="UTF-8" standalone="yes"?>
-  void declaration() {
-    advance(5);
-    bool version = false;
-    while (true) {
-      skip_space();
-      if (starts("?>")) {
-        advance(2);
-        break;
-      }
-      if (at_end()) fail("unterminated XML declaration");
-      const std::string n = name();
-      skip_space();
-      expect("=", "'=' in the XML declaration");
-      skip_space();
-      const std::string v = attribute_value();
-      if (n == "version") {
-        version = true;
-        if (v.rfind("1.", 0) != 0) fail("XML version '" + v + "' is not supported");
-      } else if (n == "encoding") {
-        std::string u;
-        for (char c : v) u += static_cast<char>((c >= 'a' && c <= 'z') ? c - 32 : c);
-        if (u != "UTF-8" && u != "UTF8" && u != "US-ASCII" && u != "ASCII")
-          fail("encoding '" + v + "' is not supported (UTF-8 only)");
-      } else if (n != "standalone") {
-        fail("unexpected '" + n + "' in the XML declaration");
-      }
-    }
-    if (!version) fail("the XML declaration needs a version");
-  }
-
-  void comment() {
-    advance(4);   // <!--
-    const size_t end = s_.find("--", i_);
-    if (end == std::string_view::npos) fail("unterminated comment");
-    advance(end - i_);
-    if (!starts("-->")) fail("'--' is not allowed inside a comment");
-    advance(3);
-  }
-
-  void processing_instruction() {
-    advance(2);   // <?
-    const std::string target = name();
-    std::string lower;
-    for (char c : target) lower += static_cast<char>((c >= 'A' && c <= 'Z') ? c + 32 : c);
-    if (lower == "xml") fail("the XML declaration must be at the very start of the file");
-    const size_t end = s_.find("?>", i_);
-    if (end == std::string_view::npos) fail("unterminated processing instruction");
-    advance(end - i_ + 2);
-  }
-
-  // Whitespace, comments and processing instructions between the declaration, the root and the end.
-  void misc() {
-    while (true) {
-      skip_space();
-      if (starts("<!--")) comment();
-      else if (starts("<?")) processing_instruction();
-      else if (starts("<!DOCTYPE") || starts("<!doctype"))
-        fail("DOCTYPE declarations are not allowed (no DTD, no external entities)");
-      else if (starts("<!")) fail("unexpected '<!' markup");
-      else return;
-    }
-  }
-
-  XmlElement element(int depth) {
-    if (depth > kMaxDepth) fail("elements nested more than " + std::to_string(kMaxDepth) + " deep");
-    XmlElement e;
-    e.line = line_;
-    advance();   // '<'
-    e.name = name();
-    // attributes
-    while (true) {
-      const bool spaced = !at_end() && is_space(peek());
-      skip_space();
-      if (starts("/>")) {
-        advance(2);
-        return e;
-      }
-      if (starts(">")) {
-        advance();
-        break;
-      }
-      if (at_end()) fail("unterminated start tag <" + e.name + ">");
-      if (!spaced) fail("expected whitespace before an attribute in <" + e.name + ">");
-      const std::string n = name();
-      skip_space();
-      expect("=", ("'=' after attribute '" + n + "'").c_str());
-      skip_space();
-      std::string v = attribute_value();
-      for (const auto& [k, _] : e.attributes)
-        if (k == n) fail("attribute '" + n + "' given twice in <" + e.name + ">");
-      e.attributes.emplace_back(n, std::move(v));
-    }
-    // content
-    while (true) {
-      if (at_end()) fail("<" + e.name + "> (line " + std::to_string(e.line) + ") is never closed");
-      const char c = peek();
-      if (c == '&') {
-        reference(e.text);
-      } else if (c != '<') {
-        if (starts("]]>")) fail("']]>' is not allowed in text");
-        e.text += c == '\r' ? '\n' : c;
-        if (c == '\r' && i_ + 1 < s_.size() && s_[i_ + 1] == '\n') advance();
-        advance();
-      } else if (starts("</")) {
-        advance(2);
-        const std::string n = name();
-        if (n != e.name)
-          fail("</" + n + "> closes <" + e.name + "> opened on line " + std::to_string(e.line));
-        skip_space();
-        expect(">", "'>'");
-        return e;
-      } else if (starts("<!--")) {
-        comment();
-      } else if (starts("<![CDATA[")) {
-        advance(9);
-        const size_t end = s_.find("]]>", i_);
-        if (end == std::string_view::npos) fail("unterminated CDATA section");
-        const size_t start = i_;
-        advance(end - i_);
-        e.text += s_.substr(start, end - start);
-        advance(3);
-      } else if (starts("<?")) {
-        processing_instruction();
-      } else if (starts("<!DOCTYPE") || starts("<!doctype")) {
-        fail("DOCTYPE declarations are not allowed (no DTD, no external entities)");
-      } else if (starts("<!")) {
-        fail("unexpected '<!' markup");
-      } else {
-        e.children.push_back(element(depth + 1));
-      }
-    }
-  }
-
-  std::string_view s_;
-  size_t i_ = 0;
-  int line_ = 1;
+  std::string_view text_;
+  std::vector<char> buf_;
+  std::vector<size_t> newlines_;
+  std::optional<Problem> first_;
 };
 
 }  // namespace
@@ -292,12 +336,11 @@ const std::string* XmlElement::attribute(std::string_view n) const {
   return nullptr;
 }
 
-std::optional<XmlElement> parse_xml(std::string_view text, XmlError* error) {
+Result<XmlElement> parse_xml(std::string_view text, std::string_view display) {
   try {
-    return Parser(text).document();
-  } catch (const Fail& f) {
-    if (error) *error = {f.line, f.message};
-    return std::nullopt;
+    return Reader(text).read(display);
+  } catch (const std::bad_alloc&) {
+    return fail(std::string(display) + ": not enough memory to read the file");
   }
 }
 

@@ -1,10 +1,11 @@
-// A small, strict XML reader for the paper's database files: elements, attributes, character data, comments,
-// CDATA sections, processing instructions (skipped), the XML declaration, the five predefined entities and
-// numeric character references. No DTD: a <!DOCTYPE> is refused, so no entity can be declared or fetched.
-// UTF-8 only. Every element keeps the line it starts on, for messages.
+// The paper's database files through pugixml, made strict: elements, attributes, character data, comments, CDATA
+// sections, processing instructions (skipped), the XML declaration, the five predefined entities and numeric
+// character references. No DTD: a <!DOCTYPE> is refused, so no entity can be declared or fetched. UTF-8 only.
+// Every element keeps the line it starts on, for messages.
 #pragma once
 
-#include <optional>
+#include "base/result.hpp"
+
 #include <string>
 #include <string_view>
 #include <utility>
@@ -22,12 +23,7 @@ struct XmlElement {
   const std::string* attribute(std::string_view name) const;
 };
 
-struct XmlError {
-  int line = 0;
-  std::string message;
-};
-
-// The document's root element, or nullopt and *error.
-std::optional<XmlElement> parse_xml(std::string_view text, XmlError* error);
+// The document's root element, or the first problem in document order as "DISPLAY:LINE: message".
+Result<XmlElement> parse_xml(std::string_view text, std::string_view display);
 
 }  // namespace arwb::script

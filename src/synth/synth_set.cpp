@@ -1,14 +1,17 @@
 #include "synth/synth_set.hpp"
 
+#include "base/decimals.hpp"
 #include "base/files.hpp"
-#include "base/json.hpp"
 #include "capture/image_io.hpp"
 
 #include <cstdio>
-#include <regex>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 namespace arwb {
+
+using Json = nlohmann::ordered_json;
 
 const std::vector<cv::Size>& mixed_sizes() {
   static const std::vector<cv::Size> sizes = {{640, 480}, {1280, 720}, {1920, 1080}};
@@ -26,76 +29,92 @@ SetItem make_set_item(const std::vector<Dictionary>& dicts, const std::vector<cv
 }
 
 std::string truth_line(const SetItem& item) {
-  std::string line = "{\"file\":" + json::quote(item.file) + ",\"width\":" + std::to_string(item.image.cols) +
-                     ",\"height\":" + std::to_string(item.image.rows) + ",\"markers\":[";
-  for (size_t i = 0; i < item.truth.size(); ++i) {
-    const TruthMarker& m = item.truth[i];
-    line += (i ? ",{" : "{");
-    line += "\"id\":" + std::to_string(m.id) + ",\"dict\":" + json::quote(m.dict) + ",\"corners\":[";
-    for (int k = 0; k < 4; ++k)
-      line += std::string(k ? "," : "") + "[" + json::number(m.corners[size_t(k)].x, 4) + "," +
-              json::number(m.corners[size_t(k)].y, 4) + "]";
-    line += "]}";
+  Json markers = Json::array();
+  for (const TruthMarker& m : item.truth) {
+    Json corners = Json::array();
+    for (const auto& c : m.corners) corners.push_back({round_decimals(c.x, 4), round_decimals(c.y, 4)});
+    markers.push_back({{"id", m.id}, {"dict", m.dict}, {"corners", std::move(corners)}});
   }
-  return line + "],\"notes\":" + json::quote(item.notes) + "}";
+  const Json line = {{"file", item.file},        {"width", item.image.cols}, {"height", item.image.rows},
+                     {"markers", std::move(markers)}, {"notes", item.notes}};
+  return line.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
-// One line per photograph: a million photographs stay far below this.
-constexpr std::uintmax_t kMaxTruthBytes = 256u << 20;
+namespace {
 
-std::optional<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::string>* errors) {
-  const std::string path = dir + "/truth.jsonl";
-  Result<std::string> text = read_text_file(path, kMaxTruthBytes);
-  if (!text) {
-    if (errors) errors->push_back(text.error());
-    return std::nullopt;
+// One truth.jsonl line's markers, or why they cannot be used.
+Result<std::vector<TruthMarker>> read_markers(const Json& line) {
+  std::vector<TruthMarker> out;
+  const auto it = line.find("markers");
+  if (it == line.end()) return out;
+  if (!it->is_array()) return fail("\"markers\" is not a list");
+  for (const Json& m : *it) {
+    const std::string which = "marker " + std::to_string(out.size() + 1);
+    if (!m.is_object()) return fail(which + " is not an object");
+    const auto id = m.find("id"), dict = m.find("dict"), corners = m.find("corners");
+    if (id == m.end() || !id->is_number_integer() || *id < 0 || *id > 1000000)
+      return fail(which + ": \"id\" is not a whole number from 0 to 1000000");
+    if (dict == m.end() || !dict->is_string()) return fail(which + ": \"dict\" is not a name");
+    TruthMarker t;
+    t.id = id->get<int>();
+    t.dict = dict->get<std::string>();
+    bool pairs = corners != m.end() && corners->is_array() && corners->size() == 4;
+    for (size_t k = 0; pairs && k < 4; ++k) {
+      const Json& c = (*corners)[k];
+      pairs = c.is_array() && c.size() == 2 && c[0].is_number() && c[1].is_number();
+      if (pairs) t.corners[k] = {c[0].get<float>(), c[1].get<float>()};
+    }
+    if (!pairs) return fail("a marker's corners are not four [x,y] pairs");
+    out.push_back(std::move(t));
   }
-  std::istringstream in(std::move(*text));
-  // The set's own format, written by truth_line: a small pattern reader is enough and rejects anything else.
-  static const std::regex file_re("\"file\"\\s*:\\s*\"([^\"]+)\"");
-  static const std::regex marker_re(
-      "\\{\\s*\"id\"\\s*:\\s*(-?\\d+)\\s*,\\s*\"dict\"\\s*:\\s*\"([^\"]+)\"\\s*,\\s*\"corners\"\\s*:\\s*\\[\\s*"
-      "\\[([^\\]]+)\\]\\s*,\\s*\\[([^\\]]+)\\]\\s*,\\s*\\[([^\\]]+)\\]\\s*,\\s*\\[([^\\]]+)\\]\\s*\\]\\s*\\}");
+  return out;
+}
+
+}  // namespace
+
+Result<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::string>* skipped) {
+  const std::string path = dir + "/truth.jsonl";
+  // A truth set of a million markers is about 100 MB.
+  const Result<std::string> all = read_text_file(path, std::uintmax_t(256) << 20);
+  if (!all) return fail(all.error());
+  std::istringstream in(*all);
   std::vector<SetItem> items;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    auto fail = [&](const std::string& why) {
-      if (errors) errors->push_back(path + ":" + std::to_string(n) + ": " + why);
+  std::string text;
+  for (int n = 1; std::getline(in, text); ++n) {
+    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    auto skip = [&](const std::string& why) {
+      if (skipped) skipped->push_back(path + ":" + std::to_string(n) + ": " + why);
     };
-    std::smatch fm;
-    if (!std::regex_search(line, fm, file_re)) {
-      fail("no \"file\"");
+    const Json line = Json::parse(text, nullptr, false);
+    if (line.is_discarded() || !line.is_object()) {
+      skip("not a JSON object");
+      continue;
+    }
+    const auto file = line.find("file");
+    if (file == line.end() || !file->is_string() || file->get_ref<const std::string&>().empty()) {
+      skip("no \"file\"");
       continue;
     }
     SetItem item;
-    item.file = fm[1];
-    if (item.file.find('/') != std::string::npos) {
-      fail("file '" + item.file + "' must be a name inside the set's folder");
+    item.file = file->get<std::string>();
+    if (item.file.find('/') != std::string::npos || item.file == "." || item.file == "..") {
+      skip("file '" + item.file + "' must be a name inside the set's folder");
+      continue;
+    }
+    Result<std::vector<TruthMarker>> truth = read_markers(line);
+    if (!truth) {
+      skip(truth.error());
       continue;
     }
     LoadedImage img = load_image(dir + "/" + item.file);
     if (!img.ok()) {
-      fail(img.error);
+      skip(img.error);
       continue;
     }
     item.image = img.image;
-    bool ok = true;
-    for (std::sregex_iterator it(line.begin(), line.end(), marker_re), end; it != end; ++it) {
-      TruthMarker m;
-      m.id = std::stoi((*it)[1]);
-      m.dict = (*it)[2];
-      for (int k = 0; k < 4; ++k) {
-        float x = 0, y = 0;
-        if (std::sscanf((*it)[size_t(3 + k)].str().c_str(), "%f , %f", &x, &y) != 2) ok = false;
-        m.corners[size_t(k)] = {x, y};
-      }
-      item.truth.push_back(m);
-    }
-    if (!ok) {
-      fail("a marker's corners are not [x,y] pairs");
-      continue;
-    }
+    item.truth = std::move(*truth);
+    if (const auto notes = line.find("notes"); notes != line.end() && notes->is_string())
+      item.notes = notes->get<std::string>();
     items.push_back(std::move(item));
   }
   return items;

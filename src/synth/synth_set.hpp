@@ -3,8 +3,8 @@
 #pragma once
 
 #include "synth/synth.hpp"
+#include "base/result.hpp"
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,8 +26,8 @@ SetItem make_set_item(const std::vector<Dictionary>& dicts, const std::vector<cv
 // One truth.jsonl line: {"file","width","height","markers":[{"id","dict","corners"}],"notes"}.
 std::string truth_line(const SetItem& item);
 
-// Reads DIR/truth.jsonl and the images it names. Lines that cannot be used are reported in *errors
-// ("truth.jsonl:12: ...") and skipped. nullopt when the file itself cannot be read.
-std::optional<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::string>* errors);
+// Reads DIR/truth.jsonl and the images it names. Lines that cannot be used are reported in *skipped
+// ("DIR/truth.jsonl:12: ...") and skipped. An error when the file itself cannot be read.
+Result<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::string>* skipped);
 
 }  // namespace arwb

@@ -1,138 +1,36 @@
-// trace_to_json: valid JSON (checked by a small strict parser here, no python needed) holding every stage,
-// the markers and the candidates with their fates.
+// trace_to_json: valid JSON (parsed here by nlohmann, which is strict: no NaN, no trailing commas) holding every
+// stage, the markers and the candidates with their fates.
 #include "detect/detector.hpp"
 #include "synth/synth.hpp"
 #include "detect/trace_json.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
-#include <cctype>
+#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <cstring>
 #include <string>
 
 using namespace arwb;
+using Json = nlohmann::ordered_json;
 
 namespace {
 
-// A strict recursive-descent JSON checker (RFC 8259 grammar, no extensions). Counts object keys by name so
-// tests can ask how often a key occurs.
-class JsonChecker {
- public:
-  explicit JsonChecker(const std::string& s) : s_(s) {}
-  bool valid() {
-    ws();
-    if (!value()) return false;
-    ws();
-    return i_ == s_.size();
+// The text as JSON; a parse error fails the test with nlohmann's message (which names the byte).
+Json parse(const std::string& text) {
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    ADD_FAILURE() << e.what() << "\nnear: " << text.substr(e.byte > 40 ? e.byte - 40 : 0, 80);
+    return Json();
   }
-  std::string error_context() const { return s_.substr(i_ > 40 ? i_ - 40 : 0, 80); }
-
- private:
-  const std::string& s_;
-  size_t i_ = 0;
-
-  void ws() {
-    while (i_ < s_.size() && std::strchr(" \t\n\r", s_[i_])) ++i_;
-  }
-  bool lit(const char* w) {
-    const size_t n = std::strlen(w);
-    if (s_.compare(i_, n, w) != 0) return false;
-    i_ += n;
-    return true;
-  }
-  bool value() {
-    if (i_ >= s_.size()) return false;
-    switch (s_[i_]) {
-      case '{': return object();
-      case '[': return array();
-      case '"': return string();
-      case 't': return lit("true");
-      case 'f': return lit("false");
-      case 'n': return lit("null");
-      default: return number();
-    }
-  }
-  bool object() {
-    ++i_;
-    ws();
-    if (i_ < s_.size() && s_[i_] == '}') return ++i_, true;
-    for (;;) {
-      ws();
-      if (!string()) return false;
-      ws();
-      if (i_ >= s_.size() || s_[i_++] != ':') return false;
-      ws();
-      if (!value()) return false;
-      ws();
-      if (i_ >= s_.size()) return false;
-      if (s_[i_] == '}') return ++i_, true;
-      if (s_[i_++] != ',') return false;
-    }
-  }
-  bool array() {
-    ++i_;
-    ws();
-    if (i_ < s_.size() && s_[i_] == ']') return ++i_, true;
-    for (;;) {
-      ws();
-      if (!value()) return false;
-      ws();
-      if (i_ >= s_.size()) return false;
-      if (s_[i_] == ']') return ++i_, true;
-      if (s_[i_++] != ',') return false;
-    }
-  }
-  bool string() {
-    if (i_ >= s_.size() || s_[i_] != '"') return false;
-    for (++i_; i_ < s_.size(); ++i_) {
-      const auto c = static_cast<unsigned char>(s_[i_]);
-      if (c == '"') return ++i_, true;
-      if (c < 0x20) return false;
-      if (c == '\\') {
-        if (++i_ >= s_.size()) return false;
-        const char e = s_[i_];
-        if (e == 'u') {
-          for (int k = 0; k < 4; ++k)
-            if (++i_ >= s_.size() || !std::isxdigit(static_cast<unsigned char>(s_[i_]))) return false;
-        } else if (!std::strchr("\"\\/bfnrt", e)) {
-          return false;
-        }
-      }
-    }
-    return false;
-  }
-  bool digits() {
-    const size_t start = i_;
-    while (i_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[i_]))) ++i_;
-    return i_ > start;
-  }
-  bool number() {
-    if (i_ < s_.size() && s_[i_] == '-') ++i_;
-    if (i_ < s_.size() && s_[i_] == '0') ++i_;
-    else if (!digits()) return false;
-    if (i_ < s_.size() && s_[i_] == '.' && (++i_, !digits())) return false;
-    if (i_ < s_.size() && (s_[i_] == 'e' || s_[i_] == 'E')) {
-      ++i_;
-      if (i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-')) ++i_;
-      if (!digits()) return false;
-    }
-    return true;
-  }
-};
-
-bool valid_json(const std::string& s, std::string* where = nullptr) {
-  JsonChecker c(s);
-  const bool ok = c.valid();
-  if (!ok && where) *where = c.error_context();
-  return ok;
 }
 
-size_t count(const std::string& text, const std::string& part) {
-  size_t n = 0;
-  for (size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
-  return n;
+// How many elements of the array satisfy `pred`.
+template <typename Pred>
+size_t count_if(Json& array, Pred pred) {
+  return array.is_array() ? size_t(std::count_if(array.begin(), array.end(), pred)) : 0;
 }
 
 cv::Mat two_markers(const Dictionary& d) {
@@ -146,13 +44,13 @@ cv::Mat two_markers(const Dictionary& d) {
 
 }  // namespace
 
-TEST(JsonChecker, AcceptsJsonAndRejectsBrokenText) {
-  EXPECT_TRUE(valid_json(R"({"a":[1,-2.5e3,true,null,"x\"\u00e9"],"b":{}})"));
-  EXPECT_FALSE(valid_json(R"({"a":[1,2})"));
-  EXPECT_FALSE(valid_json(R"({"a":1,})"));
-  EXPECT_FALSE(valid_json(R"({"a":nan})"));
-  EXPECT_FALSE(valid_json("{\"a\":\"tab\there\"}"));
-  EXPECT_FALSE(valid_json(R"({"a":01})"));
+TEST(TraceJson, TheParserTheTestsUseIsStrict) {
+  EXPECT_TRUE(Json::accept(R"({"a":[1,-2.5e3,true,null,"x\"\u00e9"],"b":{}})"));
+  EXPECT_FALSE(Json::accept(R"({"a":[1,2})"));
+  EXPECT_FALSE(Json::accept(R"({"a":1,})"));
+  EXPECT_FALSE(Json::accept(R"({"a":nan})"));
+  EXPECT_FALSE(Json::accept("{\"a\":\"tab\there\"}"));
+  EXPECT_FALSE(Json::accept(R"({"a":01})"));
 }
 
 TEST(TraceJson, FullTraceIsValidJsonWithEveryStageMarkersAndCandidates) {
@@ -160,50 +58,80 @@ TEST(TraceJson, FullTraceIsValidJsonWithEveryStageMarkersAndCandidates) {
   FrameTrace t;
   const auto markers = Detector({d}).detect(two_markers(d), &t, TraceLevel::full);
   ASSERT_EQ(markers.size(), 2u);
-  const std::string j = trace_to_json(t);
-  std::string where;
-  ASSERT_TRUE(valid_json(j, &where)) << "near: " << where;
-  EXPECT_EQ(j.front(), '{');
-  EXPECT_NE(j.find(R"("level":"full")"), std::string::npos);
-  EXPECT_NE(j.find(R"("width":640,"height":480)"), std::string::npos);
-  EXPECT_NE(j.find(R"("total_ms":)"), std::string::npos);
+  const std::string text = trace_to_json(t);
+  Json j = parse(text);
+  ASSERT_TRUE(j.is_object()) << text;
+  // The fields in the order the header documents.
+  std::vector<std::string> keys;
+  for (const auto& [k, v] : j.items()) keys.push_back(k);
+  EXPECT_EQ(keys, (std::vector<std::string>{"level", "width", "height", "work_width", "work_height", "scale_x",
+                                             "scale_y", "total_ms", "contours", "stages", "markers", "candidates"}));
+  EXPECT_EQ(j["level"], "full");
+  EXPECT_EQ(j["width"], 640);
+  EXPECT_EQ(j["height"], 480);
+  EXPECT_TRUE(j["total_ms"].is_number());
+  Json& stages = j["stages"];
   for (int s = 0; s < kStageCount; ++s)
-    EXPECT_NE(j.find("{\"name\":\"" + std::string(stage_name(Stage(s))) + "\""), std::string::npos)
+    EXPECT_EQ(count_if(stages, [&](Json& r) { return r["name"] == stage_name(Stage(s)); }), 1u)
         << stage_name(Stage(s));
-  EXPECT_EQ(count(j, "{\"name\":"), t.stages.size());
+  EXPECT_EQ(stages.size(), t.stages.size());
   // Markers with their corners, first in the array.
-  EXPECT_NE(j.find(R"("markers":[{"id":12,"dict":"ARUCO_ORIGINAL","corners":[[)"), std::string::npos);
-  EXPECT_NE(j.find(R"({"id":345,"dict":"ARUCO_ORIGINAL")"), std::string::npos);
+  Json& m = j["markers"];
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m[0]["id"], 12);
+  EXPECT_EQ(m[0]["dict"], "ARUCO_ORIGINAL");
+  ASSERT_EQ(m[0]["corners"].size(), 4u);
+  for (Json& c : m[0]["corners"]) EXPECT_TRUE(c.size() == 2 && c[0].is_number() && c[1].is_number()) << c;
+  EXPECT_EQ(m[1]["id"], 345);
+  EXPECT_EQ(m[1]["dict"], "ARUCO_ORIGINAL");
   // One fate per candidate; the rejected black square names its stage and parameter.
-  EXPECT_EQ(count(j, "\"fate\":{"), t.candidates.size());
-  EXPECT_EQ(count(j, R"("fate":{"stage":"accepted")"), 2u);
-  EXPECT_NE(j.find(R"("stage":"otsu","param":"otsu_min_stddev")"), std::string::npos);
-  EXPECT_NE(j.find(R"("per_rotation":[{"id":)"), std::string::npos);
-  EXPECT_NE(j.find(R"("bits":["0000000",)"), std::string::npos);
+  Json& cands = j["candidates"];
+  ASSERT_EQ(cands.size(), t.candidates.size());
+  EXPECT_EQ(count_if(cands, [](Json& c) { return c["fate"].is_object(); }), t.candidates.size());
+  EXPECT_EQ(count_if(cands, [](Json& c) { return c["fate"]["stage"] == "accepted"; }), 2u);
+  EXPECT_GE(count_if(cands, [](Json& c) {
+              return c["fate"]["stage"] == "otsu" && c["fate"]["param"] == "otsu_min_stddev";
+            }),
+            1u);
+  EXPECT_GE(count_if(cands,
+                     [](Json& c) { return !c["per_rotation"].empty() && c["per_rotation"][0].contains("id"); }),
+            1u);
+  EXPECT_GE(count_if(cands, [](Json& c) { return c["bits"].size() > 1 && c["bits"][0] == "0000000"; }), 1u);
   // Contours are counted, their points left out.
-  EXPECT_NE(j.find("\"contours\":" + std::to_string(t.contours.size())), std::string::npos);
-  EXPECT_LT(j.size(), 2000 + 600 * t.candidates.size());
+  EXPECT_EQ(j["contours"], t.contours.size());
+  EXPECT_LT(text.size(), 2000 + 600 * t.candidates.size());
 }
 
 TEST(TraceJson, SummaryEmptyAndOddTracesAreValidToo) {
   const Dictionary d = make_aruco_original();
   FrameTrace t;
   Detector({d}).detect(two_markers(d), &t, TraceLevel::summary);
-  EXPECT_TRUE(valid_json(trace_to_json(t)));
-  EXPECT_NE(trace_to_json(t).find(R"("level":"summary")"), std::string::npos);
+  EXPECT_EQ(parse(trace_to_json(t))["level"], "summary");
   Detector({d}).detect(two_markers(d), &t, TraceLevel::off);
-  EXPECT_TRUE(valid_json(trace_to_json(t)));
-  EXPECT_TRUE(valid_json(trace_to_json(FrameTrace{})));
-  // Messages with quotes and control characters, and non-finite numbers, stay valid.
+  EXPECT_TRUE(parse(trace_to_json(t)).is_object());
+  EXPECT_TRUE(parse(trace_to_json(FrameTrace{})).is_object());
+  // Messages with quotes and control characters, and non-finite numbers (as null), stay valid and read back.
   FrameTrace odd;
   CandidateRecord c;
-  c.fate = Rejection{Stage::quad_fit, "", std::nan(""), std::numeric_limits<double>::infinity(), "a \"quoted\"\tmessage\n\x01"};
+  c.fate = Rejection{Stage::quad_fit, "", std::nan(""), std::numeric_limits<double>::infinity(),
+                     "a \"quoted\"\tmessage\n\x01"};
   c.dict = "weird\\name";
   odd.candidates.push_back(c);
   Marker m;
   m.dict = "x\"y";
   m.corners[0] = cv::Point2f(std::numeric_limits<float>::infinity(), 0);
   odd.markers.push_back(m);
-  std::string where;
-  EXPECT_TRUE(valid_json(trace_to_json(odd), &where)) << where;
+  Marker bad_utf8;
+  bad_utf8.dict = "\xff\xfe";   // bytes from a file need not be UTF-8
+  odd.markers.push_back(bad_utf8);
+  Json j = parse(trace_to_json(odd));
+  ASSERT_TRUE(j.is_object());
+  EXPECT_EQ(j["candidates"][0]["fate"]["message"], "a \"quoted\"\tmessage\n\x01");
+  EXPECT_TRUE(j["candidates"][0]["fate"]["value"].is_null());
+  EXPECT_TRUE(j["candidates"][0]["fate"]["limit"].is_null());
+  EXPECT_EQ(j["candidates"][0]["dict"], "weird\\name");
+  EXPECT_EQ(j["markers"][0]["dict"], "x\"y");
+  EXPECT_TRUE(j["markers"][0]["corners"][0][0].is_null());
+  EXPECT_EQ(j["markers"][0]["corners"][0][1], 0);
+  EXPECT_TRUE(j["markers"][1]["dict"].is_string());
 }

@@ -3,13 +3,20 @@
 #include "scene_test_util.hpp"
 #include "script/xml_reader.hpp"
 
+#include <cstdio>
+
 namespace arwb::script::test {
 namespace {
 
 // ---- the reader ----------------------------------------------------------------------------------------------
 
+// The line of a "t.xml:LINE: message" error, or 0.
+int line_of(const std::string& error) {
+  int line = 0;
+  return std::sscanf(error.c_str(), "t.xml:%d:", &line) == 1 ? line : 0;
+}
+
 TEST(XmlReader, ElementsAttributesTextCommentsAndLines) {
-  XmlError e;
   const auto doc = parse_xml(R"(<?xml version="1.0" encoding="UTF-8"?>
 <!-- a comment -->
 <a x="1" y='two &amp; three'>
@@ -18,8 +25,8 @@ TEST(XmlReader, ElementsAttributesTextCommentsAndLines) {
   <d><![CDATA[<raw> & stuff]]></d>
 </a>
 )",
-                             &e);
-  ASSERT_TRUE(doc) << e.line << ": " << e.message;
+                             "t.xml");
+  ASSERT_TRUE(doc) << doc.error();
   EXPECT_EQ(doc->name, "a");
   EXPECT_EQ(doc->line, 3);
   ASSERT_TRUE(doc->attribute("y"));
@@ -35,9 +42,8 @@ TEST(XmlReader, ElementsAttributesTextCommentsAndLines) {
 }
 
 TEST(XmlReader, PredefinedEntitiesAndCharacterReferences) {
-  XmlError e;
-  const auto doc = parse_xml("<t>&lt;&gt;&amp;&apos;&quot; &#65;&#x42;&#xe9;&#x20AC;&#x1F600;</t>", &e);
-  ASSERT_TRUE(doc) << e.message;
+  const auto doc = parse_xml("<t>&lt;&gt;&amp;&apos;&quot; &#65;&#x42;&#xe9;&#x20AC;&#x1F600;</t>", "t.xml");
+  ASSERT_TRUE(doc) << doc.error();
   EXPECT_EQ(doc->text, "<>&'\" AB\xC3\xA9\xE2\x82\xAC\xF0\x9F\x98\x80");
 }
 
@@ -64,21 +70,47 @@ TEST(XmlReader, RefusesWhatItDoesNotSupport) {
       {"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?><db/>", 1, "UTF-8 only"},
       {"<db><!-- a -- b --></db>", 1, "'--'"},
       {"<db>\x01</db>", 1, "control character"},
+      {"<db>\n<!doctype db>\n</db>", 2, "DOCTYPE"},
+      {"<db>\n<a>\n</a>\n</x>", 4, "</x> closes <db> opened on line 1"},
+      {"<db>\n<a>x</a>", 2, "<db> (line 1) is never closed"},
+      {"<db/>\njunk", 2, "only one root"},
+      {"<db a=\"1\nb&c\"/>", 2, "'&'"},
+      {"<db>\n<a>\n&#xZZ;</a></db>", 3, "bad character reference"},
   };
   for (const Case& c : cases) {
-    XmlError e;
-    EXPECT_FALSE(parse_xml(c.xml, &e)) << c.xml;
-    EXPECT_EQ(e.line, c.line) << c.xml << " -> " << e.message;
-    EXPECT_NE(e.message.find(c.words), std::string::npos) << c.xml << " -> " << e.message;
+    const auto doc = parse_xml(c.xml, "t.xml");
+    EXPECT_FALSE(doc) << c.xml;
+    EXPECT_EQ(line_of(doc.error()), c.line) << c.xml << " -> " << doc.error();
+    EXPECT_NE(doc.error().find(c.words), std::string::npos) << c.xml << " -> " << doc.error();
   }
 }
 
 TEST(XmlReader, DeepNestingIsRefusedNotOverflowed) {
   std::string xml;
   for (int i = 0; i < 10000; ++i) xml += "<a>";
-  XmlError e;
-  EXPECT_FALSE(parse_xml(xml, &e));
-  EXPECT_NE(e.message.find("nested"), std::string::npos) << e.message;
+  const auto doc = parse_xml(xml, "t.xml");
+  EXPECT_FALSE(doc);
+  EXPECT_NE(doc.error().find("nested"), std::string::npos) << doc.error();
+}
+
+TEST(XmlReader, HostileInputIsRefusedNotCrashed) {
+  // Every prefix of a document, and bytes flipped through it: each either parses or names a line in the text.
+  const std::string good = R"(<?xml version="1.0"?>
+<database dictionary="ARUCO_ORIGINAL"><!-- c -->
+  <row a='1'><id>&#55;</id><resource><![CDATA[media/a.png]]></resource></row>
+</database>
+)";
+  const int lines = 5;
+  for (size_t n = 0; n <= good.size(); ++n) {
+    std::string t = good.substr(0, n);
+    for (const char flip : {'\0', '<', '&', '>', '"', '/', '\xff'}) {
+      if (n < good.size()) t = good.substr(0, n) + flip + good.substr(n + 1);
+      const auto doc = parse_xml(t, "t.xml");
+      if (doc) continue;
+      EXPECT_GE(line_of(doc.error()), 1) << t << " -> " << doc.error();
+      EXPECT_LE(line_of(doc.error()), lines) << t << " -> " << doc.error();
+    }
+  }
 }
 
 // ---- the database as a scene ---------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 #include "support.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <cstdlib>
@@ -44,8 +45,10 @@ TEST(SceneWindow, MediaAreProjectedOnTheLiveViewAndCanBeHidden) {
   const std::string common = "--source '" + kSample + "' --scene '" + tmp.str("scene.lua") + "' --frames 40 --stats";
   RunResult r = test::run_arwb_window(window_args(tmp, common + " --screenshot '" + tmp.str("on.png") + "'"));
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("\"scene_ok\":true"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("\"overlays\":2"), std::string::npos) << r.out;
+  const auto stats = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')), nullptr, false);
+  ASSERT_TRUE(stats.is_object()) << r.out;
+  EXPECT_EQ(stats["scene_ok"], true) << r.out;
+  EXPECT_EQ(stats["overlays"], 2) << r.out;
   const cv::Mat on = cv::imread(tmp.str("on.png"));
   ASSERT_FALSE(on.empty());
   // Two markers of about 40 and 55 px in a 640x480 frame shown ~800 px wide: a few thousand media pixels.

@@ -7,10 +7,12 @@
 #include "support.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -37,16 +39,29 @@ int green_pixels(const cv::Mat& shot, cv::Rect area) {
 // The live view's place in the first start's layout of a 1600x900 window: the top-left of the screen.
 const cv::Rect kLiveView(0, 40, 800, 520);
 
-double stat(const std::string& json, const std::string& key) {
-  std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\":(-?[0-9.]+)"))) return -1;
-  return std::stod(m[1]);
+// The --stats line (the output's first line) as JSON; a parse error fails the test.
+nlohmann::json stats(const std::string& out) {
+  try {
+    return nlohmann::json::parse(out.substr(0, out.find('\n')));
+  } catch (const nlohmann::json::parse_error& e) {
+    ADD_FAILURE() << e.what() << " in: " << out;
+    return nullptr;
+  }
 }
 
-std::string stat_text(const std::string& json, const std::string& key) {
-  std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\":\"([^\"]*)\""))) return {};
-  return m[1];
+// A number of the --stats line (`group` names an object in it: "stages"), or -1 when it is missing.
+double stat(const std::string& out, const std::string& key, const std::string& group = "") {
+  const nlohmann::json s = stats(out);
+  const nlohmann::json* in = &s;
+  if (!group.empty()) in = s.is_object() && s.contains(group) ? &s[group] : nullptr;
+  if (!in || !in->is_object() || !in->contains(key) || !(*in)[key].is_number()) return -1;
+  return (*in)[key].get<double>();
+}
+
+// A string of the --stats line, or "" when it is missing.
+std::string stat_text(const std::string& out, const std::string& key) {
+  const nlohmann::json s = stats(out);
+  return s.is_object() && s.contains(key) && s[key].is_string() ? s[key].get<std::string>() : "";
 }
 
 // A 640x480 photo-like image with ARUCO_ORIGINAL marker `id` in the middle, `side` px wide.
@@ -97,7 +112,7 @@ TEST(Workbench, StatsLineHasTheFramesRatesAndEveryStage) {
   EXPECT_GT(stat(r.out, "detected"), 0);
   for (int i = 0; i < kStageCount; ++i) {
     const std::string name(stage_name(static_cast<Stage>(i)));
-    EXPECT_GE(stat(r.out, name), 0) << name << " missing in " << r.out;
+    EXPECT_GE(stat(r.out, name, "stages"), 0) << name << " missing in " << r.out;
   }
   EXPECT_EQ(stat_text(r.out, "source"), "synthetic");
 }
@@ -181,7 +196,10 @@ TEST(Workbench, SnapshotSavesTheFrameEveryStageAndTheTrace) {
   for (const auto& e : fs::directory_iterator(tmp.str("snaps"))) dirs.push_back(e.path());
   ASSERT_EQ(dirs.size(), 1u);
   EXPECT_TRUE(fs::exists(dirs[0] / "frame.png"));
-  EXPECT_NE(test::read_file((dirs[0] / "trace.json").string()).find("\"adaptive_threshold\""), std::string::npos);
+  const auto trace = nlohmann::json::parse(test::read_file((dirs[0] / "trace.json").string()), nullptr, false);
+  ASSERT_TRUE(trace.is_object());
+  EXPECT_TRUE(std::any_of(trace["stages"].begin(), trace["stages"].end(),
+                          [](const nlohmann::json& s) { return s["name"] == "adaptive_threshold"; }));
   for (int i = 0; i < kStageCount; ++i) {
     char name[64];
     std::snprintf(name, sizeof name, "%02d_%s.png", i, std::string(stage_name(static_cast<Stage>(i))).c_str());

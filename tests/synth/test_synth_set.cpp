@@ -1,0 +1,73 @@
+// Truth sets: truth_line writes what read_set reads back, and lines that cannot be used are named and skipped.
+#include "synth/synth_set.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <fstream>
+
+using namespace arwb;
+
+TEST(SynthSet, WhatIsWrittenReadsBack) {
+  test::TempDir dir;
+  const SetItem item = make_set_item({make_aruco_original()}, {{320, 240}}, 7, 0);
+  ASSERT_FALSE(item.truth.empty());
+  ASSERT_TRUE(cv::imwrite(dir.str(item.file), item.image));
+  const std::string line = truth_line(item);
+  const auto j = nlohmann::json::parse(line);   // one valid JSON object
+  EXPECT_EQ(j["file"], item.file);
+  EXPECT_EQ(j["width"], 320);
+  EXPECT_EQ(j["height"], 240);
+  test::write_file(dir.str("truth.jsonl"), line + "\n\n");
+  std::vector<std::string> skipped;
+  const auto set = read_set(dir.str(), &skipped);
+  ASSERT_TRUE(set) << set.error();
+  EXPECT_TRUE(skipped.empty()) << skipped.front();
+  ASSERT_EQ(set->size(), 1u);
+  const SetItem& back = set->front();
+  EXPECT_EQ(back.file, item.file);
+  EXPECT_EQ(back.notes, item.notes);
+  EXPECT_EQ(back.image.size(), item.image.size());
+  ASSERT_EQ(back.truth.size(), item.truth.size());
+  for (size_t i = 0; i < item.truth.size(); ++i) {
+    EXPECT_EQ(back.truth[i].id, item.truth[i].id);
+    EXPECT_EQ(back.truth[i].dict, item.truth[i].dict);
+    for (size_t k = 0; k < 4; ++k) EXPECT_LE(cv::norm(back.truth[i].corners[k] - item.truth[i].corners[k]), 1e-3);
+  }
+}
+
+TEST(SynthSet, BadLinesAreNamedWithTheirLineAndSkipped) {
+  test::TempDir dir;
+  const SetItem item = make_set_item({make_aruco_original()}, {{320, 240}}, 7, 0);
+  ASSERT_TRUE(cv::imwrite(dir.str(item.file), item.image));
+  const std::string good = truth_line(item);
+  test::write_file(dir.str("truth.jsonl"),
+                   good + "\n"                                                        // 1
+                   "{\"file\": \"img_00000.png\", \"markers\": [{\"id\": 1}]}\n"      // 2
+                   "not json\n"                                                       // 3
+                   "{\"markers\": []}\n"                                              // 4
+                   "{\"file\": \"../x.png\"}\n"                                       // 5
+                   "{\"file\": \"missing.png\"}\n"                                    // 6
+                   "{\"file\": \"img_00000.png\", \"markers\": [{\"id\": 1, \"dict\": \"ARUCO_ORIGINAL\", "
+                   "\"corners\": [[0,0],[1,1]]}]}\n"                                  // 7
+                   "[1, 2]\n");                                                       // 8
+  std::vector<std::string> skipped;
+  const auto set = read_set(dir.str(), &skipped);
+  ASSERT_TRUE(set) << set.error();
+  EXPECT_EQ(set->size(), 1u);
+  const std::string at = dir.str("truth.jsonl") + ":";
+  const std::vector<std::string> want = {at + "2: marker 1: \"dict\" is not a name",
+                                         at + "3: not a JSON object",
+                                         at + "4: no \"file\"",
+                                         at + "5: file '../x.png' must be a name inside the set's folder",
+                                         at + "6: " + dir.str("missing.png") + ": no such file",
+                                         at + "7: a marker's corners are not four [x,y] pairs",
+                                         at + "8: not a JSON object"};
+  EXPECT_EQ(skipped, want);
+
+  const auto none = read_set(dir.str("nowhere"), &skipped);
+  EXPECT_FALSE(none);
+  EXPECT_EQ(none.error(), dir.str("nowhere") + "/truth.jsonl: cannot read");
+}
