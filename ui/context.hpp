@@ -1,7 +1,8 @@
 // What every panel is handed each UI frame. Panels are immediate-mode drawers: they read the latest finished
 // frame through a const pointer, edit the user's settings and their own view state, and ask for actions by
-// appending requests. They hold no algorithm and never talk to the worker thread; the workbench (ui/window.cpp)
-// forwards edited settings and requests to it after the panels are drawn.
+// appending requests. They hold no algorithm, do no I/O and never talk to the worker thread; the window
+// (ui/window.cpp, ui/requests.cpp) carries out the requests after the panels are drawn, forwards edited settings
+// to the worker, and reports back through the Status.
 #pragma once
 
 #include "detect/diagnose.hpp"
@@ -18,6 +19,8 @@
 #include <array>
 #include <deque>
 #include <functional>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -63,6 +66,11 @@ enum class RequestKind {
   load_scene,    // text: a scene file (.lua or .xml); "" unloads the scene
   save_script,   // text: path, payload: the file's new content (the scene then reloads by itself)
   open_url,      // text: a web card's URL, opened in the system's browser
+  dictionary_stats,  // text: a dictionary's name; its distances come in Status::dictionary_stats
+  list_presets,  // the shipped presets (assets/presets) into Status::presets
+  list_examples, // the example scenes (scripts/) into Status::examples
+  watch_file,    // text: the file the script editor shows ("" none), read into Status::script_file and watched;
+                 // value 1: read it again even when unchanged (Revert)
 };
 
 struct Request {
@@ -84,6 +92,36 @@ struct SweepStatus {
   cv::Rect2f region;
 };
 
+// A dictionary's distances (detect/dictionary.hpp), computed once off the UI thread when a panel asks.
+struct DictionaryStats {
+  int min_distance = 0;
+  std::vector<DictPair> pairs;  // the closest 50
+  std::vector<int> histogram;   // distance_histogram
+  double ms = 0;                // time it took
+};
+
+struct PresetFile {
+  std::string path;
+  std::string name;     // file name without .yml
+  std::string comment;  // the file's first comment line, if any
+};
+
+struct ExampleScene {
+  std::string path;     // as given to load_scene
+  std::string label;    // relative to the scripts folder: "museum/museum.lua"
+};
+
+// The file the script editor shows, as the window last read it. The window looks at the disk twice a second and
+// reads the file again when its time or size changed; `version` counts the readings.
+struct WatchedFile {
+  std::string path;         // "" none
+  uint64_t version = 0;
+  bool exists = false;
+  bool read = false;        // `text` holds its content
+  std::string text;
+  std::string error;        // why it could not be read (missing, over 1 MB, permissions)
+};
+
 // Read-only facts about the application that panels show.
 struct Status {
   double ui_fps = 0;
@@ -96,6 +134,12 @@ struct Status {
   SourceSpec source;                              // the source in use
   std::string assets_dir;                         // shipped presets, the tour, fonts
   std::string scripts_dir;                        // the shipped example scenes (scripts/)
+  std::map<std::string, DictionaryStats> dictionary_stats;   // by name, once computed
+  std::vector<PresetFile> presets;                // list_presets: default first, then by name
+  std::string presets_dir;                        // where they were found ("" when no folder)
+  std::vector<ExampleScene> examples;             // list_examples, by label
+  std::string examples_error;
+  WatchedFile script_file;                        // watch_file
 };
 
 // Zoom and pan of an image view; the live view and the pipeline's large view share one, so the same pixel sits
@@ -106,8 +150,13 @@ struct ImageViewState {
   ImVec2 centre{0, 0};   // image pixel at the middle of the panel
 };
 
-// View state shared between panels (selection, hover, the overlays chosen). Each panel keeps the rest of its
-// view state itself.
+// A panel's own view state (filters, sort order, edit buffers), declared in the panel's file as a struct derived
+// from this one and kept by the View (panel_state), so each window has its own and a new View starts afresh.
+struct PanelState {
+  virtual ~PanelState() = default;
+};
+
+// View state shared between panels (selection, hover, the overlays chosen), and each panel's own.
 struct View {
   std::array<bool, kPanelCount> open{};
   ImageViewState image;
@@ -131,8 +180,17 @@ struct View {
   bool presentation = false;
   int tour_step = 0;
   bool tour_active = false;
+  std::array<std::unique_ptr<PanelState>, kPanelCount> panel_states;   // see panel_state
   View();
 };
+
+// Panel p's own state in `v`, made on first use.
+template <class T>
+T& panel_state(View& v, Panel p) {
+  std::unique_ptr<PanelState>& slot = v.panel_states[static_cast<size_t>(p)];
+  if (!dynamic_cast<T*>(slot.get())) slot = std::make_unique<T>();
+  return static_cast<T&>(*slot);
+}
 
 struct Context {
   const Frame* frame = nullptr;        // the latest finished frame; null before the first

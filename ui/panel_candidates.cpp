@@ -22,7 +22,7 @@ enum Column { col_index, col_bbox, col_perimeter, col_fate, col_id, col_param, c
 
 constexpr int kFateCount = kStageCount + 1;  // every stage, then accepted
 
-struct LedgerState {
+struct LedgerState : PanelState {
   ImGuiTextFilter filter;
   std::array<bool, kFateCount> show{};  // per fate stage
   // Cached for one frame: each row's text (for the filter), the sort order and the rows that pass the filters.
@@ -371,7 +371,7 @@ void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
 }  // namespace
 
 void draw_candidates(Context& ctx) {
-  static LedgerState st;  // the panel's own view state
+  LedgerState& st = panel_state<LedgerState>(ctx.view, Panel::candidates);
   ctx.view.hovered_candidate = -1;  // set again below while a row is under the mouse
   if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;

@@ -15,7 +15,7 @@ namespace arwb::ui {
 
 namespace {
 
-struct ConsoleState {
+struct ConsoleState : PanelState {
   bool show[3] = {true, true, true};  // print, warning, error
   char filter[128] = "";
   uint64_t last_serial = 0;
@@ -100,7 +100,7 @@ void draw_line(Context& ctx, const ConsoleLine& l, int repeats, const std::strin
 }  // namespace
 
 void draw_console(Context& ctx) {
-  static ConsoleState st;
+  ConsoleState& st = panel_state<ConsoleState>(ctx.view, Panel::console);
   const SceneStatus* s = ctx.frame ? &ctx.frame->scene : nullptr;
   // A Clear applies to the scene it was made on; another scene's lines all show.
   if (s && st.cleared && (s->file != st.cleared_file || s->console_serial < st.cleared_serial)) st.cleared = false;

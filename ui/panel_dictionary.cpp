@@ -3,18 +3,15 @@
 // the budget: (min_distance - 1) / 2 bits can be corrected without ever naming the wrong marker. The tabs show
 // every marker (a clipped grid, so 1000 ids stay fast; hover one for its bits), the closest pairs side by side
 // with the differing cells marked, and the histogram of all pairwise distances. The distances are computed once
-// per dictionary, in the background, the first time that dictionary is shown.
+// per dictionary, by the window in the background (a request), the first time that dictionary is shown.
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
 #include <opencv2/core.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <future>
 #include <map>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,22 +19,16 @@ namespace arwb::ui {
 
 namespace {
 
-struct DictStats {
-  int min_distance = 0;
-  std::vector<DictPair> pairs;  // the closest 50
-  std::vector<int> histogram;   // distance_histogram
-  double ms = 0;                // time it took
-};
-
+// A dictionary shown: its table, and its distances once the window computed them (RequestKind::dictionary_stats,
+// on a thread of its own: 500 000 pairs for 1000 ids).
 struct DictEntry {
-  Dictionary dict;
-  std::future<DictStats> pending;
-  std::unique_ptr<DictStats> stats;  // once computed
+  const Dictionary& dict;
+  const DictionaryStats* stats = nullptr;
 };
 
-struct DictionaryState {
+struct DictionaryState : PanelState {
   std::string name;                            // the one shown; "" until the first draw
-  std::map<std::string, DictEntry> entries;    // every dictionary shown so far
+  std::map<std::string, Dictionary> dicts;     // every dictionary shown so far
   float thumb = 44.0f;                         // grid thumbnail side (before ctx.scale)
   int selected_id = -1;                        // clicked in the grid: highlighted, first id of the sheet
   int first_id = 0;                            // marker sheet: ids first_id .. first_id + 11
@@ -46,35 +37,26 @@ struct DictionaryState {
 
 constexpr int kPxPerCell = 8;  // rendered texture resolution; thumbnails are scaled on screen
 
-DictEntry* entry_for(DictionaryState& st, const std::string& name) {
-  auto it = st.entries.find(name);
-  if (it == st.entries.end()) {
+const Dictionary* dictionary_for(DictionaryState& st, const std::string& name) {
+  auto it = st.dicts.find(name);
+  if (it == st.dicts.end()) {
     std::string err;
     auto d = dictionary_by_name(name, &err);
     if (!d) {
       st.error = err;
       return nullptr;
     }
-    it = st.entries.emplace(name, DictEntry{}).first;
-    it->second.dict = std::move(*d);
+    it = st.dicts.emplace(name, std::move(*d)).first;
   }
-  DictEntry& e = it->second;
-  // Lazily, once: the distances need every pair (500 000 for 1000 ids), so they run off the UI thread.
-  if (!e.stats && !e.pending.valid()) {
-    e.pending = std::async(std::launch::async, [d = e.dict] {
-      const auto t0 = std::chrono::steady_clock::now();
-      DictStats s;
-      s.min_distance = d.min_distance();
-      s.pairs = closest_pairs(d, 50);
-      s.histogram = distance_histogram(d);
-      s.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      return s;
-    });
-  }
-  if (e.pending.valid() && e.pending.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-    e.stats = std::make_unique<DictStats>(e.pending.get());
-  }
-  return &e;
+  return &it->second;
+}
+
+// Its distances once computed; until then they are asked for (asking again while they compute does nothing).
+const DictionaryStats* stats_for(Context& ctx, const std::string& name) {
+  const auto it = ctx.status.dictionary_stats.find(name);
+  if (it != ctx.status.dictionary_stats.end()) return &it->second;
+  ctx.request(RequestKind::dictionary_stats, name);
+  return nullptr;
 }
 
 std::string marker_key(const Dictionary& d, int id, int rotation = 0) {
@@ -329,7 +311,7 @@ void histogram_tab(Context& ctx, const DictEntry& e) {
 }  // namespace
 
 void draw_dictionary(Context& ctx) {
-  static DictionaryState st;
+  DictionaryState& st = panel_state<DictionaryState>(ctx.view, Panel::dictionary);
   if (st.name.empty()) st.name = ctx.settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : ctx.settings.dictionaries[0];
   ImGui::SetNextItemWidth(220.0f * ctx.scale);
   if (ImGui::BeginCombo("dictionary", st.name.c_str(), ImGuiComboFlags_HeightLarge)) {
@@ -345,11 +327,13 @@ void draw_dictionary(Context& ctx) {
     }
     ImGui::EndCombo();
   }
-  DictEntry* e = entry_for(st, st.name);
-  if (!e) {
+  const Dictionary* dict = dictionary_for(st, st.name);
+  if (!dict) {
     ImGui::TextColored({1.0f, 0.3f, 0.3f, 1.0f}, "%s", st.error.c_str());
     return;
   }
+  DictEntry entry{*dict, stats_for(ctx, st.name)};
+  DictEntry* e = &entry;
   header(ctx, st, *e);
   if (ImGui::BeginTabBar("dict_tabs")) {
     if (ImGui::BeginTabItem("Markers")) {

@@ -18,7 +18,7 @@ namespace arwb::ui {
 
 namespace {
 
-struct InspectorState {
+struct InspectorState : PanelState {
   ImageViewState crop;           // the region view's own zoom and pan
   int centred_on = -1;           // the candidate the region view was last centred on
   int rotation_for = -1;         // the candidate `rotation` was chosen for
@@ -225,9 +225,9 @@ void region_section(Context& ctx, InspectorState& st, const Frame& f, int index)
 
 // [SECTION] frontal view, histogram
 
-int grid_cells(Context& ctx, const CandidateRecord& c) {
+int grid_cells(const Frame& f, const CandidateRecord& c) {
   if (!c.bits.empty()) return c.bits.rows;
-  const int cp = ctx.settings.params.warp_cell_px;
+  const int cp = f.params.warp_cell_px;   // the frame's, which made the warp
   if (cp > 0 && c.warp.cols % cp == 0 && c.warp.cols / cp >= 3) return c.warp.cols / cp;
   return 0;
 }
@@ -240,7 +240,7 @@ void warp_view(Context& ctx, const Frame& f, int index, float side) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const std::string key = "inspector:warp:" + std::to_string(index);
   dl->AddImage(ctx.texture(key, c.warp, f.index, true), p0, {p0.x + side, p0.y + side});
-  const int cells = grid_cells(ctx, c);
+  const int cells = grid_cells(f, c);
   if (cells > 0) {
     const float cs = side / static_cast<float>(cells);
     for (int i = 0; i <= cells; ++i) {
@@ -283,7 +283,7 @@ void frontal_section(Context& ctx, const Frame& f, int index) {
     const float side = std::min(220.0f * s, std::max(64.0f * s, avail * 0.45f));
     ImGui::BeginGroup();
     warp_view(ctx, f, index, side);
-    const int cells = grid_cells(ctx, c);
+    const int cells = grid_cells(f, c);
     ImGui::TextDisabled("%dx%d px, %d x %d cells", c.warp.cols, c.warp.rows, cells, cells);
     ImGui::EndGroup();
     ImGui::SameLine();
@@ -293,8 +293,8 @@ void frontal_section(Context& ctx, const Frame& f, int index) {
   histogram_plot(c, {hist_w, 110.0f * s});
   if (c.otsu_threshold >= 0) {
     ImGui::Text("Otsu threshold %d, grey stddev %.1f", c.otsu_threshold, c.stddev);
-    const double min_sd = ctx.settings.params.otsu_min_stddev;
-    note("otsu_min_stddev %.1f (current setting): %s", min_sd,
+    const double min_sd = f.params.otsu_min_stddev;
+    note("otsu_min_stddev %.1f (this frame's): %s", min_sd,
                         c.stddev < min_sd ? "too uniform to read" : "contrast enough to read");
   }
   if (!c.warp.empty()) {
@@ -329,7 +329,8 @@ void expected_grid(const cv::Mat& inner, const cv::Mat& read, float cell) {
   }
 }
 
-void bits_section(Context& ctx, InspectorState& st, const FrameTrace& t, int index) {
+void bits_section(Context& ctx, InspectorState& st, const Frame& f, int index) {
+  const FrameTrace& t = f.trace;
   const CandidateRecord& c = t.candidates[static_cast<size_t>(index)];
   const float s = ctx.scale;
   if (!section("Bits and identification")) return;
@@ -387,17 +388,18 @@ void bits_section(Context& ctx, InspectorState& st, const FrameTrace& t, int ind
     if (c.fate.stage == Stage::border_check) ImGui::TextDisabled("Identification did not run (border_check failed).");
     return;
   }
-  // The correction budget: from the fate when identification decided, else from the current parameters.
+  // The correction budget: from the fate when identification decided, else from the parameters the frame was
+  // detected with (not the current settings: the frame may be frozen, or older than a slider's move).
   std::string budget_text;
   int budget = -1;
   if (c.fate.stage == Stage::identification) {
     budget = static_cast<int>(c.fate.limit);
     budget_text = "budget " + number(c.fate.limit) + " bits (this frame)";
   } else if (dict) {
-    budget = stages::correction_budget(*dict, ctx.settings.params);
+    budget = stages::correction_budget(*dict, f.params);
     char buf[128];
-    std::snprintf(buf, sizeof buf, "budget %d bits = max_correction_bits %d x error_correction_rate %.2f (current)",
-                  budget, dict->max_correction_bits(), ctx.settings.params.error_correction_rate);
+    std::snprintf(buf, sizeof buf, "budget %d bits = max_correction_bits %d x error_correction_rate %.2f (this frame)",
+                  budget, dict->max_correction_bits(), f.params.error_correction_rate);
     budget_text = buf;
   }
   ImGui::Text("Nearest marker of %s in each rotation", c.dict.empty() ? "?" : c.dict.c_str());
@@ -442,7 +444,7 @@ void bits_section(Context& ctx, InspectorState& st, const FrameTrace& t, int ind
 }  // namespace
 
 void draw_inspector(Context& ctx) {
-  static InspectorState st;  // the panel's own view state
+  InspectorState& st = panel_state<InspectorState>(ctx.view, Panel::inspector);
   if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   const FrameTrace& t = f.trace;
@@ -476,7 +478,7 @@ void draw_inspector(Context& ctx) {
   fate_section(t, c);
   region_section(ctx, st, f, sel);
   frontal_section(ctx, f, sel);
-  bits_section(ctx, st, t, sel);
+  bits_section(ctx, st, f, sel);
 }
 
 }  // namespace arwb::ui

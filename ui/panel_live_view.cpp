@@ -17,7 +17,7 @@ namespace arwb::ui {
 
 namespace {
 
-struct LiveViewState {
+struct LiveViewState : PanelState {
   bool dragging = false;
   ImVec2 drag_from{0, 0};
   std::string pressed_url;   // a web card under the mouse when the left button went down
@@ -183,7 +183,7 @@ void status_line(Context& ctx, const ImageMapping& m) {
 }  // namespace
 
 void draw_live_view(Context& ctx) {
-  static LiveViewState st;  // the panel's own view state
+  LiveViewState& st = panel_state<LiveViewState>(ctx.view, Panel::live_view);
   toolbar(ctx);
   if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;

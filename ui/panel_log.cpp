@@ -14,7 +14,7 @@ namespace arwb::ui {
 
 namespace {
 
-struct LogState {
+struct LogState : PanelState {
   bool show[3] = {true, true, true};  // info, warning, error
   char filter[128] = "";
   size_t last_count = 0;
@@ -46,7 +46,7 @@ bool passes(const LogState& st, const LogEntry& e) {
 }  // namespace
 
 void draw_log(Context& ctx) {
-  static LogState st;
+  LogState& st = panel_state<LogState>(ctx.view, Panel::log);
   const std::vector<LogEntry>* log = ctx.status.log;
   const size_t total = log ? log->size() : 0;
 

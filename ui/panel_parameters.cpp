@@ -2,72 +2,25 @@
 // order. Everything shown comes from param_table() (name, stage, unit, range, default, help), so a parameter
 // added to the table appears here by itself. Edits go through set_param into the settings; the workbench
 // forwards them to the detector. Below: YAML presets (a path to load or save, and the presets shipped under
-// assets/presets) and the dictionaries the detector looks for.
+// assets/presets, which the window lists when asked) and the dictionaries the detector looks for.
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
 namespace arwb::ui {
 
 namespace {
 
-namespace fs = std::filesystem;
-
-struct ShippedPreset {
-  std::string path;
-  std::string name;     // file name without .yml
-  std::string comment;  // the file's first comment line, if any
-};
-
-struct ParametersState {
+struct ParametersState : PanelState {
   char path[512] = "presets/my-preset.yml";
-  std::vector<ShippedPreset> shipped;
-  std::string shipped_dir;  // where they were found ("" when no folder)
   int drawn_frame = -10;    // the UI frame the panel was last drawn; a gap means it was (re)opened
   std::string error;        // the last edit set_param refused
 };
-
-std::string first_comment(const fs::path& p) {
-  std::ifstream in(p);
-  std::string line;
-  while (std::getline(in, line)) {
-    const size_t at = line.find_first_not_of(" \t");
-    if (at == std::string::npos) continue;
-    if (line[at] == '%' || line.compare(at, 3, "---") == 0) continue;  // %YAML:1.0 and the document start
-    if (line[at] != '#') break;
-    std::string text = line.substr(at + 1);
-    const size_t s = text.find_first_not_of(" \t");
-    return s == std::string::npos ? std::string() : text.substr(s);
-  }
-  return {};
-}
-
-void scan_presets(ParametersState& st, const std::string& assets_dir) {
-  st.shipped.clear();
-  std::error_code ec;
-  st.shipped_dir = (fs::path(assets_dir) / "presets").lexically_normal().string();
-  if (!fs::is_directory(st.shipped_dir, ec)) {
-    st.shipped_dir.clear();
-    return;
-  }
-  for (const auto& entry : fs::directory_iterator(st.shipped_dir, ec)) {
-    if (!entry.is_regular_file(ec) || entry.path().extension() != ".yml") continue;
-    st.shipped.push_back({entry.path().string(), entry.path().stem().string(), first_comment(entry.path())});
-  }
-  std::sort(st.shipped.begin(), st.shipped.end(), [](const ShippedPreset& a, const ShippedPreset& b) {
-    // default first, then by name
-    if ((a.name == "default") != (b.name == "default")) return a.name == "default";
-    return a.name < b.name;
-  });
-}
 
 bool differs(const DetectorParams& p, const ParamInfo& info) { return get_param(p, info) != info.default_value; }
 
@@ -159,27 +112,22 @@ void presets_section(Context& ctx, ParametersState& st) {
   if (ImGui::Button("Load") && has_path) ctx.request(RequestKind::load_preset, st.path);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Every key is checked against the table; on an error nothing changes.");
   ImGui::SameLine();
-  if (ImGui::Button("Save") && has_path) {
-    // The workbench writes the file; make the folder it goes into so "presets/..." works on the first save.
-    std::error_code ec;
-    const fs::path parent = fs::path(st.path).parent_path();
-    if (!parent.empty()) fs::create_directories(parent, ec);
-    ctx.request(RequestKind::save_preset, st.path);
-  }
+  // The window writes the file, making the folder it goes into so "presets/..." works on the first save.
+  if (ImGui::Button("Save") && has_path) ctx.request(RequestKind::save_preset, st.path);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Writes every parameter of the table with its current value.");
 
   ImGui::Spacing();
   ImGui::TextUnformatted("Shipped presets");
   ImGui::SameLine();
-  if (ImGui::SmallButton("Refresh")) scan_presets(st, ctx.status.assets_dir);
-  if (st.shipped_dir.empty()) {
+  if (ImGui::SmallButton("Refresh")) ctx.request(RequestKind::list_presets);
+  if (ctx.status.presets_dir.empty()) {
     ImGui::TextDisabled("No assets/presets folder found (from the working folder or the executable).");
     return;
   }
   ImGui::SameLine();
-  ImGui::TextDisabled("%s", st.shipped_dir.c_str());
-  if (st.shipped.empty()) ImGui::TextDisabled("No .yml files there.");
-  for (const ShippedPreset& sp : st.shipped) {
+  ImGui::TextDisabled("%s", ctx.status.presets_dir.c_str());
+  if (ctx.status.presets.empty()) ImGui::TextDisabled("No .yml files there.");
+  for (const PresetFile& sp : ctx.status.presets) {
     ImGui::PushID(sp.path.c_str());
     if (ImGui::SmallButton("Load")) ctx.request(RequestKind::load_preset, sp.path);
     ImGui::SameLine();
@@ -231,10 +179,10 @@ void dictionaries_section(Context& ctx) {
 }  // namespace
 
 void draw_parameters(Context& ctx) {
-  static ParametersState st;
+  ParametersState& st = panel_state<ParametersState>(ctx.view, Panel::parameters);
   // The shipped presets are listed again whenever the panel is (re)opened.
   const int frame = ImGui::GetFrameCount();
-  if (frame - st.drawn_frame > 1) scan_presets(st, ctx.status.assets_dir);
+  if (frame - st.drawn_frame > 1) ctx.request(RequestKind::list_presets);
   st.drawn_frame = frame;
 
   int changed = 0;

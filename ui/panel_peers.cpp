@@ -1,12 +1,12 @@
 // Peers: other detectors run on the very frame arwb saw (OpenCV's aruco module, AprilTag 3), on the first
 // detection dictionary. The switches turn them on (they cost worker time, so the detection rate drops) and
 // choose whether the live view draws their corners. For the latest frame: each detector's time, markers and ids,
-// and the markers one found and the other did not, matched by dictionary, id and corner distance.
+// and the markers one found and the other did not, as the worker matched them (detect/match.hpp: the rule the
+// benchmark scores with).
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <set>
 #include <string>
@@ -27,65 +27,6 @@ void swatch(ImU32 colour, float scale) {
   const float pad = (ImGui::GetFrameHeight() - s) * 0.5f;
   ImGui::GetWindowDrawList()->AddRectFilled({p.x, p.y + pad}, {p.x + s, p.y + pad + s}, colour, 2.0f * scale);
   ImGui::Dummy({s, ImGui::GetFrameHeight()});
-}
-
-float side_length(const Quad& q) {
-  float s = 0;
-  for (size_t i = 0; i < 4; ++i) {
-    const cv::Point2f d = q[i] - q[(i + 1) % 4];
-    s += std::sqrt(d.dot(d));
-  }
-  return s * 0.25f;
-}
-
-float corner_distance(const Quad& a, const Quad& b) {
-  float s = 0;
-  for (size_t i = 0; i < 4; ++i) {
-    const cv::Point2f d = a[i] - b[i];
-    s += std::sqrt(d.dot(d));
-  }
-  return s * 0.25f;
-}
-
-// arwb's markers against a peer's: same dictionary, same id, corners within a quarter of the marker's side.
-struct Comparison {
-  int matched = 0;
-  double mean_corner_px = 0;
-  std::vector<const Marker*> only_arwb, only_peer;
-  int other_dicts = 0;  // arwb markers of dictionaries the peer did not run on
-};
-
-Comparison compare(const std::vector<Marker>& ours, const PeerDetections& peer) {
-  Comparison c;
-  std::vector<bool> used(peer.markers.size(), false);
-  double sum = 0;
-  for (const Marker& m : ours) {
-    if (m.dict != peer.dict) {
-      ++c.other_dicts;
-      continue;
-    }
-    int best = -1;
-    float best_d = std::max(4.0f, 0.25f * side_length(m.corners));
-    for (size_t j = 0; j < peer.markers.size(); ++j) {
-      if (used[j] || peer.markers[j].id != m.id) continue;
-      const float d = corner_distance(m.corners, peer.markers[j].corners);
-      if (d <= best_d) {
-        best_d = d;
-        best = static_cast<int>(j);
-      }
-    }
-    if (best < 0) {
-      c.only_arwb.push_back(&m);
-    } else {
-      used[static_cast<size_t>(best)] = true;
-      ++c.matched;
-      sum += best_d;
-    }
-  }
-  for (size_t j = 0; j < peer.markers.size(); ++j)
-    if (!used[j]) c.only_peer.push_back(&peer.markers[j]);
-  if (c.matched) c.mean_corner_px = sum / c.matched;
-  return c;
 }
 
 std::string id_list(const std::vector<Marker>& ms, size_t limit = 0) {
@@ -110,7 +51,7 @@ std::string where(const Marker& m) {
   for (const auto& p : m.corners) c += p * 0.25f;
   char buf[96];
   std::snprintf(buf, sizeof buf, "id %d at (%.0f, %.0f), side %.0f px", m.id, static_cast<double>(c.x),
-                static_cast<double>(c.y), static_cast<double>(side_length(m.corners)));
+                static_cast<double>(c.y), mean_side(m.corners));
   return buf;
 }
 
@@ -146,7 +87,7 @@ void switches(Context& ctx) {
   ImGui::Unindent(indent);
 }
 
-void results_table(Context& ctx, const Frame& f) {
+void results_table(const Frame& f) {
   const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingFixedFit;
   if (!ImGui::BeginTable("peers", 5, tf)) return;
   ImGui::TableSetupColumn("detector");
@@ -186,7 +127,7 @@ void results_table(Context& ctx, const Frame& f) {
     if (ImGui::IsItemHovered() && ms_list.size() > 24) ImGui::SetTooltip("%s", id_list(ms_list).c_str());
   };
   std::string ours;
-  for (const std::string& d : ctx.settings.dictionaries) {
+  for (const std::string& d : f.dictionaries) {
     if (!ours.empty()) ours += ',';
     ours += d;
   }
@@ -206,38 +147,45 @@ void results_table(Context& ctx, const Frame& f) {
 void differences(Context& ctx, const Frame& f) {
   for (const PeerDetections& p : f.peers) {
     if (!p.error.empty()) continue;
-    const Comparison c = compare(f.trace.markers, p);
+    const MarkerMatching& c = p.matching;
     ImGui::Spacing();
     ImGui::PushStyleColor(ImGuiCol_Text, peer_colour(p.name));
     ImGui::Text("arwb vs %s", p.name.c_str());
     ImGui::PopStyleColor();
     ImGui::SameLine();
-    if (c.matched) {
-      ImGui::Text("%d found by both, corners %.2f px apart on average", c.matched, c.mean_corner_px);
+    if (!c.pairs.empty()) {
+      ImGui::Text("%zu found by both, corners %.2f px apart on average", c.pairs.size(), c.mean_corner_px());
+      if (ImGui::IsItemHovered()) {
+        ImGui::SetTooltip("Same dictionary and id, corners within %.0f px or a tenth of arwb's marker side on\n"
+                          "average (the rule arwb bench scores with).", kMatchMinPx);
+      }
     } else {
       ImGui::TextDisabled("no marker found by both");
     }
-    if (c.other_dicts) {
+    if (p.other_dicts) {
       ImGui::SameLine();
-      ImGui::TextDisabled("(%d arwb markers of other dictionaries not compared)", c.other_dicts);
+      ImGui::TextDisabled("(%d arwb markers of other dictionaries not compared)", p.other_dicts);
     }
     ImGui::Indent(12.0f * ctx.scale);
-    if (c.only_arwb.empty() && c.only_peer.empty()) {
-      ImGui::TextDisabled(c.matched ? "Same markers." : "Neither found a marker of %s.", p.dict.c_str());
+    if (c.only_reference.empty() && c.only_found.empty()) {
+      ImGui::TextDisabled(c.pairs.empty() ? "Neither found a marker of %s." : "Same markers.", p.dict.c_str());
     }
-    for (const Marker* m : c.only_arwb) {
+    for (size_t i : c.only_reference) {
+      if (i >= f.trace.markers.size()) continue;
+      const Marker& m = f.trace.markers[i];
       ImGui::PushStyleColor(ImGuiCol_Text, accepted_colour());
       ImGui::TextUnformatted("only arwb:");
       ImGui::PopStyleColor();
       ImGui::SameLine();
-      ImGui::Text("%s, %d bit(s) corrected", where(*m).c_str(), m->hamming);
+      ImGui::Text("%s, %d bit(s) corrected", where(m).c_str(), m.hamming);
     }
-    for (const Marker* m : c.only_peer) {
+    for (size_t j : c.only_found) {
+      if (j >= p.markers.size()) continue;
       ImGui::PushStyleColor(ImGuiCol_Text, peer_colour(p.name));
       ImGui::Text("only %s:", p.name.c_str());
       ImGui::PopStyleColor();
       ImGui::SameLine();
-      ImGui::Text("%s", where(*m).c_str());
+      ImGui::Text("%s", where(p.markers[j]).c_str());
       if (ImGui::IsItemHovered()) {
         ImGui::SetTooltip("Drag a rectangle around it with the live view's 'Why? (drag)' tool to see where arwb\n"
                           "dropped it.");
@@ -261,7 +209,7 @@ void draw_peers(Context& ctx) {
   const Frame& f = *ctx.frame;
   ImGui::Text("Frame %llu", static_cast<unsigned long long>(f.index));
   if (f.peers.empty()) ImGui::TextDisabled("(the peers' results come with the next frame)");
-  results_table(ctx, f);
+  results_table(f);
   differences(ctx, f);
 }
 

@@ -18,10 +18,14 @@ const cv::Mat& stage_view(const Frame& f, int stage, bool thumb) {
   return thumb ? f.thumbs[static_cast<size_t>(stage)] : f.views[static_cast<size_t>(stage)];
 }
 
+struct PipelineState : PanelState {
+  ImageViewState mosaic_view;  // the mosaics' own zoom and pan
+};
+
 }  // namespace
 
 void draw_pipeline(Context& ctx) {
-  static ImageViewState mosaic_view;  // the mosaics' own zoom and pan
+  ImageViewState& mosaic_view = panel_state<PipelineState>(ctx.view, Panel::pipeline).mosaic_view;
   if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   const FrameTrace& t = f.trace;

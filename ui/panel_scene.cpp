@@ -7,69 +7,21 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <string>
-#include <system_error>
 #include <vector>
 
 namespace arwb::ui {
 
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Example {
-  std::string path;   // as given to load_scene
-  std::string label;  // relative to the scripts folder: "museum/museum.lua"
-};
-
-struct SceneViewState {
+struct SceneViewState : PanelState {
   char path[1024] = "";
   std::string followed;            // the scene file the path input was last set from
-  std::vector<Example> examples;   // found when the combo opens
-  std::string examples_error;
 };
 
 const ImVec4 kRed{1.0f, 0.35f, 0.35f, 1.0f};
 const ImVec4 kGreen{0.35f, 0.9f, 0.4f, 1.0f};
 const ImVec4 kYellow{1.0f, 0.8f, 0.3f, 1.0f};
-
-bool scene_extension(const fs::path& p) {
-  const std::string ext = p.extension().string();
-  return ext == ".lua" || ext == ".xml";
-}
-
-// *.lua and *.xml in the scripts folder and one folder below it (scripts/museum/museum.lua).
-void scan_examples(SceneViewState& st, const std::string& dir) {
-  st.examples.clear();
-  st.examples_error.clear();
-  if (dir.empty()) {
-    st.examples_error = "no scripts folder";
-    return;
-  }
-  std::error_code ec;
-  const fs::path root(dir);
-  if (!fs::is_directory(root, ec)) {
-    st.examples_error = dir + " is not a folder";
-    return;
-  }
-  auto add = [&](const fs::path& p) {
-    std::error_code e;
-    if (!fs::is_regular_file(p, e) || !scene_extension(p)) return;
-    st.examples.push_back({p.lexically_normal().string(), p.lexically_relative(root).generic_string()});
-  };
-  for (const auto& entry : fs::directory_iterator(root, ec)) {
-    std::error_code e;
-    if (entry.is_directory(e)) {
-      for (const auto& inner : fs::directory_iterator(entry.path(), e)) add(inner.path());
-    } else {
-      add(entry.path());
-    }
-  }
-  std::sort(st.examples.begin(), st.examples.end(),
-            [](const Example& a, const Example& b) { return a.label < b.label; });
-  if (st.examples.empty()) st.examples_error = "no .lua or .xml file in " + dir;
-}
 
 void load_controls(Context& ctx, SceneViewState& st) {
   // A scene in use, or one whose load failed (the worker watches it for a fix).
@@ -88,9 +40,9 @@ void load_controls(Context& ctx, SceneViewState& st) {
 
   ImGui::SetNextItemWidth(std::max(160.0f * ctx.scale, ImGui::GetContentRegionAvail().x * 0.45f));
   if (ImGui::BeginCombo("##examples", "Examples...", ImGuiComboFlags_HeightLarge)) {
-    // The folder is read when the list opens, not every frame.
-    if (ImGui::IsWindowAppearing()) scan_examples(st, ctx.status.scripts_dir);
-    for (const Example& e : st.examples) {
+    // The window reads the folder when the list opens, not every frame.
+    if (ImGui::IsWindowAppearing()) ctx.request(RequestKind::list_examples);
+    for (const ExampleScene& e : ctx.status.examples) {
       const bool current = ctx.frame && ctx.frame->scene.file == e.path;
       if (ImGui::Selectable(e.label.c_str(), current)) {
         std::snprintf(st.path, sizeof st.path, "%s", e.path.c_str());
@@ -98,7 +50,7 @@ void load_controls(Context& ctx, SceneViewState& st) {
       }
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", e.path.c_str());
     }
-    if (st.examples.empty()) ImGui::TextDisabled("%s", st.examples_error.c_str());
+    if (ctx.status.examples.empty()) ImGui::TextDisabled("%s", ctx.status.examples_error.c_str());
     ImGui::EndCombo();
   }
   if (ImGui::IsItemHovered()) {
@@ -260,7 +212,7 @@ void markers_table(Context& ctx) {
 }  // namespace
 
 void draw_scene(Context& ctx) {
-  static SceneViewState st;
+  SceneViewState& st = panel_state<SceneViewState>(ctx.view, Panel::scene);
   // The path input shows the scene in use (or the one that failed) whenever that changes: a load from here, the
   // menu or --scene.
   const std::string current = ctx.frame ? scene_file_to_edit(ctx.frame->scene) : std::string();

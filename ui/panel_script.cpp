@@ -1,8 +1,9 @@
 // Script editor: the text of the scene file in use, with line numbers, its load error's line marked in red and
 // the message under it. Save (or Ctrl+S) asks the workbench to write the file, atomically; the scene then reloads
 // by itself. The editor never drops the user's edits silently: when the file changes on disk while there are
-// unsaved edits, or the scene switches to another file, it asks. Reading the file is the editor's own view state
-// (limited to 1 MB); writing it is a request.
+// unsaved edits, or the scene switches to another file, it asks. The window reads and watches the file (a
+// watch_file request; Status::script_file, limited to 1 MB) and writes it (save_script); the editor only compares
+// texts.
 //
 // The text is one InputTextMultiline as tall and wide as its text, so it never scrolls itself, inside a child
 // window that scrolls; the line numbers and the error line's red band are drawn in that child, behind and beside
@@ -15,20 +16,12 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
-#include <system_error>
 
 namespace arwb::ui {
 
 namespace {
 
-namespace fs = std::filesystem;
-
-constexpr uintmax_t kMaxBytes = 1u << 20;
-constexpr double kDiskCheckS = 0.5;     // how often the file on disk is looked at
 constexpr double kSaveTimeoutS = 3.0;   // a save not seen on disk by then is reported
 // ImGui 1.86's GLFW backend indexes io.KeysDown by GLFW key code, and GLFW_KEY_S is 'S'.
 constexpr int kKeyS = 'S';
@@ -36,15 +29,7 @@ constexpr int kKeyS = 'S';
 const ImVec4 kRed{1.0f, 0.35f, 0.35f, 1.0f};
 const ImVec4 kYellow{1.0f, 0.8f, 0.3f, 1.0f};
 
-// What the file on disk looked like when last read.
-struct DiskStamp {
-  bool exists = false;
-  fs::file_time_type mtime{};
-  uintmax_t size = 0;
-  bool operator==(const DiskStamp&) const = default;
-};
-
-struct ScriptState {
+struct ScriptState : PanelState {
   std::string followed;      // the scene file (SceneStatus::file) the editor last took
   std::string path;          // the file in the buffer ("" when none)
   bool open = false;         // the buffer holds the file's text
@@ -52,8 +37,8 @@ struct ScriptState {
   std::string buffer;        // what the user edits
   std::string base;          // the text on disk as last read, or as acknowledged with "Keep mine"
   bool dirty = false;        // buffer != base
-  DiskStamp stamp;
-  double next_check = 0;
+  bool reading = false;      // asked the window for the file's text, not come yet
+  uint64_t seen = 0;         // the Status::script_file version last looked at
   bool conflict = false;     // the file changed on disk while the buffer had edits
   std::string disk_text;     // its text then
   bool gone = false;         // the file is no longer on disk
@@ -73,44 +58,6 @@ struct ScriptState {
   int goto_line = 0;         // scroll there on the next draw
 };
 
-DiskStamp stamp_of(const std::string& path) {
-  DiskStamp s;
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return s;
-  s.exists = true;
-  s.mtime = fs::last_write_time(path, ec);
-  s.size = fs::file_size(path, ec);
-  if (ec) s.size = 0;
-  return s;
-}
-
-bool read_text(const std::string& path, std::string* text, std::string* error) {
-  std::error_code ec;
-  const uintmax_t size = fs::file_size(path, ec);
-  if (ec) {
-    *error = "cannot read " + path + ": " + ec.message();
-    return false;
-  }
-  if (size > kMaxBytes) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "The file is %.1f MB; the editor opens files up to 1 MB.",
-                  static_cast<double>(size) / (1024.0 * 1024.0));
-    *error = buf;
-    return false;
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *error = "cannot open " + path;
-    return false;
-  }
-  text->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (in.bad()) {
-    *error = "error reading " + path;
-    return false;
-  }
-  return true;
-}
-
 void relayout(ScriptState& st) {
   st.lines = 1 + static_cast<int>(std::count(st.buffer.begin(), st.buffer.end(), '\n'));
   st.text_w = ImGui::CalcTextSize(st.buffer.data(), st.buffer.data() + st.buffer.size()).x;
@@ -128,8 +75,9 @@ void set_buffer(ScriptState& st, const std::string& text) {
   relayout(st);
 }
 
-// Takes `path` into the editor, dropping what was there (the caller made sure there were no edits to keep).
-void open_file(ScriptState& st, const std::string& path) {
+// Takes `path` into the editor, dropping what was there (the caller made sure there were no edits to keep); its
+// text comes when the window has read it.
+void open_file(Context& ctx, ScriptState& st, const std::string& path) {
   st.path = path;
   st.open = false;
   st.open_error.clear();
@@ -137,31 +85,34 @@ void open_file(ScriptState& st, const std::string& path) {
   st.disk_error.clear();
   st.save_pending = false;
   st.saved.clear();
-  st.stamp = stamp_of(path);
-  std::string text;
-  if (!path.empty() && read_text(path, &text, &st.open_error)) st.open = true;
-  set_buffer(st, st.open ? text : std::string());
-  st.next_check = ImGui::GetTime() + kDiskCheckS;
+  set_buffer(st, std::string());
+  st.reading = !path.empty();
+  ctx.request(RequestKind::watch_file, path, 1);
 }
 
-// Every half second: did the file change on disk? Without edits the editor follows it; with edits that differ
-// from the new text it asks (conflict) rather than overwrite either.
-void check_disk(ScriptState& st) {
-  const double now = ImGui::GetTime();
-  if (st.path.empty() || now < st.next_check) return;
-  st.next_check = now + kDiskCheckS;
-  const DiskStamp s = stamp_of(st.path);
-  if (s == st.stamp) return;
-  if (!st.open) {
-    open_file(st, st.path);      // it could not be read (too large, missing): try again now that it changed
-    return;
+// A new reading of the file from the window: the text asked for, or the file changed on disk. Without edits the
+// editor follows it; with edits that differ from the new text it asks (conflict) rather than overwrite either.
+// True when it was the first reading of a file opened.
+bool take_reading(Context& ctx, ScriptState& st) {
+  const WatchedFile& file = ctx.status.script_file;
+  if (st.path.empty() || file.path != st.path || file.version == st.seen) return false;
+  st.seen = file.version;
+  if (st.reading || !st.open) {
+    // The first reading, or the file could not be read before (too large, missing) and changed since.
+    st.reading = false;
+    st.open = file.read;
+    st.open_error = file.read ? std::string() : file.error;
+    set_buffer(st, file.read ? file.text : std::string());
+    return st.open;
   }
-  st.stamp = s;
-  st.gone = !s.exists;
+  st.gone = !file.exists;
   st.disk_error.clear();
-  if (st.gone) return;
-  std::string text;
-  if (!read_text(st.path, &text, &st.disk_error)) return;
+  if (st.gone) return false;
+  if (!file.read) {
+    st.disk_error = file.error;
+    return false;
+  }
+  const std::string& text = file.text;
   if (st.save_pending && text == st.saved) {
     // Our save landed; it replaced whatever the disk had (saving during a conflict is keeping mine).
     st.save_pending = false;
@@ -169,9 +120,9 @@ void check_disk(ScriptState& st) {
     st.dirty = st.buffer != st.base;
     st.conflict = false;
     st.disk_text.clear();
-    return;
+    return false;
   }
-  if (text == st.base) return;   // touched, not changed
+  if (text == st.base) return false;   // touched, not changed
   if (!st.dirty) {
     set_buffer(st, text);        // nothing of the user's to keep: follow the file
   } else if (text == st.buffer) {
@@ -182,6 +133,7 @@ void check_disk(ScriptState& st) {
     st.conflict = true;
     st.disk_text = text;
   }
+  return false;
 }
 
 void save(Context& ctx, ScriptState& st) {
@@ -189,8 +141,7 @@ void save(Context& ctx, ScriptState& st) {
   ctx.request(RequestKind::save_script, st.path, 0, {}, st.buffer);
   st.save_pending = true;
   st.saved = st.buffer;
-  st.save_time = ImGui::GetTime();
-  st.next_check = 0;   // look for it on the next frame
+  st.save_time = ImGui::GetTime();   // the window reads the file again right after writing it
 }
 
 // The widget's callback (ImGuiInputTextFlags_CallbackAlways, while it is active): where the text cursor is.
@@ -286,14 +237,15 @@ void editor(ScriptState& st, int mark_line, ImVec2 size) {
 }
 
 std::string file_name(const std::string& path) {
-  const std::string name = fs::path(path).filename().string();
+  const size_t slash = path.find_last_of('/');
+  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
   return name.empty() ? path : name;
 }
 
 }  // namespace
 
 void draw_script(Context& ctx) {
-  static ScriptState st;
+  ScriptState& st = panel_state<ScriptState>(ctx.view, Panel::script);
   if (ctx.view.script_goto_line > 0) {
     st.goto_line = ctx.view.script_goto_line;
     ctx.view.script_goto_line = 0;
@@ -304,17 +256,15 @@ void draw_script(Context& ctx) {
   // Follow the scene's file (or the one whose first load failed), unless that would drop edits.
   const std::string target = scene_file_to_edit(scene);
   bool switch_waiting = false;
-  bool opened = false;
   if (target != st.followed) {
     if (!st.dirty || !st.open) {
       st.followed = target;
-      open_file(st, target);
-      opened = true;
+      open_file(ctx, st, target);
     } else {
       switch_waiting = true;
     }
   }
-  check_disk(st);
+  const bool opened = take_reading(ctx, st);
 
   if (st.path.empty()) {
     ImGui::TextDisabled("No scene loaded: the editor shows the scene file in use (see the Scene panel).");
@@ -338,14 +288,14 @@ void draw_script(Context& ctx) {
   ImGui::SameLine();
   if (ImGui::Button("Revert")) {
     if (st.dirty) ImGui::OpenPopup("revert?");
-    else open_file(st, st.path);
+    else open_file(ctx, st, st.path);
   }
   if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Read the file from disk again.");
   ImGui::EndDisabled();
   if (ImGui::BeginPopup("revert?")) {
     ImGui::Text("Drop your unsaved edits to %s?", file_name(st.path).c_str());
     if (ImGui::Button("Drop them and read the file")) {
-      open_file(st, st.path);
+      open_file(ctx, st, st.path);
       ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
@@ -379,7 +329,7 @@ void draw_script(Context& ctx) {
     ImGui::SameLine();
     if (ImGui::Button(target.empty() ? "Drop my edits" : "Drop my edits and open the new file")) {
       st.followed = target;
-      open_file(st, target);
+      open_file(ctx, st, target);
       return;
     }
   }
@@ -399,6 +349,10 @@ void draw_script(Context& ctx) {
   }
   if (st.gone) ImGui::TextColored(kYellow, "The file is no longer on disk; Save writes it again.");
   if (!st.disk_error.empty()) ImGui::TextColored(kYellow, "%s", st.disk_error.c_str());
+  if (st.reading) {
+    ImGui::TextDisabled("reading...");
+    return;
+  }
   if (!st.open) {
     ImGui::TextColored(kRed, "%s", st.open_error.c_str());
     return;

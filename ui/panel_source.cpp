@@ -11,7 +11,7 @@ namespace arwb::ui {
 
 namespace {
 
-struct SourceViewState {
+struct SourceViewState : PanelState {
   char path[1024] = "";
   int camera = 0;
   int resolution = 0;  // index into kResolutions
@@ -162,7 +162,7 @@ void synthetic_controls(Context& ctx) {
 }  // namespace
 
 void draw_source(Context& ctx) {
-  static SourceViewState st;
+  SourceViewState& st = panel_state<SourceViewState>(ctx.view, Panel::source);
   source_choice(ctx, st);
   playback(ctx);
   acquisition(ctx);

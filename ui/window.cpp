@@ -1,21 +1,12 @@
 // [SECTION] Index
-//   Settings     the layout file, panel visibility kept between runs
-//   Requests     what panels asked for: snapshots, presets, sweeps, sheets
-//   Frame loop   window, ImGui, panels, forwarding edits to the engine, stats
+//   Actions      --actions steps and the scene's dictionary
+//   Frame state  forwarding edits to the engine, the region report, stats per frame
+//   Frame loop   window, ImGui, menus, panels, status bar, stats at exit
+// Requests are carried out in ui/requests.cpp; the layout file and presentation mode are in ui/layout.cpp.
 #include "ui/window.hpp"
 
-#include "base/files.hpp"
-#include "workbench/actions.hpp"
-#include "workbench/log.hpp"
-
-#include "synth/marker_sheet.hpp"
-#include "workbench/snapshot.hpp"
-#include "detect/diagnose.hpp"
+#include "ui/app.hpp"
 #include "base/decimals.hpp"
-#include "teach/tour.hpp"
-#include "media/open_url.hpp"
-#include "render/compositor.hpp"
-#include "render/texture.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
@@ -23,7 +14,6 @@
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
-#include <imgui_internal.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -32,12 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <cerrno>
 #include <filesystem>
-#include <future>
-#include <map>
-#include <mutex>
 #include <thread>
 
 #ifndef ARWB_ASSETS_DIR
@@ -46,124 +31,9 @@
 
 namespace arwb {
 
-namespace {
-
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
-// [SECTION] Settings
-std::string default_config_dir() {
-  if (const char* x = std::getenv("XDG_CONFIG_HOME"); x && *x) return std::string(x) + "/arwb";
-  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.config/arwb";
-  return ".arwb";
-}
-
-// Panel visibility and presentation mode, saved in the same imgui.ini as the window layout.
-ui::View* g_view = nullptr;
-
-void* settings_open(ImGuiContext*, ImGuiSettingsHandler*, const char* name) {
-  return std::string_view(name) == "Panels" ? static_cast<void*>(g_view) : nullptr;
-}
-void settings_read_line(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
-  auto* v = static_cast<ui::View*>(entry);
-  char key[64];
-  int on = 0;
-  if (std::sscanf(line, "%63[^=]=%d", key, &on) != 2) return;
-  ui::Panel p;
-  if (ui::panel_from_key(key, &p)) v->open[static_cast<size_t>(p)] = on != 0;
-}
-void settings_write_all(ImGuiContext*, ImGuiSettingsHandler* h, ImGuiTextBuffer* buf) {
-  buf->appendf("[%s][Panels]\n", h->TypeName);
-  for (int i = 0; i < ui::kPanelCount; ++i) {
-    buf->appendf("%s=%d\n", ui::panel_key(static_cast<ui::Panel>(i)), g_view->open[static_cast<size_t>(i)] ? 1 : 0);
-  }
-  buf->append("\n");
-}
-
-// The first start's layout: live view large on the left, the pipeline under it, tools on the right.
-void default_layout(ui::Panel p, ImVec2 size, float menu_h, float status_h) {
-  const float W = size.x, H = size.y - menu_h - status_h;
-  const float left = W * 0.50f, mid = W * 0.25f, right = W - left - mid;
-  const float top = menu_h;
-  ImVec2 pos, sz;
-  switch (p) {
-    case ui::Panel::live_view: pos = {0, top}; sz = {left, H * 0.64f}; break;
-    case ui::Panel::pipeline: pos = {0, top + H * 0.64f}; sz = {left, H * 0.36f}; break;
-    case ui::Panel::candidates: pos = {left, top}; sz = {mid, H * 0.42f}; break;
-    case ui::Panel::inspector: pos = {left, top + H * 0.42f}; sz = {mid, H * 0.40f}; break;
-    case ui::Panel::parameters: pos = {left + mid, top}; sz = {right, H * 0.45f}; break;
-    case ui::Panel::source: pos = {left + mid, top + H * 0.45f}; sz = {right, H * 0.3f}; break;
-    case ui::Panel::timings: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
-    case ui::Panel::dictionary: pos = {left + 40, top + 60}; sz = {mid + 80, H * 0.6f}; break;
-    case ui::Panel::peers: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
-    case ui::Panel::log: pos = {left, top + H * 0.82f}; sz = {mid, H * 0.18f}; break;
-    case ui::Panel::tour: pos = {W * 0.2f, top + 40}; sz = {W * 0.35f, H * 0.55f}; break;
-    case ui::Panel::why: pos = {left + 20, top + 30}; sz = {mid + 60, H * 0.55f}; break;
-    case ui::Panel::scene: pos = {left + mid, top}; sz = {right, H * 0.45f}; break;
-    case ui::Panel::script: pos = {left, top}; sz = {mid, H * 0.82f}; break;
-    case ui::Panel::console: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
-    default: return;
-  }
-  ImGui::SetNextWindowPos(pos, ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(sz, ImGuiCond_FirstUseEver);
-}
-
-struct App {
-  WorkbenchOptions opt;
-  Clock::time_point t0 = Clock::now();
-  Log log{t0};
-  std::unique_ptr<Engine> engine;
-  ui::Settings settings, sent;
-  ui::View view;
-  ui::Status status;
-  std::vector<LogEntry> log_copy;
-  uint64_t log_seen = 0;
-  std::vector<ui::Request> requests;
-  std::vector<TourStep> tour;
-  render::TextureCache textures;
-  std::unique_ptr<render::Compositor> compositor;   // the frame with the scene's media, for the live view
-  uint64_t scene_generation = 0;
-  double composite_ms = 0;
-  int composites = 0;
-  std::shared_ptr<const Frame> frame;
-  uint64_t region_frame = 0;
-  cv::Rect2f region_done{-1, -1, 0, 0};
-  // Sweep on its own thread; the UI polls.
-  std::future<SweepResult> sweep_future;
-  std::atomic<double> sweep_progress{0};
-  std::atomic<bool> sweep_cancel{false};
-  // Stats
-  uint64_t last_frame_index = 0;
-  int detected_seen = 0;
-  double detect_ms_sum = 0;
-  std::array<double, kStageCount> stage_ms_sum{};
-  std::map<std::string, std::pair<double, int>> peer_ms;   // name: summed ms, frames
-  std::array<int, kStageCount> stage_ms_n{};
-  std::deque<double> ui_frame_times;
-  ImFont* font_normal = nullptr;
-  ImFont* font_large = nullptr;
-  ImGuiStyle base_style;
-  bool presentation_applied = false;
-  double draw_calls = 0, vertices = 0;   // summed over UI frames
-  std::array<double, 3> ui_ms{};   // summed: building the panels, rendering them, swapping
-
-  void info(const std::string& s) { log.add(LogLevel::info, s); }
-  void warn(const std::string& s) { log.add(LogLevel::warning, s); }
-  void error(const std::string& s) { log.add(LogLevel::error, s); }
-
-  void run_action(const Action& a);
-  void sync_scene();
-  void handle_requests();
-  void forward_settings();
-  void poll_sweep();
-  void update_region();
-  void record_stats();
-  void draw_menu(GLFWwindow* window);
-  void draw_status_bar(float height);
-  void set_presentation(bool on);
-  bool take_screenshot(const std::string& path, GLFWwindow* window);
-};
-
+// [SECTION] Actions
 void App::run_action(const Action& a) {
   ui::Panel p;
   if (a.verb == "open" || a.verb == "close") {
@@ -247,115 +117,7 @@ void App::sync_scene() {
   }
 }
 
-// [SECTION] Requests
-void App::handle_requests() {
-  std::vector<ui::Request> todo;
-  todo.swap(requests);
-  for (const ui::Request& r : todo) {
-    switch (r.kind) {
-      case ui::RequestKind::open_source: {
-        SourceSpec spec;
-        std::string err;
-        if (parse_source_spec(r.text, &spec, &err)) engine->open_source(spec);
-        else error(err);
-        break;
-      }
-      case ui::RequestKind::step: engine->step(r.value); break;
-      case ui::RequestKind::seek: engine->seek(r.value); break;
-      case ui::RequestKind::next_frame: engine->next_frame(); break;
-      case ui::RequestKind::snapshot: {
-        if (!frame) {
-          warn("snapshot: no frame yet");
-          break;
-        }
-        const SnapshotResult s = write_snapshot(opt.snapshot_dir, frame->image, frame->trace, &frame->views);
-        if (s.ok) {
-          status.last_snapshot = s.dir;
-          info("snapshot: " + std::to_string(s.files.size()) + " files in " + s.dir);
-        } else {
-          error("snapshot: " + s.error);
-        }
-        break;
-      }
-      case ui::RequestKind::sweep: {
-        if (!frame || sweep_future.valid()) break;
-        std::string err;
-        std::string list;
-        for (const auto& n : settings.dictionaries) list += (list.empty() ? "" : ",") + n;
-        auto dicts = parse_dictionaries(list, &err);
-        if (!dicts) {
-          error("sweep: " + err);
-          break;
-        }
-        status.sweep = {};
-        status.sweep.running = true;
-        status.sweep.region = r.region;
-        sweep_progress = 0;
-        sweep_cancel = false;
-        std::shared_ptr<const Frame> f = frame;
-        Detector det(std::move(*dicts), settings.params);
-        sweep_future = std::async(std::launch::async, [this, f, det, region = r.region] {
-          return sweep_region(f->image, det, region, [this](double p) { sweep_progress = p; }, &sweep_cancel);
-        });
-        info("sweep: trying the parameter table on frame " + std::to_string(f->index));
-        break;
-      }
-      case ui::RequestKind::load_preset: {
-        std::vector<std::string> errors, notes;
-        DetectorParams p = settings.params;
-        const bool ok = load_params_yaml(r.text, p, &errors, &notes);
-        for (const auto& n : notes) warn("preset: " + n);
-        if (ok) {
-          settings.params = p;
-          info("preset: loaded " + r.text);
-        } else {
-          for (const auto& e : errors) error("preset: " + e);
-          if (errors.empty()) error("preset: cannot load " + r.text);
-        }
-        break;
-      }
-      case ui::RequestKind::load_scene: engine->load_scene(r.text); break;
-      case ui::RequestKind::save_script: {
-        std::string err;
-        if (write_file_atomically(r.text, r.payload, &err)) info("saved " + r.text + " (the scene reloads by itself)");
-        else error("cannot save " + r.text + ": " + err + "; your text is still in the editor");
-        break;
-      }
-      case ui::RequestKind::open_url: {
-        const std::string err = media::open_url(r.text);
-        if (err.empty()) info("opening " + r.text + " in the browser");
-        else error("cannot open " + r.text + ": " + err);
-        break;
-      }
-      case ui::RequestKind::save_preset: {
-        std::string err;
-        if (save_params_yaml(r.text, settings.params, &err)) info("preset: saved " + r.text);
-        else error("preset: " + err);
-        break;
-      }
-      case ui::RequestKind::marker_sheet: {
-        const std::string dict_name = settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : settings.dictionaries[0];
-        std::string err;
-        auto dict = dictionary_by_name(dict_name, &err);
-        if (!dict) {
-          error("marker sheet: " + err);
-          break;
-        }
-        std::vector<int> ids;
-        for (int i = std::max(0, r.value); i < std::min(dict->size(), std::max(0, r.value) + 12); ++i) ids.push_back(i);
-        try {
-          const SheetResult s = write_marker_sheet(*dict, ids, 50.0, SheetFormat::pdf, r.text);
-          info("marker sheet: " + r.text + " (" + std::to_string(s.pages) + " page(s), 50 mm markers of " + dict_name +
-               "); print at 100% and check the 100 mm bar");
-        } catch (const std::exception& e) {
-          error(std::string("marker sheet: ") + e.what());
-        }
-        break;
-      }
-    }
-  }
-}
-
+// [SECTION] Frame state
 void App::forward_settings() {
   if (!(settings.params == sent.params)) engine->set_params(settings.params);
   if (settings.dictionaries != sent.dictionaries) engine->set_dictionaries(settings.dictionaries);
@@ -367,21 +129,6 @@ void App::forward_settings() {
     engine->set_peers(settings.peer_opencv, settings.peer_apriltag);
   }
   sent = settings;
-}
-
-void App::poll_sweep() {
-  status.sweep.progress = sweep_progress;
-  if (!sweep_future.valid()) return;
-  if (sweep_future.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-  status.sweep.running = false;
-  status.sweep.has_result = true;
-  try {
-    status.sweep.result = sweep_future.get();
-    info("sweep: " + status.sweep.result.message);
-  } catch (const std::exception& e) {
-    sweep_future = {};
-    error(std::string("sweep: ") + e.what());
-  }
 }
 
 void App::update_region() {
@@ -413,15 +160,6 @@ void App::record_stats() {
   }
   status.history.push_back(row);
   while (status.history.size() > 300) status.history.pop_front();
-}
-
-void App::set_presentation(bool on) {
-  view.presentation = on;
-  presentation_applied = on;
-  ImGuiStyle& style = ImGui::GetStyle();
-  style = base_style;
-  if (on) style.ScaleAllSizes(2.0f);
-  ImGui::GetIO().FontDefault = on && font_large ? font_large : font_normal;
 }
 
 // [SECTION] Frame loop
@@ -498,8 +236,8 @@ bool App::take_screenshot(const std::string& path, GLFWwindow* window) {
   return false;
 }
 
+namespace {
 void glfw_error(int code, const char* text) { std::fprintf(stderr, "arwb: GLFW error %d: %s\n", code, text); }
-
 }  // namespace
 
 int run_workbench(const WorkbenchOptions& options) {
@@ -539,15 +277,7 @@ int run_workbench(const WorkbenchOptions& options) {
   fs::create_directories(config_dir, ec);
   const std::string ini_path = config_dir + "/imgui.ini";
   io.IniFilename = nullptr;  // loaded and saved by hand, so a bad path is a message, not a silent loss
-  g_view = &app.view;
-  ImGuiSettingsHandler handler;
-  handler.TypeName = "Arwb";
-  handler.TypeHash = ImHashStr("Arwb");
-  handler.ReadOpenFn = settings_open;
-  handler.ReadLineFn = settings_read_line;
-  handler.WriteAllFn = settings_write_all;
-  ImGui::GetCurrentContext()->SettingsHandlers.push_back(handler);
-  if (fs::exists(ini_path)) ImGui::LoadIniSettingsFromDisk(ini_path.c_str());
+  load_layout(app.view, ini_path);
 
   ImGui::StyleColorsDark();
   // Opaque windows: panels opened over others (the scene's, on a first start) stay readable.
@@ -583,6 +313,8 @@ int run_workbench(const WorkbenchOptions& options) {
   app.status.cameras = list_cameras();
   app.status.assets_dir = ARWB_ASSETS_DIR;
   app.status.scripts_dir = ARWB_SCRIPTS_DIR;
+  app.list_presets();
+  app.list_examples();
   app.compositor = std::make_unique<render::Compositor>(4);
   if (!options.engine.scene_file.empty()) {
     for (ui::Panel p : {ui::Panel::scene, ui::Panel::console}) app.view.open[static_cast<size_t>(p)] = true;
@@ -601,7 +333,7 @@ int run_workbench(const WorkbenchOptions& options) {
     app.log.sync(app.log_copy, app.log_seen);
     app.status.log = &app.log_copy;
     app.record_stats();
-    app.poll_sweep();
+    app.poll_background();
     app.update_region();
     // Before a scripted screenshot, make sure there is a finished frame to show.
     if (!app.frame && options.frames > 0) app.frame = app.engine->wait_newer(0, 5.0);
@@ -706,17 +438,7 @@ int run_workbench(const WorkbenchOptions& options) {
   const uint64_t detected = app.engine->frames_done();
   app.engine->stop();
 
-  // Save the layout (window places, open panels).
-  {
-    size_t len = 0;
-    const char* ini = ImGui::SaveIniSettingsToMemory(&len);
-    if (FILE* f = std::fopen(ini_path.c_str(), "wb")) {
-      std::fwrite(ini, 1, len, f);
-      std::fclose(f);
-    } else {
-      std::fprintf(stderr, "arwb: cannot save the layout to %s\n", ini_path.c_str());
-    }
-  }
+  save_layout(ini_path);   // window places, open panels
   if (options.stats) {
     using Json = nlohmann::ordered_json;
     auto per = [](double sum, int n) { return sum / std::max(1, n); };

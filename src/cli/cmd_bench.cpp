@@ -2,6 +2,7 @@
 // the same frames: median ms per frame by resolution, recall, false positives, corner error, and the ratios.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "detect/match.hpp"
 #include "detect/peers.hpp"
 #include "synth/synth_set.hpp"
 #include "detect/detector.hpp"
@@ -36,32 +37,19 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// A detection finds a truth marker when dictionary and id agree and its corners lie within a tenth of the
-// marker's side (at least 3 px) on average; anything else it reports is a false positive.
+// Detections against the truth by the one matching rule (detect/match.hpp, the truth the reference): a
+// detection that matches no truth marker is a false positive.
 void score(const std::vector<Marker>& found, const std::vector<TruthMarker>& truth, Tally& t) {
-  std::vector<bool> used(truth.size(), false);
+  std::vector<Marker> reference;
+  for (const TruthMarker& m : truth) reference.push_back({m.id, m.dict, m.corners, 0, 0});
+  const MarkerMatching m = match_markers(reference, found);
   t.truth += int(truth.size());
   if (truth.empty()) ++t.empty_images;
-  for (const Marker& m : found) {
-    bool match = false;
-    for (size_t i = 0; i < truth.size() && !match; ++i) {
-      if (used[i] || truth[i].id != m.id || truth[i].dict != m.dict) continue;
-      double err = 0, side = 0;
-      for (int k = 0; k < 4; ++k) {
-        err += cv::norm(truth[i].corners[size_t(k)] - m.corners[size_t(k)]) / 4;
-        side += cv::norm(truth[i].corners[size_t(k)] - truth[i].corners[size_t((k + 1) % 4)]) / 4;
-      }
-      if (err > std::max(3.0, 0.1 * side)) continue;
-      used[i] = match = true;
-      ++t.found;
-      t.corner_err += err;
-      ++t.corner_n;
-    }
-    if (!match) {
-      ++t.false_pos;
-      if (truth.empty()) ++t.false_pos_empty;
-    }
-  }
+  t.found += int(m.pairs.size());
+  for (const MatchedPair& p : m.pairs) t.corner_err += p.corner_px;
+  t.corner_n += int(m.pairs.size());
+  t.false_pos += int(m.only_found.size());
+  if (truth.empty()) t.false_pos_empty += int(m.only_found.size());
 }
 
 struct Row {

@@ -1,5 +1,6 @@
 #include "workbench/engine.hpp"
 
+#include "detect/match.hpp"
 #include "detect/peers.hpp"
 #include "workbench/scene_stage.hpp"
 #include "detect/trace_view.hpp"
@@ -18,6 +19,24 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// arwb's markers of the peer's dictionary against the peer's, by the one matching rule (arwb the reference), so
+// the Peers panel only draws the result.
+void match_with_arwb(const std::vector<Marker>& ours, PeerDetections& pd) {
+  std::vector<Marker> same;
+  std::vector<size_t> index;   // into `ours`
+  for (size_t i = 0; i < ours.size(); ++i) {
+    if (ours[i].dict != pd.dict) {
+      ++pd.other_dicts;
+      continue;
+    }
+    same.push_back(ours[i]);
+    index.push_back(i);
+  }
+  pd.matching = match_markers(same, pd.markers);
+  for (MatchedPair& p : pd.matching.pairs) p.reference = index[p.reference];
+  for (size_t& i : pd.matching.only_reference) i = index[i];
 }
 }  // namespace
 
@@ -296,6 +315,8 @@ void Engine::run() {
       const auto d0 = Clock::now();
       w.detector->detect(w.raw, &f->trace, w.config.level, w.config.threads, &f->image);
       f->detect_ms = ms_between(d0, Clock::now());
+      f->params = w.config.params;
+      f->dictionaries = w.config.dictionaries;
       if (f->image.channels() == 1) cv::cvtColor(f->image, f->image, cv::COLOR_GRAY2BGR);
       const double sx = double(f->image.cols) / w.raw.cols, sy = double(f->image.rows) / w.raw.rows;
       for (TruthMarker t : w.raw_truth) {
@@ -328,19 +349,24 @@ void Engine::run() {
         w.peers_dict = dict;
       }
       if (w.peer_opencv) {
-        PeerDetections pd{"opencv_aruco", dict, {}, 0, {}};
+        PeerDetections pd;
+        pd.name = "opencv_aruco";
+        pd.dict = dict;
         try {
           if (!w.opencv) w.opencv = std::make_unique<OpenCvArucoPeer>(dict);
           PeerResult r = w.opencv->detect(f->image);
           pd.markers = std::move(r.markers);
           pd.ms = r.ms;
+          match_with_arwb(f->trace.markers, pd);
         } catch (const std::exception& e) {
           pd.error = std::string("OpenCV aruco cannot read ") + dict + ": " + e.what();
         }
         f->peers.push_back(std::move(pd));
       }
       if (w.peer_apriltag) {
-        PeerDetections pd{"apriltag", dict, {}, 0, {}};
+        PeerDetections pd;
+        pd.name = "apriltag";
+        pd.dict = dict;
         if (!AprilTagPeer::supports(dict)) {
           pd.error = "AprilTag reads only the APRILTAG_* families, not " + dict;
         } else {
@@ -349,6 +375,7 @@ void Engine::run() {
             PeerResult r = w.apriltag->detect(f->image);
             pd.markers = std::move(r.markers);
             pd.ms = r.ms;
+            match_with_arwb(f->trace.markers, pd);
           } catch (const std::exception& e) {
             pd.error = e.what();
           }

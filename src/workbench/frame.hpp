@@ -5,6 +5,8 @@
 #include "track/overlay.hpp"
 #include "capture/source.hpp"
 #include "track/tracker.hpp"
+#include "detect/match.hpp"
+#include "detect/params.hpp"
 #include "detect/trace.hpp"
 #include "synth/synth.hpp"
 
@@ -24,6 +26,10 @@ struct PeerDetections {
   std::vector<Marker> markers;
   double ms = 0;
   std::string error;          // when it could not run on this dictionary
+  // arwb's markers of `dict` against these by the one matching rule (detect/match.hpp, arwb the reference),
+  // matched by the worker: `reference` indices point into the frame's trace.markers, `found` into `markers`.
+  MarkerMatching matching;
+  int other_dicts = 0;        // arwb markers of other dictionaries, not compared
 };
 
 struct Frame {
@@ -31,6 +37,10 @@ struct Frame {
   double time_s = 0;          // worker clock when it was captured
   cv::Mat image;              // BGR, after acquisition (the working image)
   FrameTrace trace;
+  // What the trace was detected with: panels interpret the frame by these, not by the current settings, which
+  // may have changed since (a frozen frame, or a frame still in flight when a slider moved).
+  DetectorParams params;
+  std::vector<std::string> dictionaries;
   // One picture per stage for the pipeline panel and snapshots (trace_view.hpp), made by the worker from the
   // full trace: stage images where the pipeline has them, drawings of contours, quads, frontal views and grids
   // otherwise. Empty below the full level.

@@ -69,5 +69,5 @@ TEST(SynthSet, BadLinesAreNamedWithTheirLineAndSkipped) {
 
   const auto none = read_set(dir.str("nowhere"), &skipped);
   EXPECT_FALSE(none);
-  EXPECT_EQ(none.error(), dir.str("nowhere") + "/truth.jsonl: cannot read");
+  EXPECT_EQ(none.error(), dir.str("nowhere") + "/truth.jsonl: no such file");
 }

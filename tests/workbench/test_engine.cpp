@@ -92,6 +92,57 @@ TEST(Engine, NewParametersRedetectTheFrozenFrame) {
   EXPECT_EQ(cv::norm(before->image, after->image, cv::NORM_INF), 0.0);   // the same frame, read again
 }
 
+TEST(Engine, FramesRecordTheParametersTheyWereDetectedWith) {
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  e.start();
+  ASSERT_TRUE(e.wait_newer(0, 5.0));
+  e.set_frozen(true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto before = e.latest();
+  EXPECT_EQ(before->params, DetectorParams());
+  EXPECT_EQ(before->dictionaries, std::vector<std::string>({"ARUCO_ORIGINAL"}));
+  DetectorParams p;
+  p.error_correction_rate = 0.25;
+  e.set_params(p);
+  const auto after = e.wait_newer(before->index, 5.0);
+  ASSERT_TRUE(after);
+  EXPECT_DOUBLE_EQ(after->params.error_correction_rate, 0.25);
+  EXPECT_EQ(before->params, DetectorParams());   // a published frame keeps its own
+}
+
+TEST(Engine, PeersAreMatchedToArwbOnTheWorker) {
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  e.set_peers(true, true);
+  e.start();
+  std::shared_ptr<const Frame> f;
+  for (uint64_t after = 0; !f || f->peers.size() < 2 || f->trace.markers.empty();) {
+    f = e.wait_newer(after, 5.0);
+    ASSERT_TRUE(f);
+    after = f->index;
+    ASSERT_LT(after, 50u) << "no frame with markers and both peers";
+  }
+  const PeerDetections& ocv = f->peers[0];
+  ASSERT_EQ(ocv.name, "opencv_aruco");
+  ASSERT_TRUE(ocv.error.empty()) << ocv.error;
+  // Every arwb marker is either matched or listed as arwb's alone; every peer marker likewise.
+  EXPECT_EQ(ocv.matching.pairs.size() + ocv.matching.only_reference.size(), f->trace.markers.size());
+  EXPECT_EQ(ocv.matching.pairs.size() + ocv.matching.only_found.size(), ocv.markers.size());
+  EXPECT_FALSE(ocv.matching.pairs.empty());
+  for (const MatchedPair& m : ocv.matching.pairs) {
+    ASSERT_LT(m.reference, f->trace.markers.size());
+    ASSERT_LT(m.found, ocv.markers.size());
+    EXPECT_EQ(f->trace.markers[m.reference].id, ocv.markers[m.found].id);
+    EXPECT_LE(m.corner_px, match_tolerance_px(f->trace.markers[m.reference].corners));
+  }
+  EXPECT_EQ(ocv.other_dicts, 0);
+  // AprilTag cannot read ARUCO_ORIGINAL: it says so and matches nothing.
+  EXPECT_EQ(f->peers[1].name, "apriltag");
+  EXPECT_FALSE(f->peers[1].error.empty());
+  EXPECT_TRUE(f->peers[1].matching.pairs.empty());
+}
+
 TEST(Engine, SceneSettingsSurviveASwitchToAnotherSourceAndBack) {
   test::TempDir tmp;
   cv::imwrite(tmp.str("still.png"), cv::Mat(480, 640, CV_8UC3, cv::Scalar::all(128)));

@@ -1,0 +1,113 @@
+// The window's own state, shared by its three files: ui/window.cpp (the frame loop, actions, menus, stats),
+// ui/requests.cpp (carrying out what panels asked for: files, presets, sweeps, dictionary distances, the watched
+// script file) and ui/layout.cpp (the layout file, the first start's layout, presentation mode). Not for panels:
+// they see only ui/context.hpp.
+#pragma once
+
+#include "detect/diagnose.hpp"
+#include "teach/tour.hpp"
+#include "render/compositor.hpp"
+#include "render/texture.hpp"
+#include "ui/context.hpp"
+#include "workbench/actions.hpp"
+#include "workbench/engine.hpp"
+#include "workbench/log.hpp"
+#include "workbench/options.hpp"
+
+#include <imgui.h>
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <future>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+struct GLFWwindow;
+
+namespace arwb {
+
+using Clock = std::chrono::steady_clock;
+
+struct App {
+  WorkbenchOptions opt;
+  Clock::time_point t0 = Clock::now();
+  Log log{t0};
+  std::unique_ptr<Engine> engine;
+  ui::Settings settings, sent;
+  ui::View view;
+  ui::Status status;
+  std::vector<LogEntry> log_copy;
+  uint64_t log_seen = 0;
+  std::vector<ui::Request> requests;
+  std::vector<TourStep> tour;
+  render::TextureCache textures;
+  std::unique_ptr<render::Compositor> compositor;   // the frame with the scene's media, for the live view
+  uint64_t scene_generation = 0;
+  double composite_ms = 0;
+  int composites = 0;
+  std::shared_ptr<const Frame> frame;
+  uint64_t region_frame = 0;
+  cv::Rect2f region_done{-1, -1, 0, 0};
+  // Sweep on its own thread; the UI polls.
+  std::future<SweepResult> sweep_future;
+  std::atomic<double> sweep_progress{0};
+  std::atomic<bool> sweep_cancel{false};
+  // Dictionary distances being computed, by name; the UI polls.
+  std::map<std::string, std::future<ui::DictionaryStats>> dictionary_futures;
+  // The script editor's file on disk as last read (Status::script_file).
+  std::filesystem::file_time_type script_mtime{};
+  uintmax_t script_size = 0;
+  double script_next_check = 0;
+  // Stats
+  uint64_t last_frame_index = 0;
+  int detected_seen = 0;
+  double detect_ms_sum = 0;
+  std::array<double, kStageCount> stage_ms_sum{};
+  std::map<std::string, std::pair<double, int>> peer_ms;   // name: summed ms, frames
+  std::array<int, kStageCount> stage_ms_n{};
+  std::deque<double> ui_frame_times;
+  ImFont* font_normal = nullptr;
+  ImFont* font_large = nullptr;
+  ImGuiStyle base_style;
+  bool presentation_applied = false;
+  double draw_calls = 0, vertices = 0;   // summed over UI frames
+  std::array<double, 3> ui_ms{};   // summed: building the panels, rendering them, swapping
+
+  void info(const std::string& s) { log.add(LogLevel::info, s); }
+  void warn(const std::string& s) { log.add(LogLevel::warning, s); }
+  void error(const std::string& s) { log.add(LogLevel::error, s); }
+
+  void run_action(const Action& a);
+  void sync_scene();
+  void forward_settings();
+  void update_region();
+  void record_stats();
+  void draw_menu(GLFWwindow* window);
+  void draw_status_bar(float height);
+  bool take_screenshot(const std::string& path, GLFWwindow* window);
+  // ui/requests.cpp
+  void handle_requests();
+  void poll_background();        // the sweep's and the dictionaries' results, the watched file
+  void list_presets();
+  void list_examples();
+  void watch_file(const std::string& path, bool reread);
+  // ui/layout.cpp
+  void set_presentation(bool on);
+};
+
+// ui/layout.cpp
+std::string default_config_dir();
+// Registers the handler that keeps panel visibility in imgui.ini, then loads `ini_path` when it exists.
+void load_layout(ui::View& view, const std::string& ini_path);
+// Writes the layout (window places, open panels); a message on stderr when it cannot.
+void save_layout(const std::string& ini_path);
+// The first start's place and size of panel p's window.
+void default_layout(ui::Panel p, ImVec2 size, float menu_h, float status_h);
+
+}  // namespace arwb
