@@ -1,5 +1,8 @@
 // Shared helpers for the test binaries: temporary folders and running the arwb binary.
 #pragma once
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <string>
 
@@ -35,5 +38,16 @@ RunResult run_arwb_window(const std::string& args);
 // Writes bytes to a file.
 void write_file(const std::string& path, const std::string& bytes);
 std::string read_file(const std::string& path);
+
+// Text as JSON (keys in their written order); a parse error fails the test with nlohmann's message and the text
+// near the byte it names.
+inline nlohmann::ordered_json parse(const std::string& text) {
+  try {
+    return nlohmann::ordered_json::parse(text);
+  } catch (const nlohmann::ordered_json::parse_error& e) {
+    ADD_FAILURE() << e.what() << "\nnear: " << text.substr(e.byte > 40 ? e.byte - 40 : 0, 80);
+    return {};
+  }
+}
 
 }  // namespace arwb::test

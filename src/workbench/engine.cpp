@@ -11,6 +11,7 @@
 #include <chrono>
 #include <deque>
 #include <optional>
+#include <stdexcept>
 
 namespace arwb {
 
@@ -348,39 +349,38 @@ void Engine::run() {
         w.apriltag.reset();
         w.peers_dict = dict;
       }
-      if (w.peer_opencv) {
+      // One peer on this frame: its markers matched to arwb's, or why it could not run.
+      auto run_peer = [&](const char* name, auto&& detect) {
         PeerDetections pd;
-        pd.name = "opencv_aruco";
+        pd.name = name;
         pd.dict = dict;
         try {
-          if (!w.opencv) w.opencv = std::make_unique<OpenCvArucoPeer>(dict);
-          PeerResult r = w.opencv->detect(f->image);
+          PeerResult r = detect();
           pd.markers = std::move(r.markers);
           pd.ms = r.ms;
           match_with_arwb(f->trace.markers, pd);
         } catch (const std::exception& e) {
-          pd.error = std::string("OpenCV aruco cannot read ") + dict + ": " + e.what();
+          pd.error = e.what();
         }
         f->peers.push_back(std::move(pd));
+      };
+      if (w.peer_opencv) {
+        run_peer("opencv_aruco", [&] {
+          try {
+            if (!w.opencv) w.opencv = std::make_unique<OpenCvArucoPeer>(dict);
+          } catch (const std::exception& e) {
+            throw std::runtime_error("OpenCV aruco cannot read " + dict + ": " + e.what());
+          }
+          return w.opencv->detect(f->image);
+        });
       }
       if (w.peer_apriltag) {
-        PeerDetections pd;
-        pd.name = "apriltag";
-        pd.dict = dict;
-        if (!AprilTagPeer::supports(dict)) {
-          pd.error = "AprilTag reads only the APRILTAG_* families, not " + dict;
-        } else {
-          try {
-            if (!w.apriltag) w.apriltag = std::make_unique<AprilTagPeer>(dict);
-            PeerResult r = w.apriltag->detect(f->image);
-            pd.markers = std::move(r.markers);
-            pd.ms = r.ms;
-            match_with_arwb(f->trace.markers, pd);
-          } catch (const std::exception& e) {
-            pd.error = e.what();
-          }
-        }
-        f->peers.push_back(std::move(pd));
+        run_peer("apriltag", [&] {
+          if (!AprilTagPeer::supports(dict))
+            throw std::runtime_error("AprilTag reads only the APRILTAG_* families, not " + dict);
+          if (!w.apriltag) w.apriltag = std::make_unique<AprilTagPeer>(dict);
+          return w.apriltag->detect(f->image);
+        });
       }
       const double done = seconds_since(w.t0);
       w.finished.push_back(done);

@@ -18,18 +18,9 @@
 using namespace arwb;
 using test::run_arwb;
 using Json = nlohmann::ordered_json;
+using test::parse;
 
 namespace {
-
-// A line of output as JSON; a parse error fails the test with nlohmann's message.
-Json parse(const std::string& text) {
-  try {
-    return Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    ADD_FAILURE() << e.what() << " in: " << text;
-    return Json();
-  }
-}
 
 std::vector<std::string> keys(Json& j) {
   std::vector<std::string> out;

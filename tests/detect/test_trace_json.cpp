@@ -3,6 +3,7 @@
 #include "detect/detector.hpp"
 #include "synth/synth.hpp"
 #include "detect/trace_json.hpp"
+#include "support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -14,18 +15,9 @@
 
 using namespace arwb;
 using Json = nlohmann::ordered_json;
+using test::parse;
 
 namespace {
-
-// The text as JSON; a parse error fails the test with nlohmann's message (which names the byte).
-Json parse(const std::string& text) {
-  try {
-    return Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    ADD_FAILURE() << e.what() << "\nnear: " << text.substr(e.byte > 40 ? e.byte - 40 : 0, 80);
-    return Json();
-  }
-}
 
 // How many elements of the array satisfy `pred`.
 template <typename Pred>
