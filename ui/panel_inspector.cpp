@@ -89,7 +89,7 @@ const char* missing_after(Stage s) {
     case Stage::identification:
       return "Stopped at identification: every stage ran, but no marker is within the correction budget.";
     case Stage::corner_refinement:
-      return "Stopped at corner_refinement after it was identified.";
+      return "Stopped at corner_refinement: its corners could not be refined (the stage drops nothing today).";
     case Stage::duplicates:
       return "Identified, then dropped at duplicates: another candidate gave the same marker.";
     default: return nullptr;

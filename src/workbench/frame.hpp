@@ -52,7 +52,7 @@ struct Frame {
   std::vector<PeerDetections> peers;
   std::vector<TruthMarker> truth;   // synthetic source only, in working-image pixels
   SourceInfo source;
-  double capture_ms = 0;      // reading the source and acquisition
+  double capture_ms = 0;      // reading the source (acquisition is the detector's first stage, timed in the trace)
   double detect_ms = 0;       // Detector::detect, trace included
   // The scene (Lua or XML database): markers over time, the media it places on this frame and its state.
   std::vector<TrackedMarker> tracks;
