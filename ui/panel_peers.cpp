@@ -3,6 +3,7 @@
 // choose whether the live view draws their corners. For the latest frame: each detector's time, markers and ids,
 // and the markers one found and the other did not, as the worker matched them (detect/match.hpp: the rule the
 // benchmark scores with).
+#include "detect/quad.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
@@ -47,8 +48,7 @@ std::string id_list(const std::vector<Marker>& ms, size_t limit = 0) {
 }
 
 std::string where(const Marker& m) {
-  cv::Point2f c(0, 0);
-  for (const auto& p : m.corners) c += p * 0.25f;
+  const cv::Point2f c = quad_centre(m.corners);
   char buf[96];
   std::snprintf(buf, sizeof buf, "id %d at (%.0f, %.0f), side %.0f px", m.id, static_cast<double>(c.x),
                 static_cast<double>(c.y), mean_side(m.corners));

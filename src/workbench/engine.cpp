@@ -53,11 +53,10 @@ struct Engine::Pending {
   std::optional<bool> frozen;
   bool next_frame = false;
   std::optional<std::pair<bool, bool>> peers;
-  std::optional<TraceLevel> level;
   std::optional<std::string> scene_file;
   bool any() const {
     return source || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
-           next_frame || peers || level || scene_file;
+           next_frame || peers || scene_file;
   }
 };
 
@@ -142,7 +141,6 @@ void Engine::set_synthetic(const SyntheticControls& c) { ARWB_SET(synthetic, c);
 void Engine::set_frozen(bool frozen) { ARWB_SET(frozen, frozen); }
 void Engine::next_frame() { ARWB_SET(next_frame, true); }
 void Engine::set_peers(bool opencv, bool apriltag) { ARWB_SET(peers, std::make_pair(opencv, apriltag)); }
-void Engine::set_trace_level(TraceLevel level) { ARWB_SET(level, level); }
 void Engine::load_scene(const std::string& path) { ARWB_SET(scene_file, path); }
 #undef ARWB_SET
 void Engine::step(int delta) {
@@ -231,10 +229,6 @@ void Engine::run() {
       w.config.acquisition = *p.acquisition;
       w.detector->set_acquisition(*p.acquisition);
       w.next_due = 0;
-      w.redetect = true;
-    }
-    if (p.level) {
-      w.config.level = *p.level;
       w.redetect = true;
     }
     if (p.peers) {

@@ -63,7 +63,6 @@ class Engine {
   void set_frozen(bool frozen);
   void next_frame();                         // while frozen: take one new frame
   void set_peers(bool opencv, bool apriltag);
-  void set_trace_level(TraceLevel level);
   // Loads a scene (Lua or XML database; "" unloads). Errors reach the frame's SceneStatus and the log; the last
   // good scene stays. The file is then watched and reloaded when it changes on disk.
   void load_scene(const std::string& path);
