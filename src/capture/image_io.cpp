@@ -389,7 +389,9 @@ ParseResult parse_tiff(ByteSource& src, std::string* error) {
     int64_t v = 0;
     if (type == 3) v = u16(e + value_at);                                          // SHORT
     else if (type == 4) v = u32(e + value_at);                                     // LONG
-    else if (type == 16) v = static_cast<int64_t>(std::min<uint64_t>(u64(e + value_at), std::numeric_limits<int64_t>::max()));  // LONG8
+    // LONG8 exists only in BigTIFF, whose entries hold 8 value bytes; a classic entry holds 4, so reading 8 there
+    // would read past the entry (past the file, when the entry is its last bytes).
+    else if (type == 16 && big) v = static_cast<int64_t>(std::min<uint64_t>(u64(e + value_at), std::numeric_limits<int64_t>::max()));
     else return fail(error, "invalid header (TIFF size of type " + std::to_string(type) + ")");
     (tag == 256 ? width : height) = v;
   }

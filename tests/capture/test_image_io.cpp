@@ -543,6 +543,23 @@ TEST(ImageIo, ClassifyPath) {
   EXPECT_STREQ(to_string(PathKind::video), "video");
 }
 
+// A classic TIFF whose ImageWidth entry says LONG8 (a BigTIFF type, 8 value bytes) in a 12-byte entry that ends
+// the file: reading its value as 8 bytes went 4 bytes past the file (found by fuzzing). It is refused by type.
+TEST(ImageIo, ClassicTiffWithALong8SizeIsRefusedWithoutReadingPastTheEntry) {
+  TempDir dir;
+  std::string b("II*\0", 4);
+  b += std::string("\x08\0\0\0", 4);          // first IFD at byte 8
+  b += std::string("\x02\0", 2);                // two entries
+  b += std::string("\x01\x01\x04\0\x01\0\0\0\x10\0\0\0", 12);   // ImageLength, LONG, 1, 16
+  b += std::string("\0\x01\x10\0\x01\0\0\0\x10\0\0\0", 12);     // ImageWidth, LONG8 (16), 1, 16...
+  ASSERT_EQ(b.size(), 34u) << "the entry ends the file";
+  const std::string path = dir.str("long8.tif");
+  write_file(path, b);
+  std::string error;
+  EXPECT_FALSE(read_image_header(path, &error));
+  EXPECT_NE(error.find("TIFF size of type 16"), std::string::npos) << error;
+}
+
 TEST(ImageIo, ReadImageHeaderReadsOnlyTheHeader) {
   TempDir dir;
   // A PNG whose data is missing altogether still has a readable header.
