@@ -1,5 +1,13 @@
-// The sandboxed Lua state behind a scene: a counting allocator with a cap, an instruction budget per call, the
-// trimmed standard library, and the rules that keep Lua errors and C++ apart.
+// The sandboxed Lua state behind a scene: a counting allocator with a cap, an instruction budget and a wall-time
+// bound per call, the trimmed standard library, and the rules that keep Lua errors and C++ apart.
+//
+// What bounds a call's time. A count hook (every kStep instructions) and a call hook (every function call, so
+// every library function) check the budget and the clock, and the allocator checks the clock before any large
+// block: a loop of library calls over long strings is stopped at its next call, one of string operators at its
+// next allocation. What happens inside one library call is bounded before it starts: pattern searches by their
+// worst case (w_guarded_pattern), string.rep of nothing, table.move/insert/remove by their range, table.sort by
+// its length, load by the text's size. Finalizers run with hooks off (Lua 5.4), so a scene cannot have any:
+// setmetatable refuses a metatable with __gc, and scenes cannot make userdata.
 //
 // Two modes. In script mode (inside LuaState::pcall and load_chunk) the memory cap applies and the garbage
 // collector runs. In host mode (everywhere else, and inside the C functions the scene calls, see guarded()) the
@@ -12,6 +20,7 @@
 
 #include <lua.hpp>
 
+#include <chrono>
 #include <cstddef>
 #include <filesystem>
 #include <memory>
@@ -41,9 +50,17 @@ struct Host {
   std::size_t peak = 0;
   std::size_t host_bytes = 0;    // allocated in host mode since the last collect_garbage() (the GC was stopped)
   bool script_mode = false;
-  // Instruction budget of the current call.
+  // Instruction budget and wall time of the current call. Once either is passed, every instruction and every call
+  // fails again, so a pcall inside the script cannot swallow it and go on.
   long long spent = 0;
   bool exceeded = false;
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  bool timed_out = false;
+  std::string stop_message;      // "file:line: ..." as the hook raised it (an error handler may replace it)
+  // print and warn output since begin_frame(), and the lines not shown.
+  int out_lines = 0;
+  std::size_t out_bytes = 0;
+  long long suppressed = 0;
   // warn(): pieces of the message being built, and whether warnings are shown.
   std::string warning;
   bool warnings_on = true;
@@ -89,13 +106,20 @@ class LuaState {
     bool ok = true;
     std::string message;   // the error, "file:line: message" when Lua knew the place; no traceback
     bool budget = false;   // stopped by the instruction budget
+    bool time = false;     // stopped by the wall-time bound (ScriptLimits::call_ms)
     bool memory = false;   // refused by the memory cap
+    bool overflow = false; // the Lua stack (or the C stack) overflowed: deep recursion, costly to repeat
   };
   // Compiles text (mode "t") as chunk "@path" in script mode; on success the function is on the stack.
   Outcome load_chunk(const std::string& text);
-  // Calls the function below its nargs arguments in script mode, under a fresh instruction budget, with a
-  // message handler; leaves nresults on success, nothing on failure.
+  // Calls the function below its nargs arguments in script mode, under a fresh instruction budget and wall-time
+  // bound, with a message handler; leaves nresults on success, nothing on failure. Messages are cut to
+  // kMaxMessageBytes.
   Outcome pcall(int nargs, int nresults);
+  // Starts a frame's output count (print and warn lines; see ScriptLimits::output_lines_per_frame).
+  void begin_frame();
+  // Lines of output suppressed since begin_frame().
+  long long suppressed_output() const { return host_->suppressed; }
   // Lets the collector catch up with what was allocated in host mode (where it is stopped), in script mode so
   // finalizers run under the budget and the cap. Call once per frame.
   void collect_garbage();
@@ -111,6 +135,15 @@ class LuaState {
   lua_State* L_ = nullptr;
   double script_ms_ = 0;
 };
+
+// The longest error message kept, and the longest text load() and a scene file may have: Lua compiles text
+// with no hook running (about 0.1 s a megabyte here).
+constexpr std::size_t kMaxMessageBytes = 4000;
+constexpr std::size_t kMaxChunkBytes = 1u << 20;
+
+// For tests only: a C function every new state gets as the global `name` (one at a time), to simulate a library
+// call that never returns. Never set outside tests.
+void set_test_global(const char* name, lua_CFunction f);
 
 // Switches to host mode for the life of the object, back to the previous mode after.
 void host_mode_enter(lua_State* L, bool* was_script);

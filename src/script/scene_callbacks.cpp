@@ -3,6 +3,7 @@
 #include "script/scene_runtime_impl.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace arwb::script {
 namespace {
@@ -54,6 +55,12 @@ std::string SceneRuntime::Impl::function_prefix(Program& p, int fn) {
 bool SceneRuntime::Impl::call(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt,
                               const std::string& what, Instance* inst) {
   if (fn == LUA_NOREF || p.disabled.count(fn)) return false;
+  // Enter and leave happen once and always run; what runs every frame waits once the frame's time is used.
+  if ((what == "on_update" || what == "text") && frame_ms >= limits.frame_ms) {
+    if (!skipped && what == "on_update") resume_id = t.id;
+    skipped = true;
+    return false;
+  }
   LuaState& ls = *p.lua;
   lua_State* L = ls.L();
   lua_checkstack(L, 8);
@@ -67,20 +74,33 @@ bool SceneRuntime::Impl::call(Program& p, int mi, int fn, const TrackedMarker& t
   const double before = ls.script_ms();
   const LuaState::Outcome out = ls.pcall(nargs, 1);
   frame_ms += ls.script_ms() - before;
-  if (out.ok) return true;
+  if (out.ok) {
+    p.streaks.erase({fn, t.id});
+    return true;
+  }
   const std::string ctx = what + " of marker " + std::to_string(t.id);
+  const std::string located =
+      out.message.rfind(p.display + ":", 0) == 0 ? out.message : function_prefix(p, fn) + out.message;
   std::string msg;
-  if (out.budget || out.memory) {
+  if (out.budget || out.time || out.memory || out.overflow) {
+    // Each of these costs the frame its full price again if repeated: disabled at once.
     p.disabled.insert(fn);
-    if (out.budget)
-      msg = (out.message.rfind(p.display + ":", 0) == 0 ? out.message : function_prefix(p, fn) + out.message);
-    else
-      msg = function_prefix(p, fn) + "not enough memory (the cap is " + mib(limits.memory_bytes) + ")";
+    msg = out.memory ? function_prefix(p, fn) + "not enough memory (the cap is " + mib(limits.memory_bytes) + ")"
+                     : located;
     msg += " in " + ctx + "; disabled until the scene reloads";
     p.mapping_error[static_cast<size_t>(mi)] = msg;
   } else {
-    msg = out.message.rfind(p.display + ":", 0) == 0 ? out.message : function_prefix(p, fn) + out.message;
-    msg += " (in " + ctx + ")";
+    Program::Streak& s = p.streaks[{fn, t.id}];
+    if (s.message != out.message) s = {out.message, frame_no, 1};
+    else if (s.frame != frame_no) s.frame = frame_no, ++s.frames;
+    if (s.frames >= std::max(1, limits.failures_in_a_row)) {
+      p.disabled.insert(fn);
+      msg = what + " disabled after failing " + std::to_string(s.frames) + " frames in a row: " + located + " (in " +
+            ctx + "); it runs again when the scene reloads";
+      p.mapping_error[static_cast<size_t>(mi)] = msg;
+    } else {
+      msg = located + " (in " + ctx + ")";
+    }
   }
   report(2, msg);
   if (inst) inst->error = msg;
@@ -108,8 +128,18 @@ void SceneRuntime::Impl::apply_return(Program& p, int fn, Instance& inst, const 
     return;
   }
   static const std::vector<std::string_view> kKnown = {"media", "place"};
+  // Only the first fields are looked at: a table of 200,000 unknown fields would cost the frame 0.4 s of
+  // messages that say nothing more.
+  constexpr int kFieldsRead = 16;
+  int fields = 0;
   lua_pushnil(L);
   while (lua_next(L, r) != 0) {
+    if (++fields > kFieldsRead) {
+      lua_pop(L, 2);
+      report(1, function_prefix(p, fn) + ctx + " returned a table of more than " + std::to_string(kFieldsRead) +
+                    " fields; only media and place are read");
+      break;
+    }
     if (lua_type(L, -2) != LUA_TSTRING) {
       report(1, function_prefix(p, fn) + ctx + " returned a table with a value that is not named; ignored");
     } else if (std::string key = lua_tostring(L, -2); key != "media" && key != "place") {

@@ -11,7 +11,8 @@
 namespace arwb::script {
 namespace {
 
-constexpr std::uintmax_t kMaxSceneBytes = 16u << 20;
+// Lua compiles a scene with no hook running (about 0.1 s a megabyte): scenes are a few kilobytes.
+constexpr std::uintmax_t kMaxSceneBytes = kMaxChunkBytes;
 constexpr size_t kMaxConsoleText = 4000;
 constexpr size_t kCollapseWindow = 8;   // warnings and errors repeat within this many lines: counted, not repeated
 
@@ -135,9 +136,14 @@ bool SceneRuntime::Impl::load_lua(Program& p, const std::string& text, std::stri
   LuaState::Outcome out = p.lua->load_chunk(text);
   if (out.ok) {
     h.building = &p.def;
+    p.lua->begin_frame();
     out = p.lua->pcall(0, 0);
     h.building = nullptr;
-    if (!out.ok && out.budget) out.message += " while loading the scene";
+    report_suppressed(p);
+    if (!out.ok && (out.budget || out.time)) {
+      if (out.message.rfind(p.display + ":", 0) != 0) out.message = p.display + ": " + out.message;
+      out.message += " while loading the scene";
+    }
   }
   if (out.ok) return true;
   if (out.memory)

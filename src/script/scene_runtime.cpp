@@ -32,6 +32,8 @@ void set_row_name(Row& row, const std::string& name) {
 
 std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   frame_ms = 0;
+  ++frame_no;
+  skipped = false;
   std::vector<Overlay> overlays;
   if (!prog) {
     status.mappings.clear();
@@ -39,6 +41,7 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
     return overlays;
   }
   Program& p = *prog;
+  if (p.lua) p.lua->begin_frame();
   static const std::vector<TrackedMarker> kNoTracks;
   static const std::vector<TrackEvent> kNoEvents;
   const auto& tracks = in.tracks ? *in.tracks : kNoTracks;
@@ -66,8 +69,13 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   for (const int id : std::vector<int>(p.inside.begin(), p.inside.end()))
     if (!seen.count(id)) leave(p, id);
 
-  // on_update, and the play position.
-  for (const auto& [id, t] : seen) {
+  // on_update, and the play position. When the frame's time ran out last frame, this one starts with the marker
+  // that waited, so every marker gets its turn.
+  std::vector<std::pair<int, const TrackedMarker*>> order(seen.begin(), seen.end());
+  const auto first = std::find_if(order.begin(), order.end(), [&](const auto& e) { return e.first >= resume_id; });
+  std::rotate(order.begin(), first, order.end());
+  resume_id = -1;
+  for (const auto& [id, t] : order) {
     p.last[id] = *t;
     for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
       const Mapping& m = p.def.mappings[mi];
@@ -136,10 +144,25 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
     const double before = p.lua->script_ms();
     p.lua->collect_garbage();
     frame_ms += p.lua->script_ms() - before;
+    report_suppressed(p);
+  }
+  if (skipped) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", limits.frame_ms);
+    report(1, p.display + ": the scene's calls took over " + b + " ms on this frame; its other on_update and text "
+                          "calls wait for the next frame");
   }
   fill_rows(&seen);
   status.script_ms = frame_ms;
   return overlays;
+}
+
+void SceneRuntime::Impl::report_suppressed(Program& p) {
+  if (!p.lua || p.lua->suppressed_output() == 0) return;
+  report(1, p.display + ": " + std::to_string(p.lua->suppressed_output()) + " more lines of print and warn output " +
+                "suppressed on this frame (a frame shows at most " + std::to_string(limits.output_lines_per_frame) +
+                " lines, " + std::to_string(limits.output_bytes_per_frame / 1024) + " KiB)");
+  p.lua->begin_frame();
 }
 
 void SceneRuntime::Impl::fill_rows(const std::map<int, const TrackedMarker*>* seen) {

@@ -3,8 +3,10 @@
 //
 // Faults never stop the frame loop. A script that fails to load leaves the last good scene in place; errors read
 // "file:line: message" and go to the console (repeats collapsed); a callback that runs past its instruction
-// budget or asks for more memory than the cap is stopped with a message and disabled until the next reload;
-// bad values (id -1, a NaN size, an unknown placement) are reported with their line and skipped.
+// budget, its wall time or asks for more memory than the cap is stopped with a message and disabled until the
+// next reload, as is one that overflows the stack or fails the same way on several frames in a row; bad values
+// (id -1, a NaN size, an unknown placement) are reported with their line and skipped. What a scene makes the host
+// do per frame (console lines, warnings about fields) is capped too.
 #pragma once
 
 #include "track/overlay.hpp"
@@ -26,7 +28,18 @@ namespace arwb::script {
 struct ScriptLimits {
   std::size_t memory_bytes = 64u << 20;        // the Lua state's allocator refuses past this
   long long instructions_per_call = 5'000'000; // each callback, computed text and the main chunk
+  // Wall time of one call (the main chunk, a callback, a computed text). The budget's 5 million instructions take
+  // 20-50 ms; this catches what instructions do not count (library functions over long strings) with room for a
+  // loaded machine, and a call past it is disabled like one past the budget.
+  double call_ms = 250;
+  // Wall time of a frame's scene work: once the frame's calls have taken this long, the frame's remaining
+  // on_update and text calls are skipped (not disabled) until the next frame. At the 20 fps cap a frame is 50 ms;
+  // past 150 ms the scene is unusable anyway, and detection keeps at least a few frames a second.
+  double frame_ms = 150;
+  int failures_in_a_row = 3;                   // a callback failing the same way on this many frames is disabled
   int console_lines = 200;                     // lines kept in SceneStatus::console
+  int output_lines_per_frame = 100;            // print and warn lines a frame (the rest counted, not shown)
+  std::size_t output_bytes_per_frame = 64u << 10;
 };
 
 // What the scene sees of one frame.

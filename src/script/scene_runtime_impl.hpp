@@ -42,7 +42,13 @@ struct Program {
   SceneDef def;
   std::string path, display;
   std::map<std::pair<int, int>, Instance> instances;   // (mapping, id)
-  std::set<int> disabled;                              // functions stopped by the budget or the memory cap
+  std::set<int> disabled;                              // functions stopped by a limit or repeated failures
+  struct Streak {                                      // a function's failures with no success between
+    std::string message;
+    uint64_t frame = 0;
+    int frames = 0;
+  };
+  std::map<std::pair<int, int>, Streak> streaks;       // (function, marker id)
   std::vector<std::string> mapping_error;              // per mapping: why part of it is disabled
   std::set<int> inside;                                // ids entered and not left
   std::map<int, TrackedMarker> last;                   // their last tracks (for on_leave)
@@ -69,7 +75,12 @@ struct SceneRuntime::Impl : Reporter {
   bool attempted = false;
   std::string attempt_path;
   FileSig attempt_sig;
-  double frame_ms = 0;
+  double frame_ms = 0;      // script time on this frame so far
+  uint64_t frame_no = 0;    // frames updated since construction
+  bool skipped = false;     // an on_update or text call waited for the next frame (ScriptLimits::frame_ms)
+  int resume_id = -1;       // the first marker whose on_update waited: the next frame starts there
+  // Reports print and warn lines that were over the frame's allowance.
+  void report_suppressed(Program& p);
 
   // [SECTION] Console and loading (scene_load.cpp)
   void report(int level, const std::string& text_in) override;
@@ -84,8 +95,9 @@ struct SceneRuntime::Impl : Reporter {
   std::string dict_of(const Program& p, const TrackedMarker& t) const;
   // "scene.lua:LINE: " for a function: where it was defined.
   std::string function_prefix(Program& p, int fn);
-  // Calls function `fn` with m [, dt]. True with its one result on the stack when it ran; false (reported, and
-  // the function disabled when it ran out of budget or memory) when it failed.
+  // Calls function `fn` with m [, dt]. True with its one result on the stack when it ran; false when it failed
+  // (reported; the function disabled when it passed a limit, overflowed the stack or failed the same way on
+  // ScriptLimits::failures_in_a_row frames) or, for on_update and text, when the frame's time was used up.
   bool call(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt, const std::string& what,
             Instance* inst);
   void set_media(Program& p, Instance& inst, const MediaSpec& spec, int text_fn);

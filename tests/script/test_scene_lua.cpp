@@ -253,13 +253,13 @@ TEST(SceneLua, RuntimeErrorsInCallbacksHaveTheirLineAndCollapse) {
 marker(8, { on_enter = function(m) error("custom failure") end })
 )");
   ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < 2; ++i) {
     const auto ov = s.update({track(7, 100, 100)});
     EXPECT_TRUE(find_overlay(ov, 7)) << "frame " << i;   // an error does not stop the media
   }
   const auto l = s.lines("scene.lua:5: attempt to index a nil value");
   ASSERT_EQ(l.size(), 1u) << s.console();
-  EXPECT_EQ(l[0].repeats, 4);
+  EXPECT_EQ(l[0].repeats, 2);
   EXPECT_EQ(l[0].level, 2);
   EXPECT_NE(l[0].text.find("on_update of marker 7"), std::string::npos) << l[0].text;
   EXPECT_EQ(l[0].text.find("traceback"), std::string::npos);
@@ -270,7 +270,9 @@ marker(8, { on_enter = function(m) error("custom failure") end })
 }
 
 TEST(SceneLua, ErrorsAlternatingBetweenTwoMarkersStillCollapse) {
-  SceneFixture s;
+  ScriptLimits patient;
+  patient.failures_in_a_row = 1000;   // collapsing alone, not the disabling of ErrorsOnEveryFrameDisableTheCallback
+  SceneFixture s(patient);
   const auto p = s.write("scene.lua", R"(
 marker({1, 2}, { on_update = function(m) error("bad " .. m.id) end })
 )");

@@ -412,7 +412,7 @@ end })
   const auto l = s.lines("too costly");
   ASSERT_EQ(l.size(), 1u) << s.console();
   EXPECT_NE(l[0].text.find("scene.lua:4:"), std::string::npos) << l[0].text;
-  EXPECT_NE(l[0].text.find("4 backtracking quantifiers on a 400-character string"), std::string::npos) << l[0].text;
+  EXPECT_NE(l[0].text.find("on a 400-character string it could take about 1e+14 steps"), std::string::npos) << l[0].text;
   EXPECT_TRUE(find_overlay(ov, 7));
   const std::string out = s.console();
   EXPECT_NE(out.find("ID\t150\t3.5"), std::string::npos) << out;
