@@ -436,7 +436,9 @@ int run_workbench(const WorkbenchOptions& options) {
     app.sweep_future.wait();
   }
   const uint64_t detected = app.engine->frames_done();
-  app.engine->stop();
+  // Quitting waits for the worker half a second at most: one stuck in a scene's library call must not hold the
+  // window open (the UI never waits for it while running, so frames were drawn all along).
+  const bool worker_stopped = app.engine->stop(0.5);
 
   save_layout(ini_path);   // window places, open panels
   if (options.stats) {
@@ -469,6 +471,13 @@ int run_workbench(const WorkbenchOptions& options) {
     s["source"] = app.engine->source().text();
     s["problems"] = app.log.problems();
     std::printf("%s\n", s.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
+  }
+  if (!worker_stopped) {
+    // The layout is saved; the worker still runs on its own state, so leave without the destructors it could race.
+    std::fprintf(stderr, "arwb: the worker did not stop within 0.5 s (stuck in a scene's script?); quitting without it\n");
+    std::fflush(stdout);
+    std::fflush(stderr);
+    std::_Exit(0);
   }
   app.textures = render::TextureCache{};
   app.compositor.reset();

@@ -15,9 +15,13 @@
 #include <opencv2/videoio.hpp>
 
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace arwb {
@@ -45,6 +49,56 @@ struct ConsoleEcho {
     }
     shown = s.console.size();
   }
+};
+
+// The safety net under the scene limits (each call 250 ms, a frame's calls 150 ms): if one step of the scene has
+// not returned after kStuckSeconds, something no limit foresaw holds it (a library call that never returns), and
+// the render exits with a message rather than hang.
+constexpr double kStuckSeconds = 5;
+
+class SceneWatchdog {
+ public:
+  SceneWatchdog() : thread_([this] { watch(); }) {}
+  ~SceneWatchdog() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+  void begin(const std::string& what) {
+    std::lock_guard lock(mutex_);
+    what_ = what;
+    since_ = std::chrono::steady_clock::now();
+    armed_ = true;
+  }
+  void end() {
+    std::lock_guard lock(mutex_);
+    armed_ = false;
+  }
+
+ private:
+  void watch() {
+    std::unique_lock lock(mutex_);
+    while (!stop_) {
+      if (armed_ && std::chrono::duration<double>(std::chrono::steady_clock::now() - since_).count() > kStuckSeconds) {
+        std::fprintf(stderr, "arwb render: %s has not returned after %g s (stuck in a script?); stopping\n",
+                     what_.c_str(), kStuckSeconds);
+        std::fflush(stdout);
+        std::fflush(stderr);
+        std::_Exit(1);   // the stuck thread cannot be stopped or joined; nothing else is left to save
+      }
+      wake_.wait_for(lock, std::chrono::milliseconds(100));
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false, armed_ = false;
+  std::string what_;
+  std::chrono::steady_clock::time_point since_;
+  std::thread thread_;
 };
 
 }  // namespace
@@ -116,8 +170,12 @@ int cmd_render(int argc, char** argv) {
     }
   }
 
+  SceneWatchdog watchdog;
   SceneStage stage(media::StoreMode::offline);
-  if (!stage.load(scene_file)) {
+  watchdog.begin("loading the scene");
+  const bool loaded = stage.load(scene_file);
+  watchdog.end();
+  if (!loaded) {
     std::fprintf(stderr, "arwb render: %s\n", stage.status().error.c_str());
     return 1;
   }
@@ -188,7 +246,9 @@ int cmd_render(int argc, char** argv) {
     render_stage_views(f.image, f.trace, f.views);
     detect_ms += ms_since(t0);
     t0 = Clock::now();
+    watchdog.begin("the scene on frame " + std::to_string(frames));
     stage.run(f, t, 1e9);   // offline: the file is read once
+    watchdog.end();
     scene_ms += ms_since(t0);
     console.echo(f.scene);
     if (!f.trace.markers.empty()) ++with_markers;

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <deque>
 #include <optional>
 #include <stdexcept>
@@ -87,50 +88,93 @@ struct Engine::Worker {
   Clock::time_point t0 = Clock::now();
 };
 
-Engine::Engine(EngineConfig config, LogFn log)
-    : log_(std::move(log)), pending_(std::make_unique<Pending>()), worker_(std::make_unique<Worker>()) {
-  worker_->config = std::move(config);
-  pending_->source = worker_->config.source;
-  pending_->dictionaries = worker_->config.dictionaries;
-  if (!worker_->config.scene_file.empty()) pending_->scene_file = worker_->config.scene_file;
-  source_in_use_ = worker_->config.source;
+struct Engine::State {
+  void run();
+  void publish(std::shared_ptr<Frame> f);
+
+  LogFn log_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable published_;
+  std::unique_ptr<Pending> pending_ = std::make_unique<Pending>();
+  std::unique_ptr<Worker> worker_ = std::make_unique<Worker>();
+  std::shared_ptr<const Frame> latest_;
+  std::atomic<bool> running_{false};
+  bool done_ = true;   // the thread has finished run() (guarded by mutex_)
+  std::atomic<uint64_t> frames_{0};
+  std::atomic<double> detect_fps_{0};
+  SourceSpec source_in_use_;
+};
+
+Engine::Engine(EngineConfig config, LogFn log) : s_(std::make_shared<State>()) {
+  s_->log_ = std::move(log);
+  s_->worker_->config = std::move(config);
+  s_->pending_->source = s_->worker_->config.source;
+  s_->pending_->dictionaries = s_->worker_->config.dictionaries;
+  if (!s_->worker_->config.scene_file.empty()) s_->pending_->scene_file = s_->worker_->config.scene_file;
+  s_->source_in_use_ = s_->worker_->config.source;
 }
 
 Engine::~Engine() { stop(); }
 
 void Engine::start() {
-  if (running_.exchange(true)) return;
-  thread_ = std::thread([this] { run(); });
+  if (s_->running_.exchange(true)) return;
+  {
+    std::lock_guard lock(s_->mutex_);
+    s_->done_ = false;
+  }
+  // The thread holds the state too: if stop() gives up on it, it can go on (or come back) without a dangling Engine.
+  thread_ = std::thread([s = s_] {
+    s->run();
+    {
+      std::lock_guard lock(s->mutex_);
+      s->done_ = true;
+    }
+    s->published_.notify_all();
+  });
 }
 
-void Engine::stop() {
-  if (!running_.exchange(false)) return;
-  published_.notify_all();
-  if (thread_.joinable()) thread_.join();
+bool Engine::stop(double timeout_s) {
+  s_->running_ = false;
+  s_->published_.notify_all();
+  if (!thread_.joinable()) return true;
+  if (timeout_s >= 0) {
+    std::unique_lock lock(s_->mutex_);
+    if (!s_->published_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return s_->done_; })) {
+      lock.unlock();
+      char b[32];
+      std::snprintf(b, sizeof b, "%.1f", timeout_s);
+      s_->log_(2, std::string("the worker did not stop within ") + b +
+                      " s (stuck in a scene's script?); quitting without it");
+      thread_.detach();
+      return false;
+    }
+  }
+  thread_.join();
+  return true;
 }
 
 std::shared_ptr<const Frame> Engine::latest() const {
-  std::lock_guard lock(mutex_);
-  return latest_;
+  std::lock_guard lock(s_->mutex_);
+  return s_->latest_;
 }
 
 std::shared_ptr<const Frame> Engine::wait_newer(uint64_t after, double timeout_s) const {
-  std::unique_lock lock(mutex_);
-  published_.wait_for(lock, std::chrono::duration<double>(timeout_s),
-                      [&] { return (latest_ && latest_->index > after) || !running_; });
-  return latest_;
+  std::unique_lock lock(s_->mutex_);
+  s_->published_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                      [&] { return (s_->latest_ && s_->latest_->index > after) || !s_->running_; });
+  return s_->latest_;
 }
 
 #define ARWB_SET(field, value)    \
   do {                            \
-    std::lock_guard lock(mutex_); \
-    pending_->field = value;      \
+    std::lock_guard lock(s_->mutex_); \
+    s_->pending_->field = value;      \
   } while (0)
 
 void Engine::open_source(const SourceSpec& spec) { ARWB_SET(source, spec); }
 SourceSpec Engine::source() const {
-  std::lock_guard lock(mutex_);
-  return source_in_use_;
+  std::lock_guard lock(s_->mutex_);
+  return s_->source_in_use_;
 }
 void Engine::set_params(const DetectorParams& p) { ARWB_SET(params, p); }
 void Engine::set_dictionaries(const std::vector<std::string>& names) { ARWB_SET(dictionaries, names); }
@@ -144,14 +188,14 @@ void Engine::set_peers(bool opencv, bool apriltag) { ARWB_SET(peers, std::make_p
 void Engine::load_scene(const std::string& path) { ARWB_SET(scene_file, path); }
 #undef ARWB_SET
 void Engine::step(int delta) {
-  std::lock_guard lock(mutex_);
-  pending_->steps.push_back(delta);
+  std::lock_guard lock(s_->mutex_);
+  s_->pending_->steps.push_back(delta);
 }
 
-double Engine::detect_fps() const { return detect_fps_.load(); }
-uint64_t Engine::frames_done() const { return frames_.load(); }
+double Engine::detect_fps() const { return s_->detect_fps_.load(); }
+uint64_t Engine::frames_done() const { return s_->frames_.load(); }
 
-void Engine::publish(std::shared_ptr<Frame> f) {
+void Engine::State::publish(std::shared_ptr<Frame> f) {
   {
     std::lock_guard lock(mutex_);
     latest_ = std::move(f);
@@ -159,7 +203,7 @@ void Engine::publish(std::shared_ptr<Frame> f) {
   published_.notify_all();
 }
 
-void Engine::run() {
+void Engine::State::run() {
   Worker& w = *worker_;
   auto adopt = [&](std::unique_ptr<FrameSource> src) {
     w.source = std::move(src);

@@ -5,6 +5,10 @@
 //
 // Settings reach the worker through setters that only store the new value; the worker applies them before its
 // next frame. A source that fails is logged and replaced by the synthetic source, so the loop never stops.
+//
+// Stopping waits for the worker, but not for ever: a scene stuck in a library call that never returns (none is
+// known: every call is bounded, see script/lua_host.hpp) must not keep the window from closing. After the wait the
+// worker is left running on its own state, which it shares, so the Engine can still be destroyed safely.
 #pragma once
 
 #include "detect/detector.hpp"
@@ -44,7 +48,9 @@ class Engine {
   Engine& operator=(const Engine&) = delete;
 
   void start();
-  void stop();
+  // Stops the worker and waits for it up to timeout_s (negative: for ever). False when it did not finish in time:
+  // it is then detached (logged), and the process should exit rather than wait.
+  bool stop(double timeout_s = -1);
 
   // The newest finished frame, or null before the first. Never blocks on detection.
   std::shared_ptr<const Frame> latest() const;
@@ -71,22 +77,11 @@ class Engine {
   uint64_t frames_done() const;
 
  private:
-  void run();
-  void publish(std::shared_ptr<Frame> f);
-
   struct Pending;                            // settings changed since the worker last looked
   struct Worker;                             // state only the worker thread touches
-  LogFn log_;
-  mutable std::mutex mutex_;
-  mutable std::condition_variable published_;
-  std::unique_ptr<Pending> pending_;
-  std::unique_ptr<Worker> worker_;
-  std::shared_ptr<const Frame> latest_;
-  std::atomic<bool> running_{false};
+  struct State;                              // everything the worker uses, shared with it (see stop())
+  std::shared_ptr<State> s_;
   std::thread thread_;
-  std::atomic<uint64_t> frames_{0};
-  std::atomic<double> detect_fps_{0};
-  SourceSpec source_in_use_;
 };
 
 }  // namespace arwb

@@ -10,6 +10,8 @@
 #include <opencv2/videoio.hpp>
 
 #include <map>
+#include <cstdlib>
+#include <sys/wait.h>
 
 namespace arwb {
 namespace {
@@ -155,6 +157,37 @@ TEST(Render, RefusesToOverwriteFramesAndReportsSceneErrors) {
   EXPECT_NE(r.err.find("partial.lua:1:"), std::string::npos) << r.err;
   const cv::Mat img = cv::imread(d.str("out3/frame_000000.png"));
   expect_colour_in_plane_rect(img, plane(sample_markers().at(843)), 0, 0, 1, 1, kMagenta, 3, "after a bad line");
+}
+
+// Issue 10: a two-line scene whose finalizer loops hung `arwb render` for ever (Lua runs finalizers with hooks off).
+// Run under `timeout` so a regression fails here instead of at ctest's limit.
+TEST(Render, HostileScenesEndWithAMessageInsteadOfHanging) {
+  TempDir d;
+  auto render = [&](const std::string& scene, const std::string& out) {
+    test::RunResult r;
+    const std::string o = d.str(out + ".txt"), e = d.str(out + ".err");
+    const int raw = std::system(("timeout -s KILL 120 '" + std::string(ARWB_BINARY) + "' render --scene '" + scene +
+                                 "' --input synthetic --frames 3 --out '" + d.str(out) + "' >'" + o + "' 2>'" + e + "'")
+                                    .c_str());
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    r.out = test::read_file(o);
+    r.err = test::read_file(e);
+    return r;
+  };
+  write_file(d.str("gc.lua"), "setmetatable({}, { __gc = function() while true do end end })\n"
+                              "marker(0, { media = text \"zero\" })\n");
+  auto r = render(d.str("gc.lua"), "gc");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("gc.lua:1: setmetatable: a metatable with __gc is not allowed in a scene"), std::string::npos)
+      << r.err;
+
+  // A callback looping over library calls on a long string is stopped by time; the render goes on.
+  write_file(d.str("slow.lua"), "local s = string.rep(\"x\", 16 * 1024 * 1024)\n"
+                                "marker({0, 2}, { media = text \"m\", on_update = function() while true do s:upper() end end })\n");
+  r = render(d.str("slow.lua"), "slow");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("slow.lua:2: ran longer than 250 ms in on_update of marker"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("rendered 3 frames"), std::string::npos) << r.out;
 }
 
 TEST(Render, UsageErrorsAreOneLine) {
