@@ -450,10 +450,34 @@ int w_print(lua_State* L) {
   });
 }
 
-// load(chunk [, chunkname [, mode [, env]]]): text only, whatever mode asks; the environment defaults to the
-// scene's (sandboxed) globals.
+// A scene's reader function for load, counting the text it gives (upvalue 1: the reader; 2: bytes so far), since
+// Lua compiles each piece with no hook running.
+int w_load_reader(lua_State* L) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_call(L, 0, 1);
+  if (lua_type(L, -1) == LUA_TSTRING) {
+    size_t len = 0;
+    lua_tolstring(L, -1, &len);
+    const lua_Integer total = lua_tointeger(L, lua_upvalueindex(2)) + static_cast<lua_Integer>(len);
+    if (total > static_cast<lua_Integer>(kMaxChunkBytes))
+      return luaL_error(L, "load: a chunk of more than %I bytes is too long for a scene",
+                        static_cast<lua_Integer>(kMaxChunkBytes));
+    lua_pushinteger(L, total);
+    lua_replace(L, lua_upvalueindex(2));
+  }
+  return 1;
+}
+
+// load(chunk [, chunkname [, mode [, env]]]): text only, whatever mode asks, at most kMaxChunkBytes; the
+// environment defaults to the scene's (sandboxed) globals.
 int w_load(lua_State* L) {
   const int n = lua_gettop(L);
+  if (lua_type(L, 1) == LUA_TFUNCTION) {
+    lua_pushvalue(L, 1);
+    lua_pushinteger(L, 0);
+    lua_pushcclosure(L, w_load_reader, 2);
+    lua_replace(L, 1);
+  }
   if (lua_type(L, 1) == LUA_TSTRING) {
     size_t len = 0;
     const char* s = lua_tolstring(L, 1, &len);

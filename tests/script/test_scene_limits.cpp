@@ -274,6 +274,9 @@ local few = {} for i = 1, 1000 do few[i] = 1000 - i end
 table.sort(few, function(a, b) return a < b end)
 print("sorted", few[1], few[1000])
 print(load(string.rep(" ", 2 * 1024 * 1024)))
+local pieces = 0
+print(load(function() pieces = pieces + 1 if pieces <= 3 then return string.rep(" ", 512 * 1024) end end))
+print(load(function() pieces = pieces + 1 if pieces <= 6 then return "local x = 1 " end end)())
 local t = {1, 2, 3} table.insert(t, 1, 0) table.remove(t, 2) print(table.concat(table.move(t, 1, 3, 2), ","))
 )");
   const auto t0 = Clock::now();
@@ -289,6 +292,7 @@ local t = {1, 2, 3} table.insert(t, 1, 0) table.remove(t, 2) print(table.concat(
       << c;
   EXPECT_TRUE(s.has("sorted\t0\t999")) << c;
   EXPECT_TRUE(s.has("nil\tload: a chunk of 2097152 bytes is too long for a scene (at most 1048576)")) << c;
+  EXPECT_TRUE(s.has("nil\tload: a chunk of more than 1048576 bytes is too long for a scene")) << c;
   EXPECT_TRUE(s.has("0,0,2,3")) << c;
 }
 
