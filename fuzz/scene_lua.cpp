@@ -1,7 +1,7 @@
 // Fuzz target: the Lua scene loader and runtime (src/script: SceneRuntime::load, then update()), as the workbench
 // and `arwb render` run a scene: the input is the scene file (Lua, or XML when it starts with '<'), loaded from a
 // scratch folder that also holds media/tile.png, then run for a few frames over three synthetic markers that
-// enter, move, and leave. The limits are small (1 MB, 200,000 instructions a call) so that no input runs long;
+// enter, move, and leave. The limits are small (4 MiB, 200,000 instructions a call) so that no input runs long;
 // the scene must never take the process down, whatever it does.
 #include "fuzz_files.hpp"
 #include "media/media_store.hpp"
@@ -48,7 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = arwb::fuzz::write_scratch("scene.lua", data, size);
   arwb::media::MediaStore store(arwb::media::StoreMode::offline);
   arwb::script::ScriptLimits limits;
-  limits.memory_bytes = 1u << 20;
+  limits.memory_bytes = 4u << 20;
   limits.instructions_per_call = 200'000;
   limits.console_lines = 20;
   arwb::script::SceneRuntime runtime(store, limits);

@@ -6,8 +6,18 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 
 namespace arwb::fuzz {
+
+// The limit the targets skip at: 64, or ARWB_FUZZ_YAML_NESTING (a large value lets the fuzzer look for the crash).
+inline int yaml_nesting_limit() {
+  static const int limit = [] {
+    const char* v = std::getenv("ARWB_FUZZ_YAML_NESTING");
+    return v && std::atoi(v) > 0 ? std::atoi(v) : 64;
+  }();
+  return limit;
+}
 
 // Whether the text may nest deeper than `limit` levels: flow brackets open at once, or a line's indentation plus
 // its block-sequence dashes. Generous (it counts brackets in strings too): it only has to keep the deep ones out.
