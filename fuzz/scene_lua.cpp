@@ -1,8 +1,8 @@
 // Fuzz target: the Lua scene loader and runtime (src/script: SceneRuntime::load, then update()), as the workbench
 // and `arwb render` run a scene: the input is the scene file (Lua, or XML when it starts with '<'), loaded from a
-// scratch folder that also holds media/tile.png, then run for a few frames over three synthetic markers that
-// enter, move, and leave. The limits are small (4 MiB, 200,000 instructions a call) so that no input runs long;
-// the scene must never take the process down, whatever it does.
+// scratch folder that also holds media/tile.png (and the example scenes' image names), then run for a few frames
+// over three synthetic markers that enter, move, and leave. The limits are small (4 MiB, 200,000 instructions a
+// call) so that no input runs long; the scene must never take the process down, whatever it does.
 #include "fuzz_files.hpp"
 #include "media/media_store.hpp"
 #include "script/scene_runtime.hpp"
@@ -38,10 +38,14 @@ arwb::TrackedMarker marker(int id, float x, float y, float side, double t) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const bool ready = [] {
     cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
-    // A real image for scenes to show (media paths resolve inside the scene's folder).
+    // Real images for scenes to show (media paths resolve inside the scene's folder), also under the names the
+    // example scenes of the seed corpus use. No video: decoding one on every input would slow the fuzzer down.
     std::filesystem::create_directories(arwb::fuzz::scratch_dir() / "media");
-    cv::Mat tile(16, 16, CV_8UC3, cv::Scalar(40, 160, 220));
-    return cv::imwrite((arwb::fuzz::scratch_dir() / "media" / "tile.png").string(), tile);
+    const cv::Mat tile(16, 16, CV_8UC3, cv::Scalar(40, 160, 220));
+    bool ok = true;
+    for (const char* name : {"tile.png", "composition.png", "sunset.png", "flask.png"})
+      ok = ok && cv::imwrite((arwb::fuzz::scratch_dir() / "media" / name).string(), tile);
+    return ok;
   }();
   if (!ready) std::abort();
 
