@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <numeric>
+#include <optional>
+#include <vector>
 #include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -23,7 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   const std::string path = arwb::fuzz::write_scratch("custom.yml", data, size);
   std::string error;
-  const auto dicts = arwb::parse_dictionaries("4X4_50," + path, &error);
+  std::optional<std::vector<arwb::Dictionary>> dicts;
+  KNOWN_YAML_ABORT(dicts = arwb::parse_dictionaries("4X4_50," + path, &error));
   if (!dicts) {
     if (error.empty()) std::abort();
     return 0;

@@ -5,6 +5,9 @@
 //     nesting limit.
 //  2. A '-' where the parser expects the next document ("---e:1" then "-1" and "-"; a second "---" then "-")
 //     makes it loop forever (found by these targets). Not fixed yet.
+//  3. An empty key in a flow map ("{ : 1}") makes it throw std::length_error, not cv::Exception, and
+//     load_params_yaml and load_dictionary_yaml catch only cv::Exception: the program aborts (found by these
+//     targets). Not fixed yet; until then the targets catch std::length_error around those calls (KNOWN_YAML_ABORT).
 // The inputs are kept in fuzz/regressions/yaml_params and fuzz/regressions/dictionary: replayed, they are skipped
 // here until the check that skips them is removed, and then they test the fix.
 #pragma once
@@ -12,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
 
 namespace arwb::fuzz {
 
@@ -80,3 +84,11 @@ inline bool yaml_known_to_stop_opencv(const uint8_t* data, size_t size) {
 }
 
 }  // namespace arwb::fuzz
+
+// Check 3: runs `call`, taking a std::length_error out of it as a skipped input.
+#define KNOWN_YAML_ABORT(call)                \
+  try {                                       \
+    call;                                     \
+  } catch (const std::length_error&) {        \
+    return -1;                                \
+  }

@@ -26,7 +26,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   arwb::DetectorParams params;
   const arwb::DetectorParams before = params;
   std::vector<std::string> errors, notes;
-  const bool ok = arwb::load_params_yaml(path, params, &errors, &notes);
+  bool ok = false;
+  KNOWN_YAML_ABORT(ok = arwb::load_params_yaml(path, params, &errors, &notes));
   if (!ok && errors.empty()) std::abort();
   for (const std::string& e : errors)
     if (e.rfind(path, 0) != 0) std::abort();   // every message names the file
