@@ -1,6 +1,6 @@
 // Fuzz target: the detector (src/detect) on small random images, the whole pipeline with the full trace, then what
 // the workbench and snapshots make of a trace (its JSON, the stage pictures). Input layout:
-//   byte 0, 1  width - 1, height - 1 (1..128 each)
+//   byte 0, 1  width - 1, height - 1 (1..64 each: small frames keep each input fast)
 //   byte 2     bit 0: BGR (else grey); bits 1-2: acquisition's resize (off, to twice the width, to half the
 //              height keeping the aspect, to 17x9); bits 3-7: the dictionary (dictionary_names(), in turn)
 //   byte 3     k = byte % 8 parameter settings follow, each 2 bytes: the parameter (param_table(), in turn) and
@@ -28,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return all;
   }();
   if (size < 4) return -1;
-  const int width = 1 + data[0] % 128, height = 1 + data[1] % 128;
+  const int width = 1 + data[0] % 64, height = 1 + data[1] % 64;
   const bool bgr = data[2] & 1;
   const int resize = data[2] >> 1 & 3;
   const arwb::Dictionary& dict = dictionaries[(data[2] >> 3) % dictionaries.size()];
