@@ -604,15 +604,46 @@ LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
   in.seekg(0);
   in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
   if (static_cast<uint64_t>(in.gcount()) != size) return failed("read error (the file changed while being read)");
+  return decode_image(bytes, path, flags, max_pixels);
+}
+
+std::optional<ImageHeader> parse_image_header(std::span<const uint8_t> bytes, std::string* error) {
+  std::string local;
+  std::string& reason = error ? *error : local;
+  reason.clear();
+  if (bytes.empty()) {
+    reason = "empty file (0 bytes)";
+    return std::nullopt;
+  }
+  ByteSource src(bytes);
+  ParseResult parsed = parse_header(sniff(src), src, &reason);
+  if (!parsed) return std::nullopt;
+  return parsed->header;
+}
+
+LoadedImage decode_image(std::span<const uint8_t> bytes, const std::string& name, int flags, int64_t max_pixels) {
+  LoadedImage out;
+  const auto failed = [&](const std::string& reason) {
+    out.image.release();
+    out.error = name + ": " + reason;
+    return out;
+  };
+  if (bytes.empty()) return failed("empty file (0 bytes)");
+  std::string reason;
   ByteSource memory(bytes);
-  const Format read_format = sniff(memory);
-  header = parse_header(read_format, memory, &reason);
+  const Format format = sniff(memory);
+  ParseResult header = parse_header(format, memory, &reason);
   if (!header) return failed(reason);
   if (!(reason = limit_error(header->header, max_pixels)).empty()) return failed(reason);
-  if (!(reason = check_complete(read_format, *header, bytes)).empty()) return failed(reason);
+  if (!(reason = check_complete(format, *header, bytes)).empty()) return failed(reason);
 
+  // cv::imdecode takes the bytes as one Mat row, whose length is an int.
+  if (bytes.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
+    return failed("file is " + std::to_string(bytes.size()) + " bytes, more than the decoder takes");
   try {
-    out.image = cv::imdecode(bytes, flags);
+    // The Mat only wraps the caller's bytes; imdecode does not write to them.
+    const cv::Mat buf(1, static_cast<int>(bytes.size()), CV_8U, const_cast<uint8_t*>(bytes.data()));
+    out.image = cv::imdecode(buf, flags);
   } catch (const cv::Exception&) {
     out.image.release();
   } catch (const std::exception&) {  // std::bad_alloc from a decoder library

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,11 @@ struct ImageHeader {
 // The dimensions are not checked against any limit here.
 std::optional<ImageHeader> read_image_header(const std::string& path, std::string* error = nullptr);
 
+// read_image_header on bytes in memory (a whole file, or as much of its beginning as the caller has): the same
+// sniffing and parsers, the same reasons ("truncated header" when the bytes end inside the header). The fuzz target
+// fuzz/image_header.cpp reads headers this way.
+std::optional<ImageHeader> parse_image_header(std::span<const uint8_t> bytes, std::string* error = nullptr);
+
 struct LoadedImage {
   cv::Mat image;      // empty on failure
   std::string error;  // "<path>: <reason>" on failure, empty on success
@@ -69,6 +75,11 @@ struct LoadedImage {
 // flags are those of cv::imread. max_pixels bounds width*height before any pixel memory is allocated.
 // Never throws for bad input; decoder libraries may still print warnings on stderr.
 LoadedImage load_image(const std::string& path, int flags = cv::IMREAD_COLOR, int64_t max_pixels = kDefaultMaxPixels);
+// What load_image does once the file is in memory (signature, header, limits, completeness, decoding) on the bytes
+// of a whole file, with errors "<name>: <reason>" ("empty file (0 bytes)" for no bytes). Used by load_image and the
+// fuzz target fuzz/image_header.cpp.
+LoadedImage decode_image(std::span<const uint8_t> bytes, const std::string& name, int flags = cv::IMREAD_COLOR,
+                         int64_t max_pixels = kDefaultMaxPixels);
 
 // The images directly in a folder (not in its subfolders), recognised by signature as classify_path does,
 // as paths "<folder>/<name>" sorted by name (plain std::string comparison, so "B.png" before "a.png").

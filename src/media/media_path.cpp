@@ -70,13 +70,15 @@ std::string lower(std::string_view s) {
 
 // The scheme of `url` in lower case when it is followed by "//" (http://, https://), else "".
 // A URL is split as scheme "://" authority [path] [?query] [#fragment]; authority is [userinfo@]host[:port].
+// A backslash ends the authority too, as browsers read http(s) URLs (WHATWG URL standard): otherwise
+// "https://evil.example\@good.example/" would show good.example on its card and open evil.example.
 std::string_view authority_of(std::string_view url, std::string* scheme) {
   const size_t colon = url.find(':');
   if (colon == std::string_view::npos) return {};
   *scheme = lower(url.substr(0, colon));
   if (url.substr(colon + 1, 2) != "//") return {};
   std::string_view rest = url.substr(colon + 3);
-  return rest.substr(0, rest.find_first_of("/?#"));
+  return rest.substr(0, rest.find_first_of("/\\?#"));
 }
 
 }  // namespace

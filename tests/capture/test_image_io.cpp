@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -578,6 +579,37 @@ TEST(ImageIo, ReadImageHeaderReadsOnlyTheHeader) {
   EXPECT_FALSE(read_image_header(dir.str(), &error).has_value());
   EXPECT_EQ(error, "is a directory");
   EXPECT_FALSE(read_image_header(dir.str("missing"), nullptr).has_value());  // error is optional
+}
+
+// The in-memory readers (what fuzz/image_header.cpp calls) give the answers the file readers give.
+TEST(ImageIo, BytesInMemoryReadAsTheirFile) {
+  const std::string png = encode(".png", picture(40, 30));
+  const auto span_of = [](const std::string& s) {
+    return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(s.data()), s.size());
+  };
+  std::string error = "stale";
+  const auto header = parse_image_header(span_of(png), &error);
+  ASSERT_TRUE(header.has_value()) << error;
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(header->format, "PNG");
+  EXPECT_EQ(header->width, 40);
+  EXPECT_EQ(header->height, 30);
+  const LoadedImage img = decode_image(span_of(png), "mem.png");
+  ASSERT_TRUE(img.ok()) << img.error;
+  EXPECT_EQ(img.image.size(), cv::Size(40, 30));
+
+  EXPECT_FALSE(parse_image_header(span_of(png.substr(0, 20)), &error));
+  EXPECT_EQ(error, "truncated header");
+  EXPECT_FALSE(parse_image_header({}, &error));
+  EXPECT_EQ(error, "empty file (0 bytes)");
+  EXPECT_EQ(decode_image({}, "mem.png").error, "mem.png: empty file (0 bytes)");
+  EXPECT_EQ(decode_image(span_of(png.substr(0, png.size() - 12)), "mem.png").error,
+            "mem.png: truncated image data (no IEND chunk)");
+  // The LONG8 over-read's input, in memory: its entry ends the bytes, as it ended the file.
+  const std::string tiff = bytes("II*\0\x08\0\0\0\x02\0\x01\x01\x04\0\x01\0\0\0\x10\0\0\0\0\x01\x10\0\x01\0\0\0\x10\0\0\0");
+  ASSERT_EQ(tiff.size(), 34u);
+  EXPECT_FALSE(parse_image_header(span_of(tiff), &error));
+  EXPECT_EQ(error, "invalid header (TIFF size of type 16)");
 }
 
 }  // namespace

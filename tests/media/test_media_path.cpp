@@ -277,3 +277,12 @@ TEST(Url, HostIsTheAuthorityWithoutUserPortOrPath) {
   EXPECT_EQ(url_host("https://"), "");
   EXPECT_EQ(url_host("not a url"), "");
 }
+
+// A browser reads a backslash in an http(s) URL as a slash, so the host it opens ends there: the card's title
+// (url_host) must name that host, not the text after a later '@' (found by fuzz/url.cpp; the input is
+// fuzz/regressions/url/backslash_userinfo_spoof).
+TEST(Url, HostEndsAtABackslashAsInABrowser) {
+  EXPECT_EQ(url_host("https://evil.example\\@good.example/"), "evil.example");
+  EXPECT_EQ(url_host("http://ex%2\\hpexample.comG0"), "ex%2");
+  EXPECT_EQ(url_host("https://h\\x"), "h");
+}
