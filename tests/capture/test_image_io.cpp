@@ -592,6 +592,46 @@ TEST(ImageIo, ClassifyPath) {
   EXPECT_STREQ(to_string(PathKind::video), "video");
 }
 
+// PNG's chunk checksum (CRC-32 of type and data), for chunks the tests add.
+uint32_t png_crc(const std::string& bytes) {
+  uint32_t c = 0xFFFFFFFFu;
+  for (const char ch : bytes) {
+    c ^= static_cast<uint8_t>(ch);
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xFFFFFFFFu;
+}
+
+std::string be32_bytes(uint32_t v) {
+  return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                     static_cast<char>(v)};
+}
+
+// A valid PNG with a damaged colour profile made libpng print "libpng warning: iCCP: ..." on the terminal, and a
+// damaged one "libpng error: ..." beside our message. Neither reaches stderr now; the error is in our message.
+TEST(ImageIo, DecoderLibrariesPrintNothingOnStderr) {
+  TempDir dir;
+  std::vector<uint8_t> encoded;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(16, 16, CV_8UC3, cv::Scalar(10, 200, 30)), encoded));
+  std::string png(encoded.begin(), encoded.end());
+  const std::string iccp = "iCCPbad\0\0" + std::string(40, 'x');  // not even deflate data
+  const std::string chunk = be32_bytes(uint32_t(iccp.size() - 4)) + iccp + be32_bytes(png_crc(iccp));
+  png.insert(8 + 25, chunk);  // after the signature and IHDR
+  write_file(dir.str("iccp.png"), png);
+  testing::internal::CaptureStderr();
+  const LoadedImage ok = load_image(dir.str("iccp.png"));
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_TRUE(ok.ok()) << ok.error;
+
+  png = std::string(encoded.begin(), encoded.end());
+  png[png.find("IDAT") + 10] ^= 0x5A;
+  write_file(dir.str("idat.png"), png);
+  testing::internal::CaptureStderr();
+  const LoadedImage bad = load_image(dir.str("idat.png"));
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(bad.error.rfind(dir.str("idat.png") + ": corrupt or truncated image data (IDAT: ", 0), 0u) << bad.error;
+}
+
 // A classic TIFF whose ImageWidth entry says LONG8 (a BigTIFF type, 8 value bytes) in a 12-byte entry that ends
 // the file: reading its value as 8 bytes went 4 bytes past the file (found by fuzzing). It is refused by type.
 TEST(ImageIo, ClassicTiffWithALong8SizeIsRefusedWithoutReadingPastTheEntry) {
