@@ -595,6 +595,8 @@ Format sniff_file(const std::string& path, std::string* reason) {
 void keep_opencv_quiet() {
   static std::once_flag once;
   std::call_once(once, [] {
+    // FFmpeg's own lines ("moov atom not found") would duplicate ours; read by OpenCV when FFmpeg starts.
+    setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
     if (!std::getenv("OPENCV_LOG_LEVEL")) cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
     cv::redirectError([](int, const char*, const char*, const char*, int, void*) { return 0; });
   });

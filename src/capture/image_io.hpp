@@ -82,7 +82,7 @@ LoadedImage load_image(const std::string& path, int flags = cv::IMREAD_COLOR, in
 std::vector<std::string> list_images(const std::string& folder, std::vector<std::string>* skipped = nullptr,
                                      std::string* error = nullptr);
 
-// Keeps OpenCV's own text off the terminal: its log ("[ WARN:0@0.03] global cap_gstreamer.cpp ...", "[ERROR:0@0.03]
+// Keeps OpenCV's own text off the terminal: FFmpeg's log (unless OPENCV_FFMPEG_LOGLEVEL is set), OpenCV's log ("[ WARN:0@0.03] global cap_gstreamer.cpp ...", "[ERROR:0@0.03]
 // ... raised OpenCV exception: ..." when a backend refuses a file) is silenced unless OPENCV_LOG_LEVEL asks for it,
 // and cv::error's handler is one that prints nothing (the exception still carries the text, which we replace by
 // our own). Our messages say what failed. Called once by load_image, VideoReader::open and arwb's main; idempotent.

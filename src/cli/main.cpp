@@ -15,10 +15,9 @@
 #include <unistd.h>
 
 int main(int argc, char** argv) {
-  // FFmpeg's own log lines ("moov atom not found") would duplicate arwb's one-line messages; a user can
-  // still ask for them by setting the variable.
-  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
-  arwb::keep_opencv_quiet();  // OpenCV's log and error text, likewise
+  // FFmpeg's, OpenCV's and its error handler's own lines would duplicate arwb's one-line messages; a user can
+  // still ask for them by setting OPENCV_FFMPEG_LOGLEVEL or OPENCV_LOG_LEVEL.
+  arwb::keep_opencv_quiet();
   // OpenCV reads its image limits while its library loads, before main(): when they had to be set, start again
   // with them (once; exec only returns on failure, and then OpenCV's own defaults stay).
   if (arwb::set_opencv_image_limits()) execv("/proc/self/exe", argv);
