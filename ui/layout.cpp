@@ -4,6 +4,9 @@
 //   Presentation    larger fonts and sizes for teaching
 #include "ui/app.hpp"
 
+#include "base/files.hpp"
+#include "base/text.hpp"
+
 #include <imgui_internal.h>
 
 #include <cstdio>
@@ -52,7 +55,12 @@ void load_layout(ui::View& view, const std::string& ini_path) {
   handler.WriteAllFn = settings_write_all;
   handler.UserData = &view;
   ImGui::GetCurrentContext()->SettingsHandlers.push_back(handler);
-  if (std::filesystem::exists(ini_path)) ImGui::LoadIniSettingsFromDisk(ini_path.c_str());
+  // Read through the shared file check, not ImGui's fopen: a FIFO or a device in its place must not stop the
+  // window from opening.
+  if (!std::filesystem::exists(ini_path)) return;
+  const Result<std::string> ini = read_text_file(ini_path, FileLimit{"a layout file", 1u << 20});
+  if (ini) ImGui::LoadIniSettingsFromMemory(ini->data(), ini->size());
+  else std::fprintf(stderr, "arwb: %s (the default layout is used)\n", printable(ini.error()).c_str());
 }
 
 void save_layout(const std::string& ini_path) {
