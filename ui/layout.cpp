@@ -66,11 +66,18 @@ void load_layout(ui::View& view, const std::string& ini_path) {
 void save_layout(const std::string& ini_path) {
   size_t len = 0;
   const char* ini = ImGui::SaveIniSettingsToMemory(&len);
+  // Opening a FIFO to write waits for a reader: quitting would hang. Only a regular file (or none) is written.
+  std::error_code ec;
+  const auto type = std::filesystem::status(ini_path, ec).type();
+  if (type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular) {
+    std::fprintf(stderr, "arwb: %s: not a regular file; the layout is not saved\n", printable(ini_path).c_str());
+    return;
+  }
   if (FILE* f = std::fopen(ini_path.c_str(), "wb")) {
     std::fwrite(ini, 1, len, f);
     std::fclose(f);
   } else {
-    std::fprintf(stderr, "arwb: cannot save the layout to %s\n", ini_path.c_str());
+    std::fprintf(stderr, "arwb: cannot save the layout to %s\n", printable(ini_path).c_str());
   }
 }
 

@@ -249,6 +249,19 @@ TEST(Workbench, HostilePresetsAreRefusedByNameAndTheWorkbenchGoesOn) {
   EXPECT_GE(stat(r.out, "markers"), 1) << r.out;
 }
 
+// ImGui read its layout file with fopen: a FIFO in its place kept the window from opening, and writing it at
+// quit waited for a reader. Both are refused by name and the workbench runs and quits.
+TEST(Workbench, AFifoAsTheLayoutFileNeitherBlocksStartNorQuit) {
+  TempDir tmp;
+  std::filesystem::create_directories(tmp.str("config"));
+  ASSERT_EQ(::mkfifo(tmp.str("config/imgui.ini").c_str(), 0600), 0);
+  const RunResult r = test::run_arwb_window(window_args(tmp, "--frames 5 --stats"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find(tmp.str("config/imgui.ini") + ": not a regular file (a FIFO) (the default layout is used)"),
+            std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the layout is not saved"), std::string::npos) << r.err;
+}
+
 TEST(Workbench, TourAndPresentationModeRun) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(
