@@ -4,6 +4,9 @@
 //   Presentation    larger fonts and sizes for teaching
 #include "ui/app.hpp"
 
+#include "base/files.hpp"
+#include "base/text.hpp"
+
 #include <imgui_internal.h>
 
 #include <cstdio>
@@ -52,17 +55,29 @@ void load_layout(ui::View& view, const std::string& ini_path) {
   handler.WriteAllFn = settings_write_all;
   handler.UserData = &view;
   ImGui::GetCurrentContext()->SettingsHandlers.push_back(handler);
-  if (std::filesystem::exists(ini_path)) ImGui::LoadIniSettingsFromDisk(ini_path.c_str());
+  // Read through the shared file check, not ImGui's fopen: a FIFO or a device in its place must not stop the
+  // window from opening.
+  if (!std::filesystem::exists(ini_path)) return;
+  const Result<std::string> ini = read_text_file(ini_path, FileLimit{"a layout file", 1u << 20});
+  if (ini) ImGui::LoadIniSettingsFromMemory(ini->data(), ini->size());
+  else std::fprintf(stderr, "arwb: %s (the default layout is used)\n", printable(ini.error()).c_str());
 }
 
 void save_layout(const std::string& ini_path) {
   size_t len = 0;
   const char* ini = ImGui::SaveIniSettingsToMemory(&len);
+  // Opening a FIFO to write waits for a reader: quitting would hang. Only a regular file (or none) is written.
+  std::error_code ec;
+  const auto type = std::filesystem::status(ini_path, ec).type();
+  if (type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular) {
+    std::fprintf(stderr, "arwb: %s: not a regular file; the layout is not saved\n", printable(ini_path).c_str());
+    return;
+  }
   if (FILE* f = std::fopen(ini_path.c_str(), "wb")) {
     std::fwrite(ini, 1, len, f);
     std::fclose(f);
   } else {
-    std::fprintf(stderr, "arwb: cannot save the layout to %s\n", ini_path.c_str());
+    std::fprintf(stderr, "arwb: cannot save the layout to %s\n", printable(ini_path).c_str());
   }
 }
 

@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
+#include <sstream>
 #include <system_error>
 
 namespace arwb {
@@ -22,12 +22,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr uintmax_t kMaxScriptBytes = 1u << 20;   // the script editor opens files up to 1 MB
+constexpr FileLimit kScriptFile{"the script editor", 1u << 20};
 constexpr double kScriptCheckS = 0.5;             // how often the script editor's file is looked at
 
 // The first comment line of a YAML preset, shown beside its name.
 std::string first_comment(const fs::path& p) {
-  std::ifstream in(p);
+  // The shared reader, as for loading: a FIFO or device named *.yml in the folder must not block the listing.
+  const Result<std::string> read = read_text_file(p.string(), FileLimit{"a preset", 1u << 20});
+  if (!read) return {};
+  std::istringstream in(*read);
   std::string line;
   while (std::getline(in, line)) {
     const size_t at = line.find_first_not_of(" \t");
@@ -43,7 +46,7 @@ std::string first_comment(const fs::path& p) {
 
 // The script editor's reading: the shared reader, with the editor's own limit.
 bool read_script(const std::string& path, std::string* text, std::string* error) {
-  Result<std::string> read = read_text_file(path, kMaxScriptBytes);
+  Result<std::string> read = read_text_file(path, kScriptFile);
   if (!read) {
     *error = read.error();
     return false;

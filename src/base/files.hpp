@@ -1,19 +1,62 @@
-// Files as whole texts: read one (with a size limit) and replace one atomically.
+// Files a user names: the one check every reader makes before opening one, reading a whole text file, and
+// replacing one atomically.
 #pragma once
 
 #include "base/result.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
 namespace arwb {
 
-// The whole of the text file at `path` (bytes as they are: no newline or encoding conversion). The one way the
-// project reads a file a user names (scenes, tours, presets, truth sets). On failure the message is
-// "<path>: <reason>", the path first and as given, so a caller may swap it for a display name:
-// "no such file", "not a regular file" (a folder, a device), "larger than 16 MiB" (max_bytes), or
-// "cannot be read (<system reason>)".
-Result<std::string> read_text_file(const std::string& path, std::uintmax_t max_bytes);
+// A kind of file the project reads and the largest one it accepts. The kind is named in the size message
+// ("larger than 1 MiB, the limit for a preset").
+struct FileLimit {
+  const char* kind;          // with its article: "a preset", "a dictionary", "a scene", "an image" ...
+  std::uintmax_t max_bytes;  // a round number: it is printed as written ("16 MiB")
+};
+
+// Whether `path` may be read as a file of this kind, decided from stat() alone, so that it cannot block or read
+// anything: it exists ("no such file"), is a regular file, symbolic links followed ("not a regular file (a FIFO)",
+// "(a folder)", "(a character device)", "(a block device)", "(a socket)"), and is not larger than the limit
+// ("larger than 1 MiB, the limit for a preset"). A FIFO would block the opener until a writer comes, and
+// /dev/zero or /dev/urandom would never end. On failure the message is "<path>: <reason>", the path as given.
+// Every reader of a user's path goes through this (or through open_input_file / read_text_file, which call it).
+Status check_input_file(const std::string& path, const FileLimit& limit);
+
+// A regular file open for reading: a descriptor that is closed with the object.
+class InputFile {
+ public:
+  InputFile() = default;
+  InputFile(InputFile&& o) noexcept : fd_(o.fd_), size_(o.size_) { o.fd_ = -1; }
+  InputFile& operator=(InputFile&& o) noexcept;
+  InputFile(const InputFile&) = delete;
+  InputFile& operator=(const InputFile&) = delete;
+  ~InputFile();
+
+  // The size of what was opened (not of what the path named a moment earlier).
+  std::uint64_t size() const { return size_; }
+  // Reads up to n bytes at offset; the number read (less at the end of the file), or -1 on a read error.
+  long long read_at(std::uint64_t offset, void* buf, std::size_t n) const;
+
+ private:
+  friend Result<InputFile> open_input_file(const std::string& path, const FileLimit& limit);
+  int fd_ = -1;
+  std::uint64_t size_ = 0;
+};
+
+// check_input_file, then opens the path without blocking (O_NONBLOCK: if the path was swapped for a FIFO after the
+// check, the open returns at once) and checks the opened descriptor again the same way (fstat), so what is read is
+// what was checked. Messages as check_input_file's, plus "cannot be read (<system reason>)".
+Result<InputFile> open_input_file(const std::string& path, const FileLimit& limit);
+
+// The whole of the text file at `path`, which must be UTF-8 (see check_utf8_text in base/text.hpp): the bytes as
+// they are, no newline conversion, except that a UTF-8 byte order mark at the start is dropped (some Windows
+// editors write one; it carries nothing in UTF-8, and Lua, OpenCV's YAML reader and our line numbers would trip
+// on it). The one way the project reads a text file a user names (scenes, tours, presets, dictionaries, truth
+// sets, the script editor's file). Messages as open_input_file's, and check_utf8_text's.
+Result<std::string> read_text_file(const std::string& path, const FileLimit& limit);
 
 // Replaces `path` with `text`: the new text goes to a temporary file beside the old one and replaces it in one
 // rename, so a full disk or a crash never leaves half a script (and the watcher never reads one).

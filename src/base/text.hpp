@@ -1,5 +1,8 @@
-// Words: how far apart two are, and the known name a misspelt one was meant to be ("did you mean ...?").
+// Words: how far apart two are, and the known name a misspelt one was meant to be ("did you mean ...?"); text fit
+// for a terminal; whether a text file is UTF-8.
 #pragma once
+
+#include "base/result.hpp"
 
 #include <algorithm>
 #include <string>
@@ -26,5 +29,17 @@ std::string nearest_name(std::string_view word, const Names& known) {
   }
   return std::string(best);
 }
+
+// `text` with everything a terminal could act on escaped, so that a file name like "a\x1B[31m\nb.png" prints as
+// one harmless line: C0 controls and DEL as \n, \r, \t or \xNN, C1 controls (U+0080..U+009F) as \u0080, bytes
+// that are not UTF-8 as \xNN, and the backslash itself stays as it is. Printable UTF-8 is kept.
+// Applied where messages reach the terminal or the log (the workbench's Log, the command line's report()).
+std::string printable(std::string_view text);
+
+// Whether `text` (a whole file, without its UTF-8 byte order mark) is UTF-8 that a text file may hold. Refused,
+// with `name` first: "<name>: UTF-16 text; save it as UTF-8" (a UTF-16 byte order mark, or a NUL in every other
+// byte of the start: Windows' "Unicode"), the same for UTF-32, "<name>:LINE:COL: not UTF-8 (byte 0xE9); save it
+// as UTF-8" (LINE and COL from 1, COL counting characters) and "<name>:LINE:COL: a NUL byte; not a text file".
+Status check_utf8_text(std::string_view text, const std::string& name);
 
 }  // namespace arwb

@@ -1,16 +1,22 @@
 #include "capture/image_io.hpp"
 
+#include "base/files.hpp"
+
+#include <opencv2/core/utils/logger.hpp>
+
 #include <algorithm>
-#include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <initializer_list>
-#include <istream>
+#include <mutex>
 #include <limits>
 #include <span>
 #include <string_view>
 #include <system_error>
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 namespace arwb {
 namespace {
@@ -42,14 +48,14 @@ uint64_t add_sat(uint64_t a, uint64_t b) {
 class ByteSource {
  public:
   explicit ByteSource(std::span<const uint8_t> bytes) : mem_(bytes), size_(bytes.size()) {}
-  ByteSource(std::istream& in, uint64_t size) : in_(&in), size_(size) {}
+  explicit ByteSource(const InputFile& file) : file_(&file), size_(file.size()) {}
 
   uint64_t size() const { return size_; }
 
   // The n bytes at offset, valid until the next call; nullptr when the source ends before them.
   const uint8_t* at(uint64_t offset, size_t n) {
     if (offset > size_ || n > size_ - offset) return nullptr;
-    if (!in_) return mem_.data() + offset;
+    if (!file_) return mem_.data() + offset;
     if (offset >= window_offset_ && offset + n <= window_offset_ + window_.size())
       return window_.data() + (offset - window_offset_);
     if (n > kMaxRead) return nullptr;  // parsers only ask for small pieces
@@ -57,10 +63,7 @@ class ByteSource {
     // files should not read 64 KiB of each.
     const size_t len = static_cast<size_t>(std::min<uint64_t>(std::max(n, kMinRead), size_ - offset));
     window_.resize(len);
-    in_->clear();
-    in_->seekg(static_cast<std::streamoff>(offset));
-    in_->read(reinterpret_cast<char*>(window_.data()), static_cast<std::streamsize>(len));
-    if (static_cast<size_t>(in_->gcount()) != len) {  // the file shrank since its size was taken
+    if (file_->read_at(offset, window_.data(), len) != static_cast<long long>(len)) {  // it shrank since opened
       window_.clear();
       return nullptr;
     }
@@ -72,7 +75,7 @@ class ByteSource {
   static constexpr size_t kMinRead = 4096;
   static constexpr size_t kMaxRead = 64 * 1024;
   std::span<const uint8_t> mem_;
-  std::istream* in_ = nullptr;
+  const InputFile* file_ = nullptr;
   uint64_t size_ = 0;
   std::vector<uint8_t> window_;
   uint64_t window_offset_ = 0;
@@ -244,18 +247,24 @@ bool is_jpeg_standalone(uint8_t marker) {  // markers without a length field
   return marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8);
 }
 
+// How far into a JPEG its frame header may be. Metadata segments (EXIF with its thumbnail, ICC profiles, XMP)
+// put it a few hundred kilobytes in at most; without a bound, a file of stray bytes (a sparse file of terabytes
+// costs nothing to make) would be walked byte by byte to its end.
+constexpr uint64_t kMaxJpegHeaderBytes = 64u << 20;
+
 ParseResult parse_jpeg(ByteSource& src, std::string* error) {
   // Walk the marker segments after SOI up to the first frame header. Stray bytes before a marker are skipped as
   // libjpeg does (it only warns about them); FF fill bytes may precede any marker.
   uint64_t pos = 2;
   for (;;) {
+    if (pos > kMaxJpegHeaderBytes) return fail(error, "invalid header (no frame header in the first 64 MiB)");
     const uint8_t* p = src.at(pos, 1);
     if (!p) return truncated_header(error);
     if (*p != 0xFF) {
       ++pos;
       continue;
     }
-    while ((p = src.at(pos, 1)) && *p == 0xFF) ++pos;
+    while ((p = src.at(pos, 1)) && *p == 0xFF && pos <= kMaxJpegHeaderBytes) ++pos;
     if (!p) return truncated_header(error);
     const uint8_t marker = *p;
     ++pos;
@@ -492,25 +501,77 @@ std::string check_complete(Format f, const ParsedHeader& h, std::span<const uint
 // ---------------------------------------------------------------------------------------------------------------
 // Files
 
-// Opens a path that must be a non-empty regular file; on failure returns the reason.
-std::string open_regular_file(const std::string& path, std::ifstream& in, uint64_t& size) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (st.type() == fs::file_type::not_found) return "no such file";
-  if (ec) return "cannot access (" + ec.message() + ")";
-  if (st.type() == fs::file_type::directory) return "is a directory";
-  if (st.type() != fs::file_type::regular) return "not a regular file";
-  errno = 0;
-  in.open(path, std::ios::binary);
-  if (!in) return errno ? "cannot open (" + std::generic_category().message(errno) + ")" : "cannot open";
-  // The size of what was opened, not of what the path named a moment earlier.
-  in.seekg(0, std::ios::end);
-  const std::streamoff end = in.tellg();
-  in.seekg(0);
-  if (end < 0) return "cannot read";
-  size = static_cast<uint64_t>(end);
-  if (size == 0) return "empty file (0 bytes)";
+// The largest image file read at all; load_image also bounds it by the pixels its header declares.
+constexpr FileLimit kImageFile{"an image", std::uintmax_t{1} << 30};
+
+// Opens a path that must be a non-empty regular file (base/files' check, so a FIFO or device never blocks or
+// streams); on failure returns the reason without the path.
+std::string open_regular_file(const std::string& path, InputFile& in) {
+  Result<InputFile> f = open_input_file(path, kImageFile);
+  if (!f) return f.error().substr(std::min(f.error().size(), path.size() + 2));
+  in = std::move(*f);
+  if (in.size() == 0) return "empty file (0 bytes)";
   return {};
+}
+
+// Whether a line on stderr is a decoder library's: libpng's default handlers ("libpng warning: iCCP: known
+// incorrect sRGB profile", "libpng error: IDAT: CRC error") and libjpeg's warnings (jerror.h's JWRN_ texts; its
+// errors go to OpenCV's handler, which prints nothing).
+bool is_decoder_line(std::string_view line) {
+  for (std::string_view start : {"libpng ", "Corrupt JPEG data", "Premature end of JPEG file", "Invalid SOS parameters",
+                                 "Inconsistent progression sequence", "Unknown Adobe color transform",
+                                 "Warning: unknown JFIF revision", "Application transferred too"})
+    if (line.substr(0, start.size()) == start) return true;
+  return false;
+}
+
+// cv::imdecode without the decoder libraries' own lines on the terminal. libpng and libjpeg print warnings and
+// errors straight to stderr, and OpenCV gives no way to hand them a handler of ours. So while the decoder runs,
+// file descriptor 2 points to an anonymous in-memory file; afterwards the decoders' lines are dropped (the first
+// is returned in *said, "IDAT: CRC error", for our own message) and any other line, which another thread wrote
+// meanwhile, is passed on to the real stderr: delayed by the decode, never lost. One decode at a time does this.
+cv::Mat decode_quietly(std::span<const uint8_t> bytes, int flags, std::string* said) {
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
+  std::fflush(stderr);
+  const int saved = ::dup(2);
+  const int capture = ::memfd_create("arwb-decoder-messages", MFD_CLOEXEC);
+  const bool redirected = saved >= 0 && capture >= 0 && ::dup2(capture, 2) >= 0;
+  cv::Mat image;
+  try {
+    // The Mat only wraps the caller's bytes (checked by the caller to fit an int); imdecode does not write to them.
+    const cv::Mat buf(1, static_cast<int>(bytes.size()), CV_8U, const_cast<uint8_t*>(bytes.data()));
+    image = cv::imdecode(buf, flags);
+  } catch (const cv::Exception&) {
+    image.release();
+  } catch (const std::exception&) {  // std::bad_alloc from a decoder library
+    image.release();
+  }
+  std::fflush(stderr);
+  if (redirected) ::dup2(saved, 2);
+  if (saved >= 0) ::close(saved);
+  if (capture < 0) return image;
+  std::string text(64 * 1024, '\0');
+  const ssize_t n = redirected ? ::pread(capture, text.data(), text.size(), 0) : 0;
+  ::close(capture);
+  text.resize(n > 0 ? static_cast<size_t>(n) : 0);
+  std::string others;
+  for (size_t start = 0; start < text.size();) {
+    size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + start, end - start);
+    if (!is_decoder_line(line)) {
+      others.append(line).append("\n");
+    } else if (said->empty()) {
+      std::string_view what = line;
+      for (std::string_view prefix : {"libpng error: ", "libpng warning: "})
+        if (what.substr(0, prefix.size()) == prefix) what.remove_prefix(prefix.size());
+      *said = std::string(what.substr(0, 200));
+    }
+    start = end + 1;
+  }
+  if (!others.empty()) (void)!::write(2, others.data(), others.size());
+  return image;
 }
 
 std::string limit_error(const ImageHeader& h, int64_t max_pixels) {
@@ -524,15 +585,24 @@ std::string limit_error(const ImageHeader& h, int64_t max_pixels) {
 
 // Format of a file from its first bytes, or the reason it cannot be read.
 Format sniff_file(const std::string& path, std::string* reason) {
-  std::ifstream in;
-  uint64_t size = 0;
-  *reason = open_regular_file(path, in, size);
+  InputFile in;
+  *reason = open_regular_file(path, in);
   if (!reason->empty()) return Format::unknown;
-  ByteSource src(in, size);
+  ByteSource src(in);
   return sniff(src);
 }
 
 }  // namespace
+
+void keep_opencv_quiet() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    // FFmpeg's own lines ("moov atom not found") would duplicate ours; read by OpenCV when FFmpeg starts.
+    setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
+    if (!std::getenv("OPENCV_LOG_LEVEL")) cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+    cv::redirectError([](int, const char*, const char*, const char*, int, void*) { return 0; });
+  });
+}
 
 const char* to_string(PathKind kind) {
   switch (kind) {
@@ -562,17 +632,17 @@ std::optional<ImageHeader> read_image_header(const std::string& path, std::strin
   std::string local;
   std::string& reason = error ? *error : local;
   reason.clear();
-  std::ifstream in;
-  uint64_t size = 0;
-  reason = open_regular_file(path, in, size);
+  InputFile in;
+  reason = open_regular_file(path, in);
   if (!reason.empty()) return std::nullopt;
-  ByteSource src(in, size);
+  ByteSource src(in);
   ParseResult parsed = parse_header(sniff(src), src, &reason);
   if (!parsed) return std::nullopt;
   return parsed->header;
 }
 
 LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
+  keep_opencv_quiet();
   LoadedImage out;
   const auto failed = [&](const std::string& reason) {
     out.image.release();
@@ -580,12 +650,12 @@ LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
     return out;
   };
   std::string reason;
-  std::ifstream in;
-  uint64_t size = 0;
-  if (!(reason = open_regular_file(path, in, size)).empty()) return failed(reason);
+  InputFile in;
+  if (!(reason = open_regular_file(path, in)).empty()) return failed(reason);
+  const uint64_t size = in.size();
 
   // Everything that bounds memory is decided from the header, read straight from the file.
-  ByteSource file(in, size);
+  ByteSource file(in);
   const Format format = sniff(file);
   ParseResult header = parse_header(format, file, &reason);
   if (!header) return failed(reason);
@@ -600,10 +670,8 @@ LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
   // Read the file once and decode exactly those bytes. The header is checked again on them, as the file may
   // have been replaced since: whatever OpenCV allocates follows from these bytes, not from the earlier reads.
   std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  in.clear();
-  in.seekg(0);
-  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
-  if (static_cast<uint64_t>(in.gcount()) != size) return failed("read error (the file changed while being read)");
+  if (in.read_at(0, bytes.data(), bytes.size()) != static_cast<long long>(size))
+    return failed("read error (the file changed while being read)");
   return decode_image(bytes, path, flags, max_pixels);
 }
 
@@ -622,6 +690,7 @@ std::optional<ImageHeader> parse_image_header(std::span<const uint8_t> bytes, st
 }
 
 LoadedImage decode_image(std::span<const uint8_t> bytes, const std::string& name, int flags, int64_t max_pixels) {
+  keep_opencv_quiet();
   LoadedImage out;
   const auto failed = [&](const std::string& reason) {
     out.image.release();
@@ -640,16 +709,10 @@ LoadedImage decode_image(std::span<const uint8_t> bytes, const std::string& name
   // cv::imdecode takes the bytes as one Mat row, whose length is an int.
   if (bytes.size() > static_cast<size_t>(std::numeric_limits<int>::max()))
     return failed("file is " + std::to_string(bytes.size()) + " bytes, more than the decoder takes");
-  try {
-    // The Mat only wraps the caller's bytes; imdecode does not write to them.
-    const cv::Mat buf(1, static_cast<int>(bytes.size()), CV_8U, const_cast<uint8_t*>(bytes.data()));
-    out.image = cv::imdecode(buf, flags);
-  } catch (const cv::Exception&) {
-    out.image.release();
-  } catch (const std::exception&) {  // std::bad_alloc from a decoder library
-    out.image.release();
-  }
-  if (out.image.empty()) return failed("corrupt or truncated image data");
+  std::string decoder_said;
+  out.image = decode_quietly(bytes, flags, &decoder_said);
+  if (out.image.empty())
+    return failed("corrupt or truncated image data" + (decoder_said.empty() ? "" : " (" + decoder_said + ")"));
   return out;
 }
 

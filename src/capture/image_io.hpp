@@ -42,7 +42,7 @@ struct ImageHeader {
   int height = 0;
 };
 
-// Reads only the header of an image file: its format and dimensions (PNG IHDR; JPEG's first SOFn frame header;
+// Reads only the header of an image file (after the same file check as load_image): its format and dimensions (PNG IHDR; JPEG's first SOFn frame header;
 // BMP info header, a negative height meaning top-down; PNM header tokens and comments; TIFF's first IFD;
 // WebP's VP8/VP8L/VP8X chunk). Reads only as far as the header goes, typically a few kilobytes, and holds at
 // most 64 KiB of the file at a time, however large the file or the size it declares.
@@ -63,7 +63,8 @@ struct LoadedImage {
 };
 
 // Loads an image for processing. In order, each failure giving error "<path>: <reason>":
-//   the path exists ("no such file"), is a regular file ("is a directory", "not a regular file"), is not empty
+//   the path passes base/files' check_input_file ("no such file", "not a regular file (a folder)", "(a FIFO)",
+//   "(a character device)" ..., "larger than 1 GiB, the limit for an image"; a FIFO never blocks), is not empty
 //   ("empty file (0 bytes)"), has a supported image signature ("not an image (unknown signature)",
 //   "not an image (video: MP4/MOV)", "unsupported image format (GIF)"), a readable header ("truncated header",
 //   "invalid header (...)") whose dimensions are within limits ("declares 60000x60000 pixels, more than the
@@ -86,10 +87,16 @@ LoadedImage decode_image(std::span<const uint8_t> bytes, const std::string& name
 // Names starting with '.' are ignored, and so are subfolders. Other files are appended to *skipped, in name
 // order, as "<path>: skipped, not an image", or with a more specific reason where there is one
 // ("skipped, not an image (video: MP4/MOV)", "skipped, unsupported image format (GIF)", "skipped, empty file
-// (0 bytes)", "skipped, cannot open (...)"); they are not errors. If the folder itself cannot be listed, returns an empty list
+// (0 bytes)", "skipped, not a regular file (a FIFO)", "skipped, cannot be read (...)"); they are not errors. If the folder itself cannot be listed, returns an empty list
 // and sets *error to "<folder>: <reason>" ("no such folder", "not a folder", "cannot list (...)"); otherwise
 // *error is cleared.
 std::vector<std::string> list_images(const std::string& folder, std::vector<std::string>* skipped = nullptr,
                                      std::string* error = nullptr);
+
+// Keeps OpenCV's own text off the terminal: FFmpeg's log (unless OPENCV_FFMPEG_LOGLEVEL is set), OpenCV's log ("[ WARN:0@0.03] global cap_gstreamer.cpp ...", "[ERROR:0@0.03]
+// ... raised OpenCV exception: ..." when a backend refuses a file) is silenced unless OPENCV_LOG_LEVEL asks for it,
+// and cv::error's handler is one that prints nothing (the exception still carries the text, which we replace by
+// our own). Our messages say what failed. Called once by load_image, VideoReader::open and arwb's main; idempotent.
+void keep_opencv_quiet();
 
 }  // namespace arwb

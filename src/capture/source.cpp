@@ -17,6 +17,12 @@ namespace arwb {
 
 namespace {
 
+// One line for an exception: cv::Exception's what() is several lines naming OpenCV's own source file.
+std::string reason_of(const std::exception& e) {
+  if (const auto* cv_error = dynamic_cast<const cv::Exception*>(&e)) return "OpenCV failed (" + cv_error->err + ")";
+  return e.what();
+}
+
 std::string file_name(const std::string& path) {
   std::string name = std::filesystem::path(path).filename().string();
   if (name.empty()) name = std::filesystem::path(path).parent_path().filename().string();  // "dir/"
@@ -88,7 +94,7 @@ class VideoSource : public FrameSource {
     try {
       return advance(now_s, out);
     } catch (const std::exception& e) {
-      return {FrameStatus::error, name_ + ": frame " + std::to_string(pos_ + 1) + ": " + e.what()};
+      return {FrameStatus::error, name_ + ": frame " + std::to_string(pos_ + 1) + ": " + reason_of(e)};
     }
   }
 
@@ -223,7 +229,7 @@ class FolderSource : public FrameSource {
     try {
       return advance(now_s, out);
     } catch (const std::exception& e) {
-      return {FrameStatus::error, files_[size_t(pos_)] + ": " + e.what()};
+      return {FrameStatus::error, files_[size_t(pos_)] + ": " + reason_of(e)};
     }
   }
   SourceInfo info() const override {
@@ -418,7 +424,7 @@ bool parse_source_spec(const std::string& text, SourceSpec* out, std::string* er
     if (out) *out = spec;
     return true;
   } catch (const std::exception& e) {
-    *error = text + ": " + e.what();
+    *error = text + ": " + reason_of(e);
     return false;
   }
 }
@@ -437,7 +443,7 @@ std::unique_ptr<FrameSource> open_capture_source(const SourceSpec& spec, std::st
     }
     *error = spec.text() + ": unknown source kind";
   } catch (const std::exception& e) {
-    *error = spec.text() + ": " + e.what();
+    *error = spec.text() + ": " + reason_of(e);
   } catch (...) {
     *error = spec.text() + ": cannot open";
   }

@@ -1,5 +1,6 @@
 #include "capture/video_reader.hpp"
 
+#include "base/files.hpp"
 #include "capture/pixels.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -36,6 +37,8 @@ bool VideoReader::open_capture() {
 }
 
 Result<VideoReader> VideoReader::open(const std::string& path, cv::Mat* first, int64_t max_pixels) {
+  if (Status st = check_input_file(path, kVideoFile); !st) return fail(st.error());
+  keep_opencv_quiet();
   VideoReader r(path);
   if (!r.open_capture()) return fail(path + ": cannot open the video");
   const double fps = r.cap_.get(cv::CAP_PROP_FPS);

@@ -7,6 +7,7 @@
 // frame count is what could really be decoded.
 #pragma once
 
+#include "base/files.hpp"
 #include "base/result.hpp"
 #include "capture/image_io.hpp"
 
@@ -18,10 +19,15 @@
 
 namespace arwb {
 
+// Videos are streamed, never held whole, so their limit only says what a video file can plausibly be; the check
+// that matters is that the path is a regular file (FFmpeg would wait forever on a FIFO, read /dev/zero forever).
+inline constexpr FileLimit kVideoFile{"a video", std::uintmax_t{1} << 40};
+
 class VideoReader {
  public:
   // Opens `path` (FFmpeg first, then the other backends that read files) and decodes its first frame into
-  // *first (8-bit BGR). Fails, with the message "<path>: <reason>", when the file "cannot open the video", "has
+  // *first (8-bit BGR). Fails, with the message "<path>: <reason>", when the path fails check_input_file (not a
+  // regular file, larger than kVideoFile), when the file "cannot open the video", "has
   // no frames that can be decoded", or has "frames of 9000x9000 pixels, more than 40000000" (max_pixels; a side
   // longer than kMaxImageSide is refused too), the last checked before any frame is decoded when the container
   // tells the size.

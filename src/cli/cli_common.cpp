@@ -1,5 +1,9 @@
 #include "cli/cli_common.hpp"
 
+#include "base/text.hpp"
+
+#include <cstdarg>
+
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
@@ -173,7 +177,7 @@ void CommandLine::add_section(std::string title, std::vector<std::pair<std::stri
 }
 
 int CommandLine::usage_error(const std::string& problem) const {
-  std::fprintf(stderr, "%s: %s (see %s --help)\n", command_.c_str(), problem.c_str(), command_.c_str());
+  print_problem("%s: %s (see %s --help)\n", command_.c_str(), problem.c_str(), command_.c_str());
   return 2;
 }
 
@@ -253,10 +257,24 @@ CLI::Validator frame_size(cv::Size lo, cv::Size hi, std::string word) {
       range);
 }
 
+void print_problem(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  va_list again;
+  va_copy(again, args);
+  const int n = std::vsnprintf(nullptr, 0, format, args);
+  va_end(args);
+  std::string line(n > 0 ? static_cast<size_t>(n) : 0, '\0');
+  if (n > 0) std::vsnprintf(line.data(), line.size() + 1, format, again);
+  va_end(again);
+  if (!line.empty() && line.back() == '\n') line.pop_back();
+  std::fputs((printable(line) + "\n").c_str(), stderr);
+}
+
 std::optional<std::vector<Dictionary>> dictionaries_option(const std::string& list, const char* command) {
   std::string err;
   auto dicts = parse_dictionaries(list, &err);
-  if (!dicts) std::fprintf(stderr, "%s: --dict %s\n", command, err.c_str());
+  if (!dicts) print_problem("%s: --dict %s\n", command, err.c_str());
   return dicts;
 }
 
@@ -264,9 +282,9 @@ bool load_params_option(const std::string& path, const char* command, DetectorPa
   if (path.empty()) return true;
   std::vector<std::string> errors, notes;
   const bool ok = load_params_yaml(path, p, &errors, &notes);
-  for (const auto& n : notes) std::fprintf(stderr, "%s: --params %s\n", command, n.c_str());
+  for (const auto& n : notes) print_problem("%s: --params %s\n", command, n.c_str());
   if (ok) return true;
-  for (const auto& e : errors) std::fprintf(stderr, "%s: --params %s\n", command, e.c_str());
+  for (const auto& e : errors) print_problem("%s: --params %s\n", command, e.c_str());
   return false;
 }
 

@@ -48,6 +48,11 @@ CLI::Validator frame_size(cv::Size lo, cv::Size hi, std::string word = "");
 // "640x480" as a size; nullopt unless the whole text is WxH of positive whole numbers.
 std::optional<cv::Size> parse_frame_size(std::string_view text);
 
+// Prints one line to stderr, formatted as printf does, with control characters escaped (base/text's printable):
+// every problem the command line reports goes through here, so a file name holding "\x1B[31m", "\r" or a newline
+// can neither act on the terminal nor forge a line. A trailing newline in the format is the line's own.
+void print_problem(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
 // --dict NAME[,NAME...]: the dictionaries, or nullopt after printing "<command>: --dict <problem>".
 std::optional<std::vector<Dictionary>> dictionaries_option(const std::string& list, const char* command);
 

@@ -98,10 +98,10 @@ int cmd_bench(int argc, char** argv) {
   if (pos.size() == 1) {
     std::vector<std::string> skipped;
     auto items = read_set(pos[0], &skipped);
-    for (const auto& e : skipped) std::fprintf(stderr, "%s\n", e.c_str());
-    if (!items) std::fprintf(stderr, "%s\n", items.error().c_str());
+    for (const auto& e : skipped) print_problem("%s\n", e.c_str());
+    if (!items) print_problem("%s\n", items.error().c_str());
     if (!items || items->empty()) {
-      std::fprintf(stderr, "arwb bench: %s: no usable images\n", pos[0].c_str());
+      print_problem("arwb bench: %s: no usable images\n", pos[0].c_str());
       return 1;
     }
     // The dictionaries the truth uses (--dict for a folder without markers).

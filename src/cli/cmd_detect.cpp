@@ -3,6 +3,7 @@
 #include "cli/commands.hpp"
 #include "detect/detector.hpp"
 #include "capture/image_io.hpp"
+#include "capture/video_reader.hpp"
 #include "base/decimals.hpp"
 
 #include <nlohmann/json.hpp>
@@ -55,15 +56,19 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
 }
 
 void run_video(Output& out, const std::string& path, const Detector& det, int threads) {
+  if (Status st = check_input_file(path, kVideoFile); !st) {
+    print_problem("%s\n", st.error().c_str());
+    return;
+  }
   cv::VideoCapture cap;
   try {
     cap.open(path, cv::CAP_FFMPEG);
-  } catch (const cv::Exception& e) {
-    std::fprintf(stderr, "%s: cannot open video (%s)\n", path.c_str(), e.msg.c_str());
+  } catch (const cv::Exception&) {
+    print_problem("%s: cannot open video (unreadable or unsupported)\n", path.c_str());
     return;
   }
   if (!cap.isOpened()) {
-    std::fprintf(stderr, "%s: cannot open video (unreadable or unsupported)\n", path.c_str());
+    print_problem("%s: cannot open video (unreadable or unsupported)\n", path.c_str());
     return;
   }
   const double declared = cap.get(cv::CAP_PROP_FRAME_COUNT);
@@ -79,15 +84,15 @@ void run_video(Output& out, const std::string& path, const Detector& det, int th
     if (!ok || image.empty()) break;
     report(out, path, frame++, image, det, threads);
   }
-  if (frame == 0) std::fprintf(stderr, "%s: video has no readable frame\n", path.c_str());
+  if (frame == 0) print_problem("%s: video has no readable frame\n", path.c_str());
   else if (declared > 0 && frame < static_cast<int>(declared) - 1)
-    std::fprintf(stderr, "%s: video ended early, after %d of %.0f declared frames\n", path.c_str(), frame, declared);
+    print_problem("%s: video ended early, after %d of %.0f declared frames\n", path.c_str(), frame, declared);
 }
 
 void run_image(Output& out, const std::string& path, const Detector& det, int threads) {
   LoadedImage img = load_image(path);
   if (!img.ok()) {
-    std::fprintf(stderr, "%s\n", img.error.c_str());
+    print_problem("%s\n", img.error.c_str());
     return;
   }
   report(out, path, 0, img.image, det, threads);
@@ -131,13 +136,13 @@ int cmd_detect(int argc, char** argv) {
         std::vector<std::string> skipped;
         std::string folder_error;
         const auto images = list_images(path, &skipped, &folder_error);
-        if (!folder_error.empty()) std::fprintf(stderr, "%s\n", folder_error.c_str());
-        for (const auto& s : skipped) std::fprintf(stderr, "%s\n", s.c_str());
-        if (images.empty() && folder_error.empty()) std::fprintf(stderr, "%s: folder has no images\n", path.c_str());
+        if (!folder_error.empty()) print_problem("%s\n", folder_error.c_str());
+        for (const auto& s : skipped) print_problem("%s\n", s.c_str());
+        if (images.empty() && folder_error.empty()) print_problem("%s: folder has no images\n", path.c_str());
         for (const auto& image : images) run_image(out, image, det, threads);
         break;
       }
-      case PathKind::missing: std::fprintf(stderr, "%s: no such file or folder\n", path.c_str()); break;
+      case PathKind::missing: print_problem("%s: no such file or folder\n", path.c_str()); break;
       case PathKind::other: {
         // load_image names the reason (empty, unknown signature, unsupported format ...).
         run_image(out, path, det, threads);

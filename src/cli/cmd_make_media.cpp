@@ -126,7 +126,7 @@ int cmd_make_media(int argc, char** argv) {
       std::printf("wrote %s (%dx%d)\n", p.c_str(), img.cols, img.rows);
     } else {
       ++failed;
-      std::fprintf(stderr, "arwb make-media: cannot write %s\n", p.c_str());
+      print_problem("arwb make-media: cannot write %s\n", p.c_str());
     }
   };
   image("museum/media/composition.png", composition());
@@ -139,7 +139,7 @@ int cmd_make_media(int argc, char** argv) {
       std::printf("wrote %s (320x240, 3 s at 25 fps)\n", p.c_str());
     } else {
       ++failed;
-      std::fprintf(stderr, "arwb make-media: %s: %s\n", p.c_str(), err.c_str());
+      print_problem("arwb make-media: %s: %s\n", p.c_str(), err.c_str());
     }
   }
   std::printf("%d written, %d kept (use --force to replace)%s\n", written, kept, failed ? ", some failed" : "");

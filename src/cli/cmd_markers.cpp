@@ -35,7 +35,7 @@ std::string format_g(double v) {
 }
 
 int fail(int status, const std::string& message) {
-  std::fprintf(stderr, "arwb markers: %s\n", message.c_str());
+  print_problem("arwb markers: %s\n", message.c_str());
   return status;
 }
 

@@ -3,6 +3,7 @@
 // Runs without a display (EGL), so a demo can be rendered on a server and shared.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "base/text.hpp"
 #include "workbench/scene_stage.hpp"
 #include "detect/detector.hpp"
 #include "synth/synthetic_source.hpp"
@@ -45,7 +46,8 @@ struct ConsoleEcho {
     if (shown > s.console.size()) shown = 0;
     for (size_t i = shown; i < s.console.size(); ++i) {
       const ConsoleLine& l = s.console[i];
-      std::fprintf(l.level == 0 ? stdout : stderr, "%s%s\n", l.level == 2 ? "scene: " : "", l.text.c_str());
+      // Escaped like every other line: neither a file name in a message nor a print() acts on the terminal.
+      std::fprintf(l.level == 0 ? stdout : stderr, "%s%s\n", l.level == 2 ? "scene: " : "", printable(l.text).c_str());
     }
     shown = s.console.size();
   }
@@ -83,7 +85,7 @@ class SceneWatchdog {
     std::unique_lock lock(mutex_);
     while (!stop_) {
       if (armed_ && std::chrono::duration<double>(std::chrono::steady_clock::now() - since_).count() > kStuckSeconds) {
-        std::fprintf(stderr, "arwb render: %s has not returned after %g s (stuck in a script?); stopping\n",
+        print_problem("arwb render: %s has not returned after %g s (stuck in a script?); stopping\n",
                      what_.c_str(), kStuckSeconds);
         std::fflush(stdout);
         std::fflush(stderr);
@@ -176,7 +178,7 @@ int cmd_render(int argc, char** argv) {
   const bool loaded = stage.load(scene_file);
   watchdog.end();
   if (!loaded) {
-    std::fprintf(stderr, "arwb render: %s\n", stage.status().error.c_str());
+    print_problem("arwb render: %s\n", stage.status().error.c_str());
     return 1;
   }
   ConsoleEcho console;
@@ -193,7 +195,7 @@ int cmd_render(int argc, char** argv) {
 
   auto source = open_source(spec, &err);
   if (!source) {
-    std::fprintf(stderr, "arwb render: %s\n", err.c_str());
+    print_problem("arwb render: %s\n", err.c_str());
     return 1;
   }
   Playback pb;
@@ -205,7 +207,7 @@ int cmd_render(int argc, char** argv) {
 
   render::OffscreenContext gl;
   if (!gl.ok()) {
-    std::fprintf(stderr, "arwb render: %s\n", gl.error().c_str());
+    print_problem("arwb render: %s\n", gl.error().c_str());
     return 1;
   }
   render::Compositor compositor(samples);
@@ -213,7 +215,7 @@ int cmd_render(int argc, char** argv) {
   if (!to_video && !fs::is_directory(out, ec)) {
     fs::create_directories(out, ec);
     if (ec) {
-      std::fprintf(stderr, "arwb render: cannot create %s (%s)\n", out.c_str(), ec.message().c_str());
+      print_problem("arwb render: cannot create %s (%s)\n", out.c_str(), ec.message().c_str());
       return 1;
     }
   }
@@ -232,7 +234,7 @@ int cmd_render(int argc, char** argv) {
     if (st.status == FrameStatus::end || st.status == FrameStatus::gone) break;
     if (st.status == FrameStatus::same && spec.kind != SourceKind::synthetic) break;   // one image: done
     if (st.status == FrameStatus::error) {
-      std::fprintf(stderr, "arwb render: %s\n", st.message.c_str());
+      print_problem("arwb render: %s\n", st.message.c_str());
       if (++errors > 100) break;
       continue;
     }
@@ -255,7 +257,7 @@ int cmd_render(int argc, char** argv) {
     overlays += int(f.overlays.size());
     t0 = Clock::now();
     if (!compositor.draw(f.image, f.index, f.overlays)) {
-      std::fprintf(stderr, "arwb render: %s\n", compositor.error().c_str());
+      print_problem("arwb render: %s\n", compositor.error().c_str());
       return 1;
     }
     const cv::Mat picture = compositor.read();
@@ -266,7 +268,7 @@ int cmd_render(int argc, char** argv) {
         size = picture.size();
         open_video_writer(writer, out, fps, size, &codec);
         if (!writer.isOpened()) {
-          std::fprintf(stderr, "arwb render: cannot write %s (FFmpeg refused every codec)\n", out.c_str());
+          print_problem("arwb render: cannot write %s (FFmpeg refused every codec)\n", out.c_str());
           return 1;
         }
       }
@@ -276,7 +278,7 @@ int cmd_render(int argc, char** argv) {
       std::snprintf(name, sizeof name, "frame_%06d.png", frames);
       const std::string path = (fs::path(out) / name).string();
       if (!cv::imwrite(path, picture)) {
-        std::fprintf(stderr, "arwb render: cannot write %s\n", path.c_str());
+        print_problem("arwb render: cannot write %s\n", path.c_str());
         return 1;
       }
       size = picture.size();
@@ -286,7 +288,7 @@ int cmd_render(int argc, char** argv) {
   }
   writer.release();
   if (frames == 0) {
-    std::fprintf(stderr, "arwb render: %s gave no frames\n", input.c_str());
+    print_problem("arwb render: %s gave no frames\n", input.c_str());
     return 1;
   }
   const double n = frames;

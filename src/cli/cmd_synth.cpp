@@ -36,14 +36,14 @@ int cmd_synth(int argc, char** argv) {
   std::filesystem::create_directories(out, ec);
   std::ofstream truth(out + "/truth.jsonl");
   if (ec || !truth) {
-    std::fprintf(stderr, "arwb synth: %s: cannot create the folder or its truth.jsonl\n", out.c_str());
+    print_problem("arwb synth: %s: cannot create the folder or its truth.jsonl\n", out.c_str());
     return 1;
   }
   int markers = 0;
   for (int i = 0; i < count; ++i) {
     const SetItem item = make_set_item(*dicts, sizes, uint64_t(seed), i);
     if (!cv::imwrite(out + "/" + item.file, item.image)) {
-      std::fprintf(stderr, "arwb synth: %s/%s: cannot write\n", out.c_str(), item.file.c_str());
+      print_problem("arwb synth: %s/%s: cannot write\n", out.c_str(), item.file.c_str());
       return 1;
     }
     truth << truth_line(item) << "\n";

@@ -1,8 +1,10 @@
 // arwb: the ArUco Workbench binary, the top of the house: it links the command-line tools (src/cli) and the
 // window (ui/). `arwb [options]` opens the workbench window; `arwb <subcommand> ...` runs a
 // command-line tool. See `arwb --help`.
+#include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "cli/opencv_limits.hpp"
+#include "capture/image_io.hpp"
 #include "ui/window.hpp"
 
 #include <cstdio>
@@ -13,9 +15,9 @@
 #include <unistd.h>
 
 int main(int argc, char** argv) {
-  // FFmpeg's own log lines ("moov atom not found") would duplicate arwb's one-line messages; a user can
-  // still ask for them by setting the variable.
-  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
+  // FFmpeg's, OpenCV's and its error handler's own lines would duplicate arwb's one-line messages; a user can
+  // still ask for them by setting OPENCV_FFMPEG_LOGLEVEL or OPENCV_LOG_LEVEL.
+  arwb::keep_opencv_quiet();
   // OpenCV reads its image limits while its library loads, before main(): when they had to be set, start again
   // with them (once; exec only returns on failure, and then OpenCV's own defaults stay).
   if (arwb::set_opencv_image_limits()) execv("/proc/self/exe", argv);
@@ -24,7 +26,7 @@ int main(int argc, char** argv) {
     try {
       return arwb::cmd_workbench(argc - 1, argv + 1, arwb::run_workbench);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "arwb: %s\n", e.what());
+      arwb::print_problem("arwb: %s\n", e.what());
       return 1;
     }
   }
@@ -34,11 +36,11 @@ int main(int argc, char** argv) {
       try {
         return s.run(argc - 2, argv + 2);
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "arwb %s: %s\n", s.name, e.what());
+        arwb::print_problem("arwb %s: %s\n", s.name, e.what());
         return 1;
       }
     }
   }
-  std::fprintf(stderr, "arwb: unknown subcommand '%s' (see arwb --help)\n", argv[1]);
+  arwb::print_problem("arwb: unknown subcommand '%s' (see arwb --help)\n", argv[1]);
   return 2;
 }

@@ -1,5 +1,8 @@
 #include "detect/dictionary.hpp"
 
+#include "base/files.hpp"
+#include "detect/yaml_file.hpp"
+
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 
@@ -177,28 +180,129 @@ std::optional<Dictionary> dictionary_by_name(std::string_view name, std::string*
   return std::nullopt;
 }
 
+namespace {
+
+// A custom dictionary is at most 100,000 markers of up to 64 bits: about 7 MB of YAML.
+constexpr FileLimit kDictionaryFile{"a dictionary", 16u << 20};
+
+// Whether two codes of the dictionary, or a code and a turn of itself, differ in at most `within` bits.
+// Multi-index hashing: the bits are cut into within + 2 blocks. Two codes within that distance differ in at most
+// `within` blocks, so they agree exactly on at least two (with within + 1 blocks, on at least one). For each pair
+// of blocks, codes are grouped by the value of those two blocks together and only codes in the same group are
+// compared. The key is twice as wide as one block's, so for codes that are not close a group holds about
+// 4n / 2^(2 bits / (within + 2)) codes, one or two for 100,000 markers of 64 bits: the work is linear in n
+// (times the (within + 2)(within + 1) / 2 pairs of blocks), where comparing all pairs is quadratic.
+bool any_pair_within(const std::vector<std::array<uint64_t, 4>>& rot, int bits, int within) {
+  const int blocks = within + 2;
+  const size_t n = rot.size();
+  std::vector<uint32_t> order(n);
+  std::vector<uint64_t> codes(n);  // the rotation-0 codes in key order, contiguous for the comparisons
+  std::vector<uint32_t> start;     // per key, where its codes begin in `codes`
+  std::vector<uint32_t> scratch;
+  const auto block_bits = [&](int b, int* lo, uint64_t* mask) {  // block b: bits [lo, hi), bit 0 the lowest
+    *lo = bits * b / blocks;
+    const int width = bits * (b + 1) / blocks - *lo;
+    *mask = width >= 64 ? ~uint64_t{0} : (uint64_t{1} << width) - 1;
+    return width;
+  };
+  for (int a = 0; a < blocks; ++a)
+    for (int b = a + 1; b < blocks; ++b) {
+      int lo_a = 0, lo_b = 0;
+      uint64_t mask_a = 0, mask_b = 0;
+      const int width_a = block_bits(a, &lo_a, &mask_a), width = width_a + block_bits(b, &lo_b, &mask_b);
+      const auto key = [&](uint64_t c) { return ((c >> lo_a) & mask_a) | ((c >> lo_b) & mask_b) << width_a; };
+      // Codes in key order, with a table of where each key starts (a counting sort) when keys are up to 20 bits;
+      // sorted and searched otherwise.
+      const bool table = width <= 20;
+      if (table) {
+        start.assign((size_t{1} << width) + 1, 0);
+        for (size_t i = 0; i < n; ++i) ++start[key(rot[i][0]) + 1];
+        for (size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+        std::vector<uint32_t>& next = scratch;
+        next.assign(start.begin(), start.end() - 1);
+        for (size_t i = 0; i < n; ++i) order[next[key(rot[i][0])]++] = static_cast<uint32_t>(i);
+      } else {
+        for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(i);
+        std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return key(rot[x][0]) < key(rot[y][0]); });
+      }
+      for (size_t i = 0; i < n; ++i) codes[i] = rot[order[i]][0];
+      // Every code turned k quarter-turns against the rotation-0 codes in its group.
+      for (size_t j = 0; j < n; ++j)
+        for (size_t k = 0; k < 4; ++k) {
+          const uint64_t c = rot[j][k], v = key(c);
+          size_t first = 0, last = 0;
+          if (table) {
+            first = start[v];
+            last = start[v + 1];
+          } else {
+            const auto by_key = [&](uint64_t code, uint64_t value) { return key(code) < value; };
+            first = size_t(std::lower_bound(codes.begin(), codes.end(), v, by_key) - codes.begin());
+            for (last = first; last < n && key(codes[last]) == v;) ++last;
+          }
+          for (size_t x = first; x < last; ++x)
+            if (std::popcount(codes[x] ^ c) <= within && !(k == 0 && order[x] == j)) return true;  // not itself
+        }
+    }
+  return false;
+}
+
+}  // namespace
+
+int largest_safe_correction(const Dictionary& d, int up_to) {
+  std::vector<std::array<uint64_t, 4>> rot(static_cast<size_t>(d.size()));
+  for (int id = 0; id < d.size(); ++id)
+    for (int k = 0; k < 4; ++k) rot[size_t(id)][size_t(k)] = d.code(id, k);
+  // c bits can be corrected safely when no two codes are within 2c of each other (min distance > 2c).
+  for (int c = std::max(0, up_to); c > 0; --c)
+    if (!any_pair_within(rot, d.bit_count(), 2 * c)) return c;
+  return 0;
+}
+
 std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::string* error) {
   auto fail = [&](const std::string& why) -> std::optional<Dictionary> {
     if (error) *error = path + ": " + why;
     return std::nullopt;
   };
+  cv::FileStorage fs;
+  if (Status opened = open_yaml_file(path, kDictionaryFile, &fs); !opened) {
+    if (error) *error = opened.error();
+    return std::nullopt;
+  }
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
-    if (!fs.isOpened()) return fail("cannot open as a dictionary file");
-    int n = 0, size = 0, corr = 0;
-    if (fs["nmarkers"].empty() || fs["markersize"].empty()) return fail("needs nmarkers and markersize");
-    fs["nmarkers"] >> n;
-    fs["markersize"] >> size;
-    if (!fs["maxCorrectionBits"].empty()) fs["maxCorrectionBits"] >> corr;
+    const cv::FileNode root = fs.root();
+    if (!root.isMap()) return fail("not a dictionary (expected a map of nmarkers, markersize, marker_0 ...)");
+    // One pass over the map: looking each marker_<i> up by name would scan the map each time (OpenCV's
+    // FileNode::operator[] is a linear search), which is quadratic in the markers: minutes for 100,000.
+    cv::FileNode nmarkers, markersize, correction;
+    std::vector<cv::FileNode> markers;
+    for (const cv::FileNode& node : root) {
+      const std::string key = node.name();
+      if (key == "nmarkers") nmarkers = node;
+      else if (key == "markersize") markersize = node;
+      else if (key == "maxCorrectionBits") correction = node;
+      else if (key.rfind("marker_", 0) == 0 && key.size() > 7 && key.size() <= 13 &&
+               key.find_first_not_of("0123456789", 7) == std::string::npos && (key[7] != '0' || key.size() == 8)) {
+        const size_t i = std::stoul(key.substr(7));
+        if (i < 100000) {
+          if (markers.size() <= i) markers.resize(i + 1);
+          markers[i] = node;
+        }
+      }
+    }
+    if (nmarkers.empty() || markersize.empty()) return fail("needs nmarkers and markersize");
+    if (!nmarkers.isInt() || !markersize.isInt() || (!correction.empty() && !correction.isInt()))
+      return fail("nmarkers, markersize and maxCorrectionBits must be whole numbers");
+    const int n = int(nmarkers), size = int(markersize), corr = correction.empty() ? 0 : int(correction);
     if (size < 2 || size > 8) return fail("markersize " + std::to_string(size) + " outside 2..8");
     if (n < 1 || n > 100000) return fail("nmarkers " + std::to_string(n) + " outside 1..100000");
     if (corr < 0 || corr > size * size) return fail("maxCorrectionBits " + std::to_string(corr) + " out of range");
     std::vector<uint64_t> codes;
+    codes.reserve(size_t(n));
     for (int i = 0; i < n; ++i) {
       const std::string key = "marker_" + std::to_string(i);
-      std::string bits;
-      if (fs[key].empty()) return fail("missing " + key);
-      fs[key] >> bits;
+      if (size_t(i) >= markers.size() || markers[size_t(i)].empty()) return fail("missing " + key);
+      if (!markers[size_t(i)].isString()) return fail(key + " is not a string of 0 and 1");
+      const std::string bits = markers[size_t(i)].string();
       if (static_cast<int>(bits.size()) != size * size) return fail(key + " has " + std::to_string(bits.size()) +
                                                                    " bits, expected " + std::to_string(size * size));
       uint64_t code = 0;
@@ -209,9 +313,18 @@ std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::str
       codes.push_back(code);
     }
     std::string stem = path.substr(path.find_last_of('/') + 1);
-    return Dictionary(stem, size, std::move(codes), corr);
-  } catch (const cv::Exception& e) {
-    return fail(std::string("not valid YAML: ") + e.msg);
+    Dictionary d(stem, size, std::move(codes), corr);
+    // More correction than the markers' distance allows makes one marker read as another: false detections.
+    if (corr > 0) {
+      const int safe = largest_safe_correction(d, corr);
+      if (safe < corr)
+        return fail("maxCorrectionBits " + std::to_string(corr) + " is more than the markers' distance allows "
+                    "(rotations included); the largest allowed is " + std::to_string(safe));
+    }
+    return d;
+  } catch (const cv::Exception&) {
+    // Reading a node of the wrong type; OpenCV's own text names its source file and function, ours the file.
+    return fail("malformed YAML");
   }
 }
 

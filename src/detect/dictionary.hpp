@@ -69,8 +69,14 @@ Dictionary make_aruco_original();
 const std::vector<std::string>& dictionary_names();
 // Looks a name up case-insensitively ("DICT_" prefix allowed). nullopt and a message naming it when unknown.
 std::optional<Dictionary> dictionary_by_name(std::string_view name, std::string* error = nullptr);
-// A custom dictionary in OpenCV's YAML format (nmarkers, markersize, maxCorrectionBits, marker_0 ...).
+// A custom dictionary in OpenCV's YAML format (nmarkers, markersize, maxCorrectionBits, marker_0 ...), up to
+// 100,000 markers, loaded in time linear in them. maxCorrectionBits is refused when it is more than the markers'
+// smallest distance allows, (d - 1) / 2 with rotations included as OpenCV counts them, naming the largest allowed.
 std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::string* error = nullptr);
+// The largest correction (at most up_to) that never reads one marker as another, (min_distance() - 1) / 2 capped
+// at up_to, found without comparing every pair (multi-index hashing): near linear in the markers for real
+// dictionaries, where min_distance() is quadratic.
+int largest_safe_correction(const Dictionary& d, int up_to);
 
 // [SECTION] dictionary explorer: which markers are hardest to tell apart.
 

@@ -1,6 +1,7 @@
 #include "detect/params.hpp"
 
 #include "base/files.hpp"
+#include "detect/yaml_file.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -106,7 +107,7 @@ bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::stri
 }
 
 // A parameter file is a few dozen lines; a larger file is not one.
-constexpr std::uintmax_t kMaxParamsBytes = 1u << 20;
+constexpr FileLimit kPresetFile{"a preset", 1u << 20};
 
 bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors,
                       std::vector<std::string>* notes) {
@@ -119,17 +120,9 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
   DetectorParams next = out;
   bool ok = true;
   try {
-    // OpenCV's reader wants a "%YAML:1.0" first line; plain YAML as people write it gets one added.
-    Result<std::string> text = read_text_file(path, kMaxParamsBytes);
-    if (!text) {
-      if (errors) errors->push_back(text.error());
-      return false;
-    }
-    std::string yaml = std::move(*text);
-    if (yaml.rfind("%YAML", 0) != 0) yaml = "%YAML:1.0\n---\n" + yaml;
-    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
-    if (!fs.isOpened()) {
-      report("cannot open as a YAML parameter file");
+    cv::FileStorage fs;
+    if (Status opened = open_yaml_file(path, kPresetFile, &fs); !opened) {
+      if (errors) errors->push_back(opened.error());
       return false;
     }
     const cv::FileNode root = fs.root();
@@ -169,8 +162,8 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
         ok = false;
       }
     }
-  } catch (const cv::Exception& e) {
-    report("malformed YAML: " + e.msg);
+  } catch (const cv::Exception&) {  // reading a node of the wrong type; OpenCV's text names its own source
+    report("malformed YAML");
     return false;
   }
   if (ok) out = next;
@@ -189,8 +182,8 @@ bool save_params_yaml(const std::string& path, const DetectorParams& p, std::str
       else fs << info.name << p.*(info.double_field);
     }
     return true;
-  } catch (const cv::Exception& e) {
-    if (error) *error = path + ": " + e.msg;
+  } catch (const cv::Exception&) {
+    if (error) *error = path + ": cannot write";
     return false;
   }
 }

@@ -145,7 +145,7 @@ CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relat
   std::string reason;
   (void)read_image_header(out.path, &reason);
   if (reason.starts_with("empty file") || reason.starts_with("unsupported image format") ||
-      reason.starts_with("cannot open"))
+      reason.starts_with("cannot be read"))
     return fail(reason);
   return fail("not an image or video");
 }

@@ -12,7 +12,7 @@ namespace arwb::script {
 namespace {
 
 // Lua compiles a scene with no hook running (about 0.1 s a megabyte): scenes are a few kilobytes.
-constexpr std::uintmax_t kMaxSceneBytes = kMaxChunkBytes;
+constexpr FileLimit kSceneFile{"a scene", kMaxChunkBytes};
 constexpr size_t kMaxConsoleText = 4000;
 constexpr size_t kCollapseWindow = 8;   // warnings and errors repeat within this many lines: counted, not repeated
 
@@ -97,9 +97,13 @@ bool SceneRuntime::Impl::load(const std::string& path) {
   attempt_path = path;
   attempt_sig = file_sig(path);
   const std::string display = chunk_display_name(path);
-  const Result<std::string> read = read_text_file(path, kMaxSceneBytes);
-  // The message starts with the path; the console names scenes by their display name.
-  if (!read) return fail_load(display + read.error().substr(path.size()), 0);
+  const Result<std::string> read = read_text_file(path, kSceneFile);
+  // The message starts with the path; the console names scenes by their display name. UTF-16 and invalid UTF-8
+  // are refused there, by name and line, before the text is sniffed as XML or Lua.
+  if (!read) {
+    const std::string msg = display + read.error().substr(path.size());
+    return fail_load(msg, line_of(msg, display));
+  }
   const std::string& text = *read;
 
   auto p = std::make_unique<Program>();

@@ -75,7 +75,7 @@ Result<std::vector<TruthMarker>> read_markers(const Json& line) {
 Result<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::string>* skipped) {
   const std::string path = dir + "/truth.jsonl";
   // A truth set of a million markers is about 100 MB.
-  const Result<std::string> all = read_text_file(path, std::uintmax_t(256) << 20);
+  const Result<std::string> all = read_text_file(path, FileLimit{"a truth set", std::uintmax_t(256) << 20});
   if (!all) return fail(all.error());
   std::istringstream in(*all);
   std::vector<SetItem> items;

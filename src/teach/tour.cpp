@@ -55,14 +55,14 @@ bool field(std::string_view line, std::string_view name, std::string_view* value
 }  // namespace
 
 // A tour is a few pages of text; anything much larger is not one.
-constexpr std::uintmax_t kMaxTourBytes = 4u << 20;
+constexpr FileLimit kTourFile{"a tour", 4u << 20};
 
 bool load_tour(const std::string& path, std::vector<TourStep>* steps, std::vector<std::string>* errors) {
   auto report = [&](int line, const std::string& msg) {
     if (errors) errors->push_back(path + ":" + std::to_string(line) + ": " + msg);
   };
   std::vector<TourStep> out;
-  Result<std::string> text = read_text_file(path, kMaxTourBytes);
+  Result<std::string> text = read_text_file(path, kTourFile);
   if (!text) {
     if (errors) errors->push_back(text.error());
     if (steps) steps->clear();

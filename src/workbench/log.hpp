@@ -2,6 +2,8 @@
 // thread add to it; the UI copies the entries when they changed.
 #pragma once
 
+#include "base/text.hpp"
+
 #include <chrono>
 #include <cstdio>
 #include <cstdint>
@@ -22,7 +24,10 @@ class Log {
  public:
   explicit Log(std::chrono::steady_clock::time_point t0) : t0_(t0) {}
   bool verbose = false;   // info lines to stderr too
-  void add(LogLevel level, const std::string& text) {
+  // The one way messages reach the log panel and stderr, so control characters in them (a file name holding
+  // "\x1B[31m" or a newline) are escaped here, once.
+  void add(LogLevel level, const std::string& raw) {
+    const std::string text = printable(raw);
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
     std::lock_guard lock(mutex_);
     entries_.push_back({t, level, text});

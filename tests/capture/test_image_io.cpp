@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+
 namespace arwb {
 namespace {
 
@@ -287,13 +289,60 @@ TEST(ImageIo, Directory) {
   const std::string path = dir.str("folder.png");  // a folder, whatever its name says
   std::filesystem::create_directory(path);
   const LoadedImage r = load_image(path);
-  EXPECT_EQ(r.error, path + ": is a directory");
+  EXPECT_EQ(r.error, path + ": not a regular file (a folder)");
   EXPECT_TRUE(r.image.empty());
 }
 
 TEST(ImageIo, DeviceFile) {
   const LoadedImage r = load_image("/dev/null");  // reading it would give 0 bytes; a device is refused first
-  EXPECT_EQ(r.error, "/dev/null: not a regular file");
+  EXPECT_EQ(r.error, "/dev/null: not a regular file (a character device)");
+}
+
+// A FIFO named like an image: opening it to read would wait for a writer forever. Refused by name, at once.
+TEST(ImageIo, FifoIsRefusedByNameWithoutBlocking) {
+  TempDir dir;
+  const std::string path = dir.str("photo.png");
+  ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(load_image(path).error, path + ": not a regular file (a FIFO)");
+  std::string error;
+  EXPECT_FALSE(read_image_header(path, &error));
+  EXPECT_EQ(error, "not a regular file (a FIFO)");
+  EXPECT_EQ(classify_path(path), PathKind::other);
+  std::vector<std::string> skipped;
+  EXPECT_TRUE(list_images(dir.str(), &skipped).empty());
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_EQ(skipped[0], path + ": skipped, not a regular file (a FIFO)");
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(2));
+}
+
+// An image file is at most 1 GiB (100 megapixels of 16-bit RGBA is 800 MB): a sparse file of terabytes costs
+// nothing to make and must not be walked.
+TEST(ImageIo, AnImageFileLargerThanTheLimitIsRefusedBeforeItIsRead) {
+  TempDir dir;
+  const std::string path = dir.str("huge.jpg");
+  write_file(path, "\xFF\xD8\xFF");
+  std::filesystem::resize_file(path, std::uintmax_t{4} << 30);  // sparse
+  expect_failure(load_image(path), path, "larger than 1 GiB, the limit for an image");
+  std::string error;
+  EXPECT_FALSE(read_image_header(path, &error));
+  EXPECT_EQ(error, "larger than 1 GiB, the limit for an image");
+}
+
+// A JPEG's frame header is searched for past stray bytes, as libjpeg does; byte by byte through 500 MB of them
+// (a sparse file) took seconds per file, for a header that no writer puts there. The search stops at 64 MiB.
+TEST(ImageIo, JpegHeaderSearchStopsAt64MiBOfStrayBytes) {
+  TempDir dir;
+  const std::string path = dir.str("stray.jpg");
+  write_file(path, "\xFF\xD8\xFF");
+  std::filesystem::resize_file(path, std::uintmax_t{500} << 20);  // zeros: stray bytes, never a marker
+  std::string error;
+  EXPECT_FALSE(read_image_header(path, &error));
+  EXPECT_EQ(error, "invalid header (no frame header in the first 64 MiB)");
+  // The same with FF fill bytes, which may precede a marker.
+  write_file(path, "\xFF\xD8" + std::string(size_t{65} << 20, '\xFF'));
+  EXPECT_FALSE(read_image_header(path, &error));
+  EXPECT_EQ(error, "invalid header (no frame header in the first 64 MiB)");
 }
 
 TEST(ImageIo, EmptyFile) {
@@ -544,6 +593,46 @@ TEST(ImageIo, ClassifyPath) {
   EXPECT_STREQ(to_string(PathKind::video), "video");
 }
 
+// PNG's chunk checksum (CRC-32 of type and data), for chunks the tests add.
+uint32_t png_crc(const std::string& bytes) {
+  uint32_t c = 0xFFFFFFFFu;
+  for (const char ch : bytes) {
+    c ^= static_cast<uint8_t>(ch);
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xFFFFFFFFu;
+}
+
+std::string be32_bytes(uint32_t v) {
+  return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                     static_cast<char>(v)};
+}
+
+// A valid PNG with a damaged colour profile made libpng print "libpng warning: iCCP: ..." on the terminal, and a
+// damaged one "libpng error: ..." beside our message. Neither reaches stderr now; the error is in our message.
+TEST(ImageIo, DecoderLibrariesPrintNothingOnStderr) {
+  TempDir dir;
+  std::vector<uint8_t> encoded;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(16, 16, CV_8UC3, cv::Scalar(10, 200, 30)), encoded));
+  std::string png(encoded.begin(), encoded.end());
+  const std::string iccp = "iCCPbad\0\0" + std::string(40, 'x');  // not even deflate data
+  const std::string chunk = be32_bytes(uint32_t(iccp.size() - 4)) + iccp + be32_bytes(png_crc(iccp));
+  png.insert(8 + 25, chunk);  // after the signature and IHDR
+  write_file(dir.str("iccp.png"), png);
+  testing::internal::CaptureStderr();
+  const LoadedImage ok = load_image(dir.str("iccp.png"));
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_TRUE(ok.ok()) << ok.error;
+
+  png = std::string(encoded.begin(), encoded.end());
+  png[png.find("IDAT") + 10] ^= 0x5A;
+  write_file(dir.str("idat.png"), png);
+  testing::internal::CaptureStderr();
+  const LoadedImage bad = load_image(dir.str("idat.png"));
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(bad.error.rfind(dir.str("idat.png") + ": corrupt or truncated image data (IDAT: ", 0), 0u) << bad.error;
+}
+
 // A classic TIFF whose ImageWidth entry says LONG8 (a BigTIFF type, 8 value bytes) in a 12-byte entry that ends
 // the file: reading its value as 8 bytes went 4 bytes past the file (found by fuzzing). It is refused by type.
 TEST(ImageIo, ClassicTiffWithALong8SizeIsRefusedWithoutReadingPastTheEntry) {
@@ -577,7 +666,7 @@ TEST(ImageIo, ReadImageHeaderReadsOnlyTheHeader) {
   EXPECT_FALSE(read_image_header(dir.str("text.png"), &error).has_value());
   EXPECT_EQ(error, "not an image (unknown signature)");
   EXPECT_FALSE(read_image_header(dir.str(), &error).has_value());
-  EXPECT_EQ(error, "is a directory");
+  EXPECT_EQ(error, "not a regular file (a folder)");
   EXPECT_FALSE(read_image_header(dir.str("missing"), nullptr).has_value());  // error is optional
 }
 

@@ -9,7 +9,10 @@
 
 #include <opencv2/videoio.hpp>
 
+#include <chrono>
 #include <string>
+
+#include <sys/stat.h>
 
 namespace arwb {
 namespace {
@@ -101,7 +104,11 @@ TEST_P(Reader, SeeksBackAndForward) {
 TEST_P(Reader, TruncatedFileEndsWhereItIsCutAndSaysSoOnce) {
   const std::string cut = cut_in_half(dir_, whole_, std::string("cut.") + GetParam());
   cv::Mat first;
+  testing::internal::CaptureStderr();
   Result<VideoReader> r = VideoReader::open(cut, &first);
+  // When FFmpeg refuses the file, GStreamer is tried: OpenCV logged "[ WARN:0@0.03] ... GStreamer warning" and
+  // "[ERROR:0@0.03] ... raised OpenCV exception:" with its source path on the terminal. Only our message says it.
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
   if (!r && std::string(GetParam()) == "mp4") {
     // OpenCV writes an MP4's index (the moov box) last: cut in half, nothing can be found, and that is said.
     EXPECT_EQ(r.error(), cut + ": cannot open the video");
@@ -156,9 +163,22 @@ TEST(ReaderFaults, MessagesNameTheFile) {
     ASSERT_FALSE(r) << name;
     EXPECT_EQ(r.error().rfind(dir.str(name) + ": ", 0), 0u) << r.error();
     EXPECT_TRUE(r.error().find("cannot open the video") != std::string::npos ||
-                r.error().find("has no frames that can be decoded") != std::string::npos)
+                r.error().find("has no frames that can be decoded") != std::string::npos ||
+                r.error() == dir.str(name) + ": no such file")
         << r.error();
   }
+}
+
+// FFmpeg would wait forever for a writer on a FIFO: refused by name, before any backend sees it.
+TEST(ReaderFaults, AFifoIsRefusedByNameWithoutBlocking) {
+  TempDir dir;
+  const std::string fifo = dir.str("clip.mp4");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  Result<VideoReader> r = VideoReader::open(fifo, nullptr);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error(), fifo + ": not a regular file (a FIFO)");
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(2));
 }
 
 TEST(ReaderFaults, RefusesFramesLargerThanTheLimit) {

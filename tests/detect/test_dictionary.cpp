@@ -6,6 +6,10 @@
 #include <gtest/gtest.h>
 #include <opencv2/aruco.hpp>
 
+#include <chrono>
+#include <random>
+#include <string>
+
 using namespace arwb;
 
 TEST(Dictionary, ArucoOriginalFromThePaperEqualsOpenCvBitForBit) {
@@ -100,7 +104,7 @@ TEST(Dictionary, MinimumDistanceOfTheSmallTables) {
 TEST(Dictionary, CustomYamlInOpenCvFormat) {
   test::TempDir dir;
   test::write_file(dir.str("mine.yml"),
-                   "%YAML:1.0\nnmarkers: 2\nmarkersize: 3\nmaxCorrectionBits: 1\n"
+                   "%YAML:1.0\nnmarkers: 2\nmarkersize: 3\nmaxCorrectionBits: 0\n"
                    "marker_0: \"101010101\"\nmarker_1: \"111000111\"\n");
   std::string err;
   auto d = load_dictionary_yaml(dir.str("mine.yml"), &err);
@@ -113,4 +117,81 @@ TEST(Dictionary, CustomYamlInOpenCvFormat) {
   EXPECT_FALSE(load_dictionary_yaml(dir.str("bad.yml"), &err));
   EXPECT_NE(err.find("bad.yml"), std::string::npos);
   EXPECT_NE(err.find("marker_0"), std::string::npos);
+}
+
+namespace {
+
+// A dictionary file in OpenCV's format, with the markers' codes written as bit strings.
+std::string dictionary_yaml(int marker_size, int max_correction_bits, const std::vector<uint64_t>& codes) {
+  std::string y = "%YAML:1.0\nnmarkers: " + std::to_string(codes.size()) + "\nmarkersize: " +
+                  std::to_string(marker_size) + "\nmaxCorrectionBits: " + std::to_string(max_correction_bits) + "\n";
+  const int bits = marker_size * marker_size;
+  for (size_t i = 0; i < codes.size(); ++i) {
+    y += "marker_" + std::to_string(i) + ": \"";
+    for (int b = bits - 1; b >= 0; --b) y += (codes[i] >> b) & 1u ? '1' : '0';
+    y += "\"\n";
+  }
+  return y;
+}
+
+std::vector<uint64_t> codes_of(const Dictionary& d) {
+  std::vector<uint64_t> c;
+  for (int id = 0; id < d.size(); ++id) c.push_back(d.code(id));
+  return c;
+}
+
+}  // namespace
+
+// The documented maximum, 100,000 markers of 8x8 bits: looked up marker by marker in OpenCV's map, loading took
+// minutes (quadratic); one pass over the map makes it linear. The bound is generous: it was over two minutes.
+TEST(Dictionary, TheDocumentedMaximumOf100000MarkersLoadsInLinearTime) {
+  test::TempDir dir;
+  std::mt19937_64 rng(7);
+  std::vector<uint64_t> codes(100000);
+  for (auto& c : codes) c = rng();
+  // Random 64-bit codes are at least 7 bits apart, rotations included (checked by the load): 3 bits are safe.
+  test::write_file(dir.str("big.yml"), dictionary_yaml(8, 3, codes));
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string err;
+  const auto d = load_dictionary_yaml(dir.str("big.yml"), &err);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(d) << err;
+  EXPECT_EQ(d->size(), 100000);
+  EXPECT_EQ(d->code(99999), codes[99999]);
+  EXPECT_LT(s, 30.0) << "100,000 markers should load in seconds";
+}
+
+// More correction than the markers' distance allows reads one marker as another: refused, naming the largest.
+TEST(Dictionary, MaxCorrectionBitsAboveWhatTheDistanceAllowsIsRefusedWithTheLargestAllowed) {
+  test::TempDir dir;
+  const Dictionary d4 = *dictionary_by_name("4X4_50");  // min distance 4, rotations included: 1 bit is safe
+  test::write_file(dir.str("mine.yml"), dictionary_yaml(4, 1, codes_of(d4)));
+  std::string err;
+  EXPECT_TRUE(load_dictionary_yaml(dir.str("mine.yml"), &err)) << err;
+  test::write_file(dir.str("mine.yml"), dictionary_yaml(4, 2, codes_of(d4)));
+  EXPECT_FALSE(load_dictionary_yaml(dir.str("mine.yml"), &err));
+  EXPECT_EQ(err, dir.str("mine.yml") +
+                     ": maxCorrectionBits 2 is more than the markers' distance allows (rotations included); the "
+                     "largest allowed is 1");
+  // A marker that looks the same turned (101/010/101) leaves no room at all.
+  test::write_file(dir.str("sym.yml"), dictionary_yaml(3, 1, {0b101010101, 0b111000111}));
+  EXPECT_FALSE(load_dictionary_yaml(dir.str("sym.yml"), &err));
+  EXPECT_NE(err.find("the largest allowed is 0"), std::string::npos) << err;
+}
+
+// The multi-index search agrees with the quadratic minimum distance on every predefined table.
+TEST(Dictionary, LargestSafeCorrectionIsHalfTheMinimumDistanceOnEveryTable) {
+  for (const std::string& name : dictionary_names()) {
+    const Dictionary d = *dictionary_by_name(name);
+    EXPECT_EQ(largest_safe_correction(d, d.bit_count()), std::max(0, (d.min_distance() - 1) / 2)) << name;
+    EXPECT_LE(d.max_correction_bits(), largest_safe_correction(d, d.bit_count())) << name << ": OpenCV's own budget";
+  }
+}
+
+TEST(Dictionary, DeeplyNestedYamlIsRefusedBeforeOpenCvParsesIt) {
+  test::TempDir dir;
+  test::write_file(dir.str("deep.yml"), "nmarkers: 1\nmarkersize: 4\nmarker_0: " + std::string(40000, '[') + "\n");
+  std::string err;
+  EXPECT_FALSE(load_dictionary_yaml(dir.str("deep.yml"), &err));
+  EXPECT_EQ(err, dir.str("deep.yml") + ":3: nested deeper than 32 levels");
 }

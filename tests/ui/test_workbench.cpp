@@ -17,6 +17,8 @@
 #include <regex>
 #include <string>
 
+#include <sys/stat.h>
+
 namespace arwb {
 namespace {
 
@@ -231,6 +233,33 @@ TEST(Workbench, BadPresetIsReportedAndTheWorkbenchGoesOn) {
   EXPECT_NE(r.err.find("no_such_param"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bad.yml"), std::string::npos) << r.err;
   EXPECT_GE(stat(r.out, "markers"), 1) << r.out;   // the parameters were left as they were
+}
+
+// A preset nested 40,000 deep crashed the workbench in OpenCV's YAML parser; a FIFO as a preset froze it.
+TEST(Workbench, HostilePresetsAreRefusedByNameAndTheWorkbenchGoesOn) {
+  TempDir tmp;
+  test::write_file(tmp.str("deep.yml"), "threshold_offset: 7\nx: " + std::string(40000, '[') + "\n");
+  ASSERT_EQ(::mkfifo(tmp.str("fifo.yml").c_str(), 0600), 0);
+  const RunResult r = test::run_arwb_window(window_args(
+      tmp, "--frames 40 --stats --actions '5:preset=" + tmp.str("deep.yml") + ";6:preset=" + tmp.str("fifo.yml") + "'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("preset: " + tmp.str("deep.yml") + ":2: nested deeper than 32 levels"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("preset: " + tmp.str("fifo.yml") + ": not a regular file (a FIFO)"), std::string::npos) << r.err;
+  EXPECT_GE(stat(r.out, "markers"), 1) << r.out;
+}
+
+// ImGui read its layout file with fopen: a FIFO in its place kept the window from opening, and writing it at
+// quit waited for a reader. Both are refused by name and the workbench runs and quits.
+TEST(Workbench, AFifoAsTheLayoutFileNeitherBlocksStartNorQuit) {
+  TempDir tmp;
+  std::filesystem::create_directories(tmp.str("config"));
+  ASSERT_EQ(::mkfifo(tmp.str("config/imgui.ini").c_str(), 0600), 0);
+  const RunResult r = test::run_arwb_window(window_args(tmp, "--frames 5 --stats"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find(tmp.str("config/imgui.ini") + ": not a regular file (a FIFO) (the default layout is used)"),
+            std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the layout is not saved"), std::string::npos) << r.err;
 }
 
 TEST(Workbench, TourAndPresentationModeRun) {
