@@ -325,6 +325,8 @@ std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::str
   } catch (const cv::Exception&) {
     // Reading a node of the wrong type; OpenCV's own text names its source file and function, ours the file.
     return fail("malformed YAML");
+  } catch (const std::exception&) {  // std::length_error and the like from OpenCV's parser (found by fuzzing)
+    return fail("malformed YAML");
   }
 }
 

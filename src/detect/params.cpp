@@ -165,6 +165,9 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
   } catch (const cv::Exception&) {  // reading a node of the wrong type; OpenCV's text names its own source
     report("malformed YAML");
     return false;
+  } catch (const std::exception&) {  // std::length_error and the like from OpenCV's parser (found by fuzzing)
+    report("malformed YAML");
+    return false;
   }
   if (ok) out = next;
   return ok;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <string_view>
 
 namespace arwb {
 
@@ -26,12 +27,52 @@ std::string parse_error(const std::string& path, const std::string& what, int ad
   return path + ":" + std::to_string(line) + ": malformed YAML" + (reason.empty() ? "" : " (" + reason + ")");
 }
 
+// OpenCV 4.6's YAML reader loops forever on some text around document markers: after a top-level block it takes
+// the next three characters for "---" and, when a '-' stands there instead, never advances (found by the
+// yaml_params and dictionary fuzz targets: "%YAML:1.0", "---e:1", "-1", "-"). It cannot be interrupted, so such
+// text is refused here: one document only, "---" alone on its line and before any content, and no other line
+// starting with '-' at the left margin (a top-level list, which our maps never hold: OpenCV indents the items of
+// a list by three spaces). Lines starting with '%' are directives, allowed only before the "---".
+Status check_one_document(std::string_view text, const std::string& path) {
+  bool content = false;   // a line of content seen (after which no directive or "---" may come)
+  int line = 0;
+  for (size_t start = 0; start < text.size();) {
+    size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view l = text.substr(start, end - start);
+    start = end + 1;
+    ++line;
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    const size_t first = l.find_first_not_of(" \t");
+    if (first == std::string_view::npos || l[first] == '#') continue;   // blank or comment
+    const auto where = [&] { return path + ":" + std::to_string(line) + ": "; };
+    if (first == 0 && l[0] == '%') {
+      if (content) return fail(where() + "a YAML directive after the document started");
+      continue;
+    }
+    if (first == 0 && l[0] == '-') {
+      std::string_view rest = l.substr(std::min<size_t>(3, l.size()));
+      const size_t after = rest.find_first_not_of(" \t");
+      const bool bare_start = l.substr(0, 3) == "---" && (after == std::string_view::npos || rest[after] == '#');
+      if (!bare_start) return fail(where() + "a line starting with '-' at the left margin (a top-level list or a "
+                                             "second document; indent list items under their key)");
+      if (content) return fail(where() + "a second YAML document (one per file)");
+      content = true;   // what follows the "---" is the document
+      continue;
+    }
+    if (first == 0 && l.substr(0, 3) == "...") return fail(where() + "a YAML document end marker ('...')");
+    content = true;
+  }
+  return {};
+}
+
 }  // namespace
 
 Status open_yaml_file(const std::string& path, const FileLimit& limit, cv::FileStorage* fs) {
   Result<std::string> text = read_text_file(path, limit);
   if (!text) return fail(text.error());
   if (Status depth = check_yaml_depth(*text, path); !depth) return depth;
+  if (Status one = check_one_document(*text, path); !one) return one;
   std::string yaml = std::move(*text);
   int added = 0;
   if (yaml.rfind("%YAML", 0) != 0) {
@@ -42,6 +83,8 @@ Status open_yaml_file(const std::string& path, const FileLimit& limit, cv::FileS
     fs->open(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {
     return fail(parse_error(path, e.what(), added));
+  } catch (const std::exception&) {   // std::length_error from an empty flow-map key ("{ : 1}"), found by fuzzing
+    return fail(path + ": malformed YAML");
   }
   if (!fs->isOpened()) return fail(path + ": malformed YAML");
   return {};

@@ -1,6 +1,7 @@
 // Dictionaries: the paper's ARUCO_ORIGINAL built from its description equals OpenCV's bit for bit; the
 // predefined tables, rotations, nearest-match search and custom YAML dictionaries.
 #include "detect/dictionary.hpp"
+#include "detect/params.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>
@@ -194,4 +195,55 @@ TEST(Dictionary, DeeplyNestedYamlIsRefusedBeforeOpenCvParsesIt) {
   std::string err;
   EXPECT_FALSE(load_dictionary_yaml(dir.str("deep.yml"), &err));
   EXPECT_EQ(err, dir.str("deep.yml") + ":3: nested deeper than 32 levels");
+}
+
+// Found by the yaml_params and dictionary fuzz targets: OpenCV 4.6's YAML reader loops forever on a '-' where it
+// expects the next document's "---", and throws std::length_error on an empty flow-map key. Both are refused (or
+// caught) with the file named; before the fix the first hung (ctest's timeout) and the second aborted.
+TEST(YamlFile, TextThatStopsOpenCvsParserIsRefusedWithItsLine) {
+  test::TempDir dir;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"%YAML:1.0\n---e:1\n-1\n-\n", ":2: a line starting with '-' at the left margin"},
+      {"%YAML:1.0\n---\na: 1\n---\n-\n", ":4: a second YAML document (one per file)"},
+      {"%YAML:1.\n-----0\nma--\n", ":2: a line starting with '-' at the left margin"},
+      {"a: 1\n...\n", ":2: a YAML document end marker"},
+  };
+  for (const auto& [text, expected] : cases) {
+    test::write_file(dir.str("p.yml"), text);
+    DetectorParams p;
+    std::vector<std::string> errors;
+    EXPECT_FALSE(load_params_yaml(dir.str("p.yml"), p, &errors)) << text;
+    ASSERT_EQ(errors.size(), 1u) << text;
+    EXPECT_EQ(errors[0].rfind(dir.str("p.yml") + expected, 0), 0u) << errors[0];
+    std::string err;
+    EXPECT_FALSE(load_dictionary_yaml(dir.str("p.yml"), &err)) << text;
+    EXPECT_EQ(err.rfind(dir.str("p.yml") + expected, 0), 0u) << err;
+  }
+}
+
+TEST(YamlFile, AnEmptyFlowMapKeyIsMalformedYamlNotAnAbort) {
+  test::TempDir dir;
+  test::write_file(dir.str("p.yml"), "%YAML:1.0\n---\na: { : 1}\n");
+  DetectorParams p;
+  std::vector<std::string> errors;
+  EXPECT_FALSE(load_params_yaml(dir.str("p.yml"), p, &errors));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].rfind(dir.str("p.yml") + ":", 0), 0u) << errors[0];
+  EXPECT_NE(errors[0].find("malformed YAML"), std::string::npos) << errors[0];
+  std::string err;
+  EXPECT_FALSE(load_dictionary_yaml(dir.str("p.yml"), &err));
+  EXPECT_NE(err.find("malformed YAML"), std::string::npos) << err;
+}
+
+// What OpenCV writes (and the docs show) still loads: the document marker, and list items indented under a key.
+TEST(YamlFile, OpenCvsOwnOutputStillLoads) {
+  test::TempDir dir;
+  DetectorParams p;
+  p.threshold_window_px = 9;
+  std::string error;
+  ASSERT_TRUE(save_params_yaml(dir.str("saved.yml"), p, &error)) << error;
+  DetectorParams back;
+  std::vector<std::string> errors;
+  EXPECT_TRUE(load_params_yaml(dir.str("saved.yml"), back, &errors)) << (errors.empty() ? "" : errors[0]);
+  EXPECT_EQ(back.threshold_window_px, 9);
 }
