@@ -7,6 +7,7 @@
 
 #include "ui/app.hpp"
 #include "base/decimals.hpp"
+#include "render/gl_driver.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
@@ -267,6 +268,7 @@ int run_workbench(const WorkbenchOptions& options) {
     return 1;
   }
   glfwMakeContextCurrent(window);
+  render::keep_gl_driver_loaded();  // see render/gl_driver.hpp
   glfwSwapInterval(0);  // paced below; vsync under Xvfb is absent anyway
 
   IMGUI_CHECKVERSION();

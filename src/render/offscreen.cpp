@@ -1,4 +1,5 @@
 #include "render/offscreen.hpp"
+#include "render/gl_driver.hpp"
 
 #define GL_GLEXT_PROTOTYPES
 #include <EGL/egl.h>
@@ -36,6 +37,7 @@ OffscreenContext::OffscreenContext() {
     return;
   }
   display_ = d;
+  keep_gl_driver_loaded();  // loaded by eglInitialize; see gl_driver.hpp
   if (!eglBindAPI(EGL_OPENGL_API)) {
     error_ = "offscreen OpenGL: " + egl_error("eglBindAPI");
     return;

@@ -106,7 +106,8 @@ namespace {
 // A code that no dictionary in use would accept, even with a few bits wrong.
 uint64_t decoy_code(cv::RNG& rng, const std::vector<Dictionary>& dicts, int n) {
   for (;;) {
-    const uint64_t code = (uint64_t(rng.next()) << 32 | rng.next()) & ((n * n == 64) ? ~0ull : ((1ull << (n * n)) - 1));
+    const uint64_t high = rng.next(), low = rng.next();
+    const uint64_t code = (high << 32 | low) & ((n * n == 64) ? ~0ull : ((1ull << (n * n)) - 1));
     bool close = false;
     for (const auto& d : dicts)
       if (d.marker_size() == n && d.nearest(code).hamming <= d.max_correction_bits() + 3) close = true;
@@ -114,25 +115,37 @@ uint64_t decoy_code(cv::RNG& rng, const std::vector<Dictionary>& dicts, int n) {
   }
 }
 
+// Every random draw is its own statement: the order in which a call's arguments are evaluated is up to the
+// compiler (GCC goes right to left, clang left to right), and the same seed must give the same set with either.
+// Where one call used to take several draws, they are taken in the order GCC took them, so that sets made before
+// stay the same.
 void draw_clutter(cv::Mat& img, cv::RNG& rng, const std::vector<Dictionary>& dicts, double focal) {
   const int count = rng.uniform(3, 14);
   for (int i = 0; i < count; ++i) {
-    const cv::Point c(rng.uniform(0, img.cols), rng.uniform(0, img.rows));
+    const int cy = rng.uniform(0, img.rows), cx = rng.uniform(0, img.cols);
+    const cv::Point c(cx, cy);
     const int grey = rng.uniform(0, 256);
-    const cv::Scalar colour(grey, rng.uniform(0, 256), rng.uniform(0, 256));
+    const int red = rng.uniform(0, 256), green = rng.uniform(0, 256);
+    const cv::Scalar colour(grey, green, red);
     switch (rng.uniform(0, 6)) {
       case 0: {  // filled or outlined rectangles: quads that are no markers
-        const cv::Size s(rng.uniform(8, img.cols / 4), rng.uniform(8, img.rows / 4));
+        const int h = rng.uniform(8, img.rows / 4), w = rng.uniform(8, img.cols / 4);
+        const cv::Size s(w, h);
         cv::rectangle(img, cv::Rect(c, s), colour, rng.uniform(0, 2) ? -1 : rng.uniform(1, 6));
         break;
       }
-      case 1:
-        cv::line(img, c, cv::Point(rng.uniform(0, img.cols), rng.uniform(0, img.rows)), colour, rng.uniform(1, 5));
+      case 1: {
+        const int thickness = rng.uniform(1, 5);
+        const int ey = rng.uniform(0, img.rows), ex = rng.uniform(0, img.cols);
+        cv::line(img, c, cv::Point(ex, ey), colour, thickness);
         break;
-      case 2:
-        cv::putText(img, "ArUco 42 lab", c, cv::FONT_HERSHEY_SIMPLEX, rng.uniform(0.4, 2.0), colour,
-                    rng.uniform(1, 4));
+      }
+      case 2: {
+        const int thickness = rng.uniform(1, 4);
+        const double scale = rng.uniform(0.4, 2.0);
+        cv::putText(img, "ArUco 42 lab", c, cv::FONT_HERSHEY_SIMPLEX, scale, colour, thickness);
         break;
+      }
       case 3: {  // a checkerboard patch
         const int cell = rng.uniform(4, 20), nx = rng.uniform(3, 8), ny = rng.uniform(3, 8);
         for (int y = 0; y < ny; ++y)
@@ -146,19 +159,23 @@ void draw_clutter(cv::Mat& img, cv::RNG& rng, const std::vector<Dictionary>& dic
         const uint64_t code = decoy_code(rng, dicts, d.marker_size());
         const Dictionary fake("decoy", d.marker_size(), {code}, 0);
         const double side = rng.uniform(24.0, std::min(img.cols, img.rows) * 0.3);
-        draw_marker(img, fake, 0, project_square(c, side, rng.uniform(0.0, 360.0), rng.uniform(-40.0, 40.0),
-                                                 rng.uniform(-40.0, 40.0), focal));
+        const double tilt_y = rng.uniform(-40.0, 40.0), tilt_x = rng.uniform(-40.0, 40.0);
+        const double roll = rng.uniform(0.0, 360.0);
+        draw_marker(img, fake, 0, project_square(c, side, roll, tilt_x, tilt_y, focal));
         break;
       }
-      default:
-        cv::circle(img, c, rng.uniform(4, 60), colour, rng.uniform(0, 2) ? -1 : 3);
+      default: {
+        const int thickness = rng.uniform(0, 2) ? -1 : 3;
+        cv::circle(img, c, rng.uniform(4, 60), colour, thickness);
+      }
     }
   }
 }
 
 cv::Mat background(cv::Size size, cv::RNG& rng) {
   // A smooth random field: low-resolution noise scaled up, with a colour cast.
-  cv::Mat low(rng.uniform(2, 8), rng.uniform(2, 8), CV_8UC3);
+  const int cols = rng.uniform(2, 8), rows = rng.uniform(2, 8);  // in this order: see draw_clutter
+  cv::Mat low(rows, cols, CV_8UC3);
   rng.fill(low, cv::RNG::UNIFORM, cv::Scalar::all(60), cv::Scalar::all(230));
   cv::Mat bg;
   cv::resize(low, bg, size, 0, 0, cv::INTER_CUBIC);
@@ -183,10 +200,12 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     const Dictionary& d = opt.dictionaries[size_t(int(out.markers.size() + size_t(index)) % int(opt.dictionaries.size()))];
     const double side = std::exp(rng.uniform(std::log(opt.min_side_px), std::log(max_side)));
     const double tilt = opt.max_tilt_deg;
-    const cv::Point2d centre(rng.uniform(side, size.width - side), rng.uniform(side, size.height - side));
+    // One draw a statement, in the order GCC took them (see draw_clutter).
+    const double cy = rng.uniform(side, size.height - side), cx = rng.uniform(side, size.width - side);
+    const cv::Point2d centre(cx, cy);
     if (centre.x <= 0 || centre.y <= 0) continue;
-    const Quad q = project_square(centre, side, rng.uniform(0.0, 360.0), rng.uniform(-tilt, tilt),
-                                  rng.uniform(-tilt, tilt), focal);
+    const double tilt_y = rng.uniform(-tilt, tilt), tilt_x = rng.uniform(-tilt, tilt), roll = rng.uniform(0.0, 360.0);
+    const Quad q = project_square(centre, side, roll, tilt_x, tilt_y, focal);
     // Keep the quiet zone inside the frame and away from other markers.
     const double cell = side / (d.marker_size() + 2);
     cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end()));
@@ -218,8 +237,11 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
   if (rng.uniform(0, 3) == 0) {
     cv::Mat shadow(size, CV_32FC1, cv::Scalar(1));
     std::vector<cv::Point> poly;
-    for (int i = 0; i < 4; ++i) poly.emplace_back(rng.uniform(-size.width / 2, size.width * 3 / 2),
-                                                  rng.uniform(-size.height / 2, size.height * 3 / 2));
+    for (int i = 0; i < 4; ++i) {
+      const int y = rng.uniform(-size.height / 2, size.height * 3 / 2);
+      const int x = rng.uniform(-size.width / 2, size.width * 3 / 2);
+      poly.emplace_back(x, y);
+    }
     cv::fillConvexPoly(shadow, poly, cv::Scalar(rng.uniform(0.55, 0.85)));
     cv::GaussianBlur(shadow, shadow, cv::Size(0, 0), rng.uniform(2.0, 15.0));
     light = light.mul(shadow);

@@ -62,7 +62,8 @@ Motion motion_of(uint64_t seed, int i) {
   m.pa = rng.uniform(0.0, 6.283);
   m.pb = rng.uniform(0.0, 6.283);
   m.roll0 = rng.uniform(0.0, 360.0);
-  m.roll_rate = rng.uniform(6.0, 18.0) * (rng.uniform(0, 2) ? 1 : -1);
+  const double roll_speed = rng.uniform(6.0, 18.0);  // one draw a statement: see desk()
+  m.roll_rate = roll_speed * (rng.uniform(0, 2) ? 1 : -1);
   return m;
 }
 
@@ -107,7 +108,10 @@ cv::Mat desk(cv::Size size, uint64_t seed) {
   // Surface tone: a few random colours smoothly interpolated.
   cv::Mat low(3, 4, CV_32FC3);
   const double base = rng.uniform(165.0, 185.0);   // red; green and blue below it: wood, cork, beige
-  const cv::Vec3f tone(float(base * rng.uniform(0.68, 0.8)), float(base * rng.uniform(0.85, 0.92)), float(base));
+  // Every random draw is its own statement, so the same seed gives the same desk whatever order the compiler
+  // evaluates a call's arguments in; they are taken in the order GCC took them, which keeps the desk it drew.
+  const double green = rng.uniform(0.85, 0.92), blue = rng.uniform(0.68, 0.8);
+  const cv::Vec3f tone(float(base * blue), float(base * green), float(base));
   for (int y = 0; y < low.rows; ++y)
     for (int x = 0; x < low.cols; ++x) {
       const float d = float(rng.uniform(-22.0, 22.0));
@@ -130,7 +134,8 @@ cv::Mat desk(cv::Size size, uint64_t seed) {
   const cv::Size small(std::max(size.width / 8, 2), std::max(size.height / 8, 2));
   cv::Mat blobs(small, CV_32FC3, cv::Scalar::all(0));
   for (int i = 0, n = rng.uniform(4, 8); i < n; ++i) {
-    const cv::Point c(rng.uniform(0, small.width), rng.uniform(0, small.height));
+    const int cy = rng.uniform(0, small.height), cx = rng.uniform(0, small.width);
+    const cv::Point c(cx, cy);
     const int r = std::max(rng.uniform(small.width / 16, small.width / 5), 1);
     const double v = rng.uniform(-40.0, 30.0);
     cv::circle(blobs, c, r, cv::Scalar(v, v * 0.95, v * 0.9), -1, cv::LINE_AA);
