@@ -27,14 +27,17 @@ std::string parse_error(const std::string& path, const std::string& what, int ad
   return path + ":" + std::to_string(line) + ": malformed YAML" + (reason.empty() ? "" : " (" + reason + ")");
 }
 
-// OpenCV 4.6's YAML reader loops forever on some text around document markers: after a top-level block it takes
-// the next three characters for "---" and, when a '-' stands there instead, never advances (found by the
-// yaml_params and dictionary fuzz targets: "%YAML:1.0", "---e:1", "-1", "-"). It cannot be interrupted, so such
-// text is refused here: one document only, "---" alone on its line and before any content, and no other line
-// starting with '-' at the left margin (a top-level list, which our maps never hold: OpenCV indents the items of
-// a list by three spaces). Lines starting with '%' are directives, allowed only before the "---".
+// OpenCV 4.6's YAML reader loops forever on some text where one document could end: once a line is indented less
+// than its root node, or holds a '-' at the root's indentation, it takes the next three characters for "---" and,
+// when they are not, never advances (found by the yaml_params and dictionary fuzz targets: "%YAML:1.0", "---e:1",
+// "-1", "-"; a map indented by 7 followed by "    ?   -"). It cannot be interrupted, so such text is refused
+// here: one document only, "---" alone on its line and before any content; no line indented less than the first
+// line of content; no '-' at that indentation (a top-level list, which our maps never hold: OpenCV indents the
+// items of a list by three spaces) and no '?' explicit key. Lines starting with '%' are directives, allowed only
+// before the document.
 Status check_one_document(std::string_view text, const std::string& path) {
   bool content = false;   // a line of content seen (after which no directive or "---" may come)
+  size_t root = 0;        // the first content line's indentation
   int line = 0;
   for (size_t start = 0; start < text.size();) {
     size_t end = text.find('\n', start);
@@ -50,18 +53,24 @@ Status check_one_document(std::string_view text, const std::string& path) {
       if (content) return fail(where() + "a YAML directive after the document started");
       continue;
     }
-    if (first == 0 && l[0] == '-') {
-      std::string_view rest = l.substr(std::min<size_t>(3, l.size()));
+    if (first == 0 && l.substr(0, 3) == "---") {
+      std::string_view rest = l.substr(3);
       const size_t after = rest.find_first_not_of(" \t");
-      const bool bare_start = l.substr(0, 3) == "---" && (after == std::string_view::npos || rest[after] == '#');
-      if (!bare_start) return fail(where() + "a line starting with '-' at the left margin (a top-level list or a "
-                                             "second document; indent list items under their key)");
+      if (after != std::string_view::npos && rest[after] != '#')
+        return fail(where() + "text after the document start '---' (put it on the next line)");
       if (content) return fail(where() + "a second YAML document (one per file)");
-      content = true;   // what follows the "---" is the document
       continue;
     }
     if (first == 0 && l.substr(0, 3) == "...") return fail(where() + "a YAML document end marker ('...')");
-    content = true;
+    if (!content) {
+      content = true;
+      root = first;
+    } else if (first < root) {
+      return fail(where() + "indented less than the file's first line of content");
+    }
+    if (l[first] == '?') return fail(where() + "an explicit YAML key ('?') is not supported");
+    if (first == root && l[first] == '-')
+      return fail(where() + "a list at the top level (a line starting with '-'; indent list items under their key)");
   }
   return {};
 }

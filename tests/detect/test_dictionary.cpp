@@ -203,10 +203,13 @@ TEST(Dictionary, DeeplyNestedYamlIsRefusedBeforeOpenCvParsesIt) {
 TEST(YamlFile, TextThatStopsOpenCvsParserIsRefusedWithItsLine) {
   test::TempDir dir;
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"%YAML:1.0\n---e:1\n-1\n-\n", ":2: a line starting with '-' at the left margin"},
+      {"%YAML:1.0\n---e:1\n-1\n-\n", ":2: text after the document start '---'"},
       {"%YAML:1.0\n---\na: 1\n---\n-\n", ":4: a second YAML document (one per file)"},
-      {"%YAML:1.\n-----0\nma--\n", ":2: a line starting with '-' at the left margin"},
+      {"%YAML:1.\n-----0\nma--\n", ":2: text after the document start '---'"},
+      {"a: 1\n-1\n", ":2: a list at the top level"},
       {"a: 1\n...\n", ":2: a YAML document end marker"},
+      {"       i~e: 0\n    ?   -%-1warp_cell_pxNclas2\nn", ":2: indented less than the file's first line"},
+      {"a: 1\n? b\n: 2\n", ":2: an explicit YAML key ('?')"},
   };
   for (const auto& [text, expected] : cases) {
     test::write_file(dir.str("p.yml"), text);
