@@ -4,6 +4,8 @@
 //   Files        the shipped presets and example scenes listed, the script editor's file read and watched
 #include "ui/app.hpp"
 
+#include "capture/opencv_error.hpp"
+
 #include "base/files.hpp"
 #include "media/open_url.hpp"
 #include "synth/marker_sheet.hpp"
@@ -192,7 +194,7 @@ void App::handle_requests() {
           info("marker sheet: " + r.text + " (" + std::to_string(s.pages) + " page(s), 50 mm markers of " + dict_name +
                "); print at 100% and check the 100 mm bar");
         } catch (const std::exception& e) {
-          error(std::string("marker sheet: ") + e.what());
+          error("marker sheet: " + one_line_reason(e));
         }
         break;
       }
@@ -223,7 +225,7 @@ void App::poll_background() {
     info("sweep: " + status.sweep.result.message);
   } catch (const std::exception& e) {
     sweep_future = {};
-    error(std::string("sweep: ") + e.what());
+    error("sweep: " + one_line_reason(e));
   }
 }
 

@@ -1,6 +1,7 @@
 #include "capture/source.hpp"
 
 #include "capture/image_io.hpp"
+#include "capture/opencv_error.hpp"
 #include "capture/pixels.hpp"
 #include "capture/video_reader.hpp"
 
@@ -16,12 +17,6 @@
 namespace arwb {
 
 namespace {
-
-// One line for an exception: cv::Exception's what() is several lines naming OpenCV's own source file.
-std::string reason_of(const std::exception& e) {
-  if (const auto* cv_error = dynamic_cast<const cv::Exception*>(&e)) return "OpenCV failed (" + cv_error->err + ")";
-  return e.what();
-}
 
 std::string file_name(const std::string& path) {
   std::string name = std::filesystem::path(path).filename().string();
@@ -94,7 +89,7 @@ class VideoSource : public FrameSource {
     try {
       return advance(now_s, out);
     } catch (const std::exception& e) {
-      return {FrameStatus::error, name_ + ": frame " + std::to_string(pos_ + 1) + ": " + reason_of(e)};
+      return {FrameStatus::error, name_ + ": frame " + std::to_string(pos_ + 1) + ": " + one_line_reason(e)};
     }
   }
 
@@ -229,7 +224,7 @@ class FolderSource : public FrameSource {
     try {
       return advance(now_s, out);
     } catch (const std::exception& e) {
-      return {FrameStatus::error, files_[size_t(pos_)] + ": " + reason_of(e)};
+      return {FrameStatus::error, files_[size_t(pos_)] + ": " + one_line_reason(e)};
     }
   }
   SourceInfo info() const override {
@@ -424,7 +419,7 @@ bool parse_source_spec(const std::string& text, SourceSpec* out, std::string* er
     if (out) *out = spec;
     return true;
   } catch (const std::exception& e) {
-    *error = text + ": " + reason_of(e);
+    *error = text + ": " + one_line_reason(e);
     return false;
   }
 }
@@ -443,7 +438,7 @@ std::unique_ptr<FrameSource> open_capture_source(const SourceSpec& spec, std::st
     }
     *error = spec.text() + ": unknown source kind";
   } catch (const std::exception& e) {
-    *error = spec.text() + ": " + reason_of(e);
+    *error = spec.text() + ": " + one_line_reason(e);
   } catch (...) {
     *error = spec.text() + ": cannot open";
   }

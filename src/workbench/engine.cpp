@@ -1,5 +1,7 @@
 #include "workbench/engine.hpp"
 
+#include "capture/opencv_error.hpp"
+
 #include "detect/match.hpp"
 #include "detect/peers.hpp"
 #include "workbench/scene_stage.hpp"
@@ -398,7 +400,7 @@ void Engine::State::run() {
           pd.ms = r.ms;
           match_with_arwb(f->trace.markers, pd);
         } catch (const std::exception& e) {
-          pd.error = e.what();
+          pd.error = one_line_reason(e);
         }
         f->peers.push_back(std::move(pd));
       };
@@ -407,7 +409,7 @@ void Engine::State::run() {
           try {
             if (!w.opencv) w.opencv = std::make_unique<OpenCvArucoPeer>(dict);
           } catch (const std::exception& e) {
-            throw std::runtime_error("OpenCV aruco cannot read " + dict + ": " + e.what());
+            throw std::runtime_error("OpenCV aruco cannot read " + dict + ": " + one_line_reason(e));
           }
           return w.opencv->detect(f->image);
         });

@@ -1,5 +1,7 @@
 #include "workbench/snapshot.hpp"
 
+#include "capture/opencv_error.hpp"
+
 #include "detect/trace_json.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -114,7 +116,7 @@ SnapshotResult write_snapshot(const std::string& parent_dir, const cv::Mat& fram
     res.ok = true;
   } catch (const std::exception& e) {
     // Allocation or filesystem failures not reported through error codes.
-    res.error = (res.dir.empty() ? parent_dir : res.dir) + ": " + e.what();
+    res.error = (res.dir.empty() ? parent_dir : res.dir) + ": " + one_line_reason(e);
     res.ok = false;
   }
   return res;

@@ -1,4 +1,5 @@
 // The one conversion to 8-bit BGR: every depth scaled one way, alpha dropped or kept.
+#include "capture/opencv_error.hpp"
 #include "capture/pixels.hpp"
 
 #include <gtest/gtest.h>
@@ -35,3 +36,19 @@ TEST(Pixels, ChannelsBecomeBgrOrBgra) {
 
 }  // namespace
 }  // namespace arwb
+
+// What threw reaches users as one line: cv::Exception's what() names OpenCV's source file over several lines.
+TEST(OneLineReason, OpenCvExceptionsAreOneLineWithoutOpenCvsSourceFile) {
+  try {
+    cv::Mat a(2, 2, CV_8U), b(3, 3, CV_8U);
+    cv::Mat c = a + b;   // sizes differ: OpenCV throws
+    FAIL() << "OpenCV did not throw";
+  } catch (const std::exception& e) {
+    const std::string reason = arwb::one_line_reason(e);
+    EXPECT_EQ(reason.find('\n'), std::string::npos) << reason;
+    EXPECT_EQ(reason.find(".cpp"), std::string::npos) << reason;
+    EXPECT_EQ(reason.rfind("OpenCV failed (", 0), 0u) << reason;
+    EXPECT_NE(std::string(e.what()).find('\n'), std::string::npos) << "OpenCV's own text was expected to be several lines";
+  }
+  EXPECT_EQ(arwb::one_line_reason(std::runtime_error("plain")), "plain");
+}
