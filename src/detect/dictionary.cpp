@@ -322,10 +322,9 @@ std::optional<Dictionary> load_dictionary_yaml(const std::string& path, std::str
                     "(rotations included); the largest allowed is " + std::to_string(safe));
     }
     return d;
-  } catch (const cv::Exception&) {
-    // Reading a node of the wrong type; OpenCV's own text names its source file and function, ours the file.
-    return fail("malformed YAML");
-  } catch (const std::exception&) {  // std::length_error and the like from OpenCV's parser (found by fuzzing)
+  } catch (const std::exception&) {
+    // cv::Exception from reading a node of the wrong type (its text names OpenCV's own source), std::length_error
+    // and the like from OpenCV's parser (found by fuzzing): ours names the file.
     return fail("malformed YAML");
   }
 }

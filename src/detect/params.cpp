@@ -162,10 +162,9 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
         ok = false;
       }
     }
-  } catch (const cv::Exception&) {  // reading a node of the wrong type; OpenCV's text names its own source
-    report("malformed YAML");
-    return false;
-  } catch (const std::exception&) {  // std::length_error and the like from OpenCV's parser (found by fuzzing)
+  } catch (const std::exception&) {
+    // cv::Exception from reading a node of the wrong type (its text names OpenCV's own source), std::length_error
+    // and the like from OpenCV's parser (found by fuzzing): ours names the file.
     report("malformed YAML");
     return false;
   }
