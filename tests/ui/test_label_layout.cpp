@@ -1,0 +1,242 @@
+// Marker labels placed so they stay readable (ui/label_layout.hpp): crowded markers, rotated markers, media in
+// the way, labels that must move away (leader lines), labels that cannot fit (hidden, last first), and positions
+// that stay put from frame to frame.
+#include "ui/label_layout.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace arwb::ui {
+namespace {
+
+constexpr float kGap = 3, kCorner = 5;
+
+LabelQuad square(float cx, float cy, float side, float angle_deg = 0) {
+  const float a = angle_deg * 3.14159265f / 180.0f, h = side * 0.5f;
+  const float c = std::cos(a), s = std::sin(a);
+  const float local[4][2] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
+  LabelQuad q;
+  for (int i = 0; i < 4; ++i) {
+    q[static_cast<size_t>(i)] = {cx + c * local[i][0] - s * local[i][1], cy + s * local[i][0] + c * local[i][1]};
+  }
+  return q;
+}
+
+LabelLayoutInput grid_of_markers(int cols, int rows, float pitch, float side, float label_w, float label_h,
+                                 float angle = 0) {
+  LabelLayoutInput in;
+  in.bounds = {0, 0, 1600, 900};
+  in.gap = kGap;
+  in.corner_margin = kCorner;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      LabelRequest req;
+      req.anchor = square(60 + pitch * static_cast<float>(c), 60 + pitch * static_cast<float>(r), side,
+                          angle * static_cast<float>((r * cols + c) % 7));
+      req.width = label_w;
+      req.height = label_h;
+      req.key = static_cast<uint64_t>(r * cols + c);
+      in.labels.push_back(req);
+    }
+  }
+  return in;
+}
+
+// What every layout must hold: placed labels inside the bounds, off each other, off every marker and its
+// corners, off every media; counts that add up; a leader exactly when the label is away from its marker.
+void expect_readable(const LabelLayoutInput& in, const LabelLayout& out) {
+  ASSERT_EQ(out.placements.size(), in.labels.size());
+  EXPECT_EQ(out.placed + out.hidden, static_cast<int>(in.labels.size()));
+  int placed = 0;
+  for (size_t i = 0; i < out.placements.size(); ++i) {
+    const LabelPlacement& p = out.placements[i];
+    if (!p.placed) continue;
+    ++placed;
+    EXPECT_GE(p.box.x0, in.bounds.x0);
+    EXPECT_GE(p.box.y0, in.bounds.y0);
+    EXPECT_LE(p.box.x1, in.bounds.x1);
+    EXPECT_LE(p.box.y1, in.bounds.y1);
+    EXPECT_NEAR(p.box.width(), in.labels[i].width, 1e-3);
+    for (size_t j = i + 1; j < out.placements.size(); ++j) {
+      if (out.placements[j].placed) {
+        EXPECT_FALSE(p.box.overlaps(out.placements[j].box)) << "labels " << i << ", " << j;
+      }
+    }
+    for (size_t j = 0; j < in.labels.size(); ++j) {
+      EXPECT_FALSE(box_meets_quad(p.box, in.labels[j].anchor)) << "label " << i << " covers marker " << j;
+      for (const LabelPoint& c : in.labels[j].anchor) {
+        const LabelBox around{p.box.x0 - kCorner, p.box.y0 - kCorner, p.box.x1 + kCorner, p.box.y1 + kCorner};
+        EXPECT_FALSE(around.contains(c) && !(c.x == around.x0 || c.x == around.x1 || c.y == around.y0 ||
+                                             c.y == around.y1))
+            << "label " << i << " within " << kCorner << " px of a corner of marker " << j;
+      }
+    }
+    for (const LabelQuad& media : in.obstacles) EXPECT_FALSE(box_meets_quad(p.box, media)) << "label " << i;
+    // A leader when, and only when, the label does not touch its marker's box.
+    const LabelBox a = quad_box(in.labels[i].anchor);
+    const float sep = std::max(std::max({0.0f, a.x0 - p.box.x1, p.box.x0 - a.x1}),
+                               std::max({0.0f, a.y0 - p.box.y1, p.box.y0 - a.y1}));
+    EXPECT_EQ(p.leader, sep > kCorner + 0.5f) << "label " << i << " at " << sep << " px from its marker";
+    if (p.leader) {
+      // From the label's edge to the marker's outline.
+      EXPECT_TRUE(p.box.contains(p.leader_from));
+      EXPECT_TRUE(box_meets_quad({p.leader_to.x - 0.5f, p.leader_to.y - 0.5f, p.leader_to.x + 0.5f,
+                                  p.leader_to.y + 0.5f},
+                                 in.labels[i].anchor));
+    }
+  }
+  EXPECT_EQ(placed, out.placed);
+}
+
+TEST(LabelLayout, SpaciousMarkersGetTheirLabelRightAbove) {
+  const LabelLayoutInput in = grid_of_markers(6, 4, 200, 60, 110, 16);
+  const LabelLayout out = layout_labels(in);
+  expect_readable(in, out);
+  EXPECT_EQ(out.hidden, 0);
+  for (size_t i = 0; i < in.labels.size(); ++i) {
+    const LabelBox a = quad_box(in.labels[i].anchor);
+    const LabelPlacement& p = out.placements[i];
+    EXPECT_NEAR(p.box.y1, a.y0 - kCorner, 1e-3) << i;   // above, clear of the corner marks
+    EXPECT_NEAR((p.box.x0 + p.box.x1) * 0.5f, (a.x0 + a.x1) * 0.5f, 1e-3) << i;
+    EXPECT_FALSE(p.leader);
+  }
+}
+
+TEST(LabelLayout, CrowdedMarkersNeverOverlapAndHideWhatCannotFit) {
+  // 240 markers 60 px apart with labels wider than the spacing ("12 ARUCO_ORIGINAL" is about 130 px).
+  const LabelLayoutInput in = grid_of_markers(24, 10, 60, 40, 130, 16);
+  const LabelLayout out = layout_labels(in);
+  expect_readable(in, out);
+  EXPECT_GT(out.placed, 20);
+  EXPECT_GT(out.hidden, 0);
+  int leaders = 0;
+  for (const LabelPlacement& p : out.placements) leaders += p.leader;
+  EXPECT_GT(leaders, 0) << "labels that had to move away have a leader line";
+}
+
+TEST(LabelLayout, RotatedCrowdedMarkersKeepTheirCornersClear) {
+  const LabelLayoutInput in = grid_of_markers(12, 8, 110, 70, 60, 16, 13);
+  const LabelLayout out = layout_labels(in);
+  expect_readable(in, out);
+  EXPECT_GE(out.placed, 48);   // half of them, in gaps barely wider than a label
+}
+
+TEST(LabelLayout, BlockedNeighbourhoodMovesTheLabelOutWithALeader) {
+  // A marker in the middle of a tight ring of others: nothing free next to it, so its label moves out.
+  LabelLayoutInput in;
+  in.bounds = {0, 0, 800, 600};
+  in.gap = kGap;
+  in.corner_margin = kCorner;
+  auto add = [&](float x, float y) {
+    LabelRequest r;
+    r.anchor = square(x, y, 30);
+    r.width = 50;
+    r.height = 14;
+    r.key = in.labels.size();
+    in.labels.push_back(r);
+  };
+  add(400, 300);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (dx || dy) add(400 + 40.0f * static_cast<float>(dx), 300 + 40.0f * static_cast<float>(dy));
+  const LabelLayout out = layout_labels(in);
+  expect_readable(in, out);
+  ASSERT_TRUE(out.placements[0].placed);
+  EXPECT_TRUE(out.placements[0].leader);
+}
+
+TEST(LabelLayout, LabelsKeepOffTheMedia) {
+  LabelLayoutInput in = grid_of_markers(3, 1, 300, 60, 120, 16);
+  // A media drawn over the middle marker and the space above it (a picture on a plinth).
+  in.obstacles.push_back(square(360, 10, 200));
+  const LabelLayout out = layout_labels(in);
+  expect_readable(in, out);
+  EXPECT_EQ(out.hidden, 0);
+  const LabelBox a = quad_box(in.labels[1].anchor);
+  EXPECT_GE(out.placements[1].box.y0, a.y1) << "the middle label went below its marker, away from the media";
+}
+
+TEST(LabelLayout, WhatCannotBePlacedIsDroppedLastPriorityFirst) {
+  // Two markers side by side in a view that holds one label: the first keeps it.
+  LabelLayoutInput in;
+  in.bounds = {0, 0, 200, 70};   // 150 px labels fit only centred over x = 100
+  in.gap = kGap;
+  in.corner_margin = kCorner;
+  for (int i = 0; i < 2; ++i) {
+    LabelRequest r;
+    r.anchor = square(100 + 50.0f * static_cast<float>(i), 45, 40);
+    r.width = 150;
+    r.height = 16;
+    r.key = static_cast<uint64_t>(i);
+    in.labels.push_back(r);
+  }
+  const LabelLayout out = layout_labels(in);
+  expect_readable(in, out);
+  EXPECT_TRUE(out.placements[0].placed);
+  EXPECT_FALSE(out.placements[1].placed);
+  EXPECT_EQ(out.hidden, 1);
+}
+
+TEST(LabelLayout, UnmovedMarkersKeepTheirLabelsFrameToFrame) {
+  LabelLayoutInput in = grid_of_markers(12, 6, 90, 50, 100, 16);
+  LabelCache cache;
+  const LabelLayout first = layout_labels(in, &cache);
+  expect_readable(in, first);
+  // The same input gives the same layout (deterministic)...
+  const LabelLayout again = layout_labels(in);
+  // ...and, next frame, a marker appears among the others and one far away moves: the rest stay put.
+  LabelLayoutInput next = in;
+  LabelRequest newcomer;
+  newcomer.anchor = square(60 + 90 * 4.5f, 60 + 90 * 2.5f, 40);
+  newcomer.width = 100;
+  newcomer.height = 16;
+  newcomer.key = 999;
+  next.labels.insert(next.labels.begin(), newcomer);   // even ahead of them all in priority
+  for (LabelPoint& p : next.labels.back().anchor) p.x += 7;
+  const LabelLayout second = layout_labels(next, &cache);
+  expect_readable(next, second);
+  int kept = 0, compared = 0;
+  for (size_t i = 0; i + 1 < in.labels.size(); ++i) {
+    const LabelPlacement& a = first.placements[i];
+    EXPECT_EQ(a.placed, again.placements[i].placed);
+    EXPECT_EQ(a.box.x0, again.placements[i].box.x0);
+    EXPECT_EQ(a.box.y0, again.placements[i].box.y0);
+    const LabelPlacement& b = second.placements[i + 1];
+    if (!a.placed || !b.placed) continue;
+    // Labels the newcomer's own marker now covers must move; the others stay.
+    if (box_meets_quad(a.box, newcomer.anchor, kCorner)) continue;
+    ++compared;
+    kept += a.box.x0 == b.box.x0 && a.box.y0 == b.box.y0;
+  }
+  EXPECT_GT(compared, 40);
+  EXPECT_EQ(kept, compared);
+}
+
+TEST(LabelLayout, BoxAgainstRotatedQuad) {
+  const LabelQuad diamond = square(100, 100, 100, 45);   // corners at distance 70.7 from the centre
+  EXPECT_TRUE(box_meets_quad({90, 90, 110, 110}, diamond));
+  // In the diamond's bounding box but outside the diamond: near its top-left corner.
+  EXPECT_FALSE(box_meets_quad({30, 30, 50, 50}, diamond));
+  EXPECT_TRUE(box_meets_quad({30, 30, 50, 50}, diamond, 30));
+  EXPECT_FALSE(box_meets_quad({200, 90, 220, 110}, diamond));
+  // Touching is not meeting: labels are placed touching at the gap.
+  EXPECT_FALSE(box_meets_quad({150, 0, 170, 20}, square(100, 100, 100)));
+  EXPECT_FALSE(box_meets_quad({50, 30, 150, 50}, square(100, 100, 100)));
+}
+
+TEST(LabelLayout, NothingToPlaceAndDegenerateInput) {
+  LabelCache cache{{1, 2, 3}};
+  const LabelLayout none = layout_labels({}, &cache);
+  EXPECT_TRUE(none.placements.empty());
+  EXPECT_TRUE(cache.empty());
+  LabelLayoutInput in = grid_of_markers(2, 1, 200, 40, 0, 16);   // empty text
+  in.labels[1].anchor[2] = {NAN, 5};
+  in.labels[1].width = 50;
+  const LabelLayout out = layout_labels(in);
+  EXPECT_EQ(out.hidden, 2);
+}
+
+}  // namespace
+}  // namespace arwb::ui
