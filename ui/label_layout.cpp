@@ -38,6 +38,65 @@ LabelPoint nearest_on_segment(LabelPoint a, LabelPoint b, LabelPoint p) {
 
 float dist2(LabelPoint a, LabelPoint b) { return (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y); }
 
+bool overlap_open(const LabelBox& a, const LabelBox& b) {
+  return a.x0 < b.x1 - kEps && b.x0 < a.x1 - kEps && a.y0 < b.y1 - kEps && b.y0 < a.y1 - kEps;
+}
+
+// Separating axes for two convex polygons (a segment is a polygon of two points): they meet unless some edge
+// normal separates them. Touching is not meeting.
+bool convex_meet(const LabelPoint* a, int na, const LabelPoint* b, int nb) {
+  auto separated_along = [&](const LabelPoint* poly, int n) {
+    for (int i = 0; i < n; ++i) {
+      const LabelPoint p = poly[i], q = poly[(i + 1) % n];
+      const float nx = -(q.y - p.y), ny = q.x - p.x;
+      const float len = std::sqrt(nx * nx + ny * ny);
+      if (len < 1e-6f) continue;
+      float amin = 1e30f, amax = -1e30f, bmin = 1e30f, bmax = -1e30f;
+      for (int k = 0; k < na; ++k) {
+        const float d = (a[k].x * nx + a[k].y * ny) / len;
+        amin = std::min(amin, d);
+        amax = std::max(amax, d);
+      }
+      for (int k = 0; k < nb; ++k) {
+        const float d = (b[k].x * nx + b[k].y * ny) / len;
+        bmin = std::min(bmin, d);
+        bmax = std::max(bmax, d);
+      }
+      if (amax <= bmin + kEps || bmax <= amin + kEps) return true;
+      if (n == 2) break;   // a segment's second "edge" is the same line
+    }
+    return false;
+  };
+  return !separated_along(a, na) && !separated_along(b, nb);
+}
+
+struct Segment {
+  LabelPoint from, to;
+  LabelBox box() const {
+    return {std::min(from.x, to.x), std::min(from.y, to.y), std::max(from.x, to.x), std::max(from.y, to.y)};
+  }
+};
+
+bool segment_meets_box(const Segment& s, const LabelBox& b) {
+  const LabelPoint seg[2] = {s.from, s.to};
+  const LabelPoint corners[4] = {{b.x0, b.y0}, {b.x1, b.y0}, {b.x1, b.y1}, {b.x0, b.y1}};
+  // A segment along the box's edge (its axis-aligned box is flat) is outside it: the open test below.
+  const LabelBox sb = s.box();
+  if (sb.x1 <= b.x0 + kEps || b.x1 <= sb.x0 + kEps || sb.y1 <= b.y0 + kEps || b.y1 <= sb.y0 + kEps) return false;
+  return convex_meet(seg, 2, corners, 4);
+}
+
+bool segment_meets_quad(const Segment& s, const LabelQuad& q) {
+  const LabelPoint seg[2] = {s.from, s.to};
+  if (!convex(q)) return segment_meets_box(s, quad_box(q));
+  return convex_meet(seg, 2, q.data(), 4);
+}
+
+bool segments_cross(const Segment& a, const Segment& b) {
+  const LabelPoint sa[2] = {a.from, a.to}, sb[2] = {b.from, b.to};
+  return convex_meet(sa, 2, sb, 2);
+}
+
 // Obstacles in a uniform grid over the bounds, so a candidate is tested against its neighbours only.
 class Grid {
  public:
@@ -89,7 +148,7 @@ class Grid {
   std::vector<std::vector<int>> cells_;
 };
 
-enum class Kind { marker, media, label };
+enum class Kind { marker, media, label, leader };
 struct Item {
   Kind kind;
   int index;   // into labels (markers and placed labels) or obstacles (media)
@@ -111,29 +170,10 @@ LabelBox quad_box(const LabelQuad& q) {
 bool box_meets_quad(const LabelBox& box, const LabelQuad& q, float margin) {
   const LabelBox b = grown(box, margin);
   const LabelBox qb = quad_box(q);
-  // Separating axes: the box's two, then the quad's edge normals (convex quads only; else its box stands in).
-  if (b.x1 <= qb.x0 + kEps || qb.x1 <= b.x0 + kEps || b.y1 <= qb.y0 + kEps || qb.y1 <= b.y0 + kEps) return false;
-  if (!convex(q)) return true;
+  if (!overlap_open(b, qb)) return false;
+  if (!convex(q)) return true;   // its box stands in
   const LabelPoint corners[4] = {{b.x0, b.y0}, {b.x1, b.y0}, {b.x1, b.y1}, {b.x0, b.y1}};
-  for (size_t i = 0; i < 4; ++i) {
-    const LabelPoint a = q[i], c = q[(i + 1) % 4];
-    const float nx = -(c.y - a.y), ny = c.x - a.x;
-    const float len = std::sqrt(nx * nx + ny * ny);
-    if (len < 1e-6f) continue;
-    float qmin = 1e30f, qmax = -1e30f, bmin = 1e30f, bmax = -1e30f;
-    for (const LabelPoint& p : q) {
-      const float d = (p.x * nx + p.y * ny) / len;
-      qmin = std::min(qmin, d);
-      qmax = std::max(qmax, d);
-    }
-    for (const LabelPoint& p : corners) {
-      const float d = (p.x * nx + p.y * ny) / len;
-      bmin = std::min(bmin, d);
-      bmax = std::max(bmax, d);
-    }
-    if (bmax <= qmin + kEps || qmax <= bmin + kEps) return false;
-  }
-  return true;
+  return convex_meet(corners, 4, q.data(), 4);
 }
 
 LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
@@ -163,31 +203,64 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
     grid.add(grown(quad_box(in.obstacles[i]), gap), static_cast<int>(items.size()));
     items.push_back({Kind::media, static_cast<int>(i)});
   }
-  items.reserve(items.size() + n);
-  std::vector<int> seen(items.size() + n, -1);
+  items.reserve(items.size() + 2 * n);
+  std::vector<int> seen(items.size() + 2 * n, -1);
   int stamp = 0;
 
-  auto free_at = [&](const LabelBox& c) {
+  // A leader from the marker's outline (the point nearest the label's middle) to the label, when the label is
+  // beyond the first ring; none otherwise.
+  auto leader_for = [&](size_t i, const LabelBox& c, Segment* out_leader) {
+    const LabelBox& a = anchor_boxes[i];
+    const float sep_x = std::max({0.0f, a.x0 - c.x1, c.x0 - a.x1});
+    const float sep_y = std::max({0.0f, a.y0 - c.y1, c.y0 - a.y1});
+    if (std::max(sep_x, sep_y) <= corner + 0.5f) return false;
+    const LabelQuad& q = in.labels[i].anchor;
+    const LabelPoint mid{(c.x0 + c.x1) * 0.5f, (c.y0 + c.y1) * 0.5f};
+    LabelPoint best = q[0];
+    for (size_t e = 0; e < 4; ++e) {
+      const LabelPoint p = nearest_on_segment(q[e], q[(e + 1) % 4], mid);
+      if (e == 0 || dist2(p, mid) < dist2(best, mid)) best = p;
+    }
+    *out_leader = {{std::clamp(best.x, c.x0, c.x1), std::clamp(best.y, c.y0, c.y1)}, best};
+    return true;
+  };
+
+  // Whether label i may sit at `c` (with `leader` when it has one): inside the bounds, its box off every marker
+  // and its corners, the media, the other labels and their leaders; its leader across no other marker, media,
+  // label or leader.
+  auto free_at = [&](size_t i, const LabelBox& c, const Segment* leader) {
     if (c.x0 < in.bounds.x0 - kEps || c.y0 < in.bounds.y0 - kEps || c.x1 > in.bounds.x1 + kEps ||
         c.y1 > in.bounds.y1 + kEps) {
       return false;
     }
-    const LabelBox probe = grown(c, corner + gap);
+    LabelBox probe = grown(c, corner + gap);
+    if (leader) {
+      const LabelBox lb = leader->box();
+      probe = {std::min(probe.x0, lb.x0), std::min(probe.y0, lb.y0), std::max(probe.x1, lb.x1),
+               std::max(probe.y1, lb.y1)};
+    }
+    const LabelBox spaced = grown(c, gap);
     const bool hit = grid.any(probe, seen, ++stamp, [&](int item) {
       const Item& it = items[static_cast<size_t>(item)];
+      const size_t k = static_cast<size_t>(it.index);
       switch (it.kind) {
         case Kind::marker: {
-          const LabelQuad& q = in.labels[static_cast<size_t>(it.index)].anchor;
+          const LabelQuad& q = in.labels[k].anchor;
           if (box_meets_quad(c, q, gap)) return true;
           const LabelBox around = grown(c, corner);
           for (const LabelPoint& p : q)
             if (p.x > around.x0 && p.x < around.x1 && p.y > around.y0 && p.y < around.y1) return true;
-          return false;
+          return leader && k != i && segment_meets_quad(*leader, q);
         }
         case Kind::media:
-          return box_meets_quad(c, in.obstacles[static_cast<size_t>(it.index)], gap);
+          return box_meets_quad(c, in.obstacles[k], gap) || (leader && segment_meets_quad(*leader, in.obstacles[k]));
         case Kind::label:
-          return grown(c, gap).overlaps(out.placements[static_cast<size_t>(it.index)].box);
+          return spaced.overlaps(out.placements[k].box) ||
+                 (leader && segment_meets_box(*leader, grown(out.placements[k].box, gap)));
+        case Kind::leader: {
+          const Segment other{out.placements[k].leader_from, out.placements[k].leader_to};
+          return segment_meets_box(other, spaced) || (leader && segments_cross(*leader, other));
+        }
       }
       return false;
     });
@@ -214,57 +287,63 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
   auto place = [&](size_t i, bool remembered_only) {
     const LabelRequest& r = in.labels[i];
     const LabelBox& a = anchor_boxes[i];
-    const float w = r.width, h = r.height;
-    if (!(w > 0 && h > 0 && std::isfinite(w) && std::isfinite(h))) return false;
+    const float h = r.height;
+    if (!(r.width > 0 && h > 0 && std::isfinite(r.width) && std::isfinite(h))) return false;
     for (const LabelPoint& q : r.anchor)
       if (!std::isfinite(q.x) || !std::isfinite(q.y)) return false;
+    const bool has_short = r.short_width > 0 && r.short_width < r.width;
     const float cx = (a.x0 + a.x1) * 0.5f, cy = (a.y0 + a.y1) * 0.5f;
     LabelPlacement& p = out.placements[i];
-    auto take = [&](const LabelBox& c) {
-      if (!free_at(c)) return false;
+    auto take = [&](const LabelBox& c, bool short_form) {
+      Segment leader;
+      const bool has_leader = leader_for(i, c, &leader);
+      if (!free_at(i, c, has_leader ? &leader : nullptr)) return false;
       p.placed = true;
       p.box = c;
+      p.short_form = short_form;
+      p.leader = has_leader;
+      if (has_leader) {
+        p.leader_from = leader.from;
+        p.leader_to = leader.to;
+      }
       return true;
     };
     bool found = false;
     if (remembered_only) {
       const LabelMemory* m = remembered(r.key);
-      found = m && take({a.x0 + m->dx, a.y0 + m->dy, a.x0 + m->dx + w, a.y0 + m->dy + h});
+      if (m && (!m->short_form || has_short)) {
+        const float w = m->short_form ? r.short_width : r.width;
+        found = take({a.x0 + m->dx, a.y0 + m->dy, a.x0 + m->dx + w, a.y0 + m->dy + h}, m->short_form);
+      }
     }
-    // The first ring touches the marker's box as close as its corner marks allow.
+    // The first ring touches the marker's box as close as its corner marks allow. In each ring the full text
+    // first, then the short one: near and short reads better than far and full.
     const float step = h + gap;
     for (int k = 0; k < kRings && !found && !remembered_only; ++k) {
-      const float d = corner + static_cast<float>(k) * step;
-      const float above = a.y0 - d - h, below = a.y1 + d, left = a.x0 - d - w, right = a.x1 + d;
-      const LabelBox candidates[8] = {
-          {cx - w * 0.5f, above, cx + w * 0.5f, above + h},  {cx - w * 0.5f, below, cx + w * 0.5f, below + h},
-          {right, cy - h * 0.5f, right + w, cy + h * 0.5f},  {left, cy - h * 0.5f, left + w, cy + h * 0.5f},
-          {right, above, right + w, above + h},              {left, above, left + w, above + h},
-          {right, below, right + w, below + h},              {left, below, left + w, below + h},
-      };
-      for (const LabelBox& c : candidates) {
-        if (take(c)) {
-          found = true;
-          break;
+      for (int form = 0; form < (has_short ? 2 : 1) && !found; ++form) {
+        const float w = form == 0 ? r.width : r.short_width;
+        const float d = corner + static_cast<float>(k) * step;
+        const float above = a.y0 - d - h, below = a.y1 + d, left = a.x0 - d - w, right = a.x1 + d;
+        const LabelBox candidates[8] = {
+            {cx - w * 0.5f, above, cx + w * 0.5f, above + h},  {cx - w * 0.5f, below, cx + w * 0.5f, below + h},
+            {right, cy - h * 0.5f, right + w, cy + h * 0.5f},  {left, cy - h * 0.5f, left + w, cy + h * 0.5f},
+            {right, above, right + w, above + h},              {left, above, left + w, above + h},
+            {right, below, right + w, below + h},              {left, below, left + w, below + h},
+        };
+        for (const LabelBox& c : candidates) {
+          if (take(c, form == 1)) {
+            found = true;
+            break;
+          }
         }
       }
     }
     if (!found) return false;
     grid.add(grown(p.box, gap), static_cast<int>(items.size()));
     items.push_back({Kind::label, static_cast<int>(i)});
-    // Away from the marker (beyond the first ring): a leader from the marker's outline to the label.
-    const float sep_x = std::max({0.0f, a.x0 - p.box.x1, p.box.x0 - a.x1});
-    const float sep_y = std::max({0.0f, a.y0 - p.box.y1, p.box.y0 - a.y1});
-    if (std::max(sep_x, sep_y) > corner + 0.5f) {
-      const LabelPoint mid{(p.box.x0 + p.box.x1) * 0.5f, (p.box.y0 + p.box.y1) * 0.5f};
-      LabelPoint best = r.anchor[0];
-      for (size_t e = 0; e < 4; ++e) {
-        const LabelPoint q = nearest_on_segment(r.anchor[e], r.anchor[(e + 1) % 4], mid);
-        if (e == 0 || dist2(q, mid) < dist2(best, mid)) best = q;
-      }
-      p.leader = true;
-      p.leader_to = best;
-      p.leader_from = {std::clamp(best.x, p.box.x0, p.box.x1), std::clamp(best.y, p.box.y0, p.box.y1)};
+    if (p.leader) {
+      grid.add(Segment{p.leader_from, p.leader_to}.box(), static_cast<int>(items.size()));
+      items.push_back({Kind::leader, static_cast<int>(i)});
     }
     return true;
   };
@@ -281,7 +360,8 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
     }
     ++out.placed;
     const LabelBox& a = anchor_boxes[i];
-    if (cache) cache->push_back({in.labels[i].key, out.placements[i].box.x0 - a.x0, out.placements[i].box.y0 - a.y0});
+    const LabelPlacement& p = out.placements[i];
+    if (cache) cache->push_back({in.labels[i].key, p.box.x0 - a.x0, p.box.y0 - a.y0, p.short_form});
   }
   return out;
 }

@@ -6,7 +6,8 @@
 // priority order (the order of `labels`), so labels do not jump while their markers stand still, even when a new
 // marker appears; then the others, in priority order, take the first free candidate around their marker: the four
 // sides and four diagonals touching the marker's box, then the same eight further out, where a leader line joins
-// label and marker. A label with no free position is hidden, so the last labels are the ones dropped. Obstacles
+// label and marker (a leader crosses no other marker, label, leader or media); in each ring the full text, then a
+// short one when given. A label with no free position is hidden, so the last labels are the ones dropped. Obstacles
 // are kept in a uniform grid: 300 crowded labels take about a millisecond (0.06 ms for 100).
 #pragma once
 
@@ -35,6 +36,8 @@ using LabelQuad = std::array<LabelPoint, 4>;
 struct LabelRequest {
   LabelQuad anchor{};       // the marker's corners on screen; the label keeps off them
   float width = 0, height = 0;   // the label's box (text and padding)
+  float short_width = 0;    // the box of a shorter text (the id alone), tried where the full one finds no room;
+                            // 0: none
   uint64_t key = 0;         // identifies the label across frames (id and dictionary) for the cached position
 };
 
@@ -49,6 +52,7 @@ struct LabelLayoutInput {
 
 struct LabelPlacement {
   bool placed = false;
+  bool short_form = false;          // the box holds the short text
   LabelBox box;
   bool leader = false;              // placed further from its marker's box than the nearest ring: draw a line
                                     // from `leader_from` to `leader_to`
@@ -59,6 +63,7 @@ struct LabelPlacement {
 struct LabelMemory {
   uint64_t key = 0;
   float dx = 0, dy = 0;   // the box's top-left minus the anchor box's top-left
+  bool short_form = false;
 };
 using LabelCache = std::vector<LabelMemory>;
 
