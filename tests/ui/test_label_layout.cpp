@@ -294,6 +294,29 @@ TEST(LabelLayout, UnmovedMarkersKeepTheirLabelsFrameToFrame) {
   }
   EXPECT_GT(compared, 40);
   EXPECT_EQ(kept, compared);
+
+  // A marker that drops out for a frame (a flicker) frees room next to its neighbours: their labels stay where
+  // they are all the same, and nothing jumps when it comes back.
+  LabelLayoutInput flicker = in;
+  const size_t gone = 1;   // the second marker of the top row: its neighbours' labels are nearby
+  flicker.labels.erase(flicker.labels.begin() + static_cast<long>(gone));
+  LabelCache steady;
+  const LabelLayout before = layout_labels(in, &steady);
+  const LabelLayout during = layout_labels(flicker, &steady);
+  const LabelLayout after = layout_labels(in, &steady);
+  const LabelLayout fresh = layout_labels(flicker);
+  int moved_if_fresh = 0;
+  for (size_t i = 0; i < in.labels.size(); ++i) {
+    if (i == gone || !before.placements[i].placed) continue;
+    const size_t j = i < gone ? i : i - 1;
+    EXPECT_EQ(during.placements[j].box.x0, before.placements[i].box.x0) << i;
+    EXPECT_EQ(during.placements[j].box.y0, before.placements[i].box.y0) << i;
+    EXPECT_EQ(after.placements[i].box.x0, before.placements[i].box.x0) << i;
+    EXPECT_EQ(after.placements[i].box.y0, before.placements[i].box.y0) << i;
+    moved_if_fresh += fresh.placements[j].box.x0 != before.placements[i].box.x0 ||
+                      fresh.placements[j].box.y0 != before.placements[i].box.y0;
+  }
+  EXPECT_GT(moved_if_fresh, 0) << "without the last positions, the flicker would have moved labels";
 }
 
 TEST(LabelLayout, BoxAgainstRotatedQuad) {
