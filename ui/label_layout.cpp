@@ -228,7 +228,7 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
   // Whether label i may sit at `c` (with `leader` when it has one): inside the bounds, its box off every marker
   // and its corners, the media, the other labels and their leaders; its leader across no other marker, media,
   // label or leader.
-  auto free_at = [&](size_t i, const LabelBox& c, const Segment* leader) {
+  auto free_at = [&](size_t i, const LabelBox& c, const Segment* leader, bool on_own_marker = false) {
     if (c.x0 < in.bounds.x0 - kEps || c.y0 < in.bounds.y0 - kEps || c.x1 > in.bounds.x1 + kEps ||
         c.y1 > in.bounds.y1 + kEps) {
       return false;
@@ -246,7 +246,7 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
       switch (it.kind) {
         case Kind::marker: {
           const LabelQuad& q = in.labels[k].anchor;
-          if (box_meets_quad(c, q, gap)) return true;
+          if (!(on_own_marker && k == i) && box_meets_quad(c, q, gap)) return true;
           const LabelBox around = grown(c, corner);
           for (const LabelPoint& p : q)
             if (p.x > around.x0 && p.x < around.x1 && p.y > around.y0 && p.y < around.y1) return true;
@@ -335,6 +335,25 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
             found = true;
             break;
           }
+        }
+      }
+    }
+    // Zoomed in, the marker runs off the view and there is no room around it: on the marker's visible part,
+    // centred, still off its corners, rather than no label at all.
+    const LabelBox& v = in.bounds;
+    if (!found && !remembered_only && (a.x0 < v.x0 || a.y0 < v.y0 || a.x1 > v.x1 || a.y1 > v.y1)) {
+      const float vx0 = std::max(a.x0, v.x0), vy0 = std::max(a.y0, v.y0);
+      const float vx1 = std::min(a.x1, v.x1), vy1 = std::min(a.y1, v.y1);
+      const float mx = (vx0 + vx1) * 0.5f, my = (vy0 + vy1) * 0.5f;
+      for (int form = 0; form < (has_short ? 2 : 1) && !found; ++form) {
+        const float w = form == 0 ? r.width : r.short_width;
+        const LabelBox c{mx - w * 0.5f, my - h * 0.5f, mx + w * 0.5f, my + h * 0.5f};
+        if (c.x0 >= vx0 && c.x1 <= vx1 && c.y0 >= vy0 && c.y1 <= vy1 && free_at(i, c, nullptr, true)) {
+          p = {};
+          p.placed = true;
+          p.box = c;
+          p.short_form = form == 1;
+          found = true;
         }
       }
     }

@@ -79,8 +79,14 @@ void expect_readable(const LabelLayoutInput& in, const LabelLayout& out) {
         EXPECT_FALSE(p.box.overlaps(out.placements[j].box)) << "labels " << i << ", " << j;
       }
     }
+    // Only a marker that runs off the view may carry its own label (zoomed in, no room around it).
+    const LabelBox own = quad_box(in.labels[i].anchor);
+    const bool runs_off = own.x0 < in.bounds.x0 || own.y0 < in.bounds.y0 || own.x1 > in.bounds.x1 ||
+                          own.y1 > in.bounds.y1;
     for (size_t j = 0; j < in.labels.size(); ++j) {
-      EXPECT_FALSE(box_meets_quad(p.box, in.labels[j].anchor)) << "label " << i << " covers marker " << j;
+      if (!(j == i && runs_off)) {
+        EXPECT_FALSE(box_meets_quad(p.box, in.labels[j].anchor)) << "label " << i << " covers marker " << j;
+      }
       for (const LabelPoint& c : in.labels[j].anchor) {
         const LabelBox around{p.box.x0 - kCorner, p.box.y0 - kCorner, p.box.x1 + kCorner, p.box.y1 + kCorner};
         EXPECT_FALSE(around.contains(c) && !(c.x == around.x0 || c.x == around.x1 || c.y == around.y0 ||
@@ -232,6 +238,33 @@ TEST(LabelLayout, WhatCannotBePlacedIsDroppedLastPriorityFirst) {
   EXPECT_TRUE(out.placements[0].placed);
   EXPECT_FALSE(out.placements[1].placed);
   EXPECT_EQ(out.hidden, 1);
+}
+
+TEST(LabelLayout, AZoomedInMarkerCarriesItsLabelOnItsVisiblePart) {
+  // The view shows the upper part of one big marker (zoomed in): no room around it, so its label sits on it,
+  // centred on what is visible.
+  LabelLayoutInput in;
+  in.bounds = {0, 0, 400, 300};
+  in.gap = kGap;
+  in.corner_margin = kCorner;
+  LabelRequest big;
+  big.anchor = square(200, 250, 500);
+  big.width = 120;
+  big.height = 16;
+  big.key = 1;
+  in.labels.push_back(big);
+  const LabelLayout out = layout_labels(in);
+  expect_readable(in, out);
+  ASSERT_TRUE(out.placements[0].placed);
+  EXPECT_FALSE(out.placements[0].leader);
+  EXPECT_NEAR((out.placements[0].box.x0 + out.placements[0].box.x1) * 0.5f, 200, 1e-3);
+  EXPECT_NEAR((out.placements[0].box.y0 + out.placements[0].box.y1) * 0.5f, 150, 1e-3);   // the visible part's middle
+  // Whole in the view, the same marker keeps its label off itself, beside it.
+  in.bounds = {-300, -100, 700, 600};
+  const LabelLayout whole = layout_labels(in);
+  expect_readable(in, whole);
+  EXPECT_TRUE(whole.placements[0].placed);
+  EXPECT_FALSE(box_meets_quad(whole.placements[0].box, big.anchor));
 }
 
 TEST(LabelLayout, TheShortTextWhereTheFullOneFindsNoRoom) {
