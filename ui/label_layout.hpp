@@ -9,7 +9,7 @@
 // label and marker (a leader crosses no other marker, label, leader or media); in each ring the full text, then a
 // short one when given. A marker that runs off the view (zoomed in) with no room around it gets its label on its
 // visible part, off its corners. A label with no free position is hidden, so the last labels are the ones dropped. Obstacles
-// are kept in a uniform grid: 300 crowded labels take about a millisecond (0.06 ms for 100).
+// are kept in a uniform grid: 300 crowded labels take about a millisecond (0.2 ms for 100).
 #pragma once
 
 #include <array>
