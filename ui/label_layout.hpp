@@ -8,8 +8,8 @@
 // sides and four diagonals touching the marker's box, then the same eight further out, where a leader line joins
 // label and marker (a leader crosses no other marker, label, leader or media); in each ring the full text, then a
 // short one when given. A marker that runs off the view (zoomed in) with no room around it gets its label on its
-// visible part, off its corners. A label with no free position is hidden, so the last labels are the ones dropped. Obstacles
-// are kept in a uniform grid: 300 crowded labels take about a millisecond (0.2 ms for 100).
+// visible part, off its corners. A label with no free position is hidden, so the last labels are the ones dropped.
+// Obstacles are kept in a uniform grid: 300 crowded labels take about 0.7 ms, 100 about 0.2 ms.
 #pragma once
 
 #include <array>
