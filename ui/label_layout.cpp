@@ -271,7 +271,8 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
   LabelCache previous;
   if (cache) {
     previous = *cache;
-    std::sort(previous.begin(), previous.end(), [](const LabelMemory& a, const LabelMemory& b) { return a.key < b.key; });
+    std::sort(previous.begin(), previous.end(),
+              [](const LabelMemory& a, const LabelMemory& b) { return a.key < b.key; });
     cache->clear();
   }
   auto remembered = [&](uint64_t key) -> const LabelMemory* {

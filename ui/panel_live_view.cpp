@@ -56,7 +56,9 @@ void overlay_candidates(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
 }
 
 void overlay_markers(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
-  for (const Marker& mk : ctx.frame->trace.markers) draw_quad(dl, m, mk.corners, accepted_colour(), 2.5f * ctx.scale, true);
+  for (const Marker& mk : ctx.frame->trace.markers) {
+    draw_quad(dl, m, mk.corners, accepted_colour(), 2.5f * ctx.scale, true);
+  }
 }
 
 LabelQuad screen_quad(const ImageMapping& m, const Quad& q) {

@@ -191,7 +191,8 @@ TEST(Overlays, ProjectedMediaCoverTheLabelsAndOutlines) {
   // is the picture's: no label box, no text, no outline on it.
   cv::Mat mask(shot.size(), CV_8U, cv::Scalar(0));
   for (int y = kLiveView.y; y < kLiveView.br().y; ++y)
-    for (int x = kLiveView.x; x < kLiveView.br().x; ++x) mask.at<uint8_t>(y, x) = magenta(shot.at<cv::Vec3b>(y, x)) ? 255 : 0;
+    for (int x = kLiveView.x; x < kLiveView.br().x; ++x)
+      mask.at<uint8_t>(y, x) = magenta(shot.at<cv::Vec3b>(y, x)) ? 255 : 0;
   cv::Mat near_mask, groups;
   cv::dilate(mask, near_mask, cv::getStructuringElement(cv::MORPH_RECT, {25, 25}));
   const int n_groups = cv::connectedComponents(near_mask, groups);
