@@ -156,6 +156,16 @@ struct PanelState {
   virtual ~PanelState() = default;
 };
 
+// What the live view's marker labels came to when it last drew them (ui/label_layout.hpp), for --stats.
+struct LabelReport {
+  int drawn = 0, hidden = 0;   // hidden: no free place for them
+  int leaders = 0;             // drawn away from their marker, joined by a line
+  int shortened = 0;           // the id alone, where the dictionary's name found no room
+  int overlaps = 0;            // pairs of drawn labels that overlap (the layout keeps this 0)
+  int on_corners = 0;          // drawn labels over a marker's corner (the layout keeps this 0)
+  std::vector<std::array<int, 4>> boxes;   // the drawn labels, screen x0, y0, x1, y1
+};
+
 // View state shared between panels (selection, hover, the overlays chosen), and each panel's own.
 struct View {
   std::array<bool, kPanelCount> open{};
@@ -169,6 +179,9 @@ struct View {
   bool show_truth = false;       // synthetic source: the exact corners
   bool show_peer_opencv = true;  // when the peer ran
   bool show_peer_apriltag = true;
+  bool label_ids = true;         // marker labels say the id...
+  bool label_dict = true;        // ...and the dictionary (neither: no labels)
+  LabelReport labels;            // written by the live view
   // "Why isn't my marker detected?": the rectangle dragged on the live view (working-image pixels).
   bool region_tool = false;
   bool has_region = false;

@@ -3,14 +3,22 @@
 // yellow. Left-click selects a candidate for the inspector; with the region tool on, a left-drag marks the
 // rectangle for "Why not detected?". With a scene loaded and "Media" on, the frame is the workbench's composite
 // (the scene's media drawn on it); a click on a web card opens its URL in the system's browser.
+//
+// Labels ("12 ARUCO_ORIGINAL") are placed by ui/label_layout.hpp: off each other, the markers' corners and the
+// media, with a leader line when they had to move; those that find no room are counted in the view's corner.
+// Projected media stay on top of labels and outlines: after the overlays, the composite is drawn again over each
+// media quad (the same pixels, so nothing else changes), as a projector would cover whatever is under it.
+#include "ui/label_layout.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <string>
 
 namespace arwb::ui {
@@ -21,7 +29,11 @@ struct LiveViewState : PanelState {
   bool dragging = false;
   ImVec2 drag_from{0, 0};
   std::string pressed_url;   // a web card under the mouse when the left button went down
+  LabelCache labels;         // where each marker's label was, so it stays put while the marker does
 };
+
+// The labels' text size in pixels at scale 1 (the window's normal font).
+constexpr float kLabelFontPx = 15.0f;
 
 void overlay_candidates(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   const FrameTrace& t = ctx.frame->trace;
@@ -38,23 +50,161 @@ void overlay_candidates(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
     } else {
       dl->AddRect(m.to_screen(static_cast<float>(c.bbox.x) - 0.5f, static_cast<float>(c.bbox.y) - 0.5f),
                   m.to_screen(static_cast<float>(c.bbox.br().x) - 0.5f, static_cast<float>(c.bbox.br().y) - 0.5f),
-                  stage_colour(c.fate.stage, 0.5f), 0, 0, 1.0f);
+                  stage_colour(c.fate.stage, 0.5f), 0, 0, 1.0f * s);
     }
   }
 }
 
 void overlay_markers(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
-  const float s = ctx.scale;
   for (const Marker& mk : ctx.frame->trace.markers) {
-    draw_quad(dl, m, mk.corners, accepted_colour(), 2.5f * s, true);
-    const cv::Point2f c = quad_centre(mk.corners);
-    char label[96];
-    std::snprintf(label, sizeof label, "%d %s", mk.id, mk.dict.c_str());
-    const ImVec2 at = m.to_screen(c);
-    const ImVec2 sz = ImGui::CalcTextSize(label);
-    dl->AddRectFilled({at.x - sz.x * 0.5f - 3, at.y - sz.y * 0.5f - 1}, {at.x + sz.x * 0.5f + 3, at.y + sz.y * 0.5f + 1},
-                      IM_COL32(0, 0, 0, 170));
-    dl->AddText({at.x - sz.x * 0.5f, at.y - sz.y * 0.5f}, accepted_colour(), label);
+    draw_quad(dl, m, mk.corners, accepted_colour(), 2.5f * ctx.scale, true);
+  }
+}
+
+LabelQuad screen_quad(const ImageMapping& m, const Quad& q) {
+  LabelQuad out;
+  for (size_t i = 0; i < 4; ++i) {
+    const ImVec2 p = m.to_screen(q[i]);
+    out[i] = {p.x, p.y};
+  }
+  return out;
+}
+
+LabelQuad screen_quad(const ImageMapping& m, const MediaQuad& q) {
+  LabelQuad out;
+  for (size_t i = 0; i < 4; ++i) {
+    const ImVec2 p = m.to_screen(static_cast<float>(q.corners[i].x), static_cast<float>(q.corners[i].y));
+    out[i] = {p.x, p.y};
+  }
+  return out;
+}
+
+// The markers' labels, laid out (label_layout.hpp) and drawn: a dark box with the text, a leader line to the
+// marker when the label had to move away; "+N labels hidden" in the view's bottom-left corner. Fills
+// ctx.view.labels for --stats.
+void overlay_labels(Context& ctx, const ImageMapping& m, ImDrawList* dl, LiveViewState& st) {
+  View& v = ctx.view;
+  v.labels = {};
+  const float s = ctx.scale;
+  const std::vector<Marker>& markers = ctx.frame->trace.markers;
+  if (!v.show_accepted || (!v.label_ids && !v.label_dict) || markers.empty()) {
+    st.labels.clear();
+    return;
+  }
+  ImFont* font = ImGui::GetFont();
+  const float font_px = kLabelFontPx * s;
+  const ImVec2 pad{3.0f * s, 1.0f * s};
+  const LabelBox view{m.min.x, m.min.y, m.max.x, m.max.y};
+  LabelLayoutInput in;
+  in.bounds = view;
+  in.gap = 2.0f * s;
+  in.corner_margin = std::max(3.0f, 2.5f * s * 2.0f) + 1.0f * s;   // draw_quad's corner-0 mark, and a pixel
+  // The selected marker's label first, then by id and dictionary: the same order every frame.
+  std::vector<size_t> order;
+  for (size_t i = 0; i < markers.size(); ++i) {
+    if (quad_box(screen_quad(m, markers[i].corners)).overlaps(view)) order.push_back(i);
+  }
+  const FrameTrace& t = ctx.frame->trace;
+  const int selected = v.selected_candidate >= 0 && v.selected_candidate < static_cast<int>(t.candidates.size())
+                           ? t.candidates[static_cast<size_t>(v.selected_candidate)].marker
+                           : -1;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const Marker& x = markers[a];
+    const Marker& y = markers[b];
+    const bool xs = static_cast<int>(a) == selected, ys = static_cast<int>(b) == selected;
+    if (xs != ys) return xs;
+    if (x.id != y.id) return x.id < y.id;
+    if (x.dict != y.dict) return x.dict < y.dict;
+    return a < b;
+  });
+  std::vector<std::string> texts, short_texts;
+  for (size_t i : order) {
+    const Marker& mk = markers[i];
+    std::string text;
+    if (v.label_ids) text = std::to_string(mk.id);
+    if (v.label_dict) text += (text.empty() ? "" : " ") + mk.dict;
+    const ImVec2 sz = font->CalcTextSizeA(font_px, FLT_MAX, 0, text.c_str());
+    LabelRequest r;
+    r.anchor = screen_quad(m, mk.corners);
+    r.width = sz.x + pad.x * 2;
+    r.height = sz.y + pad.y * 2;
+    // Where "12 ARUCO_ORIGINAL" finds no room, "12" may.
+    short_texts.push_back(v.label_ids && v.label_dict ? std::to_string(mk.id) : std::string());
+    if (!short_texts.back().empty()) {
+      r.short_width = font->CalcTextSizeA(font_px, FLT_MAX, 0, short_texts.back().c_str()).x + pad.x * 2;
+    }
+    r.key = std::hash<std::string>{}(mk.dict) * 1000003u + static_cast<uint64_t>(static_cast<uint32_t>(mk.id));
+    in.labels.push_back(r);
+    texts.push_back(std::move(text));
+  }
+  // The media on screen cover labels (cover_with_media), so labels keep off them.
+  if (ctx.composite) {
+    for (const Overlay& o : ctx.frame->overlays) in.obstacles.push_back(screen_quad(m, o.quad));
+  }
+  // Room for the "+N labels hidden" note, so it never covers a label.
+  char note[48];
+  std::snprintf(note, sizeof note, "+%zu labels hidden", markers.size());
+  const ImVec2 note_size = font->CalcTextSizeA(font_px, FLT_MAX, 0, note);
+  const LabelBox note_box{view.x0, view.y1 - note_size.y - pad.y * 4, view.x0 + note_size.x + pad.x * 4, view.y1};
+  in.obstacles.push_back({{{note_box.x0, note_box.y0}, {note_box.x1, note_box.y0}, {note_box.x1, note_box.y1},
+                           {note_box.x0, note_box.y1}}});
+
+  const LabelLayout layout = layout_labels(in, &st.labels);
+  const ImU32 ink = accepted_colour();
+  for (size_t k = 0; k < layout.placements.size(); ++k) {
+    const LabelPlacement& p = layout.placements[k];
+    if (!p.placed) continue;
+    if (p.leader) dl->AddLine({p.leader_from.x, p.leader_from.y}, {p.leader_to.x, p.leader_to.y}, ink, 1.5f * s);
+    dl->AddRectFilled({p.box.x0, p.box.y0}, {p.box.x1, p.box.y1}, IM_COL32(0, 0, 0, 190), 2.0f * s);
+    dl->AddText(font, font_px, {p.box.x0 + pad.x, p.box.y0 + pad.y}, ink,
+                (p.short_form ? short_texts[k] : texts[k]).c_str());
+    v.labels.leaders += p.leader;
+    v.labels.shortened += p.short_form;
+    v.labels.boxes.push_back({static_cast<int>(std::floor(p.box.x0)), static_cast<int>(std::floor(p.box.y0)),
+                              static_cast<int>(std::ceil(p.box.x1)), static_cast<int>(std::ceil(p.box.y1))});
+  }
+  v.labels.drawn = layout.placed;
+  v.labels.hidden = layout.hidden;
+  // A check of the layout's promise, for --stats: pairs of drawn labels that overlap, labels on a corner.
+  for (size_t a = 0; a < layout.placements.size(); ++a) {
+    const LabelPlacement& p = layout.placements[a];
+    if (!p.placed) continue;
+    for (size_t b = a + 1; b < layout.placements.size(); ++b) {
+      v.labels.overlaps += layout.placements[b].placed && p.box.overlaps(layout.placements[b].box);
+    }
+    for (const LabelRequest& r : in.labels) {
+      for (const LabelPoint& c : r.anchor) {
+        if (c.x > p.box.x0 && c.x < p.box.x1 && c.y > p.box.y0 && c.y < p.box.y1) ++v.labels.on_corners;
+      }
+    }
+  }
+  if (layout.hidden > 0) {
+    std::snprintf(note, sizeof note, "+%d label%s hidden", layout.hidden, layout.hidden == 1 ? "" : "s");
+    const ImVec2 at{note_box.x0 + pad.x * 2, note_box.y1 - note_size.y - pad.y * 2};
+    const ImVec2 sz = font->CalcTextSizeA(font_px, FLT_MAX, 0, note);
+    dl->AddRectFilled({note_box.x0, note_box.y0}, {at.x + sz.x + pad.x * 2, note_box.y1}, IM_COL32(0, 0, 0, 200));
+    dl->AddText(font, font_px, at, IM_COL32(230, 230, 230, 255), note);
+  }
+}
+
+// The media on top of everything drawn over the frame: each media quad of the composite drawn again, in place,
+// a screen pixel larger all round so no outline or label peeks out at its anti-aliased edge.
+void cover_with_media(const Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+  if (!ctx.composite) return;
+  const cv::Mat& img = ctx.frame->image;
+  const float w = static_cast<float>(img.cols), h = static_cast<float>(img.rows);
+  for (const Overlay& o : ctx.frame->overlays) {
+    const LabelQuad q = screen_quad(m, o.quad);
+    const float cx = (q[0].x + q[1].x + q[2].x + q[3].x) * 0.25f, cy = (q[0].y + q[1].y + q[2].y + q[3].y) * 0.25f;
+    ImVec2 p[4], uv[4];
+    for (size_t i = 0; i < 4; ++i) {
+      const float dx = q[i].x - cx, dy = q[i].y - cy;
+      const float len = std::sqrt(dx * dx + dy * dy);
+      p[i] = len > 0 ? ImVec2{q[i].x + dx / len, q[i].y + dy / len} : ImVec2{q[i].x, q[i].y};
+      const cv::Point2f px = m.to_image(p[i]);   // pixel centres at integers, as the compositor draws them
+      uv[i] = {(px.x + 0.5f) / w, (px.y + 0.5f) / h};
+    }
+    dl->AddImageQuad(ctx.composite, p[0], p[1], p[2], p[3], uv[0], uv[1], uv[2], uv[3]);
   }
 }
 
@@ -80,7 +230,7 @@ void overlay_truth(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   for (const TruthMarker& tm : ctx.frame->truth) {
     for (const auto& p : tm.corners) {
       const ImVec2 s = m.to_screen(p);
-      dl->AddCircle(s, 4.0f * ctx.scale, IM_COL32(255, 255, 255, 220), 12, 1.5f);
+      dl->AddCircle(s, 4.0f * ctx.scale, IM_COL32(255, 255, 255, 220), 12, 1.5f * ctx.scale);
     }
   }
 }
@@ -133,6 +283,18 @@ void toolbar(Context& ctx) {
       if (ImGui::Checkbox(name.c_str(), &on)) v.show_rejected_stage[static_cast<size_t>(i)] = on;
       ImGui::PopStyleColor();
     }
+    ImGui::EndPopup();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Labels...")) ImGui::OpenPopup("labels");
+  if (ImGui::BeginPopup("labels")) {
+    // Per kind, what the live view draws (also --actions labels=ids,dict,rejected,truth,peers / all / none).
+    ImGui::Checkbox("Marker ids", &v.label_ids);
+    ImGui::Checkbox("Dictionary names", &v.label_dict);
+    ImGui::Checkbox("Rejected candidates", &v.show_rejected);
+    ImGui::Checkbox("Truth (synthetic source)", &v.show_truth);
+    ImGui::Checkbox("Peer: OpenCV aruco", &v.show_peer_opencv);
+    ImGui::Checkbox("Peer: AprilTag", &v.show_peer_apriltag);
     ImGui::EndPopup();
   }
   ImGui::SameLine();
@@ -197,6 +359,8 @@ void draw_live_view(Context& ctx) {
   overlay_peers(ctx, m, dl);
   if (ctx.view.show_accepted) overlay_markers(ctx, m, dl);
   if (ctx.view.show_truth) overlay_truth(ctx, m, dl);
+  overlay_labels(ctx, m, dl, st);
+  cover_with_media(ctx, m, dl);
   const FrameTrace& t = f.trace;
   for (int idx : {ctx.view.selected_candidate, ctx.view.hovered_candidate}) {
     if (idx < 0 || idx >= static_cast<int>(t.candidates.size())) continue;
@@ -206,7 +370,8 @@ void draw_live_view(Context& ctx) {
       draw_quad(dl, m, c.quad, col, 3.0f * ctx.scale, true);
     } else {
       dl->AddRect(m.to_screen(static_cast<float>(c.bbox.x), static_cast<float>(c.bbox.y)),
-                  m.to_screen(static_cast<float>(c.bbox.br().x), static_cast<float>(c.bbox.br().y)), col, 0, 0, 3.0f);
+                  m.to_screen(static_cast<float>(c.bbox.br().x), static_cast<float>(c.bbox.br().y)), col, 0, 0,
+                  3.0f * ctx.scale);
     }
   }
   // The media under the mouse: a thin outline (a web card's in the link colour).
@@ -231,7 +396,7 @@ void draw_live_view(Context& ctx) {
       const cv::Point2f now = m.to_image(io.MousePos);
       const float x0 = std::min(st.drag_from.x, now.x), y0 = std::min(st.drag_from.y, now.y);
       const float x1 = std::max(st.drag_from.x, now.x), y1 = std::max(st.drag_from.y, now.y);
-      dl->AddRect(m.to_screen(x0, y0), m.to_screen(x1, y1), IM_COL32(255, 255, 255, 255), 0, 0, 2.0f);
+      dl->AddRect(m.to_screen(x0, y0), m.to_screen(x1, y1), IM_COL32(255, 255, 255, 255), 0, 0, 2.0f * ctx.scale);
       if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
         st.dragging = false;
         if (x1 - x0 >= 2 && y1 - y0 >= 2) {
@@ -264,7 +429,7 @@ void draw_live_view(Context& ctx) {
   if (ctx.view.has_region) {
     const cv::Rect2f& r = ctx.view.region;
     dl->AddRect(m.to_screen(r.x, r.y), m.to_screen(r.x + r.width, r.y + r.height), IM_COL32(255, 255, 255, 200), 0, 0,
-                1.5f);
+                1.5f * ctx.scale);
   }
   dl->PopClipRect();
   if (hovered_web >= 0) {

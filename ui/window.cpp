@@ -92,6 +92,29 @@ void App::run_action(const Action& a) {
     requests.push_back({ui::RequestKind::load_scene, a.arg, 0, {}, {}});
   } else if (a.verb == "media") {
     view.show_media = a.arg != "off";
+  } else if (a.verb == "labels") {
+    // labels=ids,dict,rejected,truth,peers (those shown, the others hidden), labels=all, labels=none.
+    bool ids = false, dict = false, rejected = false, truth = false, peers = false;
+    for (size_t at = 0; at <= a.arg.size();) {
+      const size_t comma = std::min(a.arg.find(',', at), a.arg.size());
+      const std::string kind = a.arg.substr(at, comma - at);
+      at = comma + 1;
+      if (kind == "all") ids = dict = rejected = truth = peers = true;
+      else if (kind == "ids") ids = true;
+      else if (kind == "dict") dict = true;
+      else if (kind == "rejected") rejected = true;
+      else if (kind == "truth") truth = true;
+      else if (kind == "peers") peers = true;
+      else if (kind != "none" && !kind.empty()) {
+        warn("--actions labels=" + a.arg + ": no kind '" + kind + "' (ids, dict, rejected, truth, peers, all, none)");
+        return;
+      }
+    }
+    view.label_ids = ids;
+    view.label_dict = dict;
+    view.show_rejected = rejected;
+    view.show_truth = truth;
+    view.show_peer_opencv = view.show_peer_apriltag = peers;
   } else if (a.verb == "click") {
     // A click on the live view at image pixel X,Y: what a user's click on a web card does.
     double x = 0, y = 0;
@@ -470,6 +493,10 @@ int run_workbench(const WorkbenchOptions& options) {
                   {"draw_calls", std::llround(per(app.draw_calls, ui_frames))},
                   {"vertices", std::llround(per(app.vertices, ui_frames))}};
     s["markers"] = app.frame ? app.frame->trace.markers.size() : 0;
+    const ui::LabelReport& lr = app.view.labels;
+    s["labels"] = {{"drawn", lr.drawn},         {"hidden", lr.hidden},         {"leaders", lr.leaders},
+                   {"shortened", lr.shortened}, {"overlaps", lr.overlaps},     {"on_corners", lr.on_corners},
+                   {"boxes", lr.boxes}};
     s["source"] = app.engine->source().text();
     s["problems"] = app.log.problems();
     std::printf("%s\n", s.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
