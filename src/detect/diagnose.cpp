@@ -331,9 +331,10 @@ RegionReport explain_region(const FrameTrace& trace, cv::Rect2f region, const De
   const OtherDictionary& o = rep.other_dictionaries.front();
   std::string list;
   for (const auto& s : searched) list += (list.empty() ? "" : ", ") + s;
-  rep.summary = "This is a " + o.dict + " marker, id " + std::to_string(o.id) + " (candidate #" +
-                std::to_string(o.candidate) + "): add that dictionary; the detector searches " +
-                (list.empty() ? std::string("none") : list) + ". " + rep.summary;
+  rep.advice = "This is a " + o.dict + " marker, id " + std::to_string(o.id) + " (candidate #" +
+               std::to_string(o.candidate) + "): add that dictionary; the detector searches " +
+               (list.empty() ? std::string("none") : list) + ".";
+  rep.summary = rep.advice + " " + rep.summary;
   return rep;
 }
 

@@ -40,6 +40,8 @@ struct RegionReport {
   // Filled by the overload that knows the searched dictionaries, when nothing is detected here: the first is
   // the advice ("this is a 6X6_250 marker, id 23: add that dictionary"), the others the other readings.
   std::vector<OtherDictionary> other_dictionaries;
+  std::string advice;                      // with other_dictionaries: "This is a 6X6_250 marker, id 23 ..."; the
+                                           // summary starts with it
   // When no candidate overlaps: the earliest stage that had nothing there (adaptive_threshold: no foreground
   // pixels; contours: no border long enough to be traced; size_filter; quad_fit). Stage::accepted otherwise.
   // A summary trace cannot tell the first three apart: size_filter, the latest it can be. A trace at level off
