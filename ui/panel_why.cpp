@@ -59,7 +59,11 @@ void sweep_section(Context& ctx) {
   const SweepResult& r = s.result;
   ImGui::TextWrapped("%s", r.message.c_str());
   ImGui::TextDisabled("%d detector runs", r.runs);
-  if (!r.add_dictionary.empty()) add_dictionary_button(ctx, r.add_dictionary);
+  if (!r.add_dictionary.empty()) {
+    ImGui::PushID("sweep");   // the advice above has a button of the same label
+    add_dictionary_button(ctx, r.add_dictionary);
+    ImGui::PopID();
+  }
   if (r.found && !r.changes.empty()) {
     for (const SweepChange& c : r.changes) ImGui::BulletText("%s: %g -> %g", c.param.c_str(), c.from, c.to);
     if (ImGui::Button("Apply this change")) {
