@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace arwb::ui {
@@ -71,7 +72,14 @@ void scene_state(Context& ctx) {
   if (!s.file.empty()) ImGui::TextUnformatted(s.file.c_str());
   else if (!failed.empty()) ImGui::Text("(none: %s did not load)", failed.c_str());
   else ImGui::TextUnformatted("(none)");
-  if (s.ok) {
+  const auto faulty = std::count_if(s.mappings.begin(), s.mappings.end(),
+                                    [](const MappingRow& r) { return r.health != MappingHealth::ok; });
+  if (s.ok && s.error.empty() && faulty > 0) {
+    // Runs, but not all of it: never "ok" while a mapping is skipped, disabled or failing.
+    ImGui::TextColored(kRed, "%d of %zu mappings not working", static_cast<int>(faulty), s.mappings.size());
+    ImGui::SameLine();
+    ImGui::TextDisabled("generation %llu: see the red rows", static_cast<unsigned long long>(s.generation));
+  } else if (s.ok) {
     ImGui::TextColored(s.error.empty() ? kGreen : kYellow, "%s", s.error.empty() ? "ok" : "reload failed");
     ImGui::SameLine();
     ImGui::TextDisabled("generation %llu%s", static_cast<unsigned long long>(s.generation),
@@ -112,8 +120,25 @@ void scene_state(Context& ctx) {
   }
 }
 
-ImVec4 state_colour(const std::string& state) {
-  if (state.rfind("error", 0) == 0) return kRed;
+// A reason without its "scene.lua:12: " (the row's line column says where), as the table has little room.
+std::string without_location(const std::string& reason) {
+  for (size_t i = reason.find(':'); i != std::string::npos; i = reason.find(':', i + 1)) {
+    size_t j = i + 1;
+    while (j < reason.size() && reason[j] >= '0' && reason[j] <= '9') ++j;
+    if (j == i + 1 || j >= reason.size() || reason[j] != ':') continue;
+    const std::string_view named(reason.data(), i);
+    auto ends = [&](std::string_view ext) {
+      return named.size() > ext.size() && named.substr(named.size() - ext.size()) == ext;
+    };
+    if (!ends(".lua") && !ends(".xml")) return reason;
+    return reason.substr(j + (j + 1 < reason.size() && reason[j + 1] == ' ' ? 2 : 1));
+  }
+  return reason;
+}
+
+ImVec4 state_colour(const MappingRow& r) {
+  const std::string& state = r.state;
+  if (r.health != MappingHealth::ok) return kRed;
   if (state.rfind("visible", 0) == 0) return kGreen;
   if (state.rfind("held", 0) == 0) return kYellow;
   return ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled);
@@ -141,8 +166,12 @@ void mappings_table(Context& ctx) {
   ImGui::TableHeadersRow();
   for (size_t i = 0; i < s.mappings.size(); ++i) {
     const MappingRow& r = s.mappings[i];
+    const bool bad = r.health != MappingHealth::ok;
     ImGui::PushID(static_cast<int>(i));
     ImGui::TableNextRow();
+    // A row that is not ok stays, in red, with its reason in the state column.
+    if (bad) ImGui::TableSetBgColor(ImGuiTableBgTarget_RowBg1, IM_COL32(120, 30, 30, 90));
+    if (bad) ImGui::PushStyleColor(ImGuiCol_Text, kRed);
     ImGui::TableNextColumn();
     ImGui::TextUnformatted(r.ids.c_str());
     ImGui::TableNextColumn();
@@ -152,22 +181,40 @@ void mappings_table(Context& ctx) {
     ImGui::TextUnformatted(r.placement.c_str());
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", r.placement.c_str());
     ImGui::TableNextColumn();
-    ImGui::TextColored(state_colour(r.state), "%s", r.state.c_str());
-    if (ImGui::IsItemHovered() && r.state.size() > 20) ImGui::SetTooltip("%s", r.state.c_str());
+    // A faulty row says what it is here; its reason is listed in full under the table.
+    ImGui::TextColored(state_colour(r), "%s", bad ? mapping_health_name(r.health) : r.state.c_str());
+    if (ImGui::IsItemHovered() && (bad || r.state.size() > 20)) ImGui::SetTooltip("%s", r.state.c_str());
     ImGui::TableNextColumn();
-    if (r.line > 0) {
+    // The line the reason points at (a callback's failing statement) for a faulty row, else the declaration.
+    const int line = bad && r.reason_line > 0 ? r.reason_line : r.line;
+    if (line > 0) {
       char label[24];
-      std::snprintf(label, sizeof label, "%d", r.line);
+      std::snprintf(label, sizeof label, "%d", line);
       if (ImGui::Selectable(label)) {
-        show_script_line(ctx, r.line);
+        show_script_line(ctx, line);
       }
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Show line %d in the Script editor", r.line);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Show line %d in the Script editor", line);
     } else {
       ImGui::TextDisabled("-");
     }
+    if (bad) ImGui::PopStyleColor();
     ImGui::PopID();
   }
   ImGui::EndTable();
+  // The reasons, wrapped: each faulty row's ids, line and what went wrong, a click away from the editor.
+  for (size_t i = 0; i < s.mappings.size(); ++i) {
+    const MappingRow& r = s.mappings[i];
+    if (r.health == MappingHealth::ok) continue;
+    ImGui::PushID(static_cast<int>(i) + 100000);
+    ImGui::PushStyleColor(ImGuiCol_Text, kRed);
+    const int line = r.reason_line > 0 ? r.reason_line : r.line;
+    ImGui::TextWrapped("marker(%s), line %d, %s: %s", r.ids.c_str(), line, mapping_health_name(r.health),
+                       without_location(r.reason).c_str());
+    ImGui::PopStyleColor();
+    if (ImGui::IsItemClicked() && line > 0) show_script_line(ctx, line);
+    if (ImGui::IsItemHovered() && line > 0) ImGui::SetTooltip("Click: show line %d in the Script editor", line);
+    ImGui::PopID();
+  }
 }
 
 void markers_table(Context& ctx) {

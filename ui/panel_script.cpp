@@ -1,4 +1,5 @@
-// Script editor: the text of the scene file in use, with line numbers, its load error's line marked in red and
+// Script editor: the text of the scene file in use, with line numbers, its load error's line and the lines of
+// its runtime errors and skipped mappings (the Scene panel's rows that are not ok) marked in red and
 // the message under it. Save (or Ctrl+S) asks the workbench to write the file, atomically; the scene then reloads
 // by itself. The editor never drops the user's edits silently: when the file changes on disk while there are
 // unsaved edits, or the scene switches to another file, it asks. The window reads and watches the file (a
@@ -17,6 +18,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace arwb::ui {
 
@@ -165,8 +167,8 @@ int on_text_event(ImGuiInputTextCallbackData* d) {
   return 0;
 }
 
-// The text with its line numbers in a scrolling child of `size`; `mark_line` (1-based, 0: none) in red.
-void editor(ScriptState& st, int mark_line, ImVec2 size) {
+// The text with its line numbers in a scrolling child of `size`; the `marks` (1-based lines) in red.
+void editor(ScriptState& st, const std::vector<int>& marks, ImVec2 size) {
   const ImGuiStyle& style = ImGui::GetStyle();
   ImGui::BeginChild("##editor", size, true, ImGuiWindowFlags_HorizontalScrollbar);
   const float lh = ImGui::GetTextLineHeight();   // InputText's line height: the font size
@@ -184,7 +186,8 @@ void editor(ScriptState& st, int mark_line, ImVec2 size) {
   const float text_top = at.y + pad.y;           // where the widget draws its first line
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->AddRectFilled(at, {at.x + input_size.x, at.y + input_size.y}, ImGui::GetColorU32(ImGuiCol_FrameBg, 0.4f));
-  if (mark_line >= 1 && mark_line <= st.lines) {
+  for (const int mark_line : marks) {
+    if (mark_line < 1 || mark_line > st.lines) continue;
     const float y = text_top + static_cast<float>(mark_line - 1) * lh;
     dl->AddRectFilled({origin.x, y}, {at.x + input_size.x, y + lh}, IM_COL32(210, 40, 40, 110));
   }
@@ -199,7 +202,9 @@ void editor(ScriptState& st, int mark_line, ImVec2 size) {
     std::snprintf(num, sizeof num, "%d", i + 1);
     const float w = ImGui::CalcTextSize(num).x;
     dl->AddText({at.x - pad.x - w, text_top + static_cast<float>(i) * lh},
-                i + 1 == mark_line ? IM_COL32(255, 120, 120, 255) : number_colour, num);
+                std::find(marks.begin(), marks.end(), i + 1) != marks.end() ? IM_COL32(255, 120, 120, 255)
+                                                                            : number_colour,
+                num);
   }
 
   ImGui::SetCursorScreenPos(at);
@@ -302,7 +307,22 @@ void draw_script(Context& ctx) {
     if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
   }
-  const int mark_line = scene.error_line > 0 && message_line_in(scene.error, st.path) > 0 ? scene.error_line : 0;
+  // The load error's line, else the first line of a mapping that is not ok (a runtime error, a callback
+  // disabled, a marker() skipped) when this file is the scene that runs.
+  std::vector<int> marks;
+  std::string problems;
+  if (scene.error_line > 0 && message_line_in(scene.error, st.path) > 0) marks.push_back(scene.error_line);
+  if (st.path == scene.file) {
+    int n = 0;
+    for (const MappingRow& r : scene.mappings) {
+      if (r.health == MappingHealth::ok) continue;
+      if (r.reason_line > 0 && std::find(marks.begin(), marks.end(), r.reason_line) == marks.end())
+        marks.push_back(r.reason_line);
+      if (n++ == 0) problems = r.reason;
+    }
+    if (n > 1) problems += " (and " + std::to_string(n - 1) + " more in the Scene panel)";
+  }
+  const int mark_line = marks.empty() ? 0 : marks.front();
   if (opened && mark_line > 0 && st.goto_line == 0) st.goto_line = mark_line;   // a file opened with an error
   if (mark_line > 0) {
     ImGui::SameLine();
@@ -360,17 +380,18 @@ void draw_script(Context& ctx) {
 
   // The editor, then the error under it and where the cursor is.
   const float line_h = ImGui::GetTextLineHeightWithSpacing();
-  const bool has_error = !scene.error.empty();
+  const std::string& shown = !scene.error.empty() ? scene.error : problems;
+  const bool has_error = !shown.empty();
   float below = line_h;
   if (has_error) {
     const float wrap = ImGui::GetContentRegionAvail().x;
-    below += ImGui::CalcTextSize(scene.error.c_str(), nullptr, false, wrap).y + ImGui::GetStyle().ItemSpacing.y;
+    below += ImGui::CalcTextSize(shown.c_str(), nullptr, false, wrap).y + ImGui::GetStyle().ItemSpacing.y;
   }
   const float editor_h = std::max(ImGui::GetContentRegionAvail().y - below, line_h * 3);
-  editor(st, mark_line, {0, editor_h});
+  editor(st, marks, {0, editor_h});
   if (has_error) {
     ImGui::PushStyleColor(ImGuiCol_Text, kRed);
-    ImGui::TextWrapped("%s", scene.error.c_str());
+    ImGui::TextWrapped("%s", shown.c_str());
     ImGui::PopStyleColor();
   }
   if (st.cursor >= 0) ImGui::TextDisabled("line %d of %d", st.cursor_line + 1, st.lines);

@@ -1,14 +1,45 @@
-// "Why not detected?": the rectangle dragged on the live view, every candidate the pipeline had there and where
-// it was dropped, or the early stage that lost the marker; and the parameter sweep that finds the smallest change
-// making a marker appear there.
+// "Why not detected?": the rectangle dragged on the live view, a marker of a dictionary that is not searched
+// (with a button adding it), every candidate the pipeline had there and where it was dropped, or the early stage
+// that lost the marker; and the parameter sweep that finds the smallest change making a marker appear there.
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <string>
 
 namespace arwb::ui {
 
 namespace {
+
+const ImVec4 kAdvice{1.0f, 0.8f, 0.3f, 1.0f};
+
+// Adds a dictionary to those searched; the workbench forwards the change to the detector.
+void add_dictionary_button(Context& ctx, const std::string& dict) {
+  auto& d = ctx.settings.dictionaries;
+  if (std::find(d.begin(), d.end(), dict) != d.end()) {
+    ImGui::TextDisabled("%s is searched now", dict.c_str());
+    return;
+  }
+  const std::string label = "Add " + dict + " to the searched dictionaries";
+  if (ImGui::Button(label.c_str())) d.push_back(dict);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("The detector then reads every quad as %s too.", dict.c_str());
+}
+
+void dictionary_advice(Context& ctx, const RegionReport& rep) {
+  if (rep.other_dictionaries.empty()) return;
+  const OtherDictionary& o = rep.other_dictionaries.front();
+  ImGui::PushStyleColor(ImGuiCol_Text, kAdvice);
+  ImGui::TextWrapped("%s", rep.advice.c_str());
+  ImGui::PopStyleColor();
+  add_dictionary_button(ctx, o.dict);
+  std::string also;
+  for (size_t i = 1; i < rep.other_dictionaries.size() && i < 6; ++i) {
+    const OtherDictionary& x = rep.other_dictionaries[i];
+    also += (also.empty() ? "" : ", ") + x.dict + " id " + std::to_string(x.id);
+  }
+  if (!also.empty()) ImGui::TextDisabled("It also reads as %s.", also.c_str());
+}
 
 void sweep_section(Context& ctx) {
   const SweepStatus& s = ctx.status.sweep;
@@ -28,6 +59,11 @@ void sweep_section(Context& ctx) {
   const SweepResult& r = s.result;
   ImGui::TextWrapped("%s", r.message.c_str());
   ImGui::TextDisabled("%d detector runs", r.runs);
+  if (!r.add_dictionary.empty()) {
+    ImGui::PushID("sweep");   // the advice above has a button of the same label
+    add_dictionary_button(ctx, r.add_dictionary);
+    ImGui::PopID();
+  }
   if (r.found && !r.changes.empty()) {
     for (const SweepChange& c : r.changes) ImGui::BulletText("%s: %g -> %g", c.param.c_str(), c.from, c.to);
     if (ImGui::Button("Apply this change")) {
@@ -61,7 +97,10 @@ void draw_why(Context& ctx) {
     ImGui::TextWrapped("Lost at %s", std::string(stage_name(rep.lost_at)).c_str());
     ImGui::PopStyleColor();
   }
-  ImGui::TextWrapped("%s", rep.summary.c_str());
+  dictionary_advice(ctx, rep);
+  // The summary without the advice drawn above it.
+  const bool advised = !rep.advice.empty() && rep.summary.rfind(rep.advice, 0) == 0;
+  ImGui::TextWrapped("%s", rep.summary.c_str() + (advised ? rep.advice.size() + (rep.summary.size() > rep.advice.size()) : 0));
   if (!rep.candidates.empty()) {
     ImGui::TextDisabled("%zu candidate(s) here, hover to highlight, click to inspect:", rep.candidates.size());
     ImGui::BeginChild("cands", {0, 160 * ctx.scale}, true);

@@ -77,6 +77,15 @@ void App::run_action(const Action& a) {
     } else {
       warn("--actions: region wants X,Y,W,H, not '" + a.arg + "'");
     }
+  } else if (a.verb == "add_dictionary") {
+    // What the Why panel's "Add ... to the searched dictionaries" button does.
+    std::string err;
+    if (const auto d = dictionary_by_name(a.arg, &err)) {
+      if (std::find(settings.dictionaries.begin(), settings.dictionaries.end(), d->name()) == settings.dictionaries.end())
+        settings.dictionaries.push_back(d->name());
+    } else {
+      warn("--actions add_dictionary: " + err);
+    }
   } else if (a.verb == "sweep") {
     if (view.has_region) requests.push_back({ui::RequestKind::sweep, "", 0, view.region, {}});
   } else if (a.verb == "tour") {
@@ -159,7 +168,8 @@ void App::update_region() {
   if (!view.has_region || !frame) return;
   const cv::Rect2f& r = view.region;
   if (frame->index == region_frame && r == region_done) return;
-  view.region_report = explain_region(frame->trace, r);
+  // With the dictionaries the frame was detected with: the report names a marker of any other one.
+  view.region_report = explain_region(frame->trace, r, frame->params, frame->dictionaries);
   region_frame = frame->index;
   region_done = r;
 }
@@ -232,6 +242,14 @@ void App::draw_status_bar(float height) {
   ImGui::Begin("##status", nullptr, flags);
   ImGui::Text("%s | UI %.0f fps | detection %.0f fps | %s", status.source.text().c_str(), status.ui_fps, status.detect_fps,
               settings.frozen ? "FROZEN" : "live");
+  // A scene that runs with mappings skipped, disabled or failing says so for as long as it lasts.
+  if (frame) {
+    const auto& rows = frame->scene.mappings;
+    if (const auto bad = std::count_if(rows.begin(), rows.end(), [](const MappingRow& r) { return r.health != MappingHealth::ok; })) {
+      ImGui::SameLine();
+      ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "| scene: %d of %zu mappings not working", static_cast<int>(bad), rows.size());
+    }
+  }
   // The newest warning or error stays visible for a while.
   for (auto it = log_copy.rbegin(); it != log_copy.rend(); ++it) {
     const double age = std::chrono::duration<double>(Clock::now() - t0).count() - it->time_s;
@@ -487,6 +505,20 @@ int run_workbench(const WorkbenchOptions& options) {
     s["composite_ms"] = round_decimals(per(app.composite_ms, app.composites), 2);
     s["scene"] = app.frame ? app.frame->scene.file : "";
     s["scene_ok"] = app.frame && app.frame->scene.ok;
+    // Per mapping of the scene: ok, or error / disabled / skipped with the reason and the line it points at.
+    s["scene_mappings"] = Json::array();
+    if (app.frame)
+      for (const MappingRow& r : app.frame->scene.mappings)
+        s["scene_mappings"].push_back({{"ids", r.ids},
+                                       {"health", mapping_health_name(r.health)},
+                                       {"reason", r.reason},
+                                       {"line", r.health == MappingHealth::ok ? r.line : r.reason_line}});
+    {
+      app.log.sync(app.log_copy, app.log_seen);
+      int errors = 0;
+      for (const LogEntry& e : app.log_copy) errors += e.level == LogLevel::error;
+      s["log_errors"] = errors;   // what the Log panel's "error (N)" counts
+    }
     s["ui_ms"] = {{"panels", round_decimals(per(app.ui_ms[0], ui_frames), 2)},
                   {"render", round_decimals(per(app.ui_ms[1], ui_frames), 2)},
                   {"swap", round_decimals(per(app.ui_ms[2], ui_frames), 2)},
@@ -499,6 +531,18 @@ int run_workbench(const WorkbenchOptions& options) {
                    {"boxes", lr.boxes}};
     s["source"] = app.engine->source().text();
     s["problems"] = app.log.problems();
+    if (app.view.has_region) {
+      // The Why panel's report on the last frame: its headline and the dictionary it advises adding.
+      const RegionReport& rep = app.view.region_report;
+      Json why = {{"summary", rep.summary},
+                  {"candidate", rep.candidates.empty() ? -1 : rep.candidates.front().index},
+                  {"dictionaries", app.settings.dictionaries}};
+      if (!rep.other_dictionaries.empty()) {
+        why["other_dictionary"] = rep.other_dictionaries.front().dict;
+        why["other_id"] = rep.other_dictionaries.front().id;
+      }
+      s["why"] = why;
+    }
     std::printf("%s\n", s.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
   }
   if (!worker_stopped) {

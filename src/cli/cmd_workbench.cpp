@@ -17,7 +17,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
                  "sweep, tour[=STEP], presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
                  "pixels; opens a web card), labels=KINDS (what the live view shows, a comma list of ids, dict, "
-                 "rejected, truth, peers, or all or none).\n"
+                 "rejected, truth, peers, or all or none), add_dictionary=NAME (searched too, as the Why panel's button does).\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console.\n"
                  "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Q quit.");

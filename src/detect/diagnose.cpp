@@ -2,13 +2,17 @@
 #include "detect/diagnose.hpp"
 
 #include "base/decimals.hpp"
+#include "detect/pipeline.hpp"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cctype>
 #include <cstring>
+#include <map>
+#include <optional>
 
 namespace arwb {
 namespace {
@@ -46,6 +50,30 @@ cv::Point2f marker_centre_working(const Marker& m, double sx, double sy) {
   return {float((c.x + 0.5) / sx - 0.5), float((c.y + 0.5) / sy - 0.5)};
 }
 
+// The candidate's box: its quad's where it has one, else its contour's (or small region's).
+cv::Rect2f candidate_box(const CandidateRecord& c) {
+  if (c.has_quad) {
+    const cv::Rect2f b = quad_box(c.quad);
+    return {b.x, b.y, b.width + 1, b.height + 1};
+  }
+  return cv::Rect2f(c.bbox);
+}
+
+// Intersection over union of two boxes; a region of no size (a click) counts as one pixel.
+double iou(cv::Rect2f a, cv::Rect2f b) {
+  a.width = std::max(a.width, 1.f), a.height = std::max(a.height, 1.f);
+  b.width = std::max(b.width, 1.f), b.height = std::max(b.height, 1.f);
+  const double inter = (a & b).area();
+  const double uni = double(a.area()) + double(b.area()) - inter;
+  return uni > 0 ? inter / uni : 0;
+}
+
+std::string upper_name(std::string s) {
+  for (char& ch : s) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  if (s.rfind("DICT_", 0) == 0) s = s.substr(5);
+  return s;
+}
+
 std::string marker_name(const Marker& m) { return m.dict + " id " + std::to_string(m.id); }
 
 std::string shape_of(const CandidateRecord& c) {
@@ -74,7 +102,10 @@ std::string suggestion(const Rejection& r) {
 
 }  // namespace
 
-RegionReport explain_region(const FrameTrace& trace, cv::Rect2f region) {
+namespace {
+
+// `advise`: end the summary with the parameter that would let the headline candidate through.
+RegionReport explain(const FrameTrace& trace, cv::Rect2f region, bool advise) {
   RegionReport rep;
   const int w = trace.work_width > 0 ? trace.work_width : trace.width;
   const int h = trace.work_height > 0 ? trace.work_height : trace.height;
@@ -120,12 +151,18 @@ RegionReport explain_region(const FrameTrace& trace, cv::Rect2f region) {
   }
 
   if (!rep.candidates.empty()) {
-    // Furthest first (markers, then the latest stage reached), larger before smaller: the UI lists the
-    // candidate that matters at the top.
+    // Markers first, then the candidate that covers the region best: the one the user drew the rectangle
+    // around, not the page or the shadow that also overlaps it. Ties by the stage reached.
+    std::vector<double> cover(trace.candidates.size(), 0.0);
+    for (const RegionCandidate& rc : rep.candidates)
+      cover[size_t(rc.index)] = iou(candidate_box(trace.candidates[size_t(rc.index)]), r);
     std::stable_sort(rep.candidates.begin(), rep.candidates.end(),
                      [&](const RegionCandidate& a, const RegionCandidate& b) {
-                       if (a.fate.stage != b.fate.stage) return int(a.fate.stage) > int(b.fate.stage);
-                       return trace.candidates[size_t(a.index)].perimeter > trace.candidates[size_t(b.index)].perimeter;
+                       const bool ma = a.fate.stage == Stage::accepted, mb = b.fate.stage == Stage::accepted;
+                       if (ma != mb) return ma;
+                       const double ca = cover[size_t(a.index)], cb = cover[size_t(b.index)];
+                       if (ca != cb) return ca > cb;
+                       return int(a.fate.stage) > int(b.fate.stage);
                      });
     rep.lost_at = Stage::accepted;
     const RegionCandidate& best = rep.candidates.front();
@@ -148,10 +185,11 @@ RegionReport explain_region(const FrameTrace& trace, cv::Rect2f region) {
     } else {
       const CandidateRecord& c = trace.candidates[size_t(best.index)];
       rep.summary = "Nothing is detected here: " +
-                    (others > 0 ? "of " + std::to_string(others + 1) + " candidates the furthest, " : std::string()) +
+                    (others > 0 ? "of " + std::to_string(others + 1) + " candidates the one covering the region, "
+                                : std::string()) +
                     "#" + std::to_string(best.index) + " (" + shape_of(c) + "), stopped at " +
-                    std::string(stage_name(best.fate.stage)) + ": " + best.fate.message + ". " +
-                    suggestion(best.fate);
+                    std::string(stage_name(best.fate.stage)) + ": " + best.fate.message + "." +
+                    (advise ? " " + suggestion(best.fate) : std::string());
     }
     return rep;
   }
@@ -192,6 +230,111 @@ RegionReport explain_region(const FrameTrace& trace, cv::Rect2f region) {
   rep.lost_at = Stage::size_filter;
   rep.summary = std::to_string(traced) + " contours here were dropped by size_filter (min_perimeter_px, "
                 "max_perimeter_rate) before quad_fit.";
+  return rep;
+}
+
+}  // namespace
+
+RegionReport explain_region(const FrameTrace& trace, cv::Rect2f region) { return explain(trace, region, true); }
+
+// [SECTION] other dictionaries
+
+namespace {
+
+// The grid of a quad read as `n` x `n` inner bits, as the detector reads it (identification's input), or nothing
+// when the frontal view is uniform or the border is not black.
+std::optional<uint64_t> read_code(const cv::Mat& grey, Quad q, int n, const DetectorParams& p) {
+  const int cells = n + 2;
+  stages::refine_corners(grey, q, cells, p);
+  const cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
+  const stages::OtsuResult o = stages::otsu(warp);
+  if (o.stddev < p.otsu_min_stddev) return std::nullopt;
+  const cv::Mat bits = stages::sample_bits(warp, cells, o.threshold, p);
+  if (stages::border_errors(bits) > int(p.border_max_error_rate * 4 * (cells - 1))) return std::nullopt;
+  return stages::inner_code(bits);
+}
+
+// The predefined dictionaries not searched, built once (dictionary_by_name caches them).
+std::vector<Dictionary> unsearched(const std::vector<std::string>& searched) {
+  std::vector<std::string> names;
+  for (const auto& s : searched) names.push_back(upper_name(s));
+  std::vector<Dictionary> out;
+  for (const std::string& n : dictionary_names())
+    if (std::find(names.begin(), names.end(), upper_name(n)) == names.end())
+      if (auto d = dictionary_by_name(n)) out.push_back(std::move(*d));
+  return out;
+}
+
+}  // namespace
+
+std::vector<OtherDictionary> read_other_dictionaries(const FrameTrace& trace, const std::vector<int>& candidates,
+                                                     const DetectorParams& params,
+                                                     const std::vector<std::string>& searched) {
+  std::vector<OtherDictionary> out;
+  const StageRecord* acq = trace.stage(Stage::acquisition);
+  if (trace.level != TraceLevel::full || !acq || acq->image.empty() || acq->image.type() != CV_8UC1) return out;
+  const cv::Mat& grey = acq->image;
+  const std::vector<Dictionary> dicts = unsearched(searched);
+  if (dicts.empty()) return out;
+  std::vector<int> sizes;
+  for (const Dictionary& d : dicts)
+    if (std::find(sizes.begin(), sizes.end(), d.marker_size()) == sizes.end()) sizes.push_back(d.marker_size());
+
+  // Every quad of the frame that was read and not accepted (an inner quad merged into its outer one is the same
+  // marker): which dictionaries read it, for the tie-break and for the region's own candidates.
+  auto readings = [&](int index) {
+    std::vector<OtherDictionary> hits;
+    const CandidateRecord& c = trace.candidates[size_t(index)];
+    if (!c.has_quad || c.fate.stage == Stage::accepted || c.fate.stage == Stage::nested_filter) return hits;
+    for (int n : sizes) {
+      const std::optional<uint64_t> code = read_code(grey, c.quad, n, params);
+      if (!code) continue;
+      for (const Dictionary& d : dicts) {
+        if (d.marker_size() != n) continue;
+        const DictMatch m = d.nearest(*code);
+        if (m.id >= 0 && m.hamming <= stages::correction_budget(d, params))
+          hits.push_back({index, d.name(), m.id, m.hamming, 0});
+      }
+    }
+    return hits;
+  };
+  std::vector<std::vector<OtherDictionary>> region_hits;
+  for (int i : candidates) region_hits.push_back(readings(i));
+  if (std::all_of(region_hits.begin(), region_hits.end(), [](const auto& h) { return h.empty(); })) return out;
+  std::map<std::string, int> in_frame;
+  for (int i = 0; i < int(trace.candidates.size()); ++i)
+    for (const OtherDictionary& h : readings(i)) ++in_frame[h.dict];
+  std::map<std::string, int> dict_size;
+  for (const Dictionary& d : dicts) dict_size[d.name()] = d.size();
+  for (auto& hits : region_hits) {
+    for (OtherDictionary& h : hits) h.in_frame = in_frame[h.dict];
+    std::stable_sort(hits.begin(), hits.end(), [&](const OtherDictionary& a, const OtherDictionary& b) {
+      if (a.in_frame != b.in_frame) return a.in_frame > b.in_frame;
+      if (a.hamming != b.hamming) return a.hamming < b.hamming;
+      return dict_size[a.dict] < dict_size[b.dict];
+    });
+    out.insert(out.end(), hits.begin(), hits.end());
+  }
+  return out;
+}
+
+RegionReport explain_region(const FrameTrace& trace, cv::Rect2f region, const DetectorParams& params,
+                            const std::vector<std::string>& searched) {
+  RegionReport rep = explain(trace, region, false);
+  const bool detected = !rep.candidates.empty() && rep.candidates.front().fate.stage == Stage::accepted;
+  if (!detected && !rep.candidates.empty()) {
+    std::vector<int> indices;
+    for (const RegionCandidate& rc : rep.candidates) indices.push_back(rc.index);
+    rep.other_dictionaries = read_other_dictionaries(trace, indices, params, searched);
+  }
+  if (rep.other_dictionaries.empty()) return explain(trace, region, true);
+  const OtherDictionary& o = rep.other_dictionaries.front();
+  std::string list;
+  for (const auto& s : searched) list += (list.empty() ? "" : ", ") + s;
+  rep.advice = "This is a " + o.dict + " marker, id " + std::to_string(o.id) + " (candidate #" +
+               std::to_string(o.candidate) + "): add that dictionary; the detector searches " +
+               (list.empty() ? std::string("none") : list) + ".";
+  rep.summary = rep.advice + " " + rep.summary;
   return rep;
 }
 
@@ -334,6 +477,33 @@ SweepResult sweep_region(const cv::Mat& image, const Detector& detector, cv::Rec
     res.message = marker_name(*m) + " is already detected here with the current parameters";
     if (progress) progress(1.0);
     return res;
+  }
+
+  // A marker of a dictionary that is not searched is found by adding the dictionary, whatever the parameters:
+  // say so before trying any of them.
+  if (!(cancel && cancel->load())) {
+    FrameTrace full;
+    det.detect(image, &full, TraceLevel::full);
+    ++res.runs;
+    std::vector<std::string> searched;
+    for (const Dictionary& d : det.dictionaries()) searched.push_back(d.name());
+    const RegionReport rep = explain_region(full, r, base, searched);
+    if (!rep.other_dictionaries.empty()) {
+      const OtherDictionary& o = rep.other_dictionaries.front();
+      const CandidateRecord& c = full.candidates[size_t(o.candidate)];
+      res.found = true;
+      res.add_dictionary = o.dict;
+      res.marker.id = o.id;
+      res.marker.dict = o.dict;
+      for (int k = 0; k < 4; ++k)   // back to input pixels, as detected markers are
+        res.marker.corners[size_t(k)] = {float((c.quad[size_t(k)].x + 0.5) * sx - 0.5),
+                                         float((c.quad[size_t(k)].y + 0.5) * sy - 0.5)};
+      res.marker.hamming = o.hamming;
+      res.message = "adding the dictionary " + o.dict + " finds " + o.dict + " id " + std::to_string(o.id) +
+                    "; no parameter needs to change";
+      if (progress) progress(1.0);
+      return res;
+    }
   }
 
   const auto table = param_table();

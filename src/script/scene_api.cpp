@@ -4,7 +4,8 @@
 // Every C function here is a small w_ function whose body runs in guarded() (lua_host.hpp): C++ exceptions
 // become Lua errors, tables are read with raw access, and Lua errors are raised only once the body's C++
 // objects are gone. Bad values never raise: a constructor returns a value carrying its error, and marker()
-// reports it with the line and skips that call, so the rest of the scene still works.
+// reports it with the line and skips that call (its row stays, marked skipped), so the rest of the scene still
+// works.
 #include "base/text.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/trace.hpp"
@@ -492,8 +493,19 @@ int w_marker(lua_State* L) {
     lua_checkstack(L, 16);
     Mapping m;
     m.line = w.line;
+    // A refused call keeps a row of its own (no media, no callbacks, matching no marker) so the Scene panel
+    // shows it with the reason instead of dropping it.
+    auto keep_skipped = [&](const std::string& msg) {
+      Mapping bad;
+      bad.ids = m.ids;
+      bad.line = w.line;
+      bad.skipped = msg;
+      def.mappings.push_back(std::move(bad));
+    };
     auto skip = [&](const std::string& why) {
-      report(L, 2, w.prefix + why + "; marker() skipped");
+      const std::string msg = w.prefix + why + "; marker() skipped";
+      report(L, 2, msg);
+      keep_skipped(msg);
       return 0;
     };
     if (std::string e = read_ids(L, 1, def, &m.ids); !e.empty()) return skip("marker: " + e);
@@ -516,7 +528,9 @@ int w_marker(lua_State* L) {
         return skip(label + ": media must be a media value (image, video, web, text or stage), got " +
                     describe_value(L, 3));
       if (!mv->error.empty()) {
-        report(L, 2, (mv->where.empty() ? w.prefix : mv->where) + mv->error + "; " + label + " skipped");
+        const std::string msg = (mv->where.empty() ? w.prefix : mv->where) + mv->error + "; " + label + " skipped";
+        report(L, 2, msg);
+        keep_skipped(msg);
         return 0;
       }
       m.media = mv->spec;
@@ -533,7 +547,9 @@ int w_marker(lua_State* L) {
       if (!pv)
         return skip(label + ": place must be a placement (" + place_kind_list() + "), got " + describe_value(L, 4));
       if (!pv->error.empty()) {
-        report(L, 2, (pv->where.empty() ? w.prefix : pv->where) + pv->error + "; " + label + " skipped");
+        const std::string msg = (pv->where.empty() ? w.prefix : pv->where) + pv->error + "; " + label + " skipped";
+        report(L, 2, msg);
+        keep_skipped(msg);
         return 0;
       }
       m.place = pv->spec;

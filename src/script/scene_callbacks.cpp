@@ -209,7 +209,7 @@ void SceneRuntime::Impl::enter(Program& p, const TrackedMarker& t) {
   p.last[t.id] = t;
   for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
     const Mapping& m = p.def.mappings[mi];
-    if (!m.ids.contains(t.id)) continue;
+    if (!m.skipped.empty() || !m.ids.contains(t.id)) continue;
     Instance& inst = p.instances[{static_cast<int>(mi), t.id}];
     inst.inside = true;
     inst.fresh = true;
@@ -224,7 +224,7 @@ void SceneRuntime::Impl::leave(Program& p, int id) {
   p.inside.erase(id);
   for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
     const Mapping& m = p.def.mappings[mi];
-    if (!m.ids.contains(id)) continue;
+    if (!m.skipped.empty() || !m.ids.contains(id)) continue;
     Instance& inst = p.instances[{static_cast<int>(mi), id}];
     inst.inside = false;
     if (inst.video) inst.video->set_clock(inst.position, false);   // paused where it stopped

@@ -73,8 +73,16 @@ Status load_database(const std::string& display, const std::string& text, const 
       reporter.report(1, at(row.line) + "unexpected element <" + row.name + "> ignored (rows are <row>)");
       continue;
     }
+    int known_id = -1;   // the row's id once it is read and in the dictionary
+    // A refused row keeps a row of its own in the Scene panel (skipped, with the reason), matching no marker.
     auto skip = [&](int line, const std::string& why) {
-      reporter.report(2, at(line) + why + "; row skipped");
+      const std::string msg = at(line) + why + "; row skipped";
+      reporter.report(2, msg);
+      Mapping bad;
+      if (known_id >= 0) bad.ids.ranges.push_back({known_id, known_id});
+      bad.line = row.line;
+      bad.skipped = msg;
+      def->mappings.push_back(std::move(bad));
     };
     for (const auto& a : row.attributes)
       reporter.report(1, at(row.line) + "unknown attribute '" + a.first + "' of <row> ignored");
@@ -112,6 +120,7 @@ Status load_database(const std::string& display, const std::string& text, const 
       skip(id_el->line, e);
       continue;
     }
+    known_id = static_cast<int>(id);
     const std::string res = res_el ? trim(res_el->text) : std::string();
     if (res.empty()) {
       skip(res_el ? res_el->line : row.line, "row for id " + std::to_string(id) + " has no resource");

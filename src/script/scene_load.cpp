@@ -75,6 +75,11 @@ void SceneRuntime::Impl::report(int level, const std::string& text_in) {
       return;
     }
   }
+  if (level == 2 && logged_errors.size() <= kMaxLoggedErrors && logged_errors.insert(text).second) {
+    fresh_errors.push_back(logged_errors.size() <= kMaxLoggedErrors
+                               ? text
+                               : "the scene reports more errors; the Scene panel's console lists them");
+  }
   c.push_back({level, std::move(text), 1});
   const size_t keep = static_cast<size_t>(std::max(1, limits.console_lines));
   if (c.size() > keep) c.erase(c.begin(), c.end() - static_cast<std::ptrdiff_t>(keep));
@@ -89,10 +94,13 @@ bool SceneRuntime::Impl::fail_load(const std::string& msg, int line) {
   status.error = msg;
   status.error_line = line;
   report(2, msg);
+  // The load error reaches the log through status().error, once.
+  if (!fresh_errors.empty() && fresh_errors.back() == msg) fresh_errors.pop_back();
   return false;
 }
 
 bool SceneRuntime::Impl::load(const std::string& path) {
+  logged_errors.clear();   // a new attempt's errors are news again
   attempted = true;
   attempt_path = path;
   attempt_sig = file_sig(path);

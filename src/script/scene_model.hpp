@@ -31,6 +31,9 @@ struct Mapping {
   PlaceSpec place;
   int on_enter = LUA_NOREF, on_update = LUA_NOREF, on_leave = LUA_NOREF;
   int line = 0;
+  // Why marker() refused this call ("scene.lua:5: logo.png: no such file"): the Scene panel keeps its row with the
+  // reason, and nothing of it runs. "" for a mapping in use.
+  std::string skipped;
 };
 
 struct SceneDef {

@@ -28,6 +28,23 @@ void set_row_name(Row& row, const std::string& name) {
   else if (!name.empty()) row.ids += " (" + name + ")";
 }
 
+// The line of the first "display:LINE:" in a message, wherever it stands ("on_update disabled after ...:
+// scene.lua:4: attempt to ..."); 0 when there is none.
+int line_in(const std::string& msg, const std::string& display) {
+  const std::string key = display + ":";
+  for (size_t at = msg.find(key); at != std::string::npos; at = msg.find(key, at + 1)) {
+    size_t i = at + key.size();
+    int line = 0;
+    bool digits = false;
+    while (i < msg.size() && msg[i] >= '0' && msg[i] <= '9' && line < 100'000'000) {
+      line = line * 10 + (msg[i++] - '0');
+      digits = true;
+    }
+    if (digits && i < msg.size() && msg[i] == ':') return line;
+  }
+  return 0;
+}
+
 }  // namespace
 
 std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
@@ -79,7 +96,7 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
     p.last[id] = *t;
     for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
       const Mapping& m = p.def.mappings[mi];
-      if (!m.ids.contains(id)) continue;
+      if (!m.skipped.empty() || !m.ids.contains(id)) continue;
       Instance& inst = p.instances[{static_cast<int>(mi), id}];
       if (!inst.fresh) inst.position += std::max(0.0, in.dt_s);
       inst.fresh = false;
@@ -91,6 +108,7 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   std::array<std::shared_ptr<MediaContent>, kStageCount> stages{};
   for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
     const Mapping& m = p.def.mappings[mi];
+    if (!m.skipped.empty()) continue;
     for (const auto& [id, t] : seen) {
       if (!m.ids.contains(id)) continue;
       Instance& inst = p.instances[{static_cast<int>(mi), id}];
@@ -172,14 +190,27 @@ void SceneRuntime::Impl::fill_rows(const std::map<int, const TrackedMarker*>* se
   for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
     const Mapping& m = p.def.mappings[mi];
     MappingRow row;
-    row.ids = m.ids.text();
+    // A marker() refused for its ids has none to show.
+    row.ids = m.ids.ranges.empty() ? std::string("?") : m.ids.text();
     set_row_name(row, m.name);
-    row.media = m.media.describe();
-    row.placement = m.place.describe();
+    row.media = m.skipped.empty() ? m.media.describe() : "-";
+    row.placement = m.skipped.empty() ? m.place.describe() : "-";
     row.line = m.line;
+    auto fault = [&](MappingHealth h, const std::string& reason) {
+      row.health = h;
+      row.reason = reason;
+      row.reason_line = line_in(reason, p.display);
+      if (row.reason_line == 0) row.reason_line = m.line;
+      row.state = std::string(mapping_health_name(h)) + ": " + reason;
+    };
+    if (!m.skipped.empty()) {
+      fault(MappingHealth::skipped, m.skipped);
+      status.mappings.push_back(std::move(row));
+      continue;
+    }
     int visible = 0, held = 0;
     double longest = 0;
-    std::string error = mi < p.mapping_error.size() ? p.mapping_error[mi] : std::string();
+    std::string error;
     if (seen)
       for (const auto& [id, t] : *seen) {
         if (!m.ids.contains(id)) continue;
@@ -192,7 +223,8 @@ void SceneRuntime::Impl::fill_rows(const std::map<int, const TrackedMarker*>* se
         if (auto it = p.instances.find({static_cast<int>(mi), id}); error.empty() && it != p.instances.end())
           error = it->second.error;
       }
-    if (!error.empty()) row.state = "error: " + error;
+    if (mi < p.mapping_error.size() && !p.mapping_error[mi].empty()) fault(MappingHealth::disabled, p.mapping_error[mi]);
+    else if (!error.empty()) fault(MappingHealth::error, error);
     else if (visible > 0)
       row.state = "visible " + fmt1(longest) + " s" +
                   (visible + held > 1 ? " (" + std::to_string(visible + held) + " markers)" : "");
@@ -200,6 +232,12 @@ void SceneRuntime::Impl::fill_rows(const std::map<int, const TrackedMarker*>* se
     else row.state = "waiting";
     status.mappings.push_back(std::move(row));
   }
+}
+
+std::vector<std::string> SceneRuntime::Impl::take_errors() {
+  std::vector<std::string> out;
+  out.swap(fresh_errors);
+  return out;
 }
 
 SceneRuntime::SceneRuntime(media::MediaStore& store, ScriptLimits limits)
@@ -211,6 +249,7 @@ bool SceneRuntime::reload_if_changed() { return impl_->reload_if_changed(); }
 void SceneRuntime::unload() { impl_->unload(); }
 std::vector<Overlay> SceneRuntime::update(const SceneInput& in) { return impl_->update(in); }
 const SceneStatus& SceneRuntime::status() const { return impl_->status; }
+std::vector<std::string> SceneRuntime::take_errors() { return impl_->take_errors(); }
 std::string SceneRuntime::dictionary() const { return impl_->prog ? impl_->prog->def.dictionary : std::string(); }
 
 }  // namespace arwb::script

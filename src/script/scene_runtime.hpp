@@ -73,6 +73,10 @@ class SceneRuntime {
   std::vector<Overlay> update(const SceneInput& in);
 
   const SceneStatus& status() const;
+  // The error lines reported since the last call (load refusals of marker(), runtime errors, media that cannot be
+  // loaded), each distinct text once per loaded scene, for the workbench's log. A failed load's own error is not
+  // among them: status().error carries it.
+  std::vector<std::string> take_errors();
   // The dictionary the scene asked for with dictionary "NAME" (or the database's attribute), "" if none.
   std::string dictionary() const;
 

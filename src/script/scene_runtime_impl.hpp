@@ -78,6 +78,12 @@ struct SceneRuntime::Impl : Reporter {
   double frame_ms = 0;      // script time on this frame so far
   uint64_t frame_no = 0;    // frames updated since construction
   bool skipped = false;     // an on_update or text call waited for the next frame (ScriptLimits::frame_ms)
+  // Error lines not yet handed to the workbench's log (take_errors), each text once until the next load; at most
+  // kMaxLoggedErrors distinct texts per load, then one line saying the rest are in the console.
+  std::vector<std::string> fresh_errors;
+  std::set<std::string> logged_errors;
+  static constexpr size_t kMaxLoggedErrors = 50;
+  std::vector<std::string> take_errors();
   int resume_id = -1;       // the first marker whose on_update waited: the next frame starts there
   // Reports print and warn lines that were over the frame's allowance.
   void report_suppressed(Program& p);

@@ -2,6 +2,16 @@
 
 namespace arwb {
 
+const char* mapping_health_name(MappingHealth h) {
+  switch (h) {
+    case MappingHealth::ok: return "ok";
+    case MappingHealth::error: return "error";
+    case MappingHealth::disabled: return "disabled";
+    case MappingHealth::skipped: return "skipped";
+  }
+  return "ok";
+}
+
 int overlay_at(const std::vector<Overlay>& overlays, cv::Point2d p, bool web_only) {
   for (size_t i = overlays.size(); i-- > 0;) {
     const Overlay& o = overlays[i];

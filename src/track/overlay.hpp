@@ -22,13 +22,26 @@ struct Overlay {
   std::shared_ptr<MediaContent> content;   // the pixels; null when the media failed to load (reported)
 };
 
+// Whether a mapping does what it says. Anything but ok keeps its row, with the reason, so a fault never looks
+// like a mapping that merely waits for its marker.
+enum class MappingHealth {
+  ok,
+  error,      // something failed on this frame (a callback, a text function, media that cannot be loaded)
+  disabled,   // a callback was stopped (a limit, or failures on several frames in a row) until the scene reloads
+  skipped,    // marker() was refused while the scene loaded (a missing media file, a bad placement): nothing runs
+};
+const char* mapping_health_name(MappingHealth h);   // "ok", "error", "disabled", "skipped"
+
 // One row of the Scene panel: a marker(...) call or a database row.
 struct MappingRow {
   std::string ids;             // "7", "100-199"
   std::string media;           // MediaSpec::describe(), or "callbacks only"
   std::string placement;       // PlaceSpec::describe()
-  std::string state;           // "waiting", "visible 3.2 s", "held", "error: ..."
+  std::string state;           // "waiting", "visible 3.2 s", "held", "error: ...", "disabled: ...", "skipped: ..."
   int line = 0;                // where it was declared in the scene file (0 for none)
+  MappingHealth health = MappingHealth::ok;
+  std::string reason;          // why it is not ok, "scene.lua:12: message"; "" when ok
+  int reason_line = 0;         // the line the reason points at (a callback's failing statement), else `line`
 };
 
 struct ConsoleLine {

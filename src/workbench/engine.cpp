@@ -309,6 +309,8 @@ void Engine::State::run() {
       } else {
         log_(2, w.stage->status().error + (w.stage->status().ok ? " (the last good scene stays)" : ""));
       }
+      // marker() calls the scene refused while loading: errors of the log too, not only of the scene's console.
+      for (const std::string& e : w.stage->take_errors()) log_(2, e);
       w.redetect = true;   // show the new scene on the current frame, even when frozen
     }
 
@@ -379,6 +381,8 @@ void Engine::State::run() {
         const SceneStatus& st = f->scene;
         if (st.generation != before && before != 0) log_(0, "scene reloaded: " + st.file);
         if (!st.error.empty() && st.error != before_error) log_(2, st.error);
+        // Runtime errors (callbacks, text functions, media that cannot be loaded), each text once per load.
+        for (const std::string& e : w.stage->take_errors()) log_(2, e);
       }
       shrink(f->image, f->image_thumb);
       for (int i = 0; i < kStageCount; ++i) shrink(f->views[size_t(i)], f->thumbs[size_t(i)]);

@@ -27,6 +27,7 @@ bool SceneStage::load(const std::string& path) {
 
 std::string SceneStage::dictionary() const { return runtime_->dictionary(); }
 const SceneStatus& SceneStage::status() const { return runtime_->status(); }
+std::vector<std::string> SceneStage::take_errors() { return runtime_->take_errors(); }
 
 void SceneStage::run(Frame& f, double t_s, double poll_s) {
   if (file_.empty()) return;

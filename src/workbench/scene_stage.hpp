@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace arwb {
 
@@ -29,6 +30,8 @@ class SceneStage {
   // scene file first (at most every `poll_s` seconds of t_s) and reloads it when it changed on disk.
   void run(Frame& f, double t_s, double poll_s = 0.25);
   const SceneStatus& status() const;
+  // Error lines the scene reported since the last call, each text once per load (SceneRuntime::take_errors).
+  std::vector<std::string> take_errors();
 
  private:
   media::MediaStore store_;

@@ -1,9 +1,11 @@
-// explain_region and sweep_region on synthetic frames whose markers are known.
+// explain_region and sweep_region on synthetic frames whose markers are known, and on a real photograph of
+// markers of a dictionary that is not searched.
 #include "detect/detector.hpp"
 #include "detect/diagnose.hpp"
 #include "synth/synth.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <atomic>
@@ -27,9 +29,84 @@ cv::Rect2f around(cv::Point2d c, double half) {
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+// OpenCV's tutorial photograph (Debian's opencv-doc, third_party/setup): 640x480, six DICT_6X6_250 markers, ids
+// 23, 40, 62, 98, 124 and 203. Marker 23's corners lie about (297,185)-(335,212).
+const char* const kPhoto = "/usr/share/doc/opencv-doc/opencv4/html/singlemarkersoriginal.jpg";
+const cv::Rect2f kAround23(290, 178, 52, 42);
+
+float box_iou(const cv::Rect2f& a, const cv::Rect2f& b) {
+  const float inter = (a & b).area();
+  return inter / (a.area() + b.area() - inter);
+}
+
+cv::Rect2f box_of(const CandidateRecord& c) {
+  if (!c.has_quad) return cv::Rect2f(c.bbox);
+  std::vector<cv::Point2f> pts(c.quad.begin(), c.quad.end());
+  return cv::boundingRect(pts);
+}
+
 }  // namespace
 
 // --- explain_region
+
+TEST(ExplainRegion, TheHeadlineIsTheCandidateTheRegionIsDrawnAroundNotTheLargestOverlappingIt) {
+  // Two uniform black squares, both stopped at otsu: a large one whose edge the region touches, and the small
+  // one it is drawn around.
+  cv::Mat img(480, 640, CV_8UC3, cv::Scalar::all(128));
+  cv::rectangle(img, cv::Rect(100, 100, 200, 200), cv::Scalar::all(0), cv::FILLED);
+  cv::rectangle(img, cv::Rect(312, 200, 40, 40), cv::Scalar::all(0), cv::FILLED);
+  FrameTrace t;
+  ASSERT_TRUE(Detector({make_aruco_original()}).detect(img, &t, TraceLevel::full).empty());
+  const RegionReport rep = explain_region(t, cv::Rect2f(295, 190, 65, 60));
+  ASSERT_GE(rep.candidates.size(), 2u);
+  const CandidateRecord& head = t.candidates[size_t(rep.candidates.front().index)];
+  EXPECT_EQ(head.fate.stage, Stage::otsu);
+  EXPECT_LT(box_of(head).width, 60) << rep.summary;
+  EXPECT_TRUE(has(rep.summary, "the one covering the region")) << rep.summary;
+}
+
+TEST(ExplainRegion, NamesTheDictionaryOfAPhotographedMarkerThatIsNotSearched) {
+  const cv::Mat img = cv::imread(kPhoto);
+  ASSERT_FALSE(img.empty()) << kPhoto << " (opencv-doc, third_party/setup)";
+  const Detector det({make_aruco_original()});
+  FrameTrace t;
+  ASSERT_TRUE(det.detect(img, &t, TraceLevel::full).empty());
+  const RegionReport rep = explain_region(t, kAround23, det.params(), {"ARUCO_ORIGINAL"});
+  ASSERT_FALSE(rep.other_dictionaries.empty()) << rep.summary;
+  // 6X6_50 ... 6X6_1000 share their first ids: the smallest that reads all six markers of the photograph.
+  EXPECT_EQ(rep.other_dictionaries[0].dict, "6X6_250");
+  EXPECT_EQ(rep.other_dictionaries[0].id, 23);
+  EXPECT_EQ(rep.other_dictionaries[0].in_frame, 6);
+  EXPECT_EQ(rep.summary.rfind("This is a 6X6_250 marker, id 23", 0), 0u) << rep.summary;
+  EXPECT_TRUE(has(rep.summary, "add that dictionary")) << rep.summary;
+  // No parameter advice: none would help.
+  EXPECT_FALSE(has(rep.summary, "would let it through")) << rep.summary;
+  // With 6X6_250 searched it is detected, and nothing else is advised.
+  const Detector with({make_aruco_original(), *dictionary_by_name("6X6_250")});
+  FrameTrace t2;
+  ASSERT_EQ(with.detect(img, &t2, TraceLevel::full).size(), 6u);
+  const RegionReport found = explain_region(t2, kAround23, with.params(), {"ARUCO_ORIGINAL", "6X6_250"});
+  EXPECT_TRUE(found.other_dictionaries.empty());
+  EXPECT_TRUE(has(found.summary, "6X6_250 id 23 is detected here")) << found.summary;
+}
+
+TEST(ExplainRegion, TheHeadlineIsTheCandidateCoveringTheRegionBest) {
+  const cv::Mat img = cv::imread(kPhoto);
+  ASSERT_FALSE(img.empty()) << kPhoto;
+  FrameTrace t;
+  ASSERT_TRUE(Detector({make_aruco_original()}).detect(img, &t, TraceLevel::full).empty());
+  const RegionReport rep = explain_region(t, kAround23);
+  ASSERT_GT(rep.candidates.size(), 1u);
+  const int head = rep.candidates.front().index;
+  const float head_iou = box_iou(box_of(t.candidates[size_t(head)]), kAround23);
+  for (const RegionCandidate& c : rep.candidates)
+    EXPECT_LE(box_iou(box_of(t.candidates[size_t(c.index)]), kAround23), head_iou + 1e-4f) << c.line;
+  // It is marker 23's outline, and the summary names it.
+  EXPECT_GT(box_iou(box_of(t.candidates[size_t(head)]), cv::Rect2f(297, 185, 38, 27)), 0.6f);
+  char tag[32];
+  std::snprintf(tag, sizeof tag, "#%d (", head);
+  EXPECT_TRUE(has(rep.summary, tag)) << rep.summary;
+}
 
 TEST(ExplainRegion, ListsTheDetectedMarkerAsAccepted) {
   const Dictionary d = make_aruco_original();
@@ -135,6 +212,19 @@ TEST(ExplainRegion, SummaryAndOffTracesSayWhatTheyCannotTell) {
 
 // --- sweep_region
 
+TEST(SweepRegion, AddsTheDictionaryOfAPhotographedMarkerBeforeAnyParameter) {
+  const cv::Mat img = cv::imread(kPhoto);
+  ASSERT_FALSE(img.empty()) << kPhoto;
+  const SweepResult r = sweep_region(img, Detector({make_aruco_original()}), kAround23);
+  ASSERT_TRUE(r.found) << r.message;
+  EXPECT_EQ(r.add_dictionary, "6X6_250");
+  EXPECT_TRUE(r.changes.empty());
+  EXPECT_EQ(r.marker.id, 23);
+  EXPECT_EQ(r.marker.dict, "6X6_250");
+  EXPECT_EQ(r.runs, 2);   // the plain run and one full trace: no parameter was tried
+  EXPECT_TRUE(has(r.message, "6X6_250")) << r.message;
+}
+
 TEST(SweepRegion, SaysSoWhenTheMarkerIsAlreadyDetected) {
   const Dictionary d = make_aruco_original();
   const cv::Mat img = frame_with_marker(d, 12, {320, 240}, 100);
@@ -232,7 +322,7 @@ TEST(SweepRegion, StopsWhenCancelled) {
     if (++calls == 5) cancel = true;
   }, &cancel);
   EXPECT_FALSE(r.found);
-  EXPECT_LE(r.runs, 6);
+  EXPECT_LE(r.runs, 7);   // the plain run, the other dictionaries' run, and the five trials
   EXPECT_TRUE(has(r.message, "cancelled")) << r.message;
   std::atomic<bool> already{true};
   EXPECT_EQ(sweep_region(img, Detector({d}), around({80, 80}, 40), {}, &already).runs, 1);

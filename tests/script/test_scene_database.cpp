@@ -190,8 +190,23 @@ TEST(SceneDatabase, BadRowsAreReportedWithTheirLineAndSkipped) {
   expect("db.xml:8: row without an <id>; row skipped");
   expect("db.xml:10: unexpected element <other>");
   EXPECT_EQ(s.lines("row skipped").size(), 7u) << s.console();
-  ASSERT_EQ(s.runtime.status().mappings.size(), 1u);
-  EXPECT_EQ(s.runtime.status().mappings[0].line, 9);
+  // The refused rows stay in the Scene panel, skipped, with their reasons; one row works.
+  const auto& rows = s.runtime.status().mappings;
+  ASSERT_EQ(rows.size(), 8u);
+  int ok = 0;
+  for (const MappingRow& r : rows) {
+    if (r.health == MappingHealth::ok) {
+      ++ok;
+      EXPECT_EQ(r.line, 9);
+    } else {
+      EXPECT_EQ(r.health, MappingHealth::skipped);
+      EXPECT_NE(r.reason.find("row skipped"), std::string::npos) << r.reason;
+    }
+  }
+  EXPECT_EQ(ok, 1);
+  EXPECT_EQ(rows[1].ids, "9");   // read before the row was refused for its resource
+  EXPECT_EQ(rows[3].ids, "?");   // id 2000 is not in the dictionary
+  EXPECT_EQ(rows[1].reason_line, 3);
   const auto ov = s.update({track(7, 100, 100), track(9, 300, 100)});
   ASSERT_EQ(ov.size(), 1u);
   EXPECT_EQ(ov[0].marker_id, 7);

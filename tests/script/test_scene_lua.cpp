@@ -269,6 +269,67 @@ marker(8, { on_enter = function(m) error("custom failure") end })
   EXPECT_TRUE(s.has("scene.lua:8: custom failure (in on_enter of marker 8)")) << s.console();
 }
 
+TEST(SceneLua, AMappingWithAMissingMediaFileKeepsItsRowSkippedAndNothingRuns) {
+  SceneFixture s;
+  const auto p = s.write("scene.lua", R"(marker(7, { media = text "fine" })
+marker({8, 9}, { media = image "logo.png", on_enter = function(m) print("entered", m.id) end })
+)");
+  ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
+  const auto ov = s.update({track(7, 100, 100), track(8, 300, 100)}, enters({7, 8}));
+  ASSERT_EQ(ov.size(), 1u);
+  EXPECT_EQ(ov[0].marker_id, 7);
+  EXPECT_EQ(s.count_printed("entered\t8"), 0) << s.console();
+  const auto& rows = s.runtime.status().mappings;
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].health, MappingHealth::ok);
+  EXPECT_EQ(rows[1].health, MappingHealth::skipped);
+  EXPECT_EQ(rows[1].ids, "8-9");
+  EXPECT_EQ(rows[1].reason_line, 2);
+  EXPECT_NE(rows[1].reason.find("logo.png: no such file"), std::string::npos) << rows[1].reason;
+  // The error reaches the workbench's log once, however many frames follow.
+  s.update({track(7, 100, 100), track(8, 300, 100)});
+  const auto errors = s.runtime.take_errors();
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0], rows[1].reason);
+  EXPECT_TRUE(s.runtime.take_errors().empty());
+}
+
+TEST(SceneLua, ARuntimeErrorMarksItsRowWithTheFailingLineThenDisabled) {
+  ScriptLimits limits;
+  limits.failures_in_a_row = 3;
+  SceneFixture s(limits);
+  const auto p = s.write("scene.lua", R"(marker(7, { media = text "seven" })
+marker(8, {
+  media = text "eight",
+  on_update = function(m, dt)
+    local t = nil
+    return t.field
+  end,
+})
+)");
+  ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
+  s.update({track(7, 100, 100), track(8, 300, 100)});
+  const auto& rows = s.runtime.status().mappings;
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].health, MappingHealth::ok);
+  EXPECT_EQ(rows[1].health, MappingHealth::error);
+  EXPECT_EQ(rows[1].line, 2);          // declared here
+  EXPECT_EQ(rows[1].reason_line, 6);   // failed here
+  EXPECT_NE(rows[1].reason.find("attempt to index a nil value"), std::string::npos) << rows[1].reason;
+  for (int i = 0; i < 3; ++i) s.update({track(7, 100, 100), track(8, 300, 100)});
+  EXPECT_EQ(rows[1].health, MappingHealth::disabled);
+  EXPECT_EQ(rows[1].reason_line, 6);
+  EXPECT_NE(rows[1].reason.find("disabled"), std::string::npos) << rows[1].reason;
+  // The marker gone, the row still says so.
+  s.update({track(7, 100, 100)});
+  EXPECT_EQ(rows[1].health, MappingHealth::disabled);
+  // The log hears of the error and of the disabling, once each.
+  const auto errors = s.runtime.take_errors();
+  ASSERT_EQ(errors.size(), 2u) << s.console();
+  EXPECT_NE(errors[0].find("scene.lua:6: attempt to index a nil value"), std::string::npos) << errors[0];
+  EXPECT_NE(errors[1].find("disabled"), std::string::npos) << errors[1];
+}
+
 TEST(SceneLua, ErrorsAlternatingBetweenTwoMarkersStillCollapse) {
   ScriptLimits patient;
   patient.failures_in_a_row = 1000;   // collapsing alone, not the disabling of ErrorsOnEveryFrameDisableTheCallback
@@ -337,7 +398,19 @@ marker(12, { media = text "fine" })
   expect_line("scene.lua:6: ", "media must be a media value");
   expect_line("scene.lua:7: ", "scale");
   expect_line("scene.lua:8: ", "empty");
-  ASSERT_EQ(s.runtime.status().mappings.size(), 1u) << s.console();
+  // Every refused call keeps its row, skipped, with the reason and its line; only the last one runs.
+  const auto& rows = s.runtime.status().mappings;
+  ASSERT_EQ(rows.size(), 9u) << s.console();
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_EQ(rows[size_t(i)].health, MappingHealth::skipped) << i;
+    EXPECT_EQ(rows[size_t(i)].line, i + 1);
+    EXPECT_EQ(rows[size_t(i)].reason_line, i + 1);
+    EXPECT_NE(rows[size_t(i)].reason.find("scene.lua:" + std::to_string(i + 1) + ": "), std::string::npos)
+        << rows[size_t(i)].reason;
+    EXPECT_EQ(rows[size_t(i)].state.rfind("skipped: ", 0), 0u) << rows[size_t(i)].state;
+  }
+  EXPECT_EQ(rows[0].ids, "?");   // refused for its id
+  EXPECT_EQ(rows[8].health, MappingHealth::ok);
   const auto ov = s.update({track(7, 100, 100), track(8, 200, 100), track(9, 300, 100), track(12, 400, 100)});
   ASSERT_EQ(ov.size(), 1u);
   EXPECT_EQ(ov[0].marker_id, 12);
@@ -376,7 +449,8 @@ marker(6, { media = image "inside.png" })
   EXPECT_TRUE(s.has("scene.lua:3: missing.png: no such file")) << s.console();
   EXPECT_TRUE(s.has("scene.lua:4: ")) << s.console();
   EXPECT_TRUE(s.has("scene.lua:5: inside.png: an image, not a video")) << s.console();
-  ASSERT_EQ(s.runtime.status().mappings.size(), 1u);
+  ASSERT_EQ(s.runtime.status().mappings.size(), 6u);
+  for (size_t i = 0; i < 5; ++i) EXPECT_EQ(s.runtime.status().mappings[i].health, MappingHealth::skipped) << i;
   const auto ov = s.update({track(1, 100, 100), track(2, 200, 100), track(6, 300, 100)});
   ASSERT_EQ(ov.size(), 1u);
   EXPECT_EQ(ov[0].marker_id, 6);
@@ -408,7 +482,8 @@ TEST(SceneLua, DictionaryNamesAndIdRanges) {
   EXPECT_EQ(s.runtime.dictionary(), "4X4_50");
   EXPECT_EQ(s.runtime.status().dictionary, "4X4_50");
   EXPECT_TRUE(s.has("a.lua:3: marker: id 50 is not a marker of 4X4_50 (ids 0 to 49)")) << s.console();
-  EXPECT_EQ(s.runtime.status().mappings.size(), 1u);
+  ASSERT_EQ(s.runtime.status().mappings.size(), 2u);
+  EXPECT_EQ(s.runtime.status().mappings[1].health, MappingHealth::skipped);
   // Tracks of another dictionary are not this scene's markers.
   auto t49 = track(49, 100, 100);
   t49.dict = "ARUCO_ORIGINAL";

@@ -199,7 +199,8 @@ marker(30, {
   EXPECT_EQ(l[0].level, 2);
   EXPECT_TRUE(find_overlay(ov, 7));
   EXPECT_TRUE(find_overlay(ov, 30));   // its media keeps going
-  EXPECT_EQ(s.runtime.status().mappings[1].state, "error: " + l[0].text);
+  EXPECT_EQ(s.runtime.status().mappings[1].state, "disabled: " + l[0].text);
+  EXPECT_EQ(s.runtime.status().mappings[1].health, MappingHealth::disabled);
 
   ov = s.update({track(7, 100, 100), track(30, 300, 100)});
   EXPECT_TRUE(find_overlay(ov, 7));

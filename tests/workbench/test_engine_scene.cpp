@@ -9,7 +9,10 @@
 
 #include <chrono>
 #include <filesystem>
+#include <mutex>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace arwb {
 namespace {
@@ -60,6 +63,46 @@ TEST(EngineScene, PlacesMediaOnTheSyntheticMarkers) {
   }
   ASSERT_FALSE(f->scene.mappings.empty());
   EXPECT_EQ(f->scene.mappings[0].ids, "0-1023");
+}
+
+TEST(EngineScene, SkippedMappingsAndRuntimeErrorsReachTheLogAndTheFrame) {
+  TempDir d;
+  write_file(d.str("scene.lua"), R"(marker({0, 1023}, { media = image "missing.png" })
+marker({0, 1023}, {
+  on_update = function(m, dt)
+    local t = nil
+    return t.field
+  end,
+})
+)");
+  std::mutex mu;
+  std::vector<std::pair<int, std::string>> log;
+  Engine e(config_with_scene(d.str("scene.lua")), [&](int level, const std::string& m) {
+    std::lock_guard lock(mu);
+    log.emplace_back(level, m);
+  });
+  e.start();
+  auto f = wait_for(e, [](const Frame& fr) {
+    return fr.scene.mappings.size() == 2 && fr.scene.mappings[1].health == MappingHealth::disabled;
+  });
+  ASSERT_TRUE(f) << "the failing on_update was never disabled";
+  const MappingRow& skipped = f->scene.mappings[0];
+  EXPECT_EQ(skipped.health, MappingHealth::skipped);
+  EXPECT_EQ(skipped.reason_line, 1);
+  EXPECT_NE(skipped.reason.find("missing.png: no such file"), std::string::npos) << skipped.reason;
+  EXPECT_EQ(f->scene.mappings[1].reason_line, 5);
+  e.stop(2.0);
+  std::lock_guard lock(mu);
+  int missing = 0, runtime = 0, disabled = 0;
+  for (const auto& [level, m] : log) {
+    if (level != 2) continue;
+    missing += m.find("missing.png: no such file") != std::string::npos;
+    runtime += m.find("scene.lua:5: attempt to index a nil value") != std::string::npos;
+    disabled += m.find("disabled") != std::string::npos;
+  }
+  EXPECT_EQ(missing, 1);   // once, not once a frame
+  EXPECT_GE(runtime, 1);
+  EXPECT_GE(disabled, 1);
 }
 
 TEST(EngineScene, ReloadsWhenTheFileChangesAndKeepsTheLastGoodScene) {
