@@ -170,8 +170,11 @@ TEST(Limits, TheMainChunkIsStoppedByTimeAndTheLastGoodSceneStays) {
   const auto t0 = Clock::now();
   EXPECT_FALSE(s.runtime.load(bad));
   EXPECT_LT(seconds_since(t0), 3.0);
-  EXPECT_TRUE(s.runtime.status().error.ends_with("/bad.lua:2: ran longer than 250 ms while loading the scene"))
-      << s.runtime.status().error;
+  // Line 2 normally; on a loaded machine the 16 MiB string.rep of line 1 can itself use up the 250 ms of wall time.
+  const std::string& e = s.runtime.status().error;
+  EXPECT_TRUE(e.ends_with("/bad.lua:2: ran longer than 250 ms while loading the scene") ||
+              e.ends_with("/bad.lua:1: ran longer than 250 ms while loading the scene"))
+      << e;
   EXPECT_EQ(s.update({track(1, 100, 100)}).at(0).media.text, "good");
 }
 
