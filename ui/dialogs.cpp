@@ -197,16 +197,17 @@ std::string file_name(const std::string& p) {
 // [SECTION] Typing
 void App::feed_typing() {
   ImGuiIO& io = ImGui::GetIO();
+  const int released = key_down;
   if (key_down >= 0) {
     io.KeysDown[key_down] = false;
     key_down = -1;
-    return;
   }
   if (typing.empty()) return;
   const int c = typing.front();
-  typing.pop_front();
   // ImGui 1.86 indexes keys by GLFW key code; a letter's code is its upper-case ASCII.
   const int key = c == '\n' ? GLFW_KEY_ENTER : std::toupper(c);
+  if (key == released) return;   // the same key again: up for one frame first, or it is not pressed again
+  typing.pop_front();
   if (key >= 0 && key < IM_ARRAYSIZE(io.KeysDown)) {
     io.KeysDown[key] = true;
     key_down = key;

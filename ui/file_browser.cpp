@@ -75,6 +75,25 @@ void entries(Context& ctx, FileBrowser& b) {
                                       file_kind_name(b.kind));
 }
 
+// While the path field is active: a new listing's path replaces the field's text, and after Enter the cursor goes
+// to the end; when the browser has just opened, all of it is selected, so typing replaces it.
+int path_callback(ImGuiInputTextCallbackData* d) {
+  auto* b = static_cast<FileBrowser*>(d->UserData);
+  if (b->replace) {
+    const std::string text = b->path;
+    d->DeleteChars(0, d->BufTextLen);
+    d->InsertChars(0, text.c_str());
+    b->replace = false;
+  }
+  if (b->cursor_end > 0) d->CursorPos = d->SelectionStart = d->SelectionEnd = d->BufTextLen;
+  if (b->select_all) {   // the first time it is active after the browser opened: typing replaces the folder
+    d->SelectionStart = 0;
+    d->CursorPos = d->SelectionEnd = d->BufTextLen;
+    b->select_all = false;
+  }
+  return 0;
+}
+
 }  // namespace
 
 void open_browser(Context& ctx, FileBrowser& b, FileKind kind, const std::string& title, const std::string& folder,
@@ -106,7 +125,10 @@ bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
   // A new listing (a folder clicked, Enter on a folder): the path field follows it; when saving, the name stays.
   if (l.version != b.listed) {
     b.listed = l.version;
-    if (!l.dir.empty()) set_path(b, b.saving ? join(l.dir, base_name(b.path)) : l.dir);
+    if (!l.dir.empty()) {
+      set_path(b, b.saving ? join(l.dir, base_name(b.path)) : l.dir);
+      b.replace = true;   // an active field keeps its own copy of the text: the callback replaces it
+    }
   }
   if (ctx.status.opened != b.opened) {   // the window opened what was picked
     ImGui::CloseCurrentPopup();
@@ -120,13 +142,19 @@ bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
   // The path field takes the keyboard when the browser opens, all selected: typing replaces it.
   if (focus) {
     ImGui::SetKeyboardFocusHere();
-    b.select_all = 3;
+    b.select_all = true;
   }
   ImGui::SetNextItemWidth(-act_w);
   const bool enter = ImGui::InputTextWithHint(
       "##browser_path", "a path: Enter opens it", b.path, sizeof b.path,
-      ImGuiInputTextFlags_EnterReturnsTrue | (b.select_all > 0 ? ImGuiInputTextFlags_AutoSelectAll : 0));
-  if (b.select_all > 0) --b.select_all;
+      ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_CallbackAlways, path_callback, &b);
+  if (!ImGui::IsItemActive()) b.replace = false;   // an inactive field shows b.path as it is
+  if (enter) {
+    // Typing goes on in the field after Enter listed a folder, at the end of the folder's path.
+    ImGui::SetKeyboardFocusHere(-1);
+    b.cursor_end = 3;
+  }
+  if (b.cursor_end > 0) --b.cursor_end;
   ImGui::SameLine();
   if ((ImGui::Button(act) || enter) && b.path[0] != 0) {
     if (b.saving && chosen) {
@@ -136,7 +164,6 @@ bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
       ctx.request(RequestKind::open_file, b.path, static_cast<int>(b.kind));
     }
   }
-  if (enter) ImGui::SetKeyboardFocusHere(-1);   // keep typing after a folder was listed
   ImGui::BeginDisabled(l.parent.empty());
   if (ImGui::Button("Up")) ctx.request(RequestKind::list_dir, l.parent);
   ImGui::EndDisabled();

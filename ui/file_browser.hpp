@@ -20,7 +20,9 @@ struct FileBrowser {
   char path[1024] = "";     // the path field
   bool opening = false;     // open the modal at the next draw
   bool visible = false;     // the modal is open
-  int select_all = 0;       // frames left in which the path field, taking the keyboard, selects all
+  bool replace = false;     // the active path field's text is to be replaced by `path` (a new listing)
+  int cursor_end = 0;       // frames left in which the path field's cursor goes to the end
+  bool select_all = false;  // the path field, at its first activation after opening, selects all
   uint64_t listed = 0;      // the Status::listing version shown in the path field
   uint64_t opened = 0;      // Status::opened when the modal opened: a change closes it
 };

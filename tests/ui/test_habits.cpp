@@ -46,18 +46,18 @@ TEST(Habits, VersionIsPrinted) {
   EXPECT_EQ(r.out, "arwb 0.1.0\n");
 }
 
-// The field takes the keyboard in frame 5 and is activated in frame 6, the frame the first letter comes: at that
-// frame's start ImGui does not yet want text input, so a check made then lets "t" open the tour.
+// The field takes the keyboard in frame 5 and is activated in frame 6, the frame "t" comes: at that frame's start
+// ImGui does not yet want text input, so a check made then lets it open the tour. Then more letters, a space.
 TEST(Habits, TypingInATextFieldFiresNoShortcut) {
   TempDir tmp;
-  const RunResult r = run(tmp, "--frames 40 --actions '5:focus=source_path;5:type=ts n\\n'");
+  const RunResult r = run(tmp, "--frames 40 --actions '5:focus=source_path;5:type=t;12:type=s n\\n'");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto s = stats(r);
   EXPECT_FALSE(s.value("tour_active", true)) << r.out;   // T
   EXPECT_FALSE(s.value("frozen", true)) << r.out;        // Space
   EXPECT_FALSE(fs::exists(tmp.str("snaps"))) << "S wrote a snapshot";
   // The letters went into the field: Enter opened what they spell.
-  EXPECT_NE(r.err.find("open: ts n: no such file or folder"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("open: s n: no such file or folder"), std::string::npos) << r.err;
 }
 
 TEST(Habits, TheSameKeysOutsideAFieldAreShortcuts) {
@@ -87,7 +87,8 @@ TEST(Habits, FileBrowserOpensWhatIsTypedAndRemembersIt) {
   TempDir tmp;
   const std::string scene = scene_copy(tmp);
   // Enter on a folder lists it; the path then typed on opens the scene.
-  const RunResult r = run(tmp, "--frames 70 --actions '5:browse=scene;10:type=" + tmp.str() + "\\n;40:type=/scene.lua\\n'");
+  // One letter a frame: the folder is typed by frame 50.
+  const RunResult r = run(tmp, "--frames 110 --actions '5:browse=scene;10:type=" + tmp.str() + "\\n;60:type=/scene.lua\\n'");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto s = stats(r);
   EXPECT_EQ(s.value("scene", ""), scene) << r.out << r.err;
