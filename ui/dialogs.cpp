@@ -383,7 +383,8 @@ void App::draw_dialogs(ui::Context& ctx) {
     ImGui::SetNextItemWidth(w);
     ImGui::InputText("##sheet_path", sheet.path, sizeof sheet.path);
     ImGui::SameLine();
-    if (ImGui::Button("Browse...")) {
+    const std::string a = std::exchange(answer, std::string());
+    if (ImGui::Button("Browse...") || a == "browse") {
       const fs::path p(sheet.path);
       ui::open_browser(ctx, sheet.browser, ui::FileKind::calibration, "Save the marker sheet as",
                        p.parent_path().string(), true, p.filename().string());
@@ -392,7 +393,6 @@ void App::draw_dialogs(ui::Context& ctx) {
     if (ui::draw_file_browser(ctx, sheet.browser, &chosen)) std::snprintf(sheet.path, sizeof sheet.path, "%s", chosen.c_str());
     if (sheet.browser.visible) modal = "File browser";
     ImGui::TextDisabled("A PDF of A4 pages; print it at 100%% and check the 100 mm bar.");
-    const std::string a = std::exchange(answer, std::string());
     if (ImGui::Button("Write") || a == "write") {
       requests.push_back({ui::RequestKind::marker_sheet, sheet.path, 0, {},
                           sheet.dictionary + "\n" + sheet.ids + "\n" + std::to_string(sheet.size_mm)});
@@ -444,9 +444,10 @@ void App::draw_dialogs(ui::Context& ctx) {
   if (show_about) {
     centred_window("About ArUco Workbench", &show_about, {560 * ctx.scale, 300 * ctx.scale});
     ImGui::Text("ArUco Workbench %s", ARWB_VERSION);
-    ImGui::TextWrapped("Seeing, teaching and scripting marker-based augmented reality, after Avola D., Cinque L., "
-                       "Foresti G. L., Mercuri C., Pannone D., \"A Practical Framework for the Development of "
-                       "Augmented Reality Applications by using ArUco Markers\", ICPRAM 2016.");
+    // No initials: ImGui 1.86 may wrap a line after a full stop, which would leave a lone comma.
+    ImGui::TextWrapped("Seeing, teaching and scripting marker-based augmented reality, after Avola, Cinque, Foresti, "
+                       "Mercuri and Pannone: \"A Practical Framework for the Development of Augmented Reality "
+                       "Applications by using ArUco Markers\" (ICPRAM 2016).");
     ImGui::Spacing();
     ImGui::Text("OpenCV %s", CV_VERSION);
     ImGui::Text("Dear ImGui %s", IMGUI_VERSION);

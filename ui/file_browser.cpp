@@ -51,9 +51,17 @@ void places(Context& ctx, FileBrowser& b) {
 // The right column: the folder's entries, folders first, then the files of this kind.
 void entries(Context& ctx, FileBrowser& b) {
   const DirListing& l = ctx.status.listing;
+  // Saving: the files with the proposed name's extension (a sheet among the other sheets).
+  const std::string name = base_name(b.path);
+  const size_t dot = name.find_last_of('.');
+  const std::string ext = b.saving && dot != std::string::npos ? name.substr(dot) : std::string();
+  auto shown = [&](const std::string& n) {
+    if (b.saving) return ext.empty() || (n.size() >= ext.size() && n.compare(n.size() - ext.size(), ext.size(), ext) == 0);
+    return listed_for(b.kind, n);
+  };
   int others = 0;
   for (const DirEntry& e : l.entries) {
-    if (!e.folder && !listed_for(b.kind, e.name)) {
+    if (!e.folder && !shown(e.name)) {
       ++others;
       continue;
     }
@@ -71,8 +79,8 @@ void entries(Context& ctx, FileBrowser& b) {
     ImGui::PopID();
   }
   if (l.entries.empty() && l.error.empty()) ImGui::TextDisabled("(empty folder)");
-  if (others > 0) ImGui::TextDisabled("%d other file%s not shown (not a %s)", others, others == 1 ? "" : "s",
-                                      file_kind_name(b.kind));
+  if (others > 0) ImGui::TextDisabled("%d other file%s not shown (not %s)", others, others == 1 ? "" : "s",
+                                      b.saving ? ("*" + ext).c_str() : (std::string("a ") + file_kind_name(b.kind)).c_str());
 }
 
 // While the path field is active: a new listing's path replaces the field's text, and after Enter the cursor goes

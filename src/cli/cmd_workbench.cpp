@@ -19,7 +19,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "pixels; opens a web card), drop=PATH (as dropped on the window), focus=script|source_path|preset_path, "
                  "type=TEXT (typed on the keyboard, \\n for Enter), undo, redo, set=PARAM=VALUE (a completed edit), "
                  "save_preset=NAME|PATH, "
-                 "quit, answer=save|discard|cancel|write (a dialog's button), browse=source|scene|preset, sheet (the "
+                 "quit, answer=save|discard|cancel|write|browse (a dialog's button), browse=source|scene|preset, sheet (the "
                  "marker sheet dialog), help=shortcuts|first|about.\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console.\n"

@@ -193,6 +193,15 @@ TEST(Habits, MarkerSheetGoesToTheUsersFolderAndNamesIt) {
   EXPECT_NE(stats(r).value("note", "").find("wrote " + pdf), std::string::npos) << r.out;
 }
 
+TEST(Habits, MarkerSheetGoesWhereTheBrowserSays) {
+  TempDir tmp;
+  const std::string pdf = tmp.str("class.pdf");
+  const RunResult r = run(tmp, "--frames 100 --actions '5:sheet;10:answer=browse;20:type=" + pdf + "\\n;90:answer=write'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(pdf)) << r.err;
+  EXPECT_NE(stats(r).value("note", "").find("wrote " + pdf), std::string::npos) << r.out;
+}
+
 TEST(Habits, PresetsAreSavedRoundedInTheUsersFolder) {
   TempDir tmp;
   const RunResult r =
