@@ -207,6 +207,8 @@ struct View {
   // A text field to take the keyboard at its next draw ("script", "source_path", "preset_path"): --actions focus=.
   std::string focus_field;
   int browse_kind = -1;          // a FileKind: a panel asks the window to open its file browser for it
+  std::string print_sheet;       // a dictionary: a panel asks for the marker sheet dialog with it, ids from
+  int print_first_id = 0;        // print_first_id
   // Teaching
   bool presentation = false;
   int tour_step = 0;

@@ -360,7 +360,18 @@ void App::draw_dialogs(ui::Context& ctx) {
     ImGui::EndPopup();
   }
 
-  // File > Print marker sheet...
+  // File > Print marker sheet..., or a panel's button (the Dictionary explorer, the tour).
+  if (!view.print_sheet.empty()) {
+    open_sheet_dialog();
+    sheet.dictionary = std::exchange(view.print_sheet, std::string());
+    int last = view.print_first_id + 11;
+    std::string err;
+    if (const auto d = dictionary_by_name(sheet.dictionary, &err)) last = std::min(last, d->size() - 1);
+    std::snprintf(sheet.ids, sizeof sheet.ids, "%d-%d", view.print_first_id, last);
+    const std::string path = status.config_dir + "/marker-sheets/" + sheet.dictionary + ".pdf";
+    std::snprintf(sheet.path, sizeof sheet.path, "%s", path.c_str());
+    view.print_first_id = 0;
+  }
   if (sheet.opening) {
     ImGui::OpenPopup("Print marker sheet");
     sheet.opening = false;
