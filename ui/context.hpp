@@ -74,7 +74,8 @@ enum class RequestKind {
                  // value 1: read it again even when unchanged (Revert)
   list_dir,      // text: a folder, listed into Status::listing (the file browser)
   open_file,     // text: a path or source spec typed or picked in the file browser, value: its FileKind; a folder
-                 // is listed instead, a file opened as that kind (and remembered in Status::recent)
+                 // is listed instead (unless payload is "folder": a folder of images as the source), a file is
+                 // opened as that kind (and remembered in Status::recent)
   toggle_favourite,  // text: a folder, starred or unstarred in Status::recent
 };
 

@@ -414,6 +414,8 @@ void App::draw_dialogs(ui::Context& ctx) {
     ImGui::EndPopup();
   }
 
+  answer.clear();   // an answer given while no dialog asked is a click on nothing
+
   // Help windows.
   if (show_shortcuts) {
     centred_window("Keyboard shortcuts", &show_shortcuts, {560 * ctx.scale, 420 * ctx.scale});

@@ -184,6 +184,9 @@ bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
   ImGui::TextDisabled("%s", l.dir.c_str());
   if (!l.error.empty()) ImGui::TextColored({1, 0.45f, 0.4f, 1}, "%s", l.error.c_str());
   if (b.kind == FileKind::source && !b.saving) {
+    if (ImGui::SmallButton("Use this folder")) ctx.request(RequestKind::open_file, l.dir, static_cast<int>(b.kind), {}, "folder");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Its images, one after another, as the source.");
+    ImGui::SameLine();
     if (ImGui::SmallButton("Synthetic source")) ctx.request(RequestKind::open_file, "synthetic", static_cast<int>(b.kind));
     for (int cam : ctx.status.cameras) {
       const std::string spec = "camera:" + std::to_string(cam);

@@ -70,8 +70,7 @@ void source_choice(Context& ctx, SourceViewState& st) {
   const bool enter = ImGui::InputTextWithHint("##path", "video, image or folder path", st.path, sizeof st.path,
                                               ImGuiInputTextFlags_EnterReturnsTrue);
   if (one_line) ImGui::SameLine();
-  if ((ImGui::Button("Open file") || enter) && st.path[0] != '\0') ctx.request(RequestKind::open_file, st.path,
-                                                                              static_cast<int>(FileKind::source));
+  if ((ImGui::Button("Open file") || enter) && st.path[0] != '\0') ctx.request(RequestKind::open_source, st.path);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("The kind (video, image, folder) is read from the file itself.");
   ImGui::SameLine();
   if (ImGui::Button("Browse...")) ctx.view.browse_kind = static_cast<int>(FileKind::source);

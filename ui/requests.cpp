@@ -111,8 +111,16 @@ void App::handle_requests() {
         if (ask_before(r)) break;
         SourceSpec spec;
         std::string err;
-        if (parse_source_spec(r.text, &spec, &err)) engine->open_source(spec);
-        else error(err);
+        if (parse_source_spec(r.text, &spec, &err)) {
+          engine->open_source(spec);
+          std::error_code ec;
+          if (fs::exists(r.text, ec)) {   // a file or folder, not synthetic or a camera: remembered
+            status.recent.add(ui::FileKind::source, fs::absolute(r.text).lexically_normal().string());
+            save_recent();
+          }
+        } else {
+          error(err);
+        }
         break;
       }
       case ui::RequestKind::step: engine->step(r.value); break;
@@ -283,7 +291,7 @@ void App::handle_requests() {
           if (const char* home = std::getenv("HOME")) path = home + path.substr(1);
         }
         std::error_code ec;
-        if (fs::is_directory(path, ec)) {
+        if (fs::is_directory(path, ec) && r.payload != "folder") {   // "folder": the browser's "Use this folder"
           list_dir(path);
           break;
         }

@@ -57,7 +57,7 @@ TEST(Habits, TypingInATextFieldFiresNoShortcut) {
   EXPECT_FALSE(s.value("frozen", true)) << r.out;        // Space
   EXPECT_FALSE(fs::exists(tmp.str("snaps"))) << "S wrote a snapshot";
   // The letters went into the field: Enter opened what they spell.
-  EXPECT_NE(r.err.find("open: s n: no such file or folder"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("error: s n: no such file or folder"), std::string::npos) << r.err;
 }
 
 TEST(Habits, TheSameKeysOutsideAFieldAreShortcuts) {
