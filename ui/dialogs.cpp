@@ -246,9 +246,10 @@ constexpr Shortcut kShortcuts[] = {
     {"Wheel, right-drag", "zoom and pan an image; right double-click fits it"},
 };
 
-void centred_window(const char* title, bool* open, ImVec2 size) {
+// `shift` in screen pixels from the centre, so the Help windows opened together do not hide each other.
+void centred_window(const char* title, bool* open, ImVec2 size, ImVec2 shift) {
   const ImGuiViewport* vp = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos(vp->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
+  ImGui::SetNextWindowPos({vp->GetCenter().x + shift.x, vp->GetCenter().y + shift.y}, ImGuiCond_Appearing, {0.5f, 0.5f});
   ImGui::SetNextWindowSize(size, ImGuiCond_Appearing);
   ImGui::Begin(title, open, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
 }
@@ -266,8 +267,8 @@ constexpr const char* kDeveloper[] = {
     "Pipeline shows each stage's image; click one to see it large with the live view's zoom.",
     "Candidates lists every candidate and its fate; click a row and the Inspector shows its contour, frontal view, "
     "histogram and bits.",
-    "A marker not found? Drag a rectangle over it with the region tool: \"Why not detected?\" names the stage and "
-    "the parameter, and Sweep tries the parameter table there.",
+    "A marker not found? Drag a rectangle over it with the region tool: the Why panel names the stage and the "
+    "parameter, and Sweep tries the parameter table there.",
     "Parameters: every slider says what raising it trades; Ctrl+Z undoes a change, presets save your tuning.",
     "Space freezes the frame, S writes a snapshot of every stage for a bug report.",
 };
@@ -418,7 +419,7 @@ void App::draw_dialogs(ui::Context& ctx) {
 
   // Help windows.
   if (show_shortcuts) {
-    centred_window("Keyboard shortcuts", &show_shortcuts, {560 * ctx.scale, 420 * ctx.scale});
+    centred_window("Keyboard shortcuts", &show_shortcuts, {560 * ctx.scale, 420 * ctx.scale}, {-300 * ctx.scale, 0});
     if (ImGui::BeginTable("##keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
       ImGui::TableSetupColumn("Keys", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("Wheel, right-drag").x);
       ImGui::TableSetupColumn("What", ImGuiTableColumnFlags_WidthStretch);
@@ -436,7 +437,7 @@ void App::draw_dialogs(ui::Context& ctx) {
     ImGui::End();
   }
   if (show_first_steps) {
-    centred_window("First five minutes", &show_first_steps, {620 * ctx.scale, 460 * ctx.scale});
+    centred_window("First five minutes", &show_first_steps, {620 * ctx.scale, 460 * ctx.scale}, {300 * ctx.scale, 0});
     if (ImGui::BeginTabBar("##who")) {
       if (ImGui::BeginTabItem("Developer: inspect detection")) {
         first_steps_page(kDeveloper, std::size(kDeveloper));
@@ -455,7 +456,7 @@ void App::draw_dialogs(ui::Context& ctx) {
     ImGui::End();
   }
   if (show_about) {
-    centred_window("About ArUco Workbench", &show_about, {560 * ctx.scale, 300 * ctx.scale});
+    centred_window("About ArUco Workbench", &show_about, {560 * ctx.scale, 300 * ctx.scale}, {0, 0});
     ImGui::Text("ArUco Workbench %s", ARWB_VERSION);
     // No initials: ImGui 1.86 may wrap a line after a full stop, which would leave a lone comma.
     ImGui::TextWrapped("Seeing, teaching and scripting marker-based augmented reality, after Avola, Cinque, Foresti, "
