@@ -120,6 +120,19 @@ TEST(Habits, UndoAndRedoParameterAndPresetChanges) {
   EXPECT_NE(r.err.find("undo: preset fast.yml"), std::string::npos) << r.err;
 }
 
+// While a widget is held (here a text field has the keyboard, as a slider does while dragged) the values it passes
+// through are one edit: one undo goes back to where it started.
+TEST(Habits, AnEditInProgressIsOneUndoStep) {
+  TempDir tmp;
+  const RunResult r = run(tmp, "--frames 40 --actions '5:focus=preset_path;10:set=threshold_window_px=19;"
+                               "11:set=threshold_window_px=21;12:set=threshold_window_px=25;15:type=\\n;30:undo'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto s = stats(r);
+  EXPECT_EQ(s["params"].value("threshold_window_px", 0.0), 17) << r.out;
+  EXPECT_EQ(s.value("redo", ""), "adaptive_threshold.threshold_window_px 17 -> 25") << r.out;
+  EXPECT_EQ(s.value("undo", "?"), "") << r.out;
+}
+
 // Edits typed into the Script editor, then a quit: the question comes, and each answer does what it says.
 RunResult edit_then(const TempDir& tmp, const std::string& scene, const std::string& then, int frames = 90) {
   return run(tmp, "--scene '" + scene + "' --frames " + std::to_string(frames) +
