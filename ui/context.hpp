@@ -156,6 +156,7 @@ struct Status {
   std::map<std::string, DictionaryStats> dictionary_stats;   // by name, once computed
   std::vector<PresetFile> presets;                // list_presets: default first, then by name
   std::string presets_dir;                        // where they were found ("" when no folder)
+  std::vector<PresetFile> user_presets;           // list_presets: the user's own, in config_dir/presets
   std::vector<ExampleScene> examples;             // list_examples, by label
   std::string examples_error;
   WatchedFile script_file;                        // watch_file

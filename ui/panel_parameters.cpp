@@ -126,6 +126,19 @@ void presets_section(Context& ctx, ParametersState& st) {
   ImGui::SameLine();
   if (ImGui::Button("Browse...")) ctx.view.browse_kind = static_cast<int>(FileKind::preset);
 
+  if (!ctx.status.user_presets.empty()) {
+    ImGui::Spacing();
+    ImGui::TextUnformatted("Your presets");
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s/presets", ctx.status.config_dir.c_str());
+    for (const PresetFile& up : ctx.status.user_presets) {
+      ImGui::PushID(up.path.c_str());
+      if (ImGui::SmallButton("Load")) ctx.request(RequestKind::load_preset, up.path);
+      ImGui::SameLine();
+      ImGui::TextUnformatted(up.name.c_str());
+      ImGui::PopID();
+    }
+  }
   ImGui::Spacing();
   ImGui::TextUnformatted("Shipped presets");
   ImGui::SameLine();

@@ -215,6 +215,7 @@ void App::handle_requests() {
         std::string err;
         if (save_params_yaml(path, settings.params, &err)) {
           note_status("preset: saved " + fs::absolute(path).lexically_normal().string());
+          list_presets();
           status.recent.add(ui::FileKind::preset, fs::absolute(path).lexically_normal().string());
           save_recent();
         } else {
@@ -340,23 +341,26 @@ void App::poll_background() {
 }
 
 // [SECTION] Files
-// *.yml in assets/presets: default first, then by name.
+// *.yml in assets/presets: default first, then by name; then the user's own (config_dir/presets), by name.
 void App::list_presets() {
   status.presets.clear();
-  std::error_code ec;
+  status.user_presets.clear();
+  auto list = [](const std::string& dir, std::vector<ui::PresetFile>* out) {
+    std::error_code ec;
+    if (dir.empty() || !fs::is_directory(dir, ec)) return false;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      if (!entry.is_regular_file(ec) || entry.path().extension() != ".yml") continue;
+      out->push_back({entry.path().string(), entry.path().stem().string(), first_comment(entry.path())});
+    }
+    std::sort(out->begin(), out->end(), [](const ui::PresetFile& a, const ui::PresetFile& b) {
+      if ((a.name == "default") != (b.name == "default")) return a.name == "default";
+      return a.name < b.name;
+    });
+    return true;
+  };
   status.presets_dir = (fs::path(status.assets_dir) / "presets").lexically_normal().string();
-  if (!fs::is_directory(status.presets_dir, ec)) {
-    status.presets_dir.clear();
-    return;
-  }
-  for (const auto& entry : fs::directory_iterator(status.presets_dir, ec)) {
-    if (!entry.is_regular_file(ec) || entry.path().extension() != ".yml") continue;
-    status.presets.push_back({entry.path().string(), entry.path().stem().string(), first_comment(entry.path())});
-  }
-  std::sort(status.presets.begin(), status.presets.end(), [](const ui::PresetFile& a, const ui::PresetFile& b) {
-    if ((a.name == "default") != (b.name == "default")) return a.name == "default";
-    return a.name < b.name;
-  });
+  if (!list(status.presets_dir, &status.presets)) status.presets_dir.clear();
+  if (!status.config_dir.empty()) list(status.config_dir + "/presets", &status.user_presets);
 }
 
 // *.lua and *.xml in the scripts folder and one folder below it (scripts/museum/museum.lua).

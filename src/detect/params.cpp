@@ -189,7 +189,7 @@ bool save_params_yaml(const std::string& path, const DetectorParams& p, std::str
     text += info.name;
     text += ": ";
     if (info.integer) text += std::to_string(p.*(info.int_field));
-    else text += decimals_text(round_decimals(p.*(info.double_field), param_decimals(info)), param_decimals(info));
+    else text += decimals_text(p.*(info.double_field), param_decimals(info));   // as the slider shows it
     text += "\n";
   }
   std::string err;

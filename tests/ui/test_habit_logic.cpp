@@ -126,7 +126,7 @@ TEST(Presets, AreWrittenRoundedToEachParametersPrecision) {
   test::TempDir dir;
   DetectorParams p;
   set_param(p, *find_param("polygon_epsilon_rate"), 0.0333333333);
-  set_param(p, *find_param("threshold_offset"), 7.25);
+  set_param(p, *find_param("threshold_offset"), 7.26);
   set_param(p, *find_param("min_perimeter_px"), 48.4);
   std::string err;
   ASSERT_TRUE(save_params_yaml(dir.str("p.yml"), p, &err)) << err;

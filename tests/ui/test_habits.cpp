@@ -218,7 +218,7 @@ TEST(Habits, MarkerSheetGoesWhereTheBrowserSays) {
 TEST(Habits, PresetsAreSavedRoundedInTheUsersFolder) {
   TempDir tmp;
   const RunResult r =
-      run(tmp, "--frames 20 --actions '5:set=polygon_epsilon_rate=0.0333333;6:set=threshold_offset=7.25;10:save_preset=mine'");
+      run(tmp, "--frames 20 --actions '5:set=polygon_epsilon_rate=0.0333333;6:set=threshold_offset=7.26;10:save_preset=mine'");
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string text = test::read_file(tmp.str("config/presets/mine.yml"));
   EXPECT_NE(text.find("\npolygon_epsilon_rate: 0.033\n"), std::string::npos) << text;
