@@ -3,8 +3,9 @@
 //   Undo         one history entry per completed edit of the parameters and dictionaries
 //   Unsaved      "save, discard or cancel" before a quit, a source or a scene change drops the editor's edits
 //   Typing       --actions type=: keys and characters fed to ImGui as a keyboard would
-//   Help         shortcuts, first five minutes, About
-//   Sheet        File > Print marker sheet...
+//   Help         the Help menu and its pages: shortcuts, first five minutes
+//   Dialogs      drawn each frame after the panels: the browser, the unsaved-edits question, the marker sheet
+//                dialog, the Help windows and About
 #include "ui/app.hpp"
 
 #include "base/files.hpp"

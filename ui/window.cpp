@@ -225,6 +225,8 @@ void App::handle_keys() {
   const ImGuiIO& io = ImGui::GetIO();
   const ImGuiContext& g = *ImGui::GetCurrentContext();
   const bool text_field = io.WantTextInput || (g.ActiveId != 0 && g.ActiveId == g.InputTextState.ID);
+  // Ctrl+Q types nothing, so it quits from a text field too (with the unsaved-edits question).
+  if (ImGui::IsKeyPressed(GLFW_KEY_Q) && io.KeyCtrl && glfw_window) glfwSetWindowShouldClose(glfw_window, 1);
   if (text_field || ImGui::GetTopMostPopupModal() != nullptr) return;
   if (ImGui::IsKeyPressed(GLFW_KEY_S) && !io.KeyCtrl) requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
   if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) settings.frozen = !settings.frozen;
@@ -235,7 +237,6 @@ void App::handle_keys() {
     view.open[static_cast<size_t>(ui::Panel::tour)] = true;
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_F5)) set_presentation(!view.presentation);
-  if (ImGui::IsKeyPressed(GLFW_KEY_Q) && io.KeyCtrl && glfw_window) glfwSetWindowShouldClose(glfw_window, 1);
   if (ImGui::IsKeyPressed(GLFW_KEY_Z) && io.KeyCtrl) {
     if (io.KeyShift) redo();
     else undo();
