@@ -9,6 +9,9 @@
 #include "render/compositor.hpp"
 #include "render/texture.hpp"
 #include "ui/context.hpp"
+#include "ui/file_browser.hpp"
+#include "ui/history.hpp"
+#include "ui/recent_files.hpp"
 #include "workbench/actions.hpp"
 #include "workbench/engine.hpp"
 #include "workbench/log.hpp"
@@ -25,6 +28,7 @@
 #include <future>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,12 +82,62 @@ struct App {
   bool presentation_applied = false;
   double draw_calls = 0, vertices = 0;   // summed over UI frames
   std::array<double, 3> ui_ms{};   // summed: building the panels, rendering them, swapping
+  GLFWwindow* glfw_window = nullptr;   // for quitting from a dialog or an action
+  // Desktop habits (ui/dialogs.cpp)
+  ui::FileBrowser browser;          // File > Open source / scene / preset
+  ui::SettingsHistory history;      // undo and redo of the parameters and dictionaries
+  ui::DetectorState committed;      // the state the last history entry ended in
+  std::string change_name;          // names the next entry ("preset fast.yml"); "" : described from the change
+  std::string note;                 // shown in the status bar for a while (undo, redo, a marker sheet written)
+  double note_time = -100;
+  std::vector<std::string> dropped; // paths dropped on the window, opened at the next frame
+  // The unsaved-edits question: what waits for the answer.
+  bool unsaved_ask = false;         // open the modal at the next draw
+  bool quit_waiting = false;        // a quit waits
+  std::optional<ui::Request> deferred;   // a source or scene change waits
+  bool quit_confirmed = false;      // the user chose: quit for real
+  int save_wait = -1;               // frames since "Save" was chosen, while the editor's save is awaited
+  std::string answer;               // --actions answer=save|discard|cancel|write: a dialog's button, pressed
+  // --actions type=: one character a frame, its key held for one frame, then released.
+  std::deque<int> typing;
+  int key_down = -1;
+  // Help menu windows.
+  bool show_shortcuts = false, show_first_steps = false, show_about = false;
+  // File > Print marker sheet...
+  struct SheetDialog {
+    bool opening = false;
+    std::string dictionary;
+    char ids[256] = "0-11";
+    double size_mm = 50;
+    char path[1024] = "";
+    ui::FileBrowser browser;
+  } sheet;
+  std::string modal;                // the modal shown this frame ("Unsaved edits"), for --stats
+
+  void note_status(const std::string& s);   // info in the log, and in the status bar for a while
 
   void info(const std::string& s) { log.add(LogLevel::info, s); }
   void warn(const std::string& s) { log.add(LogLevel::warning, s); }
   void error(const std::string& s) { log.add(LogLevel::error, s); }
 
   void run_action(const Action& a);
+  // ui/dialogs.cpp: the file browser, dropping, undo, the unsaved-edits question, Help, the marker sheet dialog.
+  void draw_dialogs(ui::Context& ctx);
+  void draw_help_menu();
+  void open_sheet_dialog();
+  void handle_keys();
+  void open_path(ui::FileKind kind, const std::string& path);
+  void drop(const std::string& path);
+  bool ask_before(const ui::Request& r);     // true: deferred until the unsaved edits are saved or discarded
+  void proceed();                            // carries out what waited
+  void track_edits();
+  void undo();
+  void redo();
+  void feed_typing();
+  void load_recent();
+  void save_recent();
+  void list_dir(const std::string& path);
+  std::string preset_path(const std::string& text, bool saving) const;
   void sync_scene();
   void forward_settings();
   void update_region();

@@ -12,6 +12,7 @@
 #include "capture/source.hpp"
 #include "detect/trace.hpp"
 #include "workbench/log.hpp"
+#include "ui/recent_files.hpp"
 
 #include <imgui.h>
 #include <opencv2/core.hpp>
@@ -54,7 +55,7 @@ struct Settings {
 };
 
 enum class RequestKind {
-  open_source,   // text: a --source spec
+  open_source,   // text: a --source spec; value 1: the unsaved-edits question was answered already
   step,          // value: +1 / -1 (video frame, folder image)
   seek,          // value: position
   next_frame,    // frozen: take one new frame from the source
@@ -62,8 +63,8 @@ enum class RequestKind {
   sweep,         // region: run the parameter sweep there
   load_preset,   // text: path
   save_preset,   // text: path
-  marker_sheet,  // text: path of the PDF to write, with the first dictionary's ids `value`.. (arwb markers)
-  load_scene,    // text: a scene file (.lua or .xml); "" unloads the scene
+  marker_sheet,  // text: path of the PDF to write; payload: "DICTIONARY\nIDS\nSIZE_MM" (ids as "0-11" or "3,7,9")
+  load_scene,    // text: a scene file (.lua or .xml); "" unloads the scene; value 1 as for open_source
   save_script,   // text: path, payload: the file's new content (the scene then reloads by itself)
   open_url,      // text: a web card's URL, opened in the system's browser
   dictionary_stats,  // text: a dictionary's name; its distances come in Status::dictionary_stats
@@ -71,6 +72,11 @@ enum class RequestKind {
   list_examples, // the example scenes (scripts/) into Status::examples
   watch_file,    // text: the file the script editor shows ("" none), read into Status::script_file and watched;
                  // value 1: read it again even when unchanged (Revert)
+  list_dir,      // text: a folder, listed into Status::listing (the file browser)
+  open_file,     // text: a path or source spec typed or picked in the file browser, value: its FileKind; a folder
+                 // is listed instead (unless payload is "folder": a folder of images as the source), a file is
+                 // opened as that kind (and remembered in Status::recent)
+  toggle_favourite,  // text: a folder, starred or unstarred in Status::recent
 };
 
 struct Request {
@@ -122,6 +128,19 @@ struct WatchedFile {
   std::string error;        // why it could not be read (missing, over 1 MB, permissions)
 };
 
+// A folder as the file browser shows it: folders first, then files, each by name (hidden ones left out).
+struct DirEntry {
+  std::string name;
+  bool folder = false;
+};
+struct DirListing {
+  std::string dir;        // absolute, as listed ("" before the first listing)
+  std::string parent;     // "" at the root
+  std::vector<DirEntry> entries;
+  std::string error;      // why it (or the path last typed) could not be opened
+  uint64_t version = 0;   // counts listings, so the browser sees a new one
+};
+
 // Read-only facts about the application that panels show.
 struct Status {
   double ui_fps = 0;
@@ -137,9 +156,14 @@ struct Status {
   std::map<std::string, DictionaryStats> dictionary_stats;   // by name, once computed
   std::vector<PresetFile> presets;                // list_presets: default first, then by name
   std::string presets_dir;                        // where they were found ("" when no folder)
+  std::vector<PresetFile> user_presets;           // list_presets: the user's own, in config_dir/presets
   std::vector<ExampleScene> examples;             // list_examples, by label
   std::string examples_error;
   WatchedFile script_file;                        // watch_file
+  DirListing listing;                             // list_dir
+  RecentFiles recent;                             // kept in config_dir/recent.txt
+  uint64_t opened = 0;                            // counts files opened through open_file (the browser closes)
+  std::string config_dir;                         // the user's settings (presets/, marker-sheets/, recent.txt)
 };
 
 // Zoom and pan of an image view; the live view and the pipeline's large view share one, so the same pixel sits
@@ -189,6 +213,17 @@ struct View {
   RegionReport region_report;    // recomputed by the workbench for each new frame while has_region
   bool show_media = true;        // the scene's media composited on the live view
   int script_goto_line = 0;      // a line of the scene file the Script editor scrolls to next (1-based; 0: none)
+  // The Script editor's unsaved edits, for the window's "save, discard, cancel" question before a quit, a source
+  // or a scene change: the editor sets script_unsaved as it draws and, at its next draw, saves (script_save_now)
+  // or drops its edits (script_discard) when the window asks.
+  bool script_unsaved = false;
+  bool script_save_now = false;
+  bool script_discard = false;
+  // A text field to take the keyboard at its next draw ("script", "source_path", "preset_path"): --actions focus=.
+  std::string focus_field;
+  int browse_kind = -1;          // a FileKind: a panel asks the window to open its file browser for it
+  std::string print_sheet;       // a dictionary: a panel asks for the marker sheet dialog with it, ids from
+  int print_first_id = 0;        // print_first_id
   // Teaching
   bool presentation = false;
   int tour_step = 0;

@@ -141,13 +141,11 @@ void header(Context& ctx, DictionaryState& st, DictEntry& e) {
     ImGui::SetNextItemWidth(110.0f * ctx.scale);
     if (ImGui::InputInt("first id", &st.first_id)) st.first_id = std::clamp(st.first_id, 0, std::max(0, d.size() - 1));
     ImGui::SameLine();
-    if (ImGui::Button("Print marker sheet (PDF)")) {
-      ctx.request(RequestKind::marker_sheet, "marker-sheet-" + d.name() + ".pdf", st.first_id);
+    if (ImGui::Button("Print marker sheet...")) {   // the window's dialog: ids, size, where to save
+      ctx.view.print_sheet = d.name();
+      ctx.view.print_first_id = st.first_id;
     }
-    if (ImGui::IsItemHovered()) {
-      ImGui::SetTooltip("Writes marker-sheet-%s.pdf: ids %d..%d, 50 mm markers on A4 (print at 100%%).",
-                        d.name().c_str(), st.first_id, std::min(d.size(), st.first_id + 12) - 1);
-    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("A4 PDF of markers %d..%d at a true size.", st.first_id, std::min(d.size() - 1, st.first_id + 11));
   } else {
     const bool listed = std::find(det.begin(), det.end(), d.name()) != det.end();
     ImGui::TextDisabled("Detection %s this dictionary%s; marker sheets print the first one (%s).",

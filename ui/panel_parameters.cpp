@@ -17,7 +17,7 @@ namespace arwb::ui {
 namespace {
 
 struct ParametersState : PanelState {
-  char path[512] = "presets/my-preset.yml";
+  char path[512] = "my-preset";   // a bare name is saved in the user's presets folder (config_dir/presets)
   int drawn_frame = -10;    // the UI frame the panel was last drawn; a gap means it was (re)opened
   std::string error;        // the last edit set_param refused
 };
@@ -103,10 +103,18 @@ void parameter_tables(Context& ctx, ParametersState& st) {
 void presets_section(Context& ctx, ParametersState& st) {
   if (!ImGui::CollapsingHeader("Presets", ImGuiTreeNodeFlags_DefaultOpen)) return;
   const float button_w = ImGui::CalcTextSize("Load").x + ImGui::CalcTextSize("Save").x +
-                         ImGui::GetStyle().FramePadding.x * 4 + ImGui::GetStyle().ItemSpacing.x * 2;
+                         ImGui::CalcTextSize("Browse...").x + ImGui::GetStyle().FramePadding.x * 6 +
+                         ImGui::GetStyle().ItemSpacing.x * 3;
   ImGui::SetNextItemWidth(std::max(120.0f * ctx.scale, ImGui::GetContentRegionAvail().x - button_w));
+  if (ctx.view.focus_field == "preset_path") {   // --actions focus=preset_path
+    ImGui::SetKeyboardFocusHere();
+    ctx.view.focus_field.clear();
+  }
   ImGui::InputText("##preset_path", st.path, sizeof st.path);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("A YAML file of name: value pairs (relative to the working folder).");
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("A name (saved in %s/presets, rounded to each parameter's precision) or a path to a YAML file.",
+                      ctx.status.config_dir.c_str());
+  }
   ImGui::SameLine();
   const bool has_path = st.path[0] != 0;
   if (ImGui::Button("Load") && has_path) ctx.request(RequestKind::load_preset, st.path);
@@ -115,7 +123,22 @@ void presets_section(Context& ctx, ParametersState& st) {
   // The window writes the file, making the folder it goes into so "presets/..." works on the first save.
   if (ImGui::Button("Save") && has_path) ctx.request(RequestKind::save_preset, st.path);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Writes every parameter of the table with its current value.");
+  ImGui::SameLine();
+  if (ImGui::Button("Browse...")) ctx.view.browse_kind = static_cast<int>(FileKind::preset);
 
+  if (!ctx.status.user_presets.empty()) {
+    ImGui::Spacing();
+    ImGui::TextUnformatted("Your presets");
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s/presets", ctx.status.config_dir.c_str());
+    for (const PresetFile& up : ctx.status.user_presets) {
+      ImGui::PushID(up.path.c_str());
+      if (ImGui::SmallButton("Load")) ctx.request(RequestKind::load_preset, up.path);
+      ImGui::SameLine();
+      ImGui::TextUnformatted(up.name.c_str());
+      ImGui::PopID();
+    }
+  }
   ImGui::Spacing();
   ImGui::TextUnformatted("Shipped presets");
   ImGui::SameLine();

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <string>
 #include <vector>
+#include <utility>
 
 namespace arwb::ui {
 
@@ -58,6 +59,7 @@ struct ScriptState : PanelState {
   int cursor_line = 0;       // 0-based
   float cursor_x = 0;        // from the start of its line
   int goto_line = 0;         // scroll there on the next draw
+  bool take_focus = false;   // the text takes the keyboard at the next draw
 };
 
 void relayout(ScriptState& st) {
@@ -213,6 +215,7 @@ void editor(ScriptState& st, const std::vector<int>& marks, ImVec2 size) {
   st.cursor_moved = false;
   const ImGuiInputTextFlags flags = ImGuiInputTextFlags_AllowTabInput | ImGuiInputTextFlags_NoHorizontalScroll |
                                     ImGuiInputTextFlags_CallbackAlways;
+  if (std::exchange(st.take_focus, false)) ImGui::SetKeyboardFocusHere();   // --actions focus=script
   const bool edited = ImGui::InputTextMultiline("##text", &st.buffer, input_size, flags, on_text_event, &st);
   ImGui::PopID();
   ImGui::PopStyleColor();
@@ -270,6 +273,11 @@ void draw_script(Context& ctx) {
     }
   }
   const bool opened = take_reading(ctx, st);
+  // The window's "save, discard or cancel" question (ui/dialogs.cpp) reads the first and answers with the others.
+  ctx.view.script_unsaved = st.dirty && st.open;
+  if (std::exchange(ctx.view.script_save_now, false) && st.dirty) save(ctx, st);
+  if (std::exchange(ctx.view.script_discard, false)) set_buffer(st, st.base);
+  if (ctx.view.focus_field == "script") st.take_focus = std::exchange(ctx.view.focus_field, std::string()).size() > 0;
 
   if (st.path.empty()) {
     ImGui::TextDisabled("No scene loaded: the editor shows the scene file in use (see the Scene panel).");

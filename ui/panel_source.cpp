@@ -55,12 +55,26 @@ void source_choice(Context& ctx, SourceViewState& st) {
   }
   if (ctx.status.cameras.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("No camera was found at start.");
 
-  ImGui::SetNextItemWidth(-90 * ctx.scale);
+  // The field keeps a usable width however narrow the panel: the buttons go to the next line rather than
+  // squeezing it to nothing.
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float buttons_w = ImGui::CalcTextSize("Open file").x + ImGui::CalcTextSize("Browse...").x +
+                          style.FramePadding.x * 4 + style.ItemSpacing.x * 2;
+  const float avail = ImGui::GetContentRegionAvail().x;
+  const bool one_line = avail - buttons_w >= 160 * ctx.scale;
+  ImGui::SetNextItemWidth(one_line ? avail - buttons_w : avail);
+  if (ctx.view.focus_field == "source_path") {   // --actions focus=source_path
+    ImGui::SetKeyboardFocusHere();
+    ctx.view.focus_field.clear();
+  }
   const bool enter = ImGui::InputTextWithHint("##path", "video, image or folder path", st.path, sizeof st.path,
                                               ImGuiInputTextFlags_EnterReturnsTrue);
-  ImGui::SameLine();
+  if (one_line) ImGui::SameLine();
   if ((ImGui::Button("Open file") || enter) && st.path[0] != '\0') ctx.request(RequestKind::open_source, st.path);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("The kind (video, image, folder) is read from the file itself.");
+  ImGui::SameLine();
+  if (ImGui::Button("Browse...")) ctx.view.browse_kind = static_cast<int>(FileKind::source);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("The file browser: folders, recent sources, favourites.");
 }
 
 void playback(Context& ctx) {

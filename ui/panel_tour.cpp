@@ -70,8 +70,8 @@ void draw_tour(Context& ctx) {
   ImGui::SameLine();
   ImGui::Checkbox("Presentation", &v.presentation);
   ImGui::SameLine();
-  if (ImGui::Button("Print markers")) ctx.request(RequestKind::marker_sheet, "marker-sheet.pdf", 0);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Writes marker-sheet.pdf (A4, 50 mm markers, as `arwb markers`).");
+  if (ImGui::Button("Print markers")) ctx.view.print_sheet = ctx.settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : ctx.settings.dictionaries[0];
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("An A4 PDF of markers at a true size, as `arwb markers` writes.");
   if (!v.tour_active) {
     ImGui::SameLine();
     if (ImGui::Button("Start the lesson")) {

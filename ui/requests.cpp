@@ -6,6 +6,7 @@
 
 #include "capture/opencv_error.hpp"
 
+#include "base/decimals.hpp"
 #include "base/files.hpp"
 #include "media/open_url.hpp"
 #include "synth/marker_sheet.hpp"
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iterator>
 #include <sstream>
@@ -57,12 +59,47 @@ bool read_script(const std::string& path, std::string* text, std::string* error)
   return true;
 }
 
+// "0-11", "3,7,9" or "0-3,8": ids below `count`, each once, in the order given.
+bool parse_id_ranges(const std::string& text, int count, std::vector<int>* ids, std::string* error) {
+  std::istringstream in(text);
+  std::string part;
+  while (std::getline(in, part, ',')) {
+    int a = 0, b = 0;
+    char dash = 0;
+    std::istringstream p(part);
+    if (!(p >> a)) return *error = "'" + part + "' is not an id or a range such as 0-11", false;
+    b = a;
+    if (p >> dash) {
+      if (dash != '-' || !(p >> b)) return *error = "'" + part + "' is not an id or a range such as 0-11", false;
+    }
+    if (a < 0 || b >= count || a > b) {
+      return *error = "'" + part + "' is outside 0-" + std::to_string(count - 1) + ", the dictionary's ids", false;
+    }
+    for (int i = a; i <= b; ++i)
+      if (std::find(ids->begin(), ids->end(), i) == ids->end()) ids->push_back(i);
+    if (ids->size() > 1000) return *error = "more than 1000 markers", false;
+  }
+  if (ids->empty()) return *error = "no id given", false;
+  return true;
+}
+
 bool scene_extension(const fs::path& p) {
   const std::string ext = p.extension().string();
   return ext == ".lua" || ext == ".xml";
 }
 
 }  // namespace
+
+// A preset named without a folder ("fast", "fast.yml") is the user's, in config_dir/presets; a path is used as it
+// is. Loading a bare name that is not there looks in the working folder, as before.
+std::string App::preset_path(const std::string& text, bool saving) const {
+  if (text.find('/') != std::string::npos || status.config_dir.empty()) return text;
+  const std::string name = fs::path(text).extension() == ".yml" || fs::path(text).extension() == ".yaml" ? text : text + ".yml";
+  const std::string mine = status.config_dir + "/presets/" + name;
+  std::error_code ec;
+  if (saving || fs::exists(mine, ec) || !fs::exists(text, ec)) return mine;
+  return text;
+}
 
 // [SECTION] Requests
 void App::handle_requests() {
@@ -71,10 +108,19 @@ void App::handle_requests() {
   for (const ui::Request& r : todo) {
     switch (r.kind) {
       case ui::RequestKind::open_source: {
+        if (ask_before(r)) break;
         SourceSpec spec;
         std::string err;
-        if (parse_source_spec(r.text, &spec, &err)) engine->open_source(spec);
-        else error(err);
+        if (parse_source_spec(r.text, &spec, &err)) {
+          engine->open_source(spec);
+          std::error_code ec;
+          if (fs::exists(r.text, ec)) {   // a file or folder, not synthetic or a camera: remembered
+            status.recent.add(ui::FileKind::source, fs::absolute(r.text).lexically_normal().string());
+            save_recent();
+          }
+        } else {
+          error(err);
+        }
         break;
       }
       case ui::RequestKind::step: engine->step(r.value); break;
@@ -121,23 +167,37 @@ void App::handle_requests() {
         std::vector<std::string> errors;
         DetectorParams p = settings.params;
         std::vector<std::string> notes;
-        const bool ok = load_params_yaml(r.text, p, &errors, &notes);
+        const std::string path = preset_path(r.text, false);
+        const bool ok = load_params_yaml(path, p, &errors, &notes);
         for (const auto& n : notes) warn("preset: " + n);
         if (ok) {
           settings.params = p;
-          info("preset: loaded " + r.text);
+          change_name = "preset " + fs::path(path).filename().string();   // names the undo entry
+          info("preset: loaded " + path);
         } else {
           for (const auto& e : errors) error("preset: " + e);
           if (errors.empty()) error("preset: cannot load " + r.text);
         }
         break;
       }
-      case ui::RequestKind::load_scene: engine->load_scene(r.text); break;
+      case ui::RequestKind::load_scene:
+        if (!ask_before(r)) engine->load_scene(r.text);
+        break;
       case ui::RequestKind::save_script: {
         std::string err;
-        if (write_file_atomically(r.text, r.payload, &err)) info("saved " + r.text + " (the scene reloads by itself)");
+        const bool saved = write_file_atomically(r.text, r.payload, &err);
+        if (saved) info("saved " + r.text + " (the scene reloads by itself)");
         else error("cannot save " + r.text + ": " + err + "; your text is still in the editor");
         if (r.text == status.script_file.path) watch_file(r.text, true);   // the editor sees its save land now
+        // The unsaved-edits question was answered "Save": what waited goes on once the save landed, not before.
+        if (save_wait >= 0) {
+          if (saved) proceed();
+          else {
+            save_wait = -1;
+            quit_waiting = false;
+            deferred.reset();
+          }
+        }
         break;
       }
       case ui::RequestKind::open_url: {
@@ -147,13 +207,20 @@ void App::handle_requests() {
         break;
       }
       case ui::RequestKind::save_preset: {
-        // The folder it goes into is made first, so "presets/..." works on the first save.
+        // A bare name goes to the user's presets folder; the folder is made first, so the first save works.
+        const std::string path = preset_path(r.text, true);
         std::error_code ec;
-        const fs::path parent = fs::path(r.text).parent_path();
+        const fs::path parent = fs::path(path).parent_path();
         if (!parent.empty()) fs::create_directories(parent, ec);
         std::string err;
-        if (save_params_yaml(r.text, settings.params, &err)) info("preset: saved " + r.text);
-        else error("preset: " + err);
+        if (save_params_yaml(path, settings.params, &err)) {
+          note_status("preset: saved " + fs::absolute(path).lexically_normal().string());
+          list_presets();
+          status.recent.add(ui::FileKind::preset, fs::absolute(path).lexically_normal().string());
+          save_recent();
+        } else {
+          error("preset: " + err);
+        }
         break;
       }
       case ui::RequestKind::dictionary_stats: {
@@ -180,7 +247,13 @@ void App::handle_requests() {
       case ui::RequestKind::list_examples: list_examples(); break;
       case ui::RequestKind::watch_file: watch_file(r.text, r.value != 0); break;
       case ui::RequestKind::marker_sheet: {
-        const std::string dict_name = settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : settings.dictionaries[0];
+        // payload: dictionary, ids, size in mm, one a line (the marker sheet dialog).
+        std::istringstream in(r.payload);
+        std::string dict_name, id_text, size_text;
+        std::getline(in, dict_name);
+        std::getline(in, id_text);
+        std::getline(in, size_text);
+        if (dict_name.empty()) dict_name = settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : settings.dictionaries[0];
         std::string err;
         auto dict = dictionary_by_name(dict_name, &err);
         if (!dict) {
@@ -188,16 +261,54 @@ void App::handle_requests() {
           break;
         }
         std::vector<int> ids;
-        for (int i = std::max(0, r.value); i < std::min(dict->size(), std::max(0, r.value) + 12); ++i) ids.push_back(i);
+        if (!parse_id_ranges(id_text.empty() ? "0-11" : id_text, dict->size(), &ids, &err)) {
+          error("marker sheet: ids '" + id_text + "': " + err);
+          break;
+        }
+        const double mm = size_text.empty() ? 50.0 : std::atof(size_text.c_str());
+        const std::string path = fs::absolute(r.text).lexically_normal().string();
+        std::error_code ec;
+        fs::create_directories(fs::path(path).parent_path(), ec);
         try {
-          const SheetResult s = write_marker_sheet(*dict, ids, 50.0, SheetFormat::pdf, r.text);
-          info("marker sheet: " + r.text + " (" + std::to_string(s.pages) + " page(s), 50 mm markers of " + dict_name +
-               "); print at 100% and check the 100 mm bar");
+          const SheetResult s = write_marker_sheet(*dict, ids, mm, SheetFormat::pdf, path);
+          note_status("marker sheet: wrote " + path + " (" + std::to_string(s.pages) + " page(s), " +
+                      std::to_string(ids.size()) + " markers of " + dict_name + " at " + decimals_text(mm, 1) +
+                      " mm); print at 100% and check the 100 mm bar");
         } catch (const std::exception& e) {
-          error("marker sheet: " + one_line_reason(e));
+          error("marker sheet: " + path + ": " + one_line_reason(e));
         }
         break;
       }
+      case ui::RequestKind::list_dir: list_dir(r.text); break;
+      case ui::RequestKind::open_file: {
+        const auto kind = static_cast<ui::FileKind>(std::clamp(r.value, 0, ui::kFileKindCount - 1));
+        if (kind == ui::FileKind::source && (r.text == "synthetic" || r.text.rfind("camera:", 0) == 0)) {
+          open_path(kind, r.text);
+          ++status.opened;
+          break;
+        }
+        std::string path = r.text;
+        if (path.rfind("~/", 0) == 0) {
+          if (const char* home = std::getenv("HOME")) path = home + path.substr(1);
+        }
+        std::error_code ec;
+        if (fs::is_directory(path, ec) && r.payload != "folder") {   // "folder": the browser's "Use this folder"
+          list_dir(path);
+          break;
+        }
+        if (!fs::exists(path, ec)) {
+          status.listing.error = r.text + ": no such file or folder";
+          warn("open: " + status.listing.error);
+          break;
+        }
+        open_path(kind, fs::absolute(path).lexically_normal().string());
+        ++status.opened;
+        break;
+      }
+      case ui::RequestKind::toggle_favourite:
+        status.recent.toggle_favourite(r.text);
+        save_recent();
+        break;
     }
   }
 }
@@ -230,23 +341,26 @@ void App::poll_background() {
 }
 
 // [SECTION] Files
-// *.yml in assets/presets: default first, then by name.
+// *.yml in assets/presets: default first, then by name; then the user's own (config_dir/presets), by name.
 void App::list_presets() {
   status.presets.clear();
-  std::error_code ec;
+  status.user_presets.clear();
+  auto list = [](const std::string& dir, std::vector<ui::PresetFile>* out) {
+    std::error_code ec;
+    if (dir.empty() || !fs::is_directory(dir, ec)) return false;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      if (!entry.is_regular_file(ec) || entry.path().extension() != ".yml") continue;
+      out->push_back({entry.path().string(), entry.path().stem().string(), first_comment(entry.path())});
+    }
+    std::sort(out->begin(), out->end(), [](const ui::PresetFile& a, const ui::PresetFile& b) {
+      if ((a.name == "default") != (b.name == "default")) return a.name == "default";
+      return a.name < b.name;
+    });
+    return true;
+  };
   status.presets_dir = (fs::path(status.assets_dir) / "presets").lexically_normal().string();
-  if (!fs::is_directory(status.presets_dir, ec)) {
-    status.presets_dir.clear();
-    return;
-  }
-  for (const auto& entry : fs::directory_iterator(status.presets_dir, ec)) {
-    if (!entry.is_regular_file(ec) || entry.path().extension() != ".yml") continue;
-    status.presets.push_back({entry.path().string(), entry.path().stem().string(), first_comment(entry.path())});
-  }
-  std::sort(status.presets.begin(), status.presets.end(), [](const ui::PresetFile& a, const ui::PresetFile& b) {
-    if ((a.name == "default") != (b.name == "default")) return a.name == "default";
-    return a.name < b.name;
-  });
+  if (!list(status.presets_dir, &status.presets)) status.presets_dir.clear();
+  if (!status.config_dir.empty()) list(status.config_dir + "/presets", &status.user_presets);
 }
 
 // *.lua and *.xml in the scripts folder and one folder below it (scripts/museum/museum.lua).

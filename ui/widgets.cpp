@@ -244,13 +244,10 @@ void bit_grid(const CandidateRecord& c, float cell, const cv::Mat& expected) {
   }
 }
 
-// printf format for a double parameter, from how wide its range is.
+// printf format for a double parameter: its decimals (param_decimals), as presets are written.
 const char* format_for(const ParamInfo& info) {
-  const double span = info.max_value - info.min_value;
-  if (span <= 1.0) return "%.3f";
-  if (span <= 10.0) return "%.2f";
-  if (span <= 200.0) return "%.1f";
-  return "%.0f";
+  static constexpr const char* kFormats[] = {"%.0f", "%.1f", "%.2f", "%.3f"};
+  return kFormats[std::clamp(param_decimals(info), 0, 3)];
 }
 
 std::string value_text(const ParamInfo& info, double v) {

@@ -13,6 +13,7 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 #include <nlohmann/json.hpp>
@@ -25,6 +26,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <thread>
+#include <utility>
 
 #ifndef ARWB_ASSETS_DIR
 #define ARWB_ASSETS_DIR "assets"
@@ -136,7 +138,58 @@ void App::run_action(const Action& a) {
     else info("click " + a.arg + ": no web card there");
   } else if (a.verb == "peers") {
     settings.peer_opencv = settings.peer_apriltag = true;
+  } else if (a.verb == "drop") {
+    drop(a.arg);
+  } else if (a.verb == "focus") {
+    view.focus_field = a.arg;
+    if (a.arg == "script") view.open[static_cast<size_t>(ui::Panel::script)] = true;
+    if (a.arg == "source_path") view.open[static_cast<size_t>(ui::Panel::source)] = true;
+    if (a.arg == "preset_path") view.open[static_cast<size_t>(ui::Panel::parameters)] = true;
+  } else if (a.verb == "type") {
+    // "\n" is Enter; everything else is typed as it is.
+    for (size_t i = 0; i < a.arg.size(); ++i) {
+      if (a.arg[i] == '\\' && i + 1 < a.arg.size() && a.arg[i + 1] == 'n') {
+        typing.push_back('\n');
+        ++i;
+      } else {
+        typing.push_back(static_cast<unsigned char>(a.arg[i]));
+      }
+    }
+  } else if (a.verb == "undo") {
+    undo();
+  } else if (a.verb == "redo") {
+    redo();
+  } else if (a.verb == "set") {
+    // set=NAME=VALUE: what letting go of a slider does, one completed edit.
+    const size_t eq = a.arg.find('=');
+    const ParamInfo* info = find_param(a.arg.substr(0, eq));
+    std::string err;
+    if (!info || eq == std::string::npos) warn("--actions set=" + a.arg + ": expected PARAM=VALUE");
+    else if (!set_param(settings.params, *info, std::atof(a.arg.c_str() + eq + 1), &err)) warn("--actions: " + err);
+  } else if (a.verb == "quit") {
+    if (glfw_window) glfwSetWindowShouldClose(glfw_window, 1);
+  } else if (a.verb == "answer") {
+    answer = a.arg;
+  } else if (a.verb == "browse") {
+    for (int k = 0; k < ui::kFileKindCount; ++k)
+      if (a.arg == ui::file_kind_name(static_cast<ui::FileKind>(k))) view.browse_kind = k;
+  } else if (a.verb == "save_preset") {
+    requests.push_back({ui::RequestKind::save_preset, a.arg, 0, {}, {}});
+  } else if (a.verb == "sheet") {
+    open_sheet_dialog();
+  } else if (a.verb == "help") {
+    show_shortcuts |= a.arg == "shortcuts";
+    show_first_steps |= a.arg == "first";
+    show_about |= a.arg == "about";
   }
+}
+
+void App::open_sheet_dialog() {
+  sheet.opening = true;
+  sheet.dictionary = settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : settings.dictionaries[0];
+  // Into the user's own folder, never the working folder (which may be the source tree or read-only).
+  const std::string path = status.config_dir + "/marker-sheets/" + sheet.dictionary + ".pdf";
+  std::snprintf(sheet.path, sizeof sheet.path, "%s", path.c_str());
 }
 
 // A newly (re)loaded scene that names a dictionary switches the detector to it, as `arwb render` does.
@@ -147,6 +200,7 @@ void App::sync_scene() {
   if (!d.empty() && (settings.dictionaries.size() != 1 || settings.dictionaries[0] != d)) {
     settings.dictionaries = {d};
     info("scene: detecting " + d + ", the scene's dictionary");
+    change_name = "the scene's dictionary " + d;
   }
 }
 
@@ -197,17 +251,61 @@ void App::record_stats() {
 }
 
 // [SECTION] Frame loop
+// Keys (ImGui 1.86 indexes keys by GLFW key code). None fires while a text field has the keyboard: io.WantTextInput
+// alone says what the previous frame wanted, so a field activated in this frame (or a popup's field) would let
+// the first letter typed through as a shortcut; the active item, looked at now, is what is being typed into.
+void App::handle_keys() {
+  const ImGuiIO& io = ImGui::GetIO();
+  const ImGuiContext& g = *ImGui::GetCurrentContext();
+  const bool text_field = io.WantTextInput || (g.ActiveId != 0 && g.ActiveId == g.InputTextState.ID);
+  // Ctrl+Q types nothing, so it quits from a text field too (with the unsaved-edits question).
+  if (ImGui::IsKeyPressed(GLFW_KEY_Q) && io.KeyCtrl && glfw_window) glfwSetWindowShouldClose(glfw_window, 1);
+  if (text_field || ImGui::GetTopMostPopupModal() != nullptr) return;
+  if (ImGui::IsKeyPressed(GLFW_KEY_S) && !io.KeyCtrl) requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
+  if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) settings.frozen = !settings.frozen;
+  if (ImGui::IsKeyPressed(GLFW_KEY_N) && !io.KeyCtrl) requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
+  if (ImGui::IsKeyPressed(GLFW_KEY_T) && !io.KeyCtrl) {
+    view.tour_active = true;
+    settings.frozen = true;
+    view.open[static_cast<size_t>(ui::Panel::tour)] = true;
+  }
+  if (ImGui::IsKeyPressed(GLFW_KEY_F5)) set_presentation(!view.presentation);
+  if (ImGui::IsKeyPressed(GLFW_KEY_Z) && io.KeyCtrl) {
+    if (io.KeyShift) redo();
+    else undo();
+  }
+}
+
 void App::draw_menu(GLFWwindow* window) {
   if (!ImGui::BeginMainMenuBar()) return;
   if (ImGui::BeginMenu("File")) {
     if (ImGui::MenuItem("Synthetic source")) requests.push_back({ui::RequestKind::open_source, "synthetic", 0, {}, {}});
-    if (ImGui::MenuItem("Open source...")) view.open[static_cast<size_t>(ui::Panel::source)] = true;
-    if (ImGui::MenuItem("Snapshot", "S")) requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
-    if (ImGui::MenuItem("Print marker sheet (PDF)")) {
-      requests.push_back({ui::RequestKind::marker_sheet, "marker-sheet.pdf", 0, {}, {}});
+    // The browser opens at the next frame's draw_dialogs: a menu item cannot open a modal inside the menu.
+    if (ImGui::MenuItem("Open source...")) view.browse_kind = static_cast<int>(ui::FileKind::source);
+    if (ImGui::MenuItem("Open scene...")) view.browse_kind = static_cast<int>(ui::FileKind::scene);
+    if (ImGui::MenuItem("Load preset...")) view.browse_kind = static_cast<int>(ui::FileKind::preset);
+    if (ImGui::BeginMenu("Recent", !status.recent.of(ui::FileKind::source).empty() ||
+                                       !status.recent.of(ui::FileKind::scene).empty() ||
+                                       !status.recent.of(ui::FileKind::preset).empty())) {
+      for (ui::FileKind k : {ui::FileKind::source, ui::FileKind::scene, ui::FileKind::preset}) {
+        for (const std::string& p : status.recent.of(k)) {
+          const std::string label = std::string(ui::file_kind_name(k)) + ": " + p;
+          if (ImGui::MenuItem(label.c_str())) open_path(k, p);
+        }
+      }
+      ImGui::EndMenu();
     }
     ImGui::Separator();
+    if (ImGui::MenuItem("Snapshot", "S")) requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
+    if (ImGui::MenuItem("Print marker sheet...")) open_sheet_dialog();
+    ImGui::Separator();
     if (ImGui::MenuItem("Quit", "Ctrl+Q")) glfwSetWindowShouldClose(window, 1);
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Edit")) {
+    const std::string u = history.undo_name(), r = history.redo_name();
+    if (ImGui::MenuItem(u.empty() ? "Undo" : ("Undo " + u).c_str(), "Ctrl+Z", false, !u.empty())) undo();
+    if (ImGui::MenuItem(r.empty() ? "Redo" : ("Redo " + r).c_str(), "Ctrl+Shift+Z", false, !r.empty())) redo();
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("View")) {
@@ -229,6 +327,7 @@ void App::draw_menu(GLFWwindow* window) {
     if (ImGui::MenuItem("Next frame", "N")) requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
     ImGui::EndMenu();
   }
+  draw_help_menu();
   ImGui::EndMainMenuBar();
 }
 
@@ -242,6 +341,12 @@ void App::draw_status_bar(float height) {
   ImGui::Begin("##status", nullptr, flags);
   ImGui::Text("%s | UI %.0f fps | detection %.0f fps | %s", status.source.text().c_str(), status.ui_fps, status.detect_fps,
               settings.frozen ? "FROZEN" : "live");
+  // A note (undo, redo, a file written) stays for a while; then the newest warning or error.
+  const double now = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (!note.empty() && now - note_time < 10) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(0.6f, 0.85f, 1, 1), "| %s", note.c_str());
+  }
   // A scene that runs with mappings skipped, disabled or failing says so for as long as it lasts.
   if (frame) {
     const auto& rows = frame->scene.mappings;
@@ -280,6 +385,12 @@ bool App::take_screenshot(const std::string& path, GLFWwindow* window) {
 
 namespace {
 void glfw_error(int code, const char* text) { std::fprintf(stderr, "arwb: GLFW error %d: %s\n", code, text); }
+
+App* g_app = nullptr;   // for GLFW's drop callback, which has no user pointer of its own to spare
+void on_drop(GLFWwindow*, int count, const char** paths) {
+  if (!g_app) return;
+  for (int i = 0; i < count; ++i) g_app->dropped.emplace_back(paths[i]);
+}
 }  // namespace
 
 int run_workbench(const WorkbenchOptions& options) {
@@ -309,6 +420,9 @@ int run_workbench(const WorkbenchOptions& options) {
     return 1;
   }
   glfwMakeContextCurrent(window);
+  app.glfw_window = window;
+  g_app = &app;
+  glfwSetDropCallback(window, on_drop);
   render::keep_gl_driver_loaded();  // see render/gl_driver.hpp
   glfwSwapInterval(0);  // paced below; vsync under Xvfb is absent anyway
 
@@ -321,6 +435,8 @@ int run_workbench(const WorkbenchOptions& options) {
   const std::string ini_path = config_dir + "/imgui.ini";
   io.IniFilename = nullptr;  // loaded and saved by hand, so a bad path is a message, not a silent loss
   load_layout(app.view, ini_path);
+  app.status.config_dir = config_dir;
+  app.load_recent();
 
   ImGui::StyleColorsDark();
   // Opaque windows: panels opened over others (the scene's, on a first start) stay readable.
@@ -349,6 +465,7 @@ int run_workbench(const WorkbenchOptions& options) {
   app.settings.dictionaries = options.engine.dictionaries;
   app.settings.acquisition = options.engine.acquisition;
   app.sent = app.settings;
+  app.committed = {app.settings.params, app.settings.dictionaries};
   app.engine = std::make_unique<Engine>(options.engine, [&app](int level, const std::string& m) {
     app.log.add(level == 0 ? LogLevel::info : (level == 1 ? LogLevel::warning : LogLevel::error), m);
   });
@@ -368,8 +485,19 @@ int run_workbench(const WorkbenchOptions& options) {
   size_t next_action = 0;
   auto loop_start = Clock::now();
   auto last = Clock::now();
-  while (!glfwWindowShouldClose(window)) {
+  for (;;) {
     glfwPollEvents();
+    // Closing the window, Ctrl+Q, File > Quit: with unsaved edits in the Script editor, ask first.
+    if (glfwWindowShouldClose(window)) {
+      if (!app.view.script_unsaved || app.quit_confirmed) break;
+      glfwSetWindowShouldClose(window, 0);
+      if (!app.quit_waiting && !app.deferred) {
+        app.quit_waiting = true;
+        app.unsaved_ask = true;
+      }
+    }
+    app.feed_typing();
+    for (const std::string& p : std::exchange(app.dropped, {})) app.drop(p);
     app.frame = app.engine->latest();
     app.status.source = app.engine->source();
     app.status.detect_fps = app.engine->detect_fps();
@@ -389,19 +517,6 @@ int run_workbench(const WorkbenchOptions& options) {
     ImGui::NewFrame();
     while (next_action < actions.size() && actions[next_action].frame <= ui_frames) {
       app.run_action(actions[next_action++]);
-    }
-    // Keys (ImGui 1.86 indexes keys by GLFW key code): S snapshot, Space freeze, N next frame, T tour, F5 presentation, Ctrl+Q quit.
-    if (!io.WantTextInput) {
-      if (ImGui::IsKeyPressed(GLFW_KEY_S) && !io.KeyCtrl) app.requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
-      if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) app.settings.frozen = !app.settings.frozen;
-      if (ImGui::IsKeyPressed(GLFW_KEY_N)) app.requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
-      if (ImGui::IsKeyPressed(GLFW_KEY_T)) {
-        app.view.tour_active = true;
-        app.settings.frozen = true;
-        app.view.open[static_cast<size_t>(ui::Panel::tour)] = true;
-      }
-      if (ImGui::IsKeyPressed(GLFW_KEY_F5)) app.set_presentation(!app.view.presentation);
-      if (ImGui::IsKeyPressed(GLFW_KEY_Q) && io.KeyCtrl) glfwSetWindowShouldClose(window, 1);
     }
     app.draw_menu(window);
     const float status_h = ImGui::GetFrameHeightWithSpacing() + 4;
@@ -425,6 +540,11 @@ int run_workbench(const WorkbenchOptions& options) {
     }
     const auto tp0 = Clock::now();
     ui::draw_panels(ctx);
+    app.draw_dialogs(ctx);
+    // After every panel and dialog, so a text field activated this very frame (a click, a dialog's field taking
+    // the keyboard) is known: see handle_keys.
+    app.handle_keys();
+    app.track_edits();
     app.draw_status_bar(status_h);
     ImGui::Render();
     int fw = 0, fh = 0;
@@ -483,6 +603,7 @@ int run_workbench(const WorkbenchOptions& options) {
   // window open (the UI never waits for it while running, so frames were drawn all along).
   const bool worker_stopped = app.engine->stop(0.5);
 
+  g_app = nullptr;
   save_layout(ini_path);   // window places, open panels
   if (options.stats) {
     using Json = nlohmann::ordered_json;
@@ -543,6 +664,16 @@ int run_workbench(const WorkbenchOptions& options) {
       }
       s["why"] = why;
     }
+    s["frozen"] = app.settings.frozen;
+    s["tour_active"] = app.view.tour_active;
+    s["modal"] = app.modal;
+    s["script_unsaved"] = app.view.script_unsaved;
+    s["undo"] = app.history.undo_name();
+    s["redo"] = app.history.redo_name();
+    s["note"] = app.note;
+    s["params"] = Json::object();
+    for (const ParamInfo& info : param_table()) s["params"][info.name] = get_param(app.settings.params, info);
+    s["dictionaries"] = app.settings.dictionaries;
     std::printf("%s\n", s.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
   }
   if (!worker_stopped) {

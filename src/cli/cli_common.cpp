@@ -162,6 +162,9 @@ std::optional<int> CommandLine::parse(int argc, char** argv) {
   } catch (const CLI::CallForHelp&) {
     std::fputs(app.help().c_str(), stdout);
     return 0;
+  } catch (const CLI::CallForVersion& e) {   // --version, where a command has one: its text is the version
+    std::printf("%s\n", e.what());
+    return 0;
   } catch (const CLI::ParseError& e) {
     return usage_error(describe(e));
   }

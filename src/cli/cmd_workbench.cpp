@@ -17,14 +17,22 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
                  "sweep, tour[=STEP], presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
                  "pixels; opens a web card), labels=KINDS (what the live view shows, a comma list of ids, dict, "
-                 "rejected, truth, peers, or all or none), add_dictionary=NAME (searched too, as the Why panel's button does).\n"
+                 "rejected, truth, peers, or all or none), add_dictionary=NAME (searched too, as the Why panel's button does), "
+                 "drop=PATH (as dropped on the window), focus=script|source_path|preset_path, "
+                 "type=TEXT (typed on the keyboard, \\n for Enter), undo, redo, set=PARAM=VALUE (a completed edit), "
+                 "save_preset=NAME|PATH, "
+                 "quit, answer=save|discard|cancel|write|browse (a dialog's button), browse=source|scene|preset, sheet (the "
+                 "marker sheet dialog), help=shortcuts|first|about.\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console.\n"
-                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Q quit.");
+                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Z undo, Ctrl+Shift+Z "
+                 "redo, Ctrl+Q quit; none of them while typing in a text field. Help > Keyboard shortcuts lists them "
+                 "all. Drop a scene (.lua, .xml), preset (.yml), image, video or folder on the window to open it.");
   std::vector<std::pair<std::string, std::string>> subcommands;
   for (const Subcommand& s : arwb_subcommands()) subcommands.emplace_back(s.name, s.summary);
   cl.add_section("subcommands (`arwb <subcommand> --help` describes each one)", subcommands);
 
+  cl.app.set_version_flag("--version", "arwb " ARWB_VERSION, "print the version and exit");
   WorkbenchOptions o;
   std::string source, dict = "ARUCO_ORIGINAL", params, size = "1600x900", resize = "640x480", actions;
   cl.app.add_option("--source", source,

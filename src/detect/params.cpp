@@ -1,5 +1,6 @@
 #include "detect/params.hpp"
 
+#include "base/decimals.hpp"
 #include "base/files.hpp"
 #include "detect/yaml_file.hpp"
 
@@ -172,22 +173,29 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
   return ok;
 }
 
+int param_decimals(const ParamInfo& info) {
+  if (info.integer) return 0;
+  const double span = info.max_value - info.min_value;
+  if (span <= 1.0) return 3;
+  if (span <= 10.0) return 2;
+  if (span <= 200.0) return 1;
+  return 0;
+}
+
 bool save_params_yaml(const std::string& path, const DetectorParams& p, std::string* error) {
-  try {
-    cv::FileStorage fs(path, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
-    if (!fs.isOpened()) {
-      if (error) *error = path + ": cannot write";
-      return false;
-    }
-    for (const auto& info : kTable) {
-      if (info.integer) fs << info.name << p.*(info.int_field);
-      else fs << info.name << p.*(info.double_field);
-    }
-    return true;
-  } catch (const cv::Exception&) {
-    if (error) *error = path + ": cannot write";
-    return false;
+  // Written as text, not through cv::FileStorage, which prints doubles with 17 digits: a preset is read by people.
+  std::string text = "%YAML:1.0\n---\n";
+  for (const auto& info : kTable) {
+    text += info.name;
+    text += ": ";
+    if (info.integer) text += std::to_string(p.*(info.int_field));
+    else text += decimals_text(p.*(info.double_field), param_decimals(info));   // as the slider shows it
+    text += "\n";
   }
+  std::string err;
+  if (write_file_atomically(path, text, &err)) return true;
+  if (error) *error = path + ": cannot write (" + err + ")";
+  return false;
 }
 
 }  // namespace arwb

@@ -61,6 +61,9 @@ std::span<const ParamInfo> param_table();
 const ParamInfo* find_param(const std::string& name);
 
 double get_param(const DetectorParams& p, const ParamInfo& info);
+// The decimals a value of this parameter is shown and written with: 0 for an integer, else from how wide its
+// range is (a range of 1 or less: 3; 10: 2; 200: 1; wider: 0). Sliders, messages and presets all use it.
+int param_decimals(const ParamInfo& info);
 // Sets a value; false and a message naming the parameter, value and range when out of range or not an integer.
 bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::string* error = nullptr);
 
@@ -70,6 +73,7 @@ bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::stri
 // not applied, and `notes` says so and where the resize is set now.
 bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<std::string>* errors,
                       std::vector<std::string>* notes = nullptr);
+// Writes every parameter, rounded to param_decimals (0.03, not 0.029999999999999999), atomically.
 bool save_params_yaml(const std::string& path, const DetectorParams& p, std::string* error = nullptr);
 
 }  // namespace arwb

@@ -1,0 +1,475 @@
+// [SECTION] Index
+//   Opening      File > Open..., the file browser's picks, files dropped on the window
+//   Undo         one history entry per completed edit of the parameters and dictionaries
+//   Unsaved      "save, discard or cancel" before a quit, a source or a scene change drops the editor's edits
+//   Typing       --actions type=: keys and characters fed to ImGui as a keyboard would
+//   Help         the Help menu and its pages: shortcuts, first five minutes
+//   Dialogs      drawn each frame after the panels: the browser, the unsaved-edits question, the marker sheet
+//                dialog, the Help windows and About
+#include "ui/app.hpp"
+
+#include "base/files.hpp"
+#include "capture/image_io.hpp"
+#include "synth/marker_sheet.hpp"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <lua.hpp>
+#include <opencv2/core/version.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <iterator>
+#include <utility>
+
+#ifndef ARWB_VERSION
+#define ARWB_VERSION "unknown"
+#endif
+
+namespace arwb {
+
+namespace fs = std::filesystem;
+
+namespace {
+constexpr FileLimit kRecentFile{"a recent-files list", 64u << 10};
+constexpr double kNoteS = 10;   // how long a note stays in the status bar
+}  // namespace
+
+void App::note_status(const std::string& s) {
+  info(s);
+  note = s;
+  note_time = std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// [SECTION] Opening
+void App::open_path(ui::FileKind kind, const std::string& path) {
+  switch (kind) {
+    case ui::FileKind::source: requests.push_back({ui::RequestKind::open_source, path, 0, {}, {}}); break;
+    case ui::FileKind::scene: requests.push_back({ui::RequestKind::load_scene, path, 0, {}, {}}); break;
+    case ui::FileKind::preset: requests.push_back({ui::RequestKind::load_preset, path, 0, {}, {}}); break;
+    case ui::FileKind::calibration:
+    case ui::FileKind::count: warn("calibration files cannot be opened yet: " + path); return;
+  }
+  // Camera and synthetic specs are one click away in the browser; only files are remembered.
+  if (kind != ui::FileKind::source || (path != "synthetic" && path.rfind("camera:", 0) != 0)) {
+    status.recent.add(kind, path);
+    save_recent();
+  }
+}
+
+void App::drop(const std::string& path) {
+  const PathKind k = classify_path(path);
+  const ui::DropKind d = ui::drop_kind(path, k == PathKind::folder, k == PathKind::image || k == PathKind::video);
+  const std::string abs = fs::absolute(path).lexically_normal().string();
+  switch (d) {
+    case ui::DropKind::scene: info("dropped " + abs + ": loading it as the scene"); open_path(ui::FileKind::scene, abs); break;
+    case ui::DropKind::preset: info("dropped " + abs + ": loading it as a preset"); open_path(ui::FileKind::preset, abs); break;
+    case ui::DropKind::source: info("dropped " + abs + ": opening it as the source"); open_path(ui::FileKind::source, abs); break;
+    case ui::DropKind::none:
+      warn("dropped " + abs + ": " +
+           (k == PathKind::missing ? std::string("no such file")
+                                   : "not a scene (.lua, .xml), a preset (.yml) or an image, video or folder") +
+           "; nothing opened");
+      break;
+  }
+}
+
+void App::list_dir(const std::string& path) {
+  ui::DirListing& l = status.listing;
+  std::error_code ec;
+  fs::path p = fs::absolute(path.empty() ? "." : path, ec).lexically_normal();
+  if (p.has_relative_path() && !p.has_filename()) p = p.parent_path();   // "a/b/" -> "a/b"
+  if (!fs::is_directory(p, ec)) {
+    l.error = path + ": " + (fs::exists(p, ec) ? "not a folder" : "no such folder");
+    ++l.version;
+    return;
+  }
+  std::vector<ui::DirEntry> entries;
+  for (auto it = fs::directory_iterator(p, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.empty() || name[0] == '.') continue;   // hidden, as in a desktop's file dialog
+    std::error_code e;
+    entries.push_back({name, it->is_directory(e)});
+    if (entries.size() >= 20000) break;
+  }
+  if (ec) {
+    l.error = p.string() + ": " + ec.message();
+    ++l.version;
+    return;
+  }
+  auto lower = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+  };
+  std::sort(entries.begin(), entries.end(), [&](const ui::DirEntry& a, const ui::DirEntry& b) {
+    if (a.folder != b.folder) return a.folder;
+    return lower(a.name) < lower(b.name);
+  });
+  l.dir = p.string();
+  l.parent = p == p.root_path() ? std::string() : p.parent_path().string();
+  l.entries = std::move(entries);
+  l.error.clear();
+  ++l.version;
+}
+
+void App::load_recent() {
+  const std::string path = status.config_dir + "/recent.txt";
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return;
+  const Result<std::string> text = read_text_file(path, kRecentFile);
+  if (!text) {
+    warn("recent files: " + text.error() + " (starting with none)");
+    return;
+  }
+  std::vector<std::string> problems;
+  status.recent = ui::parse_recent(*text, &problems);
+  for (const auto& p : problems) warn("recent files: " + path + ": " + p + " (line skipped)");
+}
+
+void App::save_recent() {
+  std::string err;
+  const std::string path = status.config_dir + "/recent.txt";
+  if (!write_file_atomically(path, ui::recent_text(status.recent), &err)) warn("recent files: cannot save " + path + ": " + err);
+}
+
+// [SECTION] Undo
+// Called after the panels: an edit is complete when no widget is active (the slider let go, the typed value
+// entered), so a drag over fifty frames is one entry.
+void App::track_edits() {
+  const ui::DetectorState now{settings.params, settings.dictionaries};
+  if (now == committed || ImGui::IsAnyItemActive()) return;
+  history.record(committed, now, change_name);
+  committed = now;
+  change_name.clear();
+}
+
+void App::undo() {
+  ui::DetectorState s;
+  std::string name;
+  if (!history.undo(&s, &name)) return note_status("nothing to undo");
+  settings.params = s.params;
+  settings.dictionaries = s.dictionaries;
+  committed = s;
+  note_status("undo: " + name);
+}
+
+void App::redo() {
+  ui::DetectorState s;
+  std::string name;
+  if (!history.redo(&s, &name)) return note_status("nothing to redo");
+  settings.params = s.params;
+  settings.dictionaries = s.dictionaries;
+  committed = s;
+  note_status("redo: " + name);
+}
+
+// [SECTION] Unsaved
+bool App::ask_before(const ui::Request& r) {
+  if (r.value == 1 || !view.script_unsaved) return false;
+  if (r.kind == ui::RequestKind::load_scene && frame && r.text == frame->scene.file) return false;   // a reload
+  deferred = r;
+  deferred->value = 1;
+  quit_waiting = false;
+  unsaved_ask = true;
+  return true;
+}
+
+void App::proceed() {
+  if (quit_waiting) {
+    quit_confirmed = true;
+    if (glfw_window) glfwSetWindowShouldClose(glfw_window, 1);
+  } else if (deferred) {
+    requests.push_back(*deferred);
+  }
+  quit_waiting = false;
+  deferred.reset();
+  save_wait = -1;
+}
+
+namespace {
+std::string file_name(const std::string& p) {
+  const size_t s = p.find_last_of('/');
+  return s == std::string::npos ? p : p.substr(s + 1);
+}
+}  // namespace
+
+// [SECTION] Typing
+void App::feed_typing() {
+  ImGuiIO& io = ImGui::GetIO();
+  const int released = key_down;
+  if (key_down >= 0) {
+    io.KeysDown[key_down] = false;
+    key_down = -1;
+  }
+  if (typing.empty()) return;
+  const int c = typing.front();
+  // ImGui 1.86 indexes keys by GLFW key code; a letter's code is its upper-case ASCII.
+  const int key = c == '\n' ? GLFW_KEY_ENTER : std::toupper(c);
+  if (key == released) return;   // the same key again: up for one frame first, or it is not pressed again
+  typing.pop_front();
+  if (key >= 0 && key < IM_ARRAYSIZE(io.KeysDown)) {
+    io.KeysDown[key] = true;
+    key_down = key;
+  }
+  if (c != '\n') io.AddInputCharacter(static_cast<unsigned>(c));
+}
+
+// [SECTION] Help
+void App::draw_help_menu() {
+  if (!ImGui::BeginMenu("Help")) return;
+  ImGui::MenuItem("Keyboard shortcuts", nullptr, &show_shortcuts);
+  ImGui::MenuItem("First five minutes", nullptr, &show_first_steps);
+  ImGui::Separator();
+  ImGui::MenuItem("About ArUco Workbench", nullptr, &show_about);
+  ImGui::EndMenu();
+}
+
+namespace {
+
+struct Shortcut {
+  const char* keys;
+  const char* what;
+};
+constexpr Shortcut kShortcuts[] = {
+    {"S", "snapshot: the frame, every stage's image and the trace"},
+    {"Space", "freeze / unfreeze the frame"},
+    {"N", "next frame (when frozen)"},
+    {"T", "the guided tour"},
+    {"F5", "presentation mode"},
+    {"Ctrl+Z", "undo a parameter, preset or dictionary change"},
+    {"Ctrl+Shift+Z", "redo"},
+    {"Ctrl+S", "save the scene file (Script editor)"},
+    {"Ctrl+Q", "quit (asks first when the Script editor has unsaved edits)"},
+    {"Enter", "in a path field: open what is typed"},
+    {"Ctrl+click", "a slider: type a value"},
+    {"Wheel, right-drag", "zoom and pan an image; right double-click fits it"},
+};
+
+// `shift` in screen pixels from the centre, so the Help windows opened together do not hide each other.
+void centred_window(const char* title, bool* open, ImVec2 size, ImVec2 shift) {
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos({vp->GetCenter().x + shift.x, vp->GetCenter().y + shift.y}, ImGuiCond_Appearing, {0.5f, 0.5f});
+  ImGui::SetNextWindowSize(size, ImGuiCond_Appearing);
+  ImGui::Begin(title, open, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
+}
+
+void first_steps_page(const char* const lines[], size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    ImGui::Bullet();
+    ImGui::TextWrapped("%s", lines[i]);
+  }
+}
+
+constexpr const char* kDeveloper[] = {
+    "The live view outlines every marker found in green and every rejected candidate in the colour of the stage "
+    "that dropped it.",
+    "Pipeline shows each stage's image; click one to see it large with the live view's zoom.",
+    "Candidates lists every candidate and its fate; click a row and the Inspector shows its contour, frontal view, "
+    "histogram and bits.",
+    "A marker not found? Drag a rectangle over it with the region tool: the Why panel names the stage and the "
+    "parameter, and Sweep tries the parameter table there.",
+    "Parameters: every slider says what raising it trades; Ctrl+Z undoes a change, presets save your tuning.",
+    "Space freezes the frame, S writes a snapshot of every stage for a bug report.",
+};
+constexpr const char* kAuthor[] = {
+    "File > Open scene... loads a .lua scene or the paper's .xml database; or drop the file on the window.",
+    "The Scene panel lists the mappings (marker id -> media) and the markers in view; the example scenes are a "
+    "click away there.",
+    "The Script editor shows the scene file: edit, Ctrl+S saves and the scene reloads by itself; an error's line "
+    "is marked in red.",
+    "The Console shows the scene's print output and errors. docs/scene-api.md is the reference.",
+    "Print marker sheet (File menu) writes the markers your scene maps, at a true size.",
+};
+constexpr const char* kTeacher[] = {
+    "F5 (or --presentation) enlarges everything for a projector.",
+    "T starts the guided tour: it freezes the frame and walks through the pipeline one stage at a time, with the "
+    "stage's image; Next frame moves on.",
+    "The synthetic source (File menu) shows markers moving in 3D with exact truth: its sliders add blur, noise, "
+    "tilt and poor light, so a class sees each stage fail and recover.",
+    "Print marker sheet writes markers at a true size for the class to hold up to the camera.",
+};
+
+}  // namespace
+
+// [SECTION] Dialogs
+void App::draw_dialogs(ui::Context& ctx) {
+  modal.clear();
+  // A panel asked for the file browser (the Source panel's "Browse...").
+  if (view.browse_kind >= 0 && view.browse_kind < ui::kFileKindCount) {
+    const auto k = static_cast<ui::FileKind>(view.browse_kind);
+    const std::string title = std::string("Open ") + ui::file_kind_name(k);
+    const auto& recent = status.recent.of(k);
+    // Where the last file of this kind came from; else the user's presets folder for presets; else here.
+    std::string folder = ".";
+    std::error_code ec;
+    if (!recent.empty()) folder = fs::path(recent[0]).parent_path().string();
+    else if (k == ui::FileKind::preset && fs::is_directory(status.config_dir + "/presets", ec)) folder = status.config_dir + "/presets";
+    ui::open_browser(ctx, browser, k, title, folder);
+    view.browse_kind = -1;
+  }
+  ui::draw_file_browser(ctx, browser);
+  if (browser.visible) modal = "File browser";
+
+  // The unsaved-edits question.
+  if (unsaved_ask) {
+    ImGui::OpenPopup("Unsaved edits");
+    unsaved_ask = false;
+  }
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
+  if (ImGui::BeginPopupModal("Unsaved edits", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    modal = "Unsaved edits";
+    const std::string file = file_name(status.script_file.path);
+    std::string what = "quitting";
+    if (deferred && deferred->kind == ui::RequestKind::open_source) what = "opening the source " + deferred->text;
+    if (deferred && deferred->kind == ui::RequestKind::load_scene) {
+      what = deferred->text.empty() ? "unloading the scene" : "loading the scene " + file_name(deferred->text);
+    }
+    ImGui::Text("The Script editor has unsaved edits to %s.", file.c_str());
+    ImGui::Text("Save them before %s?", what.c_str());
+    ImGui::Spacing();
+    const std::string a = std::exchange(answer, std::string());
+    if (save_wait >= 0) {
+      ImGui::TextDisabled("Saving...");
+    } else {
+      if (ImGui::Button("Save") || a == "save") {
+        view.script_save_now = true;   // the editor saves at its next draw; the request's result proceeds
+        view.open[static_cast<size_t>(ui::Panel::script)] = true;
+        save_wait = 0;
+      }
+      ImGui::SameLine();
+      if (ImGui::Button("Discard") || a == "discard") {
+        view.script_discard = true;
+        info("unsaved edits to " + file + " discarded");
+        proceed();
+        ImGui::CloseCurrentPopup();
+      }
+      ImGui::SameLine();
+      if (ImGui::Button("Cancel") || a == "cancel" || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+        quit_waiting = false;
+        deferred.reset();
+        ImGui::CloseCurrentPopup();
+      }
+    }
+    if (save_wait >= 0 && ++save_wait > 180) {
+      error("the Script editor did not save " + file + " (is it open?); nothing else was done");
+      save_wait = -1;
+      quit_waiting = false;
+      deferred.reset();
+    }
+    if (!quit_waiting && !deferred && save_wait < 0) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+
+  // File > Print marker sheet..., or a panel's button (the Dictionary explorer, the tour).
+  if (!view.print_sheet.empty()) {
+    open_sheet_dialog();
+    sheet.dictionary = std::exchange(view.print_sheet, std::string());
+    int last = view.print_first_id + 11;
+    std::string err;
+    if (const auto d = dictionary_by_name(sheet.dictionary, &err)) last = std::min(last, d->size() - 1);
+    std::snprintf(sheet.ids, sizeof sheet.ids, "%d-%d", view.print_first_id, last);
+    const std::string path = status.config_dir + "/marker-sheets/" + sheet.dictionary + ".pdf";
+    std::snprintf(sheet.path, sizeof sheet.path, "%s", path.c_str());
+    view.print_first_id = 0;
+  }
+  if (sheet.opening) {
+    ImGui::OpenPopup("Print marker sheet");
+    sheet.opening = false;
+  }
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
+  if (ImGui::BeginPopupModal("Print marker sheet", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    modal = "Print marker sheet";
+    const float w = 360 * ctx.scale;
+    ImGui::SetNextItemWidth(w);
+    if (ImGui::BeginCombo("dictionary", sheet.dictionary.c_str(), ImGuiComboFlags_HeightLarge)) {
+      for (const std::string& n : dictionary_names())
+        if (ImGui::Selectable(n.c_str(), n == sheet.dictionary)) sheet.dictionary = n;
+      ImGui::EndCombo();
+    }
+    ImGui::SetNextItemWidth(w);
+    ImGui::InputTextWithHint("ids", "0-11 or 3,7,9", sheet.ids, sizeof sheet.ids);
+    ImGui::SetNextItemWidth(w);
+    ImGui::InputDouble("marker size (mm)", &sheet.size_mm, 1, 10, "%.1f");
+    sheet.size_mm = std::clamp(sheet.size_mm, kSheetMinMarkerMm, kSheetMaxMarkerMm);
+    ImGui::SetNextItemWidth(w);
+    ImGui::InputText("##sheet_path", sheet.path, sizeof sheet.path);
+    ImGui::SameLine();
+    const std::string a = std::exchange(answer, std::string());
+    if (ImGui::Button("Browse...") || a == "browse") {
+      const fs::path p(sheet.path);
+      ui::open_browser(ctx, sheet.browser, ui::FileKind::calibration, "Save the marker sheet as",
+                       p.parent_path().string(), true, p.filename().string());
+    }
+    std::string chosen;
+    if (ui::draw_file_browser(ctx, sheet.browser, &chosen)) std::snprintf(sheet.path, sizeof sheet.path, "%s", chosen.c_str());
+    if (sheet.browser.visible) modal = "File browser";
+    ImGui::TextDisabled("A PDF of A4 pages; print it at 100%% and check the 100 mm bar.");
+    if (ImGui::Button("Write") || a == "write") {
+      requests.push_back({ui::RequestKind::marker_sheet, sheet.path, 0, {},
+                          sheet.dictionary + "\n" + sheet.ids + "\n" + std::to_string(sheet.size_mm)});
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || a == "cancel") ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+
+  answer.clear();   // an answer given while no dialog asked is a click on nothing
+
+  // Help windows.
+  if (show_shortcuts) {
+    centred_window("Keyboard shortcuts", &show_shortcuts, {560 * ctx.scale, 420 * ctx.scale}, {-300 * ctx.scale, 0});
+    if (ImGui::BeginTable("##keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+      ImGui::TableSetupColumn("Keys", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("Wheel, right-drag").x);
+      ImGui::TableSetupColumn("What", ImGuiTableColumnFlags_WidthStretch);
+      ImGui::TableHeadersRow();
+      for (const Shortcut& s : kShortcuts) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(s.keys);
+        ImGui::TableNextColumn();
+        ImGui::TextWrapped("%s", s.what);
+      }
+      ImGui::EndTable();
+    }
+    ImGui::TextDisabled("Keys do nothing while you type in a text field.");
+    ImGui::End();
+  }
+  if (show_first_steps) {
+    centred_window("First five minutes", &show_first_steps, {620 * ctx.scale, 460 * ctx.scale}, {300 * ctx.scale, 0});
+    if (ImGui::BeginTabBar("##who")) {
+      if (ImGui::BeginTabItem("Developer: inspect detection")) {
+        first_steps_page(kDeveloper, std::size(kDeveloper));
+        ImGui::EndTabItem();
+      }
+      if (ImGui::BeginTabItem("Author: script scenes")) {
+        first_steps_page(kAuthor, std::size(kAuthor));
+        ImGui::EndTabItem();
+      }
+      if (ImGui::BeginTabItem("Teacher")) {
+        first_steps_page(kTeacher, std::size(kTeacher));
+        ImGui::EndTabItem();
+      }
+      ImGui::EndTabBar();
+    }
+    ImGui::End();
+  }
+  if (show_about) {
+    centred_window("About ArUco Workbench", &show_about, {560 * ctx.scale, 300 * ctx.scale}, {0, 0});
+    ImGui::Text("ArUco Workbench %s", ARWB_VERSION);
+    // No initials: ImGui 1.86 may wrap a line after a full stop, which would leave a lone comma.
+    ImGui::TextWrapped("Seeing, teaching and scripting marker-based augmented reality, after Avola, Cinque, Foresti, "
+                       "Mercuri and Pannone: \"A Practical Framework for the Development of Augmented Reality "
+                       "Applications by using ArUco Markers\" (ICPRAM 2016).");
+    ImGui::Spacing();
+    ImGui::Text("OpenCV %s", CV_VERSION);
+    ImGui::Text("Dear ImGui %s", IMGUI_VERSION);
+    ImGui::Text("%s", LUA_RELEASE);
+    ImGui::Text("Configuration: %s", status.config_dir.c_str());
+    ImGui::End();
+  }
+}
+
+}  // namespace arwb
