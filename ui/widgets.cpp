@@ -32,7 +32,7 @@ bool waiting_for_frame(const Context& ctx) {
 void show_script_line(Context& ctx, int line) {
   ctx.view.script_goto_line = line;
   ctx.view.open[static_cast<size_t>(Panel::script)] = true;
-  ImGui::SetWindowFocus(panel_title(Panel::script));
+  ctx.view.front = Panel::script;   // the workspace puts its tab in front
 }
 
 int message_line_in(const std::string& message, const std::string& file) {

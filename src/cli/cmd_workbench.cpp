@@ -16,10 +16,12 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, "
                  "source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
                  "sweep, tour[=STEP], presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
-                 "pixels; opens a web card).\n"
+                 "pixels; opens a web card), workspace=NAME, save_workspace=NAME, move=PANEL>PANEL (into the region "
+                 "of the second), splitter=I,RATIO.\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console.\n"
-                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Q quit.");
+                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3 workspaces "
+                 "Inspect/Script/Teach, Ctrl+Q quit.");
   std::vector<std::pair<std::string, std::string>> subcommands;
   for (const Subcommand& s : arwb_subcommands()) subcommands.emplace_back(s.name, s.summary);
   cl.add_section("subcommands (`arwb <subcommand> --help` describes each one)", subcommands);
@@ -45,7 +47,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   cl.app.add_option("--resize", resize, "resize every frame to WxH before detection, or off")
       ->type_name("WxH|off")
       ->check(frame_size({16, 16}, {8192, 8192}, "off"));
-  cl.app.add_flag("--presentation", o.presentation, "start in presentation mode (F5): fonts and sizes doubled");
+  cl.app.add_flag("--presentation", o.presentation, "start in presentation mode (F5): fonts and sizes scaled to the window's height (30 px text at 1080 lines), the live view and stage large");
   cl.app.add_option("--config-dir", o.config_dir,
                     "layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)")
       ->type_name("DIR");

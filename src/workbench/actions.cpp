@@ -31,7 +31,8 @@ bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* o
       a.arg = eq == std::string::npos ? "" : rest.substr(eq + 1);
       static const char* kVerbs[] = {"open", "close", "source", "freeze", "unfreeze", "next", "snapshot", "stage",
                                      "select", "region", "sweep", "tour", "presentation", "preset", "peers",
-                                     "scene", "click", "media"};
+                                     "scene", "click", "media", "workspace", "save_workspace", "move",
+                                     "splitter"};
       if (std::none_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; })) {
         *error = "--actions '" + item + "': unknown verb '" + a.verb + "'";
         return false;

@@ -22,7 +22,7 @@ struct WorkbenchOptions {
   std::string tour_path;          // default assets/teaching/tour.txt
   // Scripted actions for tests and demos: "N:verb[=arg]" run at UI frame N. Verbs: open=PANEL, close=PANEL,
   // source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX, region=X,Y,W,H, sweep, tour,
-  // presentation, preset=FILE, peers.
+  // presentation, preset=FILE, peers, workspace=NAME, save_workspace=NAME, move=PANEL>PANEL, splitter=I,RATIO.
   std::vector<std::string> actions;
 };
 
