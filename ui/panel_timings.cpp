@@ -63,7 +63,7 @@ void stage_table(Context& ctx, const FrameTrace& t) {
 void rates(Context& ctx) {
   const double cap = ctx.settings.acquisition.fps_cap;
   ImGui::Text("UI %.1f fps", ctx.status.ui_fps);
-  ImGui::SameLine(0, 24.0f * ctx.scale);
+  flow(text_width("detection 000.0 fps of a 000 fps cap"));
   if (cap > 0) ImGui::Text("detection %.1f fps of a %.0f fps cap", ctx.status.detect_fps, cap);
   else ImGui::Text("detection %.1f fps (no cap)", ctx.status.detect_fps);
   if (cap > 0) {
@@ -246,11 +246,13 @@ void draw_timings(Context& ctx) {
     ImGui::SetTooltip("Detector::detect as the worker timed it, trace included (the trace's own total: %.2f ms).",
                       f.trace.total_ms);
   }
-  ImGui::SameLine(0, 24.0f * ctx.scale);
+  flow(text_width("capture 000.00 ms"));
   ImGui::Text("capture %.2f ms", f.capture_ms);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Reading the source; acquisition's resize is the acquisition stage.");
-  ImGui::TextDisabled("working image %dx%d, trace level %s", f.trace.work_width, f.trace.work_height,
-                      std::string(trace_level_name(f.trace.level)).c_str());
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("working image %dx%d, trace level %s", f.trace.work_width, f.trace.work_height,
+                     std::string(trace_level_name(f.trace.level)).c_str());
+  ImGui::PopStyleColor();
   stage_table(ctx, f.trace);
   ImGui::Spacing();
   history(ctx);

@@ -652,16 +652,29 @@ std::string window_what(const ImGuiWindow* w, const char* side, float by) {
 
 void audit_windows_and_tables(const std::vector<std::pair<ImGuiWindow*, Panel>>& shown, LayoutAudit* audit) {
   ImGuiContext& g = *ImGui::GetCurrentContext();
-  for (const auto& s : shown) audit->clipped[static_cast<size_t>(s.second)].clear();
+  std::array<bool, kPanelCount> settled{};
+  for (int i = 0; i < kPanelCount; ++i) {
+    const bool drawn = std::any_of(shown.begin(), shown.end(), [i](const auto& s) { return static_cast<int>(s.second) == i; });
+    int& n = audit->drawn_in_a_row[static_cast<size_t>(i)];
+    n = drawn ? n + 1 : 0;
+    settled[static_cast<size_t>(i)] = n >= 3;
+    if (settled[static_cast<size_t>(i)]) audit->clipped[static_cast<size_t>(i)].clear();
+  }
   for (ImGuiWindow* w : g.Windows) {
     if (!w->Active || w->Hidden) continue;
     const Panel p = panel_of(w, shown);
-    if (p == Panel::count) continue;
+    if (p == Panel::count || !settled[static_cast<size_t>(p)]) continue;
     auto& out = audit->clipped[static_cast<size_t>(p)];
     // Sideways: cut off unless the window scrolls sideways. Downwards: only a window without a scrollbar cuts.
-    const ImRect& clip = w->InnerClipRect;
+    // Against the window's own inner rectangle, not its clip rectangle: a child scrolled out of its parent's view
+    // is the parent's scrolling (the parent's own overflow is checked on the parent).
+    const ImRect& clip = w->InnerRect;
+    // A nested child may reach its padding: ImGui's InputTextMultiline sizes its own child's content a frame
+    // padding past its edge (1.86) with nothing drawn there.
+    const bool content = std::any_of(shown.begin(), shown.end(), [w](const auto& s) { return s.first == w; });
+    const float tolerance = content ? 1.0f : std::max(w->WindowPadding.x, ImGui::GetStyle().FramePadding.x) + 0.5f;
     const float right = w->DC.CursorMaxPos.x - clip.Max.x;
-    if (!(w->Flags & ImGuiWindowFlags_HorizontalScrollbar) && !w->ScrollbarX && right > 1) {
+    if (!(w->Flags & ImGuiWindowFlags_HorizontalScrollbar) && !w->ScrollbarX && right > tolerance) {
       out.push_back(window_what(w, "right", right));
     }
     const float below = w->DC.CursorMaxPos.y - clip.Max.y;
@@ -673,7 +686,7 @@ void audit_windows_and_tables(const std::vector<std::pair<ImGuiWindow*, Panel>>&
     ImGuiTable* t = g.Tables.TryGetMapData(i);
     if (!t || t->LastFrameActive != g.FrameCount) continue;
     const Panel p = panel_of(t->OuterWindow, shown);
-    if (p == Panel::count) continue;
+    if (p == Panel::count || !settled[static_cast<size_t>(p)]) continue;
     const bool scroll_x = (t->Flags & ImGuiTableFlags_ScrollX) != 0;
     for (int c = 0; c < t->ColumnsCount; ++c) {
       const ImGuiTableColumn& col = t->Columns[c];

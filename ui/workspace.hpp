@@ -101,7 +101,8 @@ bool workspaces_from_json(const std::string& text, Workspaces* out, std::string*
 
 // What draw_workspace saw this frame, for --stats and the tests: each region's rectangle and panels, regions
 // overlapping, and items ImGui drew past the edge of a region (a direction without a scrollbar) or past a table
-// column's edge (without the table scrolling sideways). A panel's entries are those of the last frame it was drawn.
+// column's edge (without the table scrolling sideways). A panel's entries are those of the last frame it was drawn
+// (after it settled: drawn_in_a_row).
 struct LayoutAudit {
   struct Region {
     std::vector<Panel> tabs;
@@ -111,6 +112,9 @@ struct LayoutAudit {
   std::vector<Region> regions;
   int overlaps = 0;
   std::array<std::vector<std::string>, kPanelCount> clipped;
+  // Frames each panel has been drawn in a row: its entries are taken from the third on, once ImGui's tables and
+  // scrollbars have fitted themselves to it (they lag a frame or two behind a change).
+  std::array<int, kPanelCount> drawn_in_a_row{};
 };
 
 // Draws the switcher row, then the current workspace's regions and splitters in the rectangle given, each panel
