@@ -57,7 +57,12 @@ void App::load_workspaces(const std::string& path) {
   std::string problem;
   if (!text) problem = text.error();
   else if (!ui::workspaces_from_json(*text, &workspaces, &problem)) problem = path + ": " + problem;
-  if (!problem.empty()) warn("workspaces: " + printable(problem) + " (the shipped workspaces are used)");
+  if (problem.empty()) return;
+  // The file is set aside, not overwritten at exit, so the user can still mend it.
+  std::error_code ec;
+  std::filesystem::rename(path, path + ".bad", ec);
+  warn("workspaces: " + printable(problem) + " (the shipped workspaces are used" +
+       (ec ? std::string(")") : "; the file is kept as " + printable(path) + ".bad)"));
 }
 
 void App::save_workspaces(const std::string& path) {

@@ -170,10 +170,8 @@ void stacked_history(Context& ctx, const std::deque<std::array<float, kStageCoun
     const Stage s = static_cast<Stage>(k);
     const std::string name(stage_name(s));
     const float w = sq + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize(name.c_str()).x;
-    if (!first) {
-      ImGui::SameLine(0, 14.0f * ctx.scale);
-      if (ImGui::GetCursorScreenPos().x + w > right) ImGui::NewLine();
-    }
+    // On the line when it fits (checked before SameLine: a NewLine after it would count the item as reaching there).
+    if (!first && ImGui::GetItemRectMax().x + 14.0f * ctx.scale + w <= right) ImGui::SameLine(0, 14.0f * ctx.scale);
     first = false;
     const ImVec2 at = ImGui::GetCursorScreenPos();
     const float pad = (ImGui::GetTextLineHeight() - sq) * 0.5f;
@@ -182,8 +180,8 @@ void stacked_history(Context& ctx, const std::deque<std::array<float, kStageCoun
     ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
     ImGui::TextUnformatted(name.c_str());
   }
-  ImGui::SameLine(0, 14.0f * ctx.scale);
-  if (ImGui::GetCursorScreenPos().x + sq + ImGui::CalcTextSize("detection total").x > right) ImGui::NewLine();
+  const float total_w = sq + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize("detection total").x;
+  if (ImGui::GetItemRectMax().x + 14.0f * ctx.scale + total_w <= right) ImGui::SameLine(0, 14.0f * ctx.scale);
   const ImVec2 at = ImGui::GetCursorScreenPos();
   const float mid = at.y + ImGui::GetTextLineHeight() * 0.5f;
   dl->AddLine({at.x, mid}, {at.x + sq, mid}, IM_COL32(255, 255, 255, 200), 1.5f * ctx.scale);

@@ -37,7 +37,7 @@ void step_params(Context& ctx, const TourStep& step) {
     if (!info) continue;
     fit_item_width(220 * ctx.scale, info->name);
     param_slider(ctx.settings.params, *info);
-    ImGui::SameLine();
+    ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);   // as fit_item_width counts it
     ImGui::TextUnformatted(info->name);
   }
 }

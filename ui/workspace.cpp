@@ -74,7 +74,7 @@ std::vector<Workspace> shipped_workspaces() {
       ws("Script",
          columns(0.48f, rows(0.6f, tabs({P::live_view}), tabs({P::scene})),
                  rows(0.66f, tabs({P::script}), tabs({P::console, P::log}))),
-         columns(0.55f, rows(0.64f, tabs({P::live_view}), tabs({P::scene, P::console, P::log})), tabs({P::script}))),
+         columns(0.58f, rows(0.68f, tabs({P::live_view}), tabs({P::scene, P::console, P::log})), tabs({P::script}))),
       // A teacher: the frame and the stage being explained, large, and the tour beside them.
       ws("Teach",
          columns(0.7f, rows(0.6f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector, P::candidates})),
@@ -423,8 +423,16 @@ void switcher(Workspaces& ws) {
       const std::string label = w.name + "###ws" + w.name;
       const bool on = ImGui::BeginTabItem(label.c_str(), nullptr, f);
       if (i < 9 && ImGui::IsItemHovered()) ImGui::SetTooltip("Ctrl+%d", i + 1);
-      if (!w.shipped && ImGui::BeginPopupContextItem()) {
-        if (ImGui::MenuItem("Delete this workspace")) remove = i;
+      if (ImGui::BeginPopupContextItem()) {
+        if (const Workspace* home = ws.shipped(w.name)) {
+          if (ImGui::MenuItem("Reset to the shipped layout")) {
+            w.normal = home->normal;
+            w.presentation = home->presentation;
+            ws.shown = -1;   // view.open follows the new tree
+          }
+        } else if (ImGui::MenuItem("Delete this workspace")) {
+          remove = i;
+        }
         ImGui::EndPopup();
       }
       if (on) {
