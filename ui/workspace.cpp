@@ -696,6 +696,17 @@ void audit_windows_and_tables(const std::vector<std::pair<ImGuiWindow*, Panel>>&
     const Panel p = panel_of(t->OuterWindow, shown);
     if (p == Panel::count || !settled[static_cast<size_t>(p)]) continue;
     const bool scroll_x = (t->Flags & ImGuiTableFlags_ScrollX) != 0;
+    // A table that scrolls downwards but has no room for a row under its header shows nothing (the Candidates
+    // ledger in presentation mode once did).
+    if (t->Flags & ImGuiTableFlags_ScrollY) {
+      const float row = ImGui::GetTextLineHeight() + g.Style.CellPadding.y * 2;
+      const float need = row * 2 + (scroll_x ? g.Style.ScrollbarSize : 0.0f);
+      if (t->OuterRect.GetHeight() < need) {
+        char buf[120];
+        std::snprintf(buf, sizeof buf, "table: %.0f px high, no room for a row under its header", t->OuterRect.GetHeight());
+        audit->clipped[static_cast<size_t>(p)].push_back(buf);
+      }
+    }
     for (int c = 0; c < t->ColumnsCount; ++c) {
       const ImGuiTableColumn& col = t->Columns[c];
       if (!col.IsEnabled) continue;
