@@ -219,6 +219,19 @@ TEST(Workspaces, ActionsSwitchWorkspaceAndBringPanelsToFront) {
   EXPECT_NE(r.err.find("no workspace 'Nowhere'"), std::string::npos) << r.err;
 }
 
+TEST(Workspaces, AClosedPanelReopensBesideTheOnesItBelongsWith) {
+  TempDir tmp;
+  // Timings shares a region with Peers in the shipped Inspect: closed, then opened again (the View menu), it goes
+  // back there, in front.
+  const RunResult r = test::run_arwb_window(args(tmp, "--actions '5:close=timings;8:open=timings'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json l = layout_of(r);
+  const Json* t = region_with(l, "timings");
+  ASSERT_NE(t, nullptr) << l.dump();
+  EXPECT_EQ(t, region_with(l, "peers")) << l.dump();
+  EXPECT_EQ((*t)["front"], "timings");
+}
+
 TEST(Workspaces, ABadWorkspacesFileGivesAMessageAndTheShippedLayout) {
   TempDir tmp;
   std::filesystem::create_directories(tmp.str("config"));
