@@ -628,7 +628,8 @@ void draw_workspace(Context& ctx, Workspaces& ws, ImVec2 pos, ImVec2 size, const
   audit->overlaps = 0;
   for (int r : leaves) {
     const LayoutNode& n = at(l, r);
-    LayoutAudit::Region reg{n.tabs, n.tabs.empty() ? Panel::count : n.tabs[static_cast<size_t>(n.active)], n.pos, n.size};
+    const int front = std::clamp(n.active, 0, std::max(0, static_cast<int>(n.tabs.size()) - 1));
+    LayoutAudit::Region reg{n.tabs, n.tabs.empty() ? Panel::count : n.tabs[static_cast<size_t>(front)], n.pos, n.size};
     for (const LayoutAudit::Region& o : audit->regions) {
       const float w = std::min(o.pos.x + o.size.x, reg.pos.x + reg.size.x) - std::max(o.pos.x, reg.pos.x);
       const float h = std::min(o.pos.y + o.size.y, reg.pos.y + reg.size.y) - std::max(o.pos.y, reg.pos.y);
