@@ -98,6 +98,7 @@ void App::set_presentation(bool on) {
   const auto it = fonts_large.find(static_cast<int>(std::lround(15 * scale)));
   if (on && it != fonts_large.end()) font = it->second;
   ImGui::GetIO().FontDefault = font;
+  ui::switch_workspace(workspaces, workspaces.current, view);   // its presentation arrangement, or back
 }
 
 }  // namespace arwb

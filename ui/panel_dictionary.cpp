@@ -113,7 +113,7 @@ void header(Context& ctx, DictionaryState& st, DictEntry& e) {
   const Dictionary& d = e.dict;
   ImGui::TextWrapped("%dx%d bits, %d ids, corrects up to %d bits", d.marker_size(), d.marker_size(), d.size(),
                      d.max_correction_bits());
-  flow(text_width("minimum distance 00"));
+  flow(text_width("minimum distance: computing..."));   // the longer of the two texts below
   if (e.stats) {
     const int md = e.stats->min_distance;
     ImGui::Text("minimum distance %d", md);

@@ -48,8 +48,7 @@ void App::run_action(const Action& a) {
   } else if (a.verb == "workspace") {
     const int i = workspaces.find(a.arg);
     if (i < 0) return warn("--actions: no workspace '" + a.arg + "'");
-    workspaces.current = i;
-    workspaces.select = true;
+    ui::switch_workspace(workspaces, i, view);
   } else if (a.verb == "save_workspace") {
     std::string why;
     if (!workspaces.save_as(a.arg, &why)) warn("--actions save_workspace: " + why);
@@ -63,7 +62,7 @@ void App::run_action(const Action& a) {
       return warn("--actions: move wants PANEL>PANEL_IN_THE_TARGET_REGION, not '" + a.arg + "'");
     }
     ui::move_panel(l, p, ui::region_of(l, q));
-    ui::show_workspace(workspaces, view);
+    view.open[static_cast<size_t>(p)] = true;   // a panel moved in from nowhere is open now
   } else if (a.verb == "splitter") {
     // splitter=I,RATIO: the I-th split of the current workspace (depth first) at RATIO (what dragging it does).
     int i = -1;
@@ -331,6 +330,7 @@ int run_workbench(const WorkbenchOptions& options) {
     app.window_height = static_cast<float>(wh);
   }
   if (options.presentation) app.set_presentation(true);
+  ui::switch_workspace(app.workspaces, app.workspaces.current, app.view);   // view.open as the workspace has it
 
   // Tour text.
   {

@@ -238,6 +238,7 @@ bool Workspaces::save_as(const std::string& name, std::string* error) {
   else list.push_back(std::move(w));
   current = find(name);
   select = true;
+  shown = current;   // the same arrangement, under its new name: view.open stays as it is
   return true;
 }
 
@@ -407,7 +408,7 @@ struct Pending {
   int to = -1;
 };
 
-void switcher(Workspaces& ws) {
+void switcher(Workspaces& ws, View& view) {
   const ImGuiIO& io = ImGui::GetIO();
   int switch_to = -1;
   // Ctrl+1..9 (ImGui 1.86 indexes keys by GLFW's key codes, which are the ASCII codes for digits).
@@ -428,7 +429,8 @@ void switcher(Workspaces& ws) {
           if (ImGui::MenuItem("Reset to the shipped layout")) {
             w.normal = home->normal;
             w.presentation = home->presentation;
-            ws.shown = -1;   // view.open follows the new tree
+            ws.shown = -1;   // view.open follows the reset tree, not the other way round
+            switch_workspace(ws, i, view);
           }
         } else if (ImGui::MenuItem("Delete this workspace")) {
           remove = i;
@@ -451,16 +453,15 @@ void switcher(Workspaces& ws) {
     if (remove >= 0 && remove != ws.current) {
       const std::string cur = ws.now().name;
       ws.list.erase(ws.list.begin() + remove);
-      ws.current = std::max(0, ws.find(cur));
       ws.shown = -1;
-      ws.select = true;
+      switch_workspace(ws, std::max(0, ws.find(cur)), view);
     }
   }
   if (ImGui::BeginPopup("Save workspace")) {
     ImGui::TextUnformatted("Name of the new workspace:");
     if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
     const bool enter = ImGui::InputText("##name", ws.new_name, sizeof ws.new_name, ImGuiInputTextFlags_EnterReturnsTrue);
-    static std::string problem;
+    std::string& problem = ws.save_problem;
     if (ImGui::Button("Save") || enter) {
       if (ws.save_as(ws.new_name, &problem)) {
         problem.clear();
@@ -473,14 +474,43 @@ void switcher(Workspaces& ws) {
     if (!problem.empty()) ImGui::TextColored({1, 0.4f, 0.3f, 1}, "%s", problem.c_str());
     ImGui::EndPopup();
   }
-  if (switch_to >= 0 && switch_to != ws.current) {
-    ws.current = switch_to;
-    ws.select = true;
-  }
+  if (switch_to >= 0 && switch_to != ws.current) switch_workspace(ws, switch_to, view);
 }
 
 void audit_windows_and_tables(const std::vector<std::pair<ImGuiWindow*, Panel>>& shown, LayoutAudit* audit);
 }  // namespace
+
+namespace {
+// What menus, actions and panels changed in view.open since it last mirrored layout `l`: panels opened are added
+// (beside the ones they sit with in the shipped layout `shipped`), panels closed removed.
+void apply_open(Layout& l, const Layout* shipped, const View& view) {
+  for (int i = 0; i < kPanelCount; ++i) {
+    const Panel p = static_cast<Panel>(i);
+    const bool here = region_of(l, p) >= 0;
+    if (view.open[static_cast<size_t>(i)] && !here) bring_to_front(l, shipped, p);
+    if (!view.open[static_cast<size_t>(i)] && here) remove_panel(l, p);
+  }
+}
+
+const Layout* shipped_layout(const Workspaces& ws, int i, bool present) {
+  const Workspace* home = ws.shipped(ws.list[static_cast<size_t>(i)].name);
+  return home ? &home->layout(present) : nullptr;
+}
+}  // namespace
+
+void switch_workspace(Workspaces& ws, int i, View& view) {
+  // view.open mirrors the arrangement shown last; what changed in it since belongs there, before it goes.
+  if (ws.shown >= 0 && ws.shown < static_cast<int>(ws.list.size())) {
+    apply_open(ws.list[static_cast<size_t>(ws.shown)].layout(ws.shown_presentation),
+               shipped_layout(ws, ws.shown, ws.shown_presentation), view);
+  }
+  ws.current = std::clamp(i, 0, static_cast<int>(ws.list.size()) - 1);
+  ws.select = true;
+  mark_all_select(ws.now().layout(view.presentation));
+  show_workspace(ws, view);
+  ws.shown = ws.current;
+  ws.shown_presentation = view.presentation;
+}
 
 void show_workspace(const Workspaces& ws, View& view) {
   const Layout& l = ws.list[static_cast<size_t>(ws.current)].layout(view.presentation);
@@ -491,19 +521,15 @@ void draw_workspace(Context& ctx, Workspaces& ws, ImVec2 pos, ImVec2 size, const
                     LayoutAudit* audit) {
   View& view = ctx.view;
   // What the menus, actions and panels asked for since the last frame: panels opened or closed, one brought up.
-  if (ws.shown == ws.current && ws.shown_presentation == view.presentation) {
+  if (ws.shown != ws.current || ws.shown_presentation != view.presentation) switch_workspace(ws, ws.current, view);
+  {
     Layout& l = ws.now().layout(view.presentation);
-    const Workspace* home = ws.shipped(ws.now().name);
-    const Layout* shipped = home ? &home->layout(view.presentation) : nullptr;
-    for (int i = 0; i < kPanelCount; ++i) {
-      const Panel p = static_cast<Panel>(i);
-      const bool here = region_of(l, p) >= 0;
-      if (view.open[static_cast<size_t>(i)] && !here) bring_to_front(l, shipped, p);
-      if (!view.open[static_cast<size_t>(i)] && here) remove_panel(l, p);
-    }
+    const Layout* shipped = shipped_layout(ws, ws.current, view.presentation);
+    apply_open(l, shipped, view);
     if (view.front != Panel::count) bring_to_front(l, shipped, view.front);
+    view.front = Panel::count;
+    show_workspace(ws, view);
   }
-  view.front = Panel::count;
 
   const ImGuiWindowFlags host_flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                                       ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus |
@@ -514,13 +540,7 @@ void draw_workspace(Context& ctx, Workspaces& ws, ImVec2 pos, ImVec2 size, const
   ImGui::PushStyleVar(ImGuiStyleVar_WindowRounding, 0);
   ImGui::Begin("##workspace", nullptr, host_flags);
   ImGui::PopStyleVar(2);
-  switcher(ws);
-  if (ws.shown != ws.current || ws.shown_presentation != view.presentation) {
-    show_workspace(ws, view);
-    mark_all_select(ws.now().layout(view.presentation));
-    ws.shown = ws.current;
-    ws.shown_presentation = view.presentation;
-  }
+  switcher(ws, view);
   Layout& l = ws.now().layout(view.presentation);
 
   const float font = ImGui::GetFontSize();
@@ -616,12 +636,15 @@ void draw_workspace(Context& ctx, Workspaces& ws, ImVec2 pos, ImVec2 size, const
   }
   ImGui::End();
 
+  // view.open keeps what panels changed in it this frame (applied at the next); a tab closed here is closed there.
   switch (pending.kind) {
     case Pending::move: move_panel(l, pending.panel, pending.to); break;
-    case Pending::close: remove_panel(l, pending.panel); break;
+    case Pending::close:
+      remove_panel(l, pending.panel);
+      view.open[static_cast<size_t>(pending.panel)] = false;
+      break;
     case Pending::none: break;
   }
-  show_workspace(ws, view);
 
   if (!audit) return;
   audit->regions.clear();

@@ -83,6 +83,7 @@ struct Workspaces {
   bool shown_presentation = false;
   bool select = true;   // the switcher's tab bar still has to be told which workspace is current
   char new_name[48] = "";
+  std::string save_problem;   // why the last save-as was refused
   Workspaces();   // the shipped ones
   Workspace& now() { return list[static_cast<size_t>(current)]; }
   const Workspace* shipped(const std::string& name) const;
@@ -124,5 +125,8 @@ void draw_workspace(Context& ctx, Workspaces& ws, ImVec2 pos, ImVec2 size, const
                     LayoutAudit* audit);
 // Makes view.open show what the current workspace holds (after switching or loading).
 void show_workspace(const Workspaces& ws, View& view);
+// Makes workspace i current in view.presentation's arrangement, at once: a panel opened later in the same frame
+// (an action, --scene) is added to it, not lost to the switch.
+void switch_workspace(Workspaces& ws, int i, View& view);
 
 }  // namespace arwb::ui

@@ -205,7 +205,8 @@ TEST(Workspaces, UsersSaveTheirOwnWorkspace) {
 
 TEST(Workspaces, ActionsSwitchWorkspaceAndBringPanelsToFront) {
   TempDir tmp;
-  RunResult r = test::run_arwb_window(args(tmp, "--actions '2:workspace=Script;5:open=timings;6:close=console'"));
+  // In the same frame as the switch: the opened panel goes into the new workspace.
+  RunResult r = test::run_arwb_window(args(tmp, "--actions '2:workspace=Script;2:open=timings;6:close=console'"));
   ASSERT_EQ(r.status, 0) << r.err;
   Json l = layout_of(r);
   EXPECT_EQ(l["workspace"], "Script");
