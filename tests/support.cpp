@@ -35,8 +35,9 @@ RunResult run_arwb_with_prefix(const std::string& prefix, const std::string& arg
 RunResult run_arwb(const std::string& args) { return run_arwb_with_prefix("", args); }
 
 RunResult run_arwb_window(const std::string& args) {
-  // -a picks a free display number, so GUI tests can run in parallel.
-  return run_arwb_with_prefix("xvfb-run -a -s '-screen 0 1600x900x24' ", args);
+  // -a picks a free display number, so GUI tests can run in parallel. The screen holds the largest window the
+  // tests open (--size 1920x1080); the default window is 1600x900.
+  return run_arwb_with_prefix("xvfb-run -a -s '-screen 0 1920x1080x24' ", args);
 }
 
 void write_file(const std::string& path, const std::string& bytes) {

@@ -31,7 +31,7 @@ struct RunResult {
 // Runs the arwb binary with the arguments given as one shell-quoted string.
 RunResult run_arwb(const std::string& args);
 
-// Runs the arwb binary in a virtual X display (xvfb-run, 1600x900, Mesa's software OpenGL), for the
+// Runs the arwb binary in a virtual X display (xvfb-run, a 1920x1080 screen, Mesa's software OpenGL), for the
 // workbench window's tests.
 RunResult run_arwb_window(const std::string& args);
 

@@ -1,6 +1,6 @@
 // The window's own state, shared by its three files: ui/window.cpp (the frame loop, actions, menus, stats),
 // ui/requests.cpp (carrying out what panels asked for: files, presets, sweeps, dictionary distances, the watched
-// script file) and ui/layout.cpp (the layout file, the first start's layout, presentation mode). Not for panels:
+// script file) and ui/layout.cpp (the workspaces file, ImGui's settings file, presentation mode). Not for panels:
 // they see only ui/context.hpp.
 #pragma once
 
@@ -12,6 +12,7 @@
 #include "ui/file_browser.hpp"
 #include "ui/history.hpp"
 #include "ui/recent_files.hpp"
+#include "ui/workspace.hpp"
 #include "workbench/actions.hpp"
 #include "workbench/engine.hpp"
 #include "workbench/log.hpp"
@@ -77,9 +78,13 @@ struct App {
   std::array<int, kStageCount> stage_ms_n{};
   std::deque<double> ui_frame_times;
   ImFont* font_normal = nullptr;
-  ImFont* font_large = nullptr;
+  std::map<int, ImFont*> fonts_large;   // by pixel size: presentation mode picks one by the window's height
   ImGuiStyle base_style;
   bool presentation_applied = false;
+  float scale = 1;                      // ctx.scale: 1, or presentation mode's scale (ui/layout.cpp)
+  float window_height = 900;            // the window's height when the scale was chosen
+  ui::Workspaces workspaces;
+  ui::LayoutAudit audit;                // what the last frame's layout looked like, for --stats
   double draw_calls = 0, vertices = 0;   // summed over UI frames
   std::array<double, 3> ui_ms{};   // summed: building the panels, rendering them, swapping
   GLFWwindow* glfw_window = nullptr;   // for quitting from a dialog or an action
@@ -153,15 +158,17 @@ struct App {
   void watch_file(const std::string& path, bool reread);
   // ui/layout.cpp
   void set_presentation(bool on);
+  void load_workspaces(const std::string& path);
+  void save_workspaces(const std::string& path);
 };
 
 // ui/layout.cpp
 std::string default_config_dir();
-// Registers the handler that keeps panel visibility in imgui.ini, then loads `ini_path` when it exists.
-void load_layout(ui::View& view, const std::string& ini_path);
-// Writes the layout (window places, open panels); a message on stderr when it cannot.
+// ImGui's own settings (table column widths and order) in imgui.ini: loaded when it exists, saved at exit; a
+// message on stderr when it cannot be. The workspaces are in their own file (App::load_workspaces).
+void load_layout(const std::string& ini_path);
 void save_layout(const std::string& ini_path);
-// The first start's place and size of panel p's window.
-void default_layout(ui::Panel p, ImVec2 size, float menu_h, float status_h);
+// Presentation mode's scale for a window `height` pixels high: fonts of at least 28 px at 1080.
+float presentation_scale(float height);
 
 }  // namespace arwb

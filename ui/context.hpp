@@ -224,6 +224,7 @@ struct View {
   int browse_kind = -1;          // a FileKind: a panel asks the window to open its file browser for it
   std::string print_sheet;       // a dictionary: a panel asks for the marker sheet dialog with it, ids from
   int print_first_id = 0;        // print_first_id
+  Panel front = Panel::count;    // a panel the workspace brings to the front of its region next (added if absent)
   // Teaching
   bool presentation = false;
   int tour_step = 0;
@@ -248,12 +249,10 @@ struct Context {
   std::vector<Request>& requests;
   render::TextureCache& textures;
   const std::vector<TourStep>& tour;   // the teaching tour (assets/teaching/tour.txt)
-  float scale = 1;                     // 2 in presentation mode: sizes in panels multiply by it
+  float scale = 1;                     // above 1 in presentation mode (4/3 to 2): sizes in panels multiply by it
   // The latest frame with the scene's media drawn on it (render::Compositor), when there is a scene and
   // view.show_media; null otherwise. Same size and pixel coordinates as frame->image.
   ImTextureID composite = nullptr;
-  // Called before each panel's window begins: the workbench places windows on their first use there.
-  std::function<void(Panel)> place;
 
   void request(RequestKind kind, std::string text = {}, int value = 0, cv::Rect2f region = {},
                std::string payload = {}) {

@@ -1,7 +1,7 @@
 // [SECTION] Index
-//   Layout file     panel visibility kept in imgui.ini beside the window places; loading and saving it
-//   First layout    where each panel opens on a first start
-//   Presentation    larger fonts and sizes for teaching
+//   Layout file      ImGui's own settings (table columns) in imgui.ini
+//   Workspaces file  the workspaces' trees, ratios and tabs in workspaces.json (ui/workspace.hpp)
+//   Presentation     larger fonts and sizes for teaching, chosen by the window's height
 #include "ui/app.hpp"
 
 #include "base/files.hpp"
@@ -9,10 +9,10 @@
 
 #include <imgui_internal.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <string_view>
 
 namespace arwb {
 
@@ -23,38 +23,7 @@ std::string default_config_dir() {
   return ".arwb";
 }
 
-namespace {
-// Panel visibility, saved in the same imgui.ini as the window layout; the handler's UserData is the View.
-void* settings_open(ImGuiContext*, ImGuiSettingsHandler* h, const char* name) {
-  return std::string_view(name) == "Panels" ? h->UserData : nullptr;
-}
-void settings_read_line(ImGuiContext*, ImGuiSettingsHandler*, void* entry, const char* line) {
-  auto* v = static_cast<ui::View*>(entry);
-  char key[64];
-  int on = 0;
-  if (std::sscanf(line, "%63[^=]=%d", key, &on) != 2) return;
-  ui::Panel p;
-  if (ui::panel_from_key(key, &p)) v->open[static_cast<size_t>(p)] = on != 0;
-}
-void settings_write_all(ImGuiContext*, ImGuiSettingsHandler* h, ImGuiTextBuffer* buf) {
-  const auto* v = static_cast<const ui::View*>(h->UserData);
-  buf->appendf("[%s][Panels]\n", h->TypeName);
-  for (int i = 0; i < ui::kPanelCount; ++i) {
-    buf->appendf("%s=%d\n", ui::panel_key(static_cast<ui::Panel>(i)), v->open[static_cast<size_t>(i)] ? 1 : 0);
-  }
-  buf->append("\n");
-}
-}  // namespace
-
-void load_layout(ui::View& view, const std::string& ini_path) {
-  ImGuiSettingsHandler handler;
-  handler.TypeName = "Arwb";
-  handler.TypeHash = ImHashStr("Arwb");
-  handler.ReadOpenFn = settings_open;
-  handler.ReadLineFn = settings_read_line;
-  handler.WriteAllFn = settings_write_all;
-  handler.UserData = &view;
-  ImGui::GetCurrentContext()->SettingsHandlers.push_back(handler);
+void load_layout(const std::string& ini_path) {
   // Read through the shared file check, not ImGui's fopen: a FIFO or a device in its place must not stop the
   // window from opening.
   if (!std::filesystem::exists(ini_path)) return;
@@ -81,43 +50,55 @@ void save_layout(const std::string& ini_path) {
   }
 }
 
-// [SECTION] First layout
-// The first start's layout: live view large on the left, the pipeline under it, tools on the right.
-void default_layout(ui::Panel p, ImVec2 size, float menu_h, float status_h) {
-  const float W = size.x, H = size.y - menu_h - status_h;
-  const float left = W * 0.50f, mid = W * 0.25f, right = W - left - mid;
-  const float top = menu_h;
-  ImVec2 pos, sz;
-  switch (p) {
-    case ui::Panel::live_view: pos = {0, top}; sz = {left, H * 0.64f}; break;
-    case ui::Panel::pipeline: pos = {0, top + H * 0.64f}; sz = {left, H * 0.36f}; break;
-    case ui::Panel::candidates: pos = {left, top}; sz = {mid, H * 0.42f}; break;
-    case ui::Panel::inspector: pos = {left, top + H * 0.42f}; sz = {mid, H * 0.40f}; break;
-    case ui::Panel::parameters: pos = {left + mid, top}; sz = {right, H * 0.45f}; break;
-    case ui::Panel::source: pos = {left + mid, top + H * 0.45f}; sz = {right, H * 0.3f}; break;
-    case ui::Panel::timings: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
-    case ui::Panel::dictionary: pos = {left + 40, top + 60}; sz = {mid + 80, H * 0.6f}; break;
-    case ui::Panel::peers: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
-    case ui::Panel::log: pos = {left, top + H * 0.82f}; sz = {mid, H * 0.18f}; break;
-    case ui::Panel::tour: pos = {W * 0.2f, top + 40}; sz = {W * 0.35f, H * 0.55f}; break;
-    case ui::Panel::why: pos = {left + 20, top + 30}; sz = {mid + 60, H * 0.55f}; break;
-    case ui::Panel::scene: pos = {left + mid, top}; sz = {right, H * 0.45f}; break;
-    case ui::Panel::script: pos = {left, top}; sz = {mid, H * 0.82f}; break;
-    case ui::Panel::console: pos = {left + mid, top + H * 0.75f}; sz = {right, H * 0.25f}; break;
-    default: return;
+// [SECTION] Workspaces file
+void App::load_workspaces(const std::string& path) {
+  if (!std::filesystem::exists(path)) return;
+  const Result<std::string> text = read_text_file(path, FileLimit{"a workspaces file", 1u << 20});
+  std::string problem;
+  if (!text) problem = text.error();
+  else if (!ui::workspaces_from_json(*text, &workspaces, &problem)) problem = path + ": " + problem;
+  if (problem.empty()) return;
+  // The file is set aside, not overwritten at exit, so the user can still mend it.
+  std::error_code ec;
+  std::filesystem::rename(path, path + ".bad", ec);
+  warn("workspaces: " + printable(problem) + " (the shipped workspaces are used" +
+       (ec ? std::string(")") : "; the file is kept as " + printable(path) + ".bad)"));
+}
+
+void App::save_workspaces(const std::string& path) {
+  std::error_code ec;
+  const auto type = std::filesystem::status(path, ec).type();
+  if (type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular) {
+    std::fprintf(stderr, "arwb: %s: not a regular file; the workspaces are not saved\n", printable(path).c_str());
+    return;
   }
-  ImGui::SetNextWindowPos(pos, ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(sz, ImGuiCond_FirstUseEver);
+  std::string err;
+  if (!write_file_atomically(path, ui::workspaces_to_json(workspaces), &err)) {
+    std::fprintf(stderr, "arwb: cannot save the workspaces: %s\n", printable(err).c_str());
+  }
 }
 
 // [SECTION] Presentation
+// Three font sizes are loaded (ui/window.cpp); the scale is the one whose font fits the window's height, so a
+// 720-line projector gets 20 px text and a 1080-line one 30 px.
+float presentation_scale(float height) {
+  if (height >= 1000) return 2.0f;
+  if (height >= 850) return 5.0f / 3.0f;
+  return 4.0f / 3.0f;
+}
+
 void App::set_presentation(bool on) {
   view.presentation = on;
   presentation_applied = on;
+  scale = on ? presentation_scale(window_height) : 1.0f;
   ImGuiStyle& style = ImGui::GetStyle();
   style = base_style;
-  if (on) style.ScaleAllSizes(2.0f);
-  ImGui::GetIO().FontDefault = on && font_large ? font_large : font_normal;
+  if (on) style.ScaleAllSizes(scale);
+  ImFont* font = font_normal;
+  const auto it = fonts_large.find(static_cast<int>(std::lround(15 * scale)));
+  if (on && it != fonts_large.end()) font = it->second;
+  ImGui::GetIO().FontDefault = font;
+  ui::switch_workspace(workspaces, workspaces.current, view);   // its presentation arrangement, or back
 }
 
 }  // namespace arwb

@@ -292,7 +292,11 @@ void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
                                 ImGuiTableFlags_Reorderable | ImGuiTableFlags_Hideable | ImGuiTableFlags_RowBg |
                                 ImGuiTableFlags_BordersV | ImGuiTableFlags_BordersOuterH | ImGuiTableFlags_ScrollY |
                                 ImGuiTableFlags_ScrollX | ImGuiTableFlags_SizingFixedFit;
-  if (!ImGui::BeginTable("ledger", col_count, flags)) return;
+  // The rest of the panel, but never less than a few rows: in a short region (presentation mode's large text)
+  // the panel scrolls to the table rather than showing its header alone.
+  const float rows = (ImGui::GetTextLineHeight() + ImGui::GetStyle().CellPadding.y * 2) * 5 + ImGui::GetStyle().ScrollbarSize;
+  const ImVec2 outer{0, std::max(ImGui::GetContentRegionAvail().y, rows)};
+  if (!ImGui::BeginTable("ledger", col_count, flags, outer)) return;
   ImGui::TableSetupScrollFreeze(1, 1);
   ImGui::TableSetupColumn("#", ImGuiTableColumnFlags_DefaultSort | ImGuiTableColumnFlags_NoHide, 0, col_index);
   ImGui::TableSetupColumn("bbox", ImGuiTableColumnFlags_PreferSortDescending, 0, col_bbox);

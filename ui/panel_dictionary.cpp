@@ -111,9 +111,9 @@ void marker_tooltip(Context& ctx, const Dictionary& d, int id) {
 
 void header(Context& ctx, DictionaryState& st, DictEntry& e) {
   const Dictionary& d = e.dict;
-  ImGui::Text("%dx%d bits, %d ids, corrects up to %d bits", d.marker_size(), d.marker_size(), d.size(),
-              d.max_correction_bits());
-  ImGui::SameLine(0, 20.0f * ctx.scale);
+  ImGui::TextWrapped("%dx%d bits, %d ids, corrects up to %d bits", d.marker_size(), d.marker_size(), d.size(),
+                     d.max_correction_bits());
+  flow(text_width("minimum distance: computing..."));   // the longer of the two texts below
   if (e.stats) {
     const int md = e.stats->min_distance;
     ImGui::Text("minimum distance %d", md);
@@ -128,7 +128,7 @@ void header(Context& ctx, DictionaryState& st, DictEntry& e) {
                         md, (md - 1) / 2, d.max_correction_bits(), e.stats->ms);
     }
     if (d.max_correction_bits() > (md - 1) / 2) {
-      ImGui::SameLine();
+      flow(text_width("(budget above the safe 00)"));
       ImGui::TextColored({1.0f, 0.7f, 0.2f, 1.0f}, "(budget above the safe %d)", (md - 1) / 2);
     }
   } else {
@@ -138,9 +138,9 @@ void header(Context& ctx, DictionaryState& st, DictEntry& e) {
   const std::vector<std::string>& det = ctx.settings.dictionaries;
   const bool is_first = !det.empty() && det[0] == d.name();
   if (is_first) {
-    ImGui::SetNextItemWidth(110.0f * ctx.scale);
+    fit_item_width(110.0f * ctx.scale, "first id");
     if (ImGui::InputInt("first id", &st.first_id)) st.first_id = std::clamp(st.first_id, 0, std::max(0, d.size() - 1));
-    ImGui::SameLine();
+    flow(button_width("Print marker sheet..."));
     if (ImGui::Button("Print marker sheet...")) {   // the window's dialog: ids, size, where to save
       ctx.view.print_sheet = d.name();
       ctx.view.print_first_id = st.first_id;
@@ -148,16 +148,17 @@ void header(Context& ctx, DictionaryState& st, DictEntry& e) {
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("A4 PDF of markers %d..%d at a true size.", st.first_id, std::min(d.size() - 1, st.first_id + 11));
   } else {
     const bool listed = std::find(det.begin(), det.end(), d.name()) != det.end();
-    ImGui::TextDisabled("Detection %s this dictionary%s; marker sheets print the first one (%s).",
-                        listed ? "reads" : "does not read", listed ? " (not first)" : "",
-                        det.empty() ? "none" : det[0].c_str());
-    ImGui::SameLine();
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("Detection %s this dictionary%s; marker sheets print the first one (%s).",
+                       listed ? "reads" : "does not read", listed ? " (not first)" : "",
+                       det.empty() ? "none" : det[0].c_str());
+    ImGui::PopStyleColor();
     if (ImGui::Button("Use this dictionary for detection")) ctx.settings.dictionaries = {d.name()};
   }
 }
 
 void grid_tab(Context& ctx, DictionaryState& st, const Dictionary& d) {
-  ImGui::SetNextItemWidth(160.0f * ctx.scale);
+  fit_item_width(160.0f * ctx.scale, "thumbnail size");
   ImGui::SliderFloat("thumbnail size", &st.thumb, 20.0f, 128.0f, "%.0f px");
   const float t = st.thumb * ctx.scale;
   ImGui::BeginChild("grid", {0, 0}, false);
@@ -311,7 +312,7 @@ void histogram_tab(Context& ctx, const DictEntry& e) {
 void draw_dictionary(Context& ctx) {
   DictionaryState& st = panel_state<DictionaryState>(ctx.view, Panel::dictionary);
   if (st.name.empty()) st.name = ctx.settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : ctx.settings.dictionaries[0];
-  ImGui::SetNextItemWidth(220.0f * ctx.scale);
+  fit_item_width(220.0f * ctx.scale, "dictionary");
   if (ImGui::BeginCombo("dictionary", st.name.c_str(), ImGuiComboFlags_HeightLarge)) {
     for (const std::string& n : dictionary_names()) {
       const bool sel = n == st.name;

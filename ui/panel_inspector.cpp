@@ -54,13 +54,19 @@ std::string number(double v) {
   return buf;
 }
 
-// A foldable section, open at first; the note is drawn on the header line.
+// A foldable section, open at first; the note is drawn on the header line after the title when it fits there
+// (a narrow region or presentation mode leaves it out: it is a hint, the tooltip of the views says it too).
 bool section(const char* title, const char* hint = nullptr) {
   ImGui::Spacing();
   const bool open = ImGui::CollapsingHeader(title, ImGuiTreeNodeFlags_DefaultOpen | ImGuiTreeNodeFlags_AllowItemOverlap);
   if (hint) {
-    ImGui::SameLine();
-    ImGui::TextDisabled("%s", hint);
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float x = style.FramePadding.x * 2 + ImGui::GetFontSize() + style.ItemInnerSpacing.x + text_width(title) +
+                    style.ItemSpacing.x * 2;
+    if (x + text_width(hint) <= ImGui::GetWindowContentRegionMax().x - ImGui::GetWindowContentRegionMin().x) {
+      ImGui::SameLine(x);
+      ImGui::TextDisabled("%s", hint);
+    }
   }
   return open;
 }
@@ -105,15 +111,17 @@ void fate_section(const FrameTrace& t, const CandidateRecord& c) {
   ImGui::SameLine();
   if (f.stage == Stage::accepted && c.marker >= 0 && c.marker < static_cast<int>(t.markers.size())) {
     const Marker& mk = t.markers[static_cast<size_t>(c.marker)];
-    ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(accepted_colour()),
-                       "marker id %d (%s), rotation %d, %d bit%s corrected", mk.id, mk.dict.c_str(), mk.rotation,
+    ImGui::PushStyleColor(ImGuiCol_Text, accepted_colour());
+    ImGui::TextWrapped("marker id %d (%s), rotation %d, %d bit%s corrected", mk.id, mk.dict.c_str(), mk.rotation,
                        mk.hamming, mk.hamming == 1 ? "" : "s");
+    ImGui::PopStyleColor();
     return;
   }
   ImGui::PushStyleColor(ImGuiCol_Text, fate_colour(f.stage));
   ImGui::TextWrapped("%s", f.message.empty() ? "(no message)" : f.message.c_str());
   ImGui::PopStyleColor();
-  if (ImGui::BeginTable("fate", 4, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_BordersInnerV)) {
+  if (ImGui::BeginTable("fate", 4, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_ScrollX,
+                        scroll_table_size(2))) {
     ImGui::TableSetupColumn("stage");
     ImGui::TableSetupColumn("parameter");
     ImGui::TableSetupColumn("value");
@@ -150,9 +158,8 @@ void region_section(Context& ctx, InspectorState& st, const Frame& f, int index)
   const CandidateRecord& c = t.candidates[static_cast<size_t>(index)];
   const float s = ctx.scale;
   if (!section("Contour and quad", "(wheel zooms, right-drag pans)")) return;
-  ImGui::SameLine();
   const bool centre = ImGui::SmallButton("Centre");
-  ImGui::SameLine();
+  flow(button_width("Whole frame"));
   if (ImGui::SmallButton("Whole frame")) st.crop.fit = true;
   const ImVec2 size{std::max(ImGui::GetContentRegionAvail().x, 64.0f), 240.0f * s};
   if (centre || st.centred_on != index) {
@@ -275,7 +282,7 @@ void frontal_section(Context& ctx, const Frame& f, int index) {
   const float s = ctx.scale;
   if (!section("Frontal view and Otsu threshold")) return;
   if (c.warp.empty() && c.otsu_threshold < 0) {
-    ImGui::TextDisabled(c.has_quad ? "Not read: no frontal view." : "No quad, so no frontal view.");
+    note("%s", c.has_quad ? "Not read: no frontal view." : "No quad, so no frontal view.");
     return;
   }
   const float avail = ImGui::GetContentRegionAvail().x;
@@ -286,13 +293,13 @@ void frontal_section(Context& ctx, const Frame& f, int index) {
     const int cells = grid_cells(f, c);
     ImGui::TextDisabled("%dx%d px, %d x %d cells", c.warp.cols, c.warp.rows, cells, cells);
     ImGui::EndGroup();
-    ImGui::SameLine();
+    flow(160.0f * s);   // the histogram beside the frontal view when it has room, else under it
   }
   ImGui::BeginGroup();
-  const float hist_w = std::max(128.0f * s, ImGui::GetContentRegionAvail().x);
+  const float hist_w = std::max(64.0f * s, ImGui::GetContentRegionAvail().x);
   histogram_plot(c, {hist_w, 110.0f * s});
   if (c.otsu_threshold >= 0) {
-    ImGui::Text("Otsu threshold %d, grey stddev %.1f", c.otsu_threshold, c.stddev);
+    ImGui::TextWrapped("Otsu threshold %d, grey stddev %.1f", c.otsu_threshold, c.stddev);
     const double min_sd = f.params.otsu_min_stddev;
     note("otsu_min_stddev %.1f (this frame's): %s", min_sd,
                         c.stddev < min_sd ? "too uniform to read" : "contrast enough to read");
@@ -335,7 +342,7 @@ void bits_section(Context& ctx, InspectorState& st, const Frame& f, int index) {
   const float s = ctx.scale;
   if (!section("Bits and identification")) return;
   if (c.bits.empty() && c.border_errors < 0 && c.best_rotation() < 0) {
-    ImGui::TextDisabled("No bits: the candidate stopped at %s, before bit_grid.",
+    note("No bits: the candidate stopped at %s, before bit_grid.",
                         std::string(stage_name(c.fate.stage)).c_str());
     return;
   }
@@ -360,13 +367,15 @@ void bits_section(Context& ctx, InspectorState& st, const Frame& f, int index) {
     ImGui::EndGroup();
     if (shown >= 0 && dict && dict->marker_size() == n - 2) {
       const DictMatch& mm = c.per_rotation[static_cast<size_t>(shown)];
-      ImGui::SameLine(0, 16.0f * s);
+      flow(std::max(cell * static_cast<float>(n), text_width("id 0000, rotation 0")) + 16.0f * s);
       ImGui::BeginGroup();
       ImGui::Text("id %d, rotation %d", mm.id, shown);
       expected_grid(Dictionary::unpack(dict->code(mm.id, shown), n - 2), c.bits, cell);
       ImGui::EndGroup();
     }
-    ImGui::SameLine(0, 16.0f * s);
+    // The legend beside the grids when there is room for lines of a dozen words, else under them (never one
+    // word per line).
+    flow(ImGui::GetFontSize() * 16);
     ImGui::BeginGroup();
     ImGui::TextDisabled("Legend");
     ImGui::TextWrapped("red outline: a border cell read white (it must be black)");
@@ -374,18 +383,18 @@ void bits_section(Context& ctx, InspectorState& st, const Frame& f, int index) {
     ImGui::TextWrapped("red cross on the right: the same comparison for the rotation chosen in the table below");
     ImGui::EndGroup();
   } else if (t.level != TraceLevel::full) {
-    ImGui::TextDisabled("The bit grid is kept only in the full trace.");
+    note("The bit grid is kept only in the full trace.");
   }
   if (c.border_errors >= 0) {
     ImGui::Text("border: %d of %d cells white", c.border_errors, c.border_cells);
     if (c.fate.stage == Stage::border_check) {
-      ImGui::SameLine();
+      flow(text_width("> 00 allowed"));
       ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(stage_colour(Stage::border_check)), "> %s allowed",
                          number(c.fate.limit).c_str());
     }
   }
   if (best < 0) {
-    if (c.fate.stage == Stage::border_check) ImGui::TextDisabled("Identification did not run (border_check failed).");
+    if (c.fate.stage == Stage::border_check) note("Identification did not run (border_check failed).");
     return;
   }
   // The correction budget: from the fate when identification decided, else from the parameters the frame was
@@ -402,11 +411,11 @@ void bits_section(Context& ctx, InspectorState& st, const Frame& f, int index) {
                   budget, dict->max_correction_bits(), f.params.error_correction_rate);
     budget_text = buf;
   }
-  ImGui::Text("Nearest marker of %s in each rotation", c.dict.empty() ? "?" : c.dict.c_str());
+  ImGui::TextWrapped("Nearest marker of %s in each rotation", c.dict.empty() ? "?" : c.dict.c_str());
   if (!budget_text.empty()) note("%s", budget_text.c_str());
   const ImGuiTableFlags flags = ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_BordersInnerV |
-                                ImGuiTableFlags_BordersOuterH | ImGuiTableFlags_RowBg;
-  if (ImGui::BeginTable("rotations", 4, flags)) {
+                                ImGuiTableFlags_BordersOuterH | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollX;
+  if (ImGui::BeginTable("rotations", 4, flags, scroll_table_size(5))) {
     ImGui::TableSetupColumn("rotation");
     ImGui::TableSetupColumn("nearest id");
     ImGui::TableSetupColumn("Hamming");

@@ -267,12 +267,13 @@ void outline_overlay(const ImageMapping& m, ImDrawList* dl, const Overlay& o, Im
   dl->AddPolyline(pts, 4, colour, ImDrawFlags_Closed, thickness);
 }
 
+// The toolbar wraps in a narrow region (flow) rather than running past its edge.
 void toolbar(Context& ctx) {
   View& v = ctx.view;
   ImGui::Checkbox("Markers", &v.show_accepted);
-  ImGui::SameLine();
+  flow(checkbox_width("Rejected"));
   ImGui::Checkbox("Rejected", &v.show_rejected);
-  ImGui::SameLine();
+  flow(button_width("Stages..."));
   if (ImGui::Button("Stages...")) ImGui::OpenPopup("stages");
   if (ImGui::BeginPopup("stages")) {
     for (int i = 0; i < kStageCount; ++i) {
@@ -285,7 +286,7 @@ void toolbar(Context& ctx) {
     }
     ImGui::EndPopup();
   }
-  ImGui::SameLine();
+  flow(button_width("Labels..."));
   if (ImGui::Button("Labels...")) ImGui::OpenPopup("labels");
   if (ImGui::BeginPopup("labels")) {
     // Per kind, what the live view draws (also --actions labels=ids,dict,rejected,truth,peers / all / none).
@@ -297,10 +298,10 @@ void toolbar(Context& ctx) {
     ImGui::Checkbox("Peer: AprilTag", &v.show_peer_apriltag);
     ImGui::EndPopup();
   }
-  ImGui::SameLine();
+  flow(checkbox_width("Truth"));
   if (ctx.frame && !ctx.frame->truth.empty()) {
     ImGui::Checkbox("Truth", &v.show_truth);
-    ImGui::SameLine();
+    flow(checkbox_width("Media"));
   }
   ImGui::Checkbox("Media", &v.show_media);
   if (ImGui::IsItemHovered()) {
@@ -308,17 +309,17 @@ void toolbar(Context& ctx) {
                           ? "Draw the scene's media on the frame (images, videos, web and text cards)."
                           : "Draw the scene's media on the frame. No scene is loaded: see the Scene panel.");
   }
-  ImGui::SameLine();
+  flow(checkbox_width("Why? (drag)"));
   ImGui::Checkbox("Why? (drag)", &v.region_tool);
   if (ImGui::IsItemHovered()) {
     ImGui::SetTooltip("Drag a rectangle around a marker that is not detected: the 'Why not detected?' panel\n"
                       "lists every candidate there and where the pipeline dropped it.");
   }
-  ImGui::SameLine();
+  flow(checkbox_width("Freeze"));
   if (ImGui::Checkbox("Freeze", &ctx.settings.frozen)) {}
-  ImGui::SameLine();
+  flow(button_width("Snapshot"));
   if (ImGui::Button("Snapshot")) ctx.request(RequestKind::snapshot);
-  ImGui::SameLine();
+  flow(button_width("Fit"));
   if (ImGui::Button("Fit")) v.image.fit = true;
 }
 
@@ -327,17 +328,27 @@ void status_line(Context& ctx, const ImageMapping& m) {
   const int x = static_cast<int>(std::lround(m.mouse_px.x)), y = static_cast<int>(std::lround(m.mouse_px.y));
   const FrameTrace& t = f.trace;
   int accepted = static_cast<int>(t.markers.size());
-  ImGui::Text("frame %llu  %dx%d  %.0f%%  %d markers, %zu candidates  detect %.2f ms",
-              static_cast<unsigned long long>(f.index), f.image.cols, f.image.rows, static_cast<double>(m.zoom) * 100.0,
-              accepted, t.candidates.size(), f.detect_ms);
+  // In parts that wrap (flow) in a narrow region; draw_live_view leaves room for status_lines() lines.
+  char part[96];
+  std::snprintf(part, sizeof part, "frame %llu  %dx%d  %.0f%%", static_cast<unsigned long long>(f.index), f.image.cols,
+                f.image.rows, static_cast<double>(m.zoom) * 100.0);
+  ImGui::TextUnformatted(part);
+  std::snprintf(part, sizeof part, "%d markers, %zu candidates", accepted, t.candidates.size());
+  flow(text_width(part));
+  ImGui::TextUnformatted(part);
+  std::snprintf(part, sizeof part, "detect %.2f ms", f.detect_ms);
+  flow(text_width(part));
+  ImGui::TextUnformatted(part);
   if (m.hovered && x >= 0 && y >= 0 && x < f.image.cols && y < f.image.rows) {
     const cv::Vec3b bgr = f.image.at<cv::Vec3b>(y, x);
-    ImGui::SameLine();
-    ImGui::Text("  (%d, %d) RGB %d %d %d", x, y, bgr[2], bgr[1], bgr[0]);
+    std::snprintf(part, sizeof part, "(%d, %d) RGB %d %d %d", x, y, bgr[2], bgr[1], bgr[0]);
+    flow(text_width(part));
+    ImGui::TextUnformatted(part);
     if (const StageRecord* th = t.stage(Stage::adaptive_threshold); th && !th->image.empty() &&
                                                                      th->image.cols == f.image.cols) {
-      ImGui::SameLine();
-      ImGui::Text(" threshold %s", th->image.at<uint8_t>(y, x) ? "foreground" : "background");
+      std::snprintf(part, sizeof part, "threshold %s", th->image.at<uint8_t>(y, x) ? "foreground" : "background");
+      flow(text_width(part));
+      ImGui::TextUnformatted(part);
     }
   }
 }
@@ -350,7 +361,11 @@ void draw_live_view(Context& ctx) {
   if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   ImVec2 avail = ImGui::GetContentRegionAvail();
-  avail.y -= ImGui::GetTextLineHeightWithSpacing();
+  // Room for the status line's parts, on one line or wrapped (status_line).
+  const float parts = text_width("frame 000000  0000x0000  000%") + text_width("00 markers, 0000 candidates") +
+                      text_width("detect 00.00 ms") + ImGui::GetStyle().ItemSpacing.x * 2;
+  const float lines = parts <= avail.x ? 1.0f : std::ceil(parts / std::max(avail.x, 1.0f)) + 1.0f;
+  avail.y -= ImGui::GetTextLineHeightWithSpacing() * lines;
   // The composite has the frame's size and pixel coordinates: everything drawn over it stays where it was.
   const ImageMapping m = image_view(ctx, "live", "frame", f.image, f.index, ctx.view.image, avail, ctx.composite);
   ImDrawList* dl = ImGui::GetWindowDrawList();

@@ -85,13 +85,26 @@ void parameter_tables(Context& ctx, ParametersState& st) {
     const bool open = ImGui::CollapsingHeader(label, ImGuiTreeNodeFlags_DefaultOpen);
     if (known) ImGui::PopStyleColor();
     if (open) {
-      const ImGuiTableFlags tf = ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_RowBg;
-      if (ImGui::BeginTable(table[i].stage, 4, tf)) {
-        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, 215.0f * ctx.scale);
+      // Names whole and a slider wide enough to read its value; a region narrower than that scrolls sideways.
+      const ImGuiStyle& style = ImGui::GetStyle();
+      float name_w = 0;
+      for (size_t k = i; k < j; ++k) name_w = std::max(name_w, text_width(table[k].name));
+      name_w += style.ItemSpacing.x + text_width("(?)");
+      const float unit_w = text_width("grey"), reset_w = button_width("reset");
+      const float value_w = text_width("0000.000") + style.FramePadding.x * 2;
+      const float need = name_w + value_w + unit_w + reset_w + style.CellPadding.x * 8;
+      const bool narrow = need > ImGui::GetContentRegionAvail().x;
+      ImGuiTableFlags tf = ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_RowBg;
+      ImVec2 outer{0, 0};
+      if (narrow) {
+        tf |= ImGuiTableFlags_ScrollX;
+        outer.y = static_cast<float>(j - i) * (ImGui::GetFrameHeight() + style.CellPadding.y * 2) + style.ScrollbarSize + 2;
+      }
+      if (ImGui::BeginTable(table[i].stage, 4, tf, outer, narrow ? need : 0.0f)) {
+        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, name_w);
         ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
-        ImGui::TableSetupColumn("unit", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("grey").x);
-        ImGui::TableSetupColumn("reset", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("reset").x +
-                                                                              ImGui::GetStyle().FramePadding.x * 2);
+        ImGui::TableSetupColumn("unit", ImGuiTableColumnFlags_WidthFixed, unit_w);
+        ImGui::TableSetupColumn("reset", ImGuiTableColumnFlags_WidthFixed, reset_w);
         for (size_t k = i; k < j; ++k) param_row(ctx, st, table[k]);
         ImGui::EndTable();
       }
@@ -105,7 +118,10 @@ void presets_section(Context& ctx, ParametersState& st) {
   const float button_w = ImGui::CalcTextSize("Load").x + ImGui::CalcTextSize("Save").x +
                          ImGui::CalcTextSize("Browse...").x + ImGui::GetStyle().FramePadding.x * 6 +
                          ImGui::GetStyle().ItemSpacing.x * 3;
-  ImGui::SetNextItemWidth(std::max(120.0f * ctx.scale, ImGui::GetContentRegionAvail().x - button_w));
+  // The buttons go under the path when the region is too narrow for both on one line.
+  const float field_w = ImGui::GetContentRegionAvail().x - button_w;
+  const bool one_line = field_w >= 120.0f * ctx.scale;
+  ImGui::SetNextItemWidth(one_line ? field_w : -FLT_MIN);
   if (ctx.view.focus_field == "preset_path") {   // --actions focus=preset_path
     ImGui::SetKeyboardFocusHere();
     ctx.view.focus_field.clear();
@@ -115,7 +131,7 @@ void presets_section(Context& ctx, ParametersState& st) {
     ImGui::SetTooltip("A name (saved in %s/presets, rounded to each parameter's precision) or a path to a YAML file.",
                       ctx.status.config_dir.c_str());
   }
-  ImGui::SameLine();
+  if (one_line) ImGui::SameLine();
   const bool has_path = st.path[0] != 0;
   if (ImGui::Button("Load") && has_path) ctx.request(RequestKind::load_preset, st.path);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Every key is checked against the table; on an error nothing changes.");
@@ -147,8 +163,7 @@ void presets_section(Context& ctx, ParametersState& st) {
     ImGui::TextDisabled("No assets/presets folder found (from the working folder or the executable).");
     return;
   }
-  ImGui::SameLine();
-  ImGui::TextDisabled("%s", ctx.status.presets_dir.c_str());
+  text_disabled_wrapped(ctx.status.presets_dir.c_str());
   if (ctx.status.presets.empty()) ImGui::TextDisabled("No .yml files there.");
   for (const PresetFile& sp : ctx.status.presets) {
     ImGui::PushID(sp.path.c_str());
@@ -191,7 +206,7 @@ void dictionaries_section(Context& ctx) {
     }
     ImGui::EndCombo();
   }
-  ImGui::SameLine();
+  flow(text_width("99 selected"));
   ImGui::TextDisabled("%zu selected", sel.size());
   ImGui::TextWrapped("Each candidate is read against every selected dictionary; more dictionaries cost time and "
                      "raise the chance of a false identification. The first (%s) is the one the peers run on and "
@@ -213,7 +228,7 @@ void draw_parameters(Context& ctx) {
     if (differs(ctx.settings.params, info)) ++changed;
   if (changed) ImGui::Text("%d of %zu parameters differ from their defaults", changed, param_table().size());
   else ImGui::TextDisabled("All %zu parameters at their defaults", param_table().size());
-  ImGui::SameLine();
+  flow(button_width("Reset all"));
   if (changed == 0) ImGui::BeginDisabled();
   if (ImGui::Button("Reset all")) {
     ctx.settings.params = DetectorParams();
@@ -225,7 +240,7 @@ void draw_parameters(Context& ctx) {
     ImGui::TextWrapped("%s", st.error.c_str());
     ImGui::PopStyleColor();
   }
-  ImGui::TextDisabled("Hover a name for what raising it trades; Ctrl+click a slider to type.");
+  text_disabled_wrapped("Hover a name for what raising it trades; Ctrl+click a slider to type.");
 
   parameter_tables(ctx, st);
   ImGui::Spacing();

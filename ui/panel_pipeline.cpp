@@ -5,6 +5,7 @@
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -36,7 +37,9 @@ void draw_pipeline(Context& ctx) {
   // Thumbnails in a scrolling column on the left, so the large view keeps most of the panel.
   const float thumb_w = 104.0f * ctx.scale;
   const float thumb_h = thumb_w * 0.75f;
-  ImGui::BeginChild("thumbs", {thumb_w + ImGui::GetStyle().ScrollbarSize + 12.0f * ctx.scale, 0}, false);
+  // As wide as the longest stage name and timing line too, so neither is cut.
+  const float column_w = std::max({thumb_w, text_width("perspective_removal"), text_width("99.99 ms 9999>9999")});
+  ImGui::BeginChild("thumbs", {column_w + ImGui::GetStyle().ScrollbarSize + 12.0f * ctx.scale, 0}, false);
   int& sel = ctx.view.pipeline_stage;
   if (sel >= 0 && f.views[static_cast<size_t>(sel)].empty()) sel = -1;
   auto thumb = [&](int stage, const std::string& title, const StageRecord* r) {
@@ -65,12 +68,18 @@ void draw_pipeline(Context& ctx) {
   const std::string title = sel < 0 ? "input" : std::string(stage_name(static_cast<Stage>(sel)));
   const cv::Mat& big = stage_view(f, sel, false);
   ImGui::TextUnformatted(title.c_str());
-  ImGui::SameLine();
-  ImGui::TextDisabled(mosaic ? "(a tile per candidate that reached this stage, in ledger order)"
-                             : "(zoom and pan shared with the live view)");
+  const char* about = mosaic ? "(a tile per candidate that reached this stage, in ledger order)"
+                             : "(zoom and pan shared with the live view)";
+  flow(text_width(about));
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("%s", about);
+  ImGui::PopStyleColor();
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Wheel zooms, right-drag pans, right double-click fits.");
+  const char* hint = "Hover the image for pixel values; click a thumbnail to show its stage here.";
   ImVec2 avail = ImGui::GetContentRegionAvail();
-  avail.y -= ImGui::GetTextLineHeightWithSpacing();
+  // Room under the image for the pixel line or the hint, wrapped.
+  avail.y -= std::max(ImGui::CalcTextSize(hint, nullptr, false, avail.x).y, ImGui::GetTextLineHeight()) +
+             ImGui::GetStyle().ItemSpacing.y;
   const ImageMapping m =
       image_view(ctx, "stage_big", "stage:" + title, big, f.index, mosaic ? mosaic_view : ctx.view.image, avail);
   if (m.hovered && !big.empty()) {
@@ -84,7 +93,9 @@ void draw_pipeline(Context& ctx) {
       }
     }
   } else {
-    ImGui::TextDisabled("Hover the image for pixel values; click a thumbnail to show its stage here.");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", hint);
+    ImGui::PopStyleColor();
   }
   ImGui::EndGroup();
 }

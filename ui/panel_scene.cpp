@@ -154,13 +154,15 @@ void mappings_table(Context& ctx) {
     return;
   }
   const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_Resizable |
-                             ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_ScrollY;
+                             ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_ScrollY | ImGuiTableFlags_ScrollX;
   const float rows_h = ImGui::GetTextLineHeightWithSpacing() * static_cast<float>(std::min<size_t>(s.mappings.size(), 10) + 1);
-  if (!ImGui::BeginTable("mappings", 5, tf, {0, rows_h + ImGui::GetStyle().CellPadding.y * 2})) return;
+  // Columns as wide as their text; a narrow region scrolls the table sideways rather than cutting them.
+  if (!ImGui::BeginTable("mappings", 5, tf,
+                         {0, rows_h + ImGui::GetStyle().CellPadding.y * 2 + ImGui::GetStyle().ScrollbarSize})) return;
   ImGui::TableSetupScrollFreeze(0, 1);
   ImGui::TableSetupColumn("ID(s)");
-  ImGui::TableSetupColumn("media", ImGuiTableColumnFlags_WidthStretch);
-  ImGui::TableSetupColumn("placement", ImGuiTableColumnFlags_WidthStretch);
+  ImGui::TableSetupColumn("media");
+  ImGui::TableSetupColumn("placement");
   ImGui::TableSetupColumn("state");
   ImGui::TableSetupColumn("line");
   ImGui::TableHeadersRow();
@@ -228,8 +230,9 @@ void markers_table(Context& ctx) {
     ImGui::TextDisabled("No marker in view.");
     return;
   }
-  const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingFixedFit;
-  if (!ImGui::BeginTable("tracks", 5, tf)) return;
+  const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingFixedFit |
+                             ImGuiTableFlags_ScrollX;
+  if (!ImGui::BeginTable("tracks", 5, tf, scroll_table_size(static_cast<int>(f.tracks.size()) + 1))) return;
   ImGui::TableSetupColumn("id");
   ImGui::TableSetupColumn("dictionary");
   ImGui::TableSetupColumn("visible");

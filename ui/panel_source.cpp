@@ -28,10 +28,10 @@ constexpr const char* kSizes[] = {"320x240", "640x480", "800x600", "1280x720", "
 
 void source_choice(Context& ctx, SourceViewState& st) {
   const SourceSpec& now = ctx.status.source;
-  ImGui::Text("Source: %s", now.text().c_str());
+  ImGui::TextWrapped("Source: %s", now.text().c_str());
   if (ImGui::Button("Synthetic source")) ctx.request(RequestKind::open_source, "synthetic");
-  ImGui::SameLine();
-  ImGui::TextDisabled("(markers moving in 3D, with exact truth)");
+  flow(text_width("(markers moving in 3D, with exact truth)"));
+  text_disabled_wrapped("(markers moving in 3D, with exact truth)");
 
   // Cameras: /dev/videoN found at start.
   ImGui::SetNextItemWidth(110 * ctx.scale);
@@ -44,10 +44,10 @@ void source_choice(Context& ctx, SourceViewState& st) {
     if (ctx.status.cameras.empty()) ImGui::TextDisabled("no /dev/video* found");
     ImGui::EndCombo();
   }
-  ImGui::SameLine();
+  flow(130 * ctx.scale);
   ImGui::SetNextItemWidth(130 * ctx.scale);
   ImGui::Combo("##res", &st.resolution, kResolutions, IM_ARRAYSIZE(kResolutions));
-  ImGui::SameLine();
+  flow(button_width("Open camera"));
   if (ImGui::Button("Open camera")) {
     std::string spec = "camera:" + std::to_string(st.camera);
     if (st.resolution > 0) spec += std::string("@") + kResolutions[st.resolution];
@@ -84,15 +84,15 @@ void playback(Context& ctx) {
   Playback& p = ctx.settings.playback;
   section(info.kind == SourceKind::video ? "Playback" : "Images");
   if (ImGui::Button(p.playing ? "Pause" : "Play")) p.playing = !p.playing;
-  ImGui::SameLine();
+  flow(button_width("< Step"));
   if (ImGui::Button("< Step")) ctx.request(RequestKind::step, {}, -1);
-  ImGui::SameLine();
+  flow(button_width("Step >"));
   if (ImGui::Button("Step >")) ctx.request(RequestKind::step, {}, +1);
-  ImGui::SameLine();
+  flow(checkbox_width("Loop"));
   ImGui::Checkbox("Loop", &p.loop);
   if (info.kind == SourceKind::video) {
     float speed = static_cast<float>(p.speed);
-    ImGui::SetNextItemWidth(160 * ctx.scale);
+    fit_item_width(160 * ctx.scale, "speed");
     if (ImGui::SliderFloat("speed", &speed, 0.1f, 8.0f, "%.2fx", ImGuiSliderFlags_Logarithmic)) p.speed = speed;
   }
   if (info.count > 0) {
@@ -102,18 +102,18 @@ void playback(Context& ctx) {
       ctx.request(RequestKind::seek, {}, pos);
     }
   }
-  if (!info.item.empty()) ImGui::TextDisabled("%s", info.item.c_str());
+  if (!info.item.empty()) text_disabled_wrapped(info.item.c_str());
 }
 
 void acquisition(Context& ctx) {
   AcquisitionSettings& a = ctx.settings.acquisition;
   section("Acquisition");
   float cap = static_cast<float>(a.fps_cap);
-  ImGui::SetNextItemWidth(160 * ctx.scale);
+  fit_item_width(160 * ctx.scale, "fps cap");
   if (ImGui::SliderFloat("fps cap", &cap, 0.0f, 60.0f, cap <= 0 ? "off" : "%.0f fps")) a.fps_cap = std::round(cap);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Frames taken from the source per second (the paper uses 20). 0: no cap.");
   ImGui::Checkbox("resize", &a.resize);
-  ImGui::SameLine();
+  flow(130 * ctx.scale);
   char cur[32];
   std::snprintf(cur, sizeof cur, "%dx%d", a.size.width, a.size.height);
   ImGui::SetNextItemWidth(130 * ctx.scale);
@@ -127,9 +127,11 @@ void acquisition(Context& ctx) {
   }
   if (ctx.frame) {
     const SourceInfo& i = ctx.frame->source;
-    ImGui::TextDisabled("source %dx%d%s -> working %dx%d", i.size.width, i.size.height,
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("source %dx%d%s -> working %dx%d", i.size.width, i.size.height,
                         i.native_fps > 0 ? (" at " + std::to_string(static_cast<int>(i.native_fps)) + " fps").c_str() : "",
                         ctx.frame->image.cols, ctx.frame->image.rows);
+    ImGui::PopStyleColor();
   }
 }
 
@@ -140,7 +142,7 @@ void synthetic_controls(Context& ctx) {
   ImGui::Checkbox("animate", &c.animate);
   auto slider = [&](const char* label, double& v, float lo, float hi, const char* fmt) {
     float f = static_cast<float>(v);
-    ImGui::SetNextItemWidth(180 * ctx.scale);
+    fit_item_width(180 * ctx.scale, label);
     if (ImGui::SliderFloat(label, &f, lo, hi, fmt)) v = f;
   };
   if (c.animate) slider("speed##synthetic", c.speed, 0.0f, 4.0f, "%.2fx");
@@ -151,12 +153,12 @@ void synthetic_controls(Context& ctx) {
   slider("blur", c.blur_px, 0.0f, 5.0f, "%.1f px");
   slider("noise", c.noise, 0.0f, 40.0f, "%.0f grey levels");
   slider("marker size", c.marker_size_m, 0.02f, 0.3f, "%.3f m");
-  ImGui::SetNextItemWidth(180 * ctx.scale);
+  fit_item_width(180 * ctx.scale, "markers");
   ImGui::SliderInt("markers", &c.markers, 1, 8);
-  ImGui::SetNextItemWidth(180 * ctx.scale);
+  fit_item_width(180 * ctx.scale, "first id");
   ImGui::InputInt("first id", &c.first_id);
   c.first_id = std::max(0, c.first_id);
-  ImGui::SetNextItemWidth(180 * ctx.scale);
+  fit_item_width(180 * ctx.scale, "dictionary##synthetic");
   if (ImGui::BeginCombo("dictionary##synthetic", c.dict.c_str())) {
     for (const std::string& n : dictionary_names()) {
       if (ImGui::Selectable(n.c_str(), n == c.dict)) c.dict = n;
@@ -164,10 +166,11 @@ void synthetic_controls(Context& ctx) {
     ImGui::EndCombo();
   }
   if (c.dict != (ctx.settings.dictionaries.empty() ? "" : ctx.settings.dictionaries[0])) {
-    ImGui::TextColored({1, 0.8f, 0.3f, 1}, "The detector reads %s, not %s.",
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.8f, 0.3f, 1));
+    ImGui::TextWrapped("The detector reads %s, not %s.",
                        ctx.settings.dictionaries.empty() ? "nothing" : ctx.settings.dictionaries[0].c_str(),
                        c.dict.c_str());
-    ImGui::SameLine();
+    ImGui::PopStyleColor();
     if (ImGui::SmallButton("Detect this dictionary")) ctx.settings.dictionaries = {c.dict};
   }
   if (ImGui::Button("Reset synthetic")) c = SyntheticControls{};

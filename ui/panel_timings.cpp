@@ -63,7 +63,7 @@ void stage_table(Context& ctx, const FrameTrace& t) {
 void rates(Context& ctx) {
   const double cap = ctx.settings.acquisition.fps_cap;
   ImGui::Text("UI %.1f fps", ctx.status.ui_fps);
-  ImGui::SameLine(0, 24.0f * ctx.scale);
+  flow(text_width("detection 000.0 fps of a 000 fps cap"));
   if (cap > 0) ImGui::Text("detection %.1f fps of a %.0f fps cap", ctx.status.detect_fps, cap);
   else ImGui::Text("detection %.1f fps (no cap)", ctx.status.detect_fps);
   if (cap > 0) {
@@ -170,10 +170,8 @@ void stacked_history(Context& ctx, const std::deque<std::array<float, kStageCoun
     const Stage s = static_cast<Stage>(k);
     const std::string name(stage_name(s));
     const float w = sq + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize(name.c_str()).x;
-    if (!first) {
-      ImGui::SameLine(0, 14.0f * ctx.scale);
-      if (ImGui::GetCursorScreenPos().x + w > right) ImGui::NewLine();
-    }
+    // On the line when it fits (checked before SameLine: a NewLine after it would count the item as reaching there).
+    if (!first && ImGui::GetItemRectMax().x + 14.0f * ctx.scale + w <= right) ImGui::SameLine(0, 14.0f * ctx.scale);
     first = false;
     const ImVec2 at = ImGui::GetCursorScreenPos();
     const float pad = (ImGui::GetTextLineHeight() - sq) * 0.5f;
@@ -182,8 +180,8 @@ void stacked_history(Context& ctx, const std::deque<std::array<float, kStageCoun
     ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
     ImGui::TextUnformatted(name.c_str());
   }
-  ImGui::SameLine(0, 14.0f * ctx.scale);
-  if (ImGui::GetCursorScreenPos().x + sq + ImGui::CalcTextSize("detection total").x > right) ImGui::NewLine();
+  const float total_w = sq + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize("detection total").x;
+  if (ImGui::GetItemRectMax().x + 14.0f * ctx.scale + total_w <= right) ImGui::SameLine(0, 14.0f * ctx.scale);
   const ImVec2 at = ImGui::GetCursorScreenPos();
   const float mid = at.y + ImGui::GetTextLineHeight() * 0.5f;
   dl->AddLine({at.x, mid}, {at.x + sq, mid}, IM_COL32(255, 255, 255, 200), 1.5f * ctx.scale);
@@ -246,11 +244,13 @@ void draw_timings(Context& ctx) {
     ImGui::SetTooltip("Detector::detect as the worker timed it, trace included (the trace's own total: %.2f ms).",
                       f.trace.total_ms);
   }
-  ImGui::SameLine(0, 24.0f * ctx.scale);
+  flow(text_width("capture 000.00 ms"));
   ImGui::Text("capture %.2f ms", f.capture_ms);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Reading the source; acquisition's resize is the acquisition stage.");
-  ImGui::TextDisabled("working image %dx%d, trace level %s", f.trace.work_width, f.trace.work_height,
-                      std::string(trace_level_name(f.trace.level)).c_str());
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("working image %dx%d, trace level %s", f.trace.work_width, f.trace.work_height,
+                     std::string(trace_level_name(f.trace.level)).c_str());
+  ImGui::PopStyleColor();
   stage_table(ctx, f.trace);
   ImGui::Spacing();
   history(ctx);

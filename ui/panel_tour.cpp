@@ -18,7 +18,9 @@ void stage_figures(Context& ctx, const TourStep& step) {
   const Frame& f = *ctx.frame;
   const StageRecord* r = f.trace.stage(step.stage);
   if (r) {
-    ImGui::TextDisabled("This frame: %.2f ms, %d in, %d out", r->ms, r->in, r->out);
+    char line[96];
+    std::snprintf(line, sizeof line, "This frame: %.2f ms, %d in, %d out", r->ms, r->in, r->out);
+    text_disabled_wrapped(line);
   }
   const cv::Mat& view = f.views[static_cast<size_t>(step.stage)];
   if (!view.empty()) {
@@ -33,9 +35,9 @@ void step_params(Context& ctx, const TourStep& step) {
   for (const std::string& name : step.params) {
     const ParamInfo* info = find_param(name);
     if (!info) continue;
-    ImGui::SetNextItemWidth(220 * ctx.scale);
+    fit_item_width(220 * ctx.scale, info->name);
     param_slider(ctx.settings.params, *info);
-    ImGui::SameLine();
+    ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);   // as fit_item_width counts it
     ImGui::TextUnformatted(info->name);
   }
 }
@@ -53,27 +55,27 @@ void draw_tour(Context& ctx) {
   const TourStep& step = ctx.tour[static_cast<size_t>(v.tour_step)];
   if (v.tour_active && step.is_stage) v.pipeline_stage = static_cast<int>(step.stage);
 
-  // Navigation.
+  // Navigation, wrapping in a narrow region (flow).
   ImGui::BeginDisabled(v.tour_step == 0);
   if (ImGui::Button("< Back")) --v.tour_step;
   ImGui::EndDisabled();
-  ImGui::SameLine();
+  flow(button_width("Next >"));
   ImGui::BeginDisabled(v.tour_step == n - 1);
   if (ImGui::Button("Next >")) ++v.tour_step;
   ImGui::EndDisabled();
-  ImGui::SameLine();
+  flow(text_width("Step 00 of 00"));
   ImGui::Text("Step %d of %d", v.tour_step + 1, n);
-  ImGui::SameLine();
+  flow(checkbox_width("Freeze"));
   ImGui::Checkbox("Freeze", &ctx.settings.frozen);
-  ImGui::SameLine();
+  flow(button_width("Next frame"));
   if (ImGui::Button("Next frame")) ctx.request(RequestKind::next_frame);
-  ImGui::SameLine();
+  flow(checkbox_width("Presentation"));
   ImGui::Checkbox("Presentation", &v.presentation);
-  ImGui::SameLine();
+  flow(button_width("Print markers"));
   if (ImGui::Button("Print markers")) ctx.view.print_sheet = ctx.settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : ctx.settings.dictionaries[0];
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("An A4 PDF of markers at a true size, as `arwb markers` writes.");
   if (!v.tour_active) {
-    ImGui::SameLine();
+    flow(button_width("Start the lesson"));
     if (ImGui::Button("Start the lesson")) {
       v.tour_active = true;
       ctx.settings.frozen = true;  // a lesson explains one frame; "Next frame" moves on

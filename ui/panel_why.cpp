@@ -86,7 +86,7 @@ void draw_why(Context& ctx) {
   }
   ImGui::Text("Region %.0f,%.0f  %.0fx%.0f px", static_cast<double>(v.region.x), static_cast<double>(v.region.y),
               static_cast<double>(v.region.width), static_cast<double>(v.region.height));
-  ImGui::SameLine();
+  flow(button_width("Clear"));
   if (ImGui::SmallButton("Clear")) {
     v.has_region = false;
     v.region_tool = false;
@@ -102,8 +102,11 @@ void draw_why(Context& ctx) {
   const bool advised = !rep.advice.empty() && rep.summary.rfind(rep.advice, 0) == 0;
   ImGui::TextWrapped("%s", rep.summary.c_str() + (advised ? rep.advice.size() + (rep.summary.size() > rep.advice.size()) : 0));
   if (!rep.candidates.empty()) {
-    ImGui::TextDisabled("%zu candidate(s) here, hover to highlight, click to inspect:", rep.candidates.size());
-    ImGui::BeginChild("cands", {0, 160 * ctx.scale}, true);
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%zu candidate(s) here, hover to highlight, click to inspect:", rep.candidates.size());
+    ImGui::PopStyleColor();
+    // Long lines scroll sideways rather than being cut.
+    ImGui::BeginChild("cands", {0, 160 * ctx.scale}, true, ImGuiWindowFlags_HorizontalScrollbar);
     for (const RegionCandidate& c : rep.candidates) {
       ImGui::PushStyleColor(ImGuiCol_Text, c.fate.stage == Stage::accepted ? accepted_colour() : stage_colour(c.fate.stage));
       ImGui::PushID(c.index);

@@ -1,5 +1,6 @@
-// The workbench's panels, one file each (ui/panel_<key>.cpp). Each draws the inside of its ImGui window
-// (draw_panels opens and closes the window, named by panel_title()) from ctx.frame (const) and its view state;
+// The workbench's panels, one file each (ui/panel_<key>.cpp). Each draws the inside of the window it is given
+// (a region of the workspace, ui/workspace.hpp, under a tab named by panel_title()) from ctx.frame (const) and
+// its view state;
 // actions go to ctx.requests. A panel that has nothing to show says why ("No candidate selected: click one in
 // the ledger").
 #pragma once
@@ -24,7 +25,7 @@ void draw_scene(Context& ctx);        // the scene in use: load, examples, mappi
 void draw_script(Context& ctx);       // the scene file's text: edit, save, error line marked
 void draw_console(Context& ctx);      // the scene's print output, warnings and errors
 
-// Draws every open panel (View::open), in the order of Panel.
-void draw_panels(Context& ctx);
+// Draws panel p into the current window.
+void draw_panel(Panel p, Context& ctx);
 
 }  // namespace arwb::ui

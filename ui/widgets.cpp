@@ -32,7 +32,41 @@ bool waiting_for_frame(const Context& ctx) {
 void show_script_line(Context& ctx, int line) {
   ctx.view.script_goto_line = line;
   ctx.view.open[static_cast<size_t>(Panel::script)] = true;
-  ImGui::SetWindowFocus(panel_title(Panel::script));
+  ctx.view.front = Panel::script;   // the workspace puts its tab in front
+}
+
+void flow(float width) {
+  const float after = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x;
+  const float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+  if (after + width <= right) ImGui::SameLine();
+}
+
+float checkbox_width(const char* label) {
+  return ImGui::GetFrameHeight() + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize(label, nullptr, true).x;
+}
+
+float button_width(const char* label) {
+  return ImGui::CalcTextSize(label, nullptr, true).x + ImGui::GetStyle().FramePadding.x * 2;
+}
+
+float text_width(const char* text) { return ImGui::CalcTextSize(text).x; }
+
+void fit_item_width(float want, const char* label) {
+  const float label_w = ImGui::CalcTextSize(label, nullptr, true).x;
+  const float room = ImGui::GetContentRegionAvail().x - (label_w > 0 ? label_w + ImGui::GetStyle().ItemInnerSpacing.x : 0);
+  ImGui::SetNextItemWidth(std::max(ImGui::GetFontSize() * 3, std::min(want, room)));
+}
+
+ImVec2 scroll_table_size(int rows) {
+  const ImGuiStyle& st = ImGui::GetStyle();
+  const float row = ImGui::GetTextLineHeight() + st.CellPadding.y * 2;
+  return {0, static_cast<float>(rows) * row + st.ScrollbarSize + 4};
+}
+
+void text_disabled_wrapped(const char* text) {
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("%s", text);
+  ImGui::PopStyleColor();
 }
 
 int message_line_in(const std::string& message, const std::string& file) {
@@ -326,21 +360,24 @@ bool image_button(Context& ctx, const std::string& key, const cv::Mat& image, ui
 
 void level_filter_bar(const char* const names[3], const ImU32 colours[3], const int counts[3], bool show[3],
                       char* filter, size_t filter_size, float filter_width) {
+  // Each item wraps to a new line when the region is too narrow for it (flow); the caller's next item follows
+  // on the line when a small button still fits.
   for (int i = 0; i < 3; ++i) {
     char label[48];
     std::snprintf(label, sizeof label, "%s (%d)", names[i], counts[i]);
+    if (i > 0) flow(checkbox_width(label));
     ImGui::PushStyleColor(ImGuiCol_Text, colours[i]);
     ImGui::Checkbox(label, &show[i]);
     ImGui::PopStyleColor();
-    ImGui::SameLine();
   }
-  ImGui::SetNextItemWidth(filter_width);
+  flow(filter_width);
+  ImGui::SetNextItemWidth(std::min(filter_width, ImGui::GetContentRegionAvail().x));
   ImGui::InputTextWithHint("##filter", "filter text", filter, filter_size);
-  ImGui::SameLine();
   if (filter[0]) {
+    flow(button_width("x"));
     if (ImGui::SmallButton("x")) filter[0] = 0;
-    ImGui::SameLine();
   }
+  flow(ImGui::GetFontSize() * 5);
 }
 
 bool contains_nocase(std::string_view hay, std::string_view needle) {

@@ -89,6 +89,21 @@ bool image_button(Context& ctx, const std::string& key, const cv::Mat& image, ui
 // text filter with a clear button. `show` and `filter` are the panel's view state.
 void level_filter_bar(const char* const names[3], const ImU32 colours[3], const int counts[3], bool show[3],
                       char* filter, size_t filter_size, float filter_width);
+// Toolbars that wrap instead of running past a narrow region's edge (and presentation mode's larger text):
+// flow() continues the line when the next item, `width` wide, still fits, else starts a new line. The widths of
+// a checkbox, a button and a text, for it.
+void flow(float width);
+float checkbox_width(const char* label);
+float button_width(const char* label);
+float text_width(const char* text);
+// The next item `want` wide, or narrower so that it and its label (shown right of it) fit the window.
+void fit_item_width(float want, const char* label);
+// The outer size of a table with ImGuiTableFlags_ScrollX (which needs one) showing `rows` rows of text, header
+// included, and its scrollbar: a narrow region scrolls the table sideways instead of cutting its columns.
+ImVec2 scroll_table_size(int rows);
+// TextDisabled that wraps at the window's edge (hints, explanations).
+void text_disabled_wrapped(const char* text);
+
 // Case-insensitive substring test; an empty needle matches everything.
 bool contains_nocase(std::string_view hay, std::string_view needle);
 

@@ -46,7 +46,35 @@ void App::run_action(const Action& a) {
     }
     if (!ui::panel_from_key(a.arg, &p)) return warn("--actions: no panel '" + a.arg + "'");
     view.open[static_cast<size_t>(p)] = a.verb == "open";
-    if (a.verb == "open") ImGui::SetWindowFocus(ui::panel_title(p));
+    if (a.verb == "open") view.front = p;   // the active tab of its region in the current workspace
+  } else if (a.verb == "workspace") {
+    const int i = workspaces.find(a.arg);
+    if (i < 0) return warn("--actions: no workspace '" + a.arg + "'");
+    ui::switch_workspace(workspaces, i, view);
+  } else if (a.verb == "save_workspace") {
+    std::string why;
+    if (!workspaces.save_as(a.arg, &why)) warn("--actions save_workspace: " + why);
+  } else if (a.verb == "move") {
+    // move=PANEL>OTHER: PANEL into the region showing OTHER (what dragging its tab there does).
+    const size_t gt = a.arg.find('>');
+    ui::Panel q;
+    ui::Layout& l = workspaces.now().layout(view.presentation);
+    if (gt == std::string::npos || !ui::panel_from_key(a.arg.substr(0, gt), &p) ||
+        !ui::panel_from_key(a.arg.substr(gt + 1), &q) || ui::region_of(l, q) < 0) {
+      return warn("--actions: move wants PANEL>PANEL_IN_THE_TARGET_REGION, not '" + a.arg + "'");
+    }
+    ui::move_panel(l, p, ui::region_of(l, q));
+    view.open[static_cast<size_t>(p)] = true;   // a panel moved in from nowhere is open now
+  } else if (a.verb == "splitter") {
+    // splitter=I,RATIO: the I-th split of the current workspace (depth first) at RATIO (what dragging it does).
+    int i = -1;
+    float r = 0;
+    ui::Layout& l = workspaces.now().layout(view.presentation);
+    const std::vector<int> s = ui::splits(l);
+    if (std::sscanf(a.arg.c_str(), "%d,%f", &i, &r) != 2 || i < 0 || i >= static_cast<int>(s.size()) || !(r >= 0.05f && r <= 0.95f)) {
+      return warn("--actions: splitter wants I,RATIO (I < " + std::to_string(s.size()) + ", RATIO in 0.05..0.95), not '" + a.arg + "'");
+    }
+    l.nodes[static_cast<size_t>(s[static_cast<size_t>(i)])].ratio = r;
   } else if (a.verb == "source") {
     requests.push_back({ui::RequestKind::open_source, a.arg, 0, {}, {}});
   } else if (a.verb == "freeze" || a.verb == "unfreeze") {
@@ -433,8 +461,10 @@ int run_workbench(const WorkbenchOptions& options) {
   std::error_code ec;
   fs::create_directories(config_dir, ec);
   const std::string ini_path = config_dir + "/imgui.ini";
+  const std::string workspaces_path = config_dir + "/workspaces.json";
   io.IniFilename = nullptr;  // loaded and saved by hand, so a bad path is a message, not a silent loss
-  load_layout(app.view, ini_path);
+  load_layout(ini_path);
+  app.load_workspaces(workspaces_path);
   app.status.config_dir = config_dir;
   app.load_recent();
 
@@ -445,12 +475,19 @@ int run_workbench(const WorkbenchOptions& options) {
   const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   if (fs::exists(font)) {
     app.font_normal = io.Fonts->AddFontFromFileTTF(font, 15.0f);
-    app.font_large = io.Fonts->AddFontFromFileTTF(font, 30.0f);
+    // Presentation mode's sizes (presentation_scale): crisp text at each rather than one font stretched.
+    for (int px : {20, 25, 30}) app.fonts_large[px] = io.Fonts->AddFontFromFileTTF(font, static_cast<float>(px));
   }
   if (!app.font_normal) app.font_normal = io.Fonts->AddFontDefault();
   ImGui_ImplGlfw_InitForOpenGL(window, true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
+  {
+    int ww = 0, wh = 0;
+    glfwGetWindowSize(window, &ww, &wh);
+    app.window_height = static_cast<float>(wh);
+  }
   if (options.presentation) app.set_presentation(true);
+  ui::switch_workspace(app.workspaces, app.workspaces.current, app.view);   // view.open as the workspace has it
 
   // Tour text.
   {
@@ -509,8 +546,17 @@ int run_workbench(const WorkbenchOptions& options) {
     // Before a scripted screenshot, make sure there is a finished frame to show.
     if (!app.frame && options.frames > 0) app.frame = app.engine->wait_newer(0, 5.0);
 
-    // Panels flip these; the font and style change between frames, never inside one.
-    if (app.view.presentation != app.presentation_applied) app.set_presentation(app.view.presentation);
+    // Panels flip these; the font and style change between frames, never inside one. A resized window may want
+    // another presentation scale.
+    {
+      int ww = 0, wh = 0;
+      glfwGetWindowSize(window, &ww, &wh);
+      app.window_height = static_cast<float>(wh);
+    }
+    if (app.view.presentation != app.presentation_applied ||
+        (app.view.presentation && app.scale != presentation_scale(app.window_height))) {
+      app.set_presentation(app.view.presentation);
+    }
     if (!app.view.open[static_cast<size_t>(ui::Panel::tour)]) app.view.tour_active = false;
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -523,8 +569,7 @@ int run_workbench(const WorkbenchOptions& options) {
     const ImGuiViewport* vp = ImGui::GetMainViewport();
     const float menu_h = ImGui::GetFrameHeight();
     ui::Context ctx{app.frame.get(), app.settings, app.view, app.status, app.requests, app.textures, app.tour,
-                    app.view.presentation ? 2.0f : 1.0f, nullptr,
-                    [&](ui::Panel p) { default_layout(p, vp->Size, menu_h, status_h); }};
+                    app.scale, nullptr};
     app.sync_scene();
     // The scene's media on the frame: drawn every UI frame, so a video's texture moves on between detections.
     if (app.frame && app.view.show_media && !app.frame->scene.file.empty()) {
@@ -539,7 +584,10 @@ int run_workbench(const WorkbenchOptions& options) {
       }
     }
     const auto tp0 = Clock::now();
-    ui::draw_panels(ctx);
+    // The main area between the menu bar and the status bar: the current workspace's regions.
+    ui::draw_workspace(ctx, app.workspaces, {vp->Pos.x, vp->Pos.y + menu_h},
+                       {vp->Size.x, vp->Size.y - menu_h - status_h}, [&ctx](ui::Panel p) { ui::draw_panel(p, ctx); },
+                       &app.audit);
     app.draw_dialogs(ctx);
     // After every panel and dialog, so a text field activated this very frame (a click, a dialog's field taking
     // the keyboard) is known: see handle_keys.
@@ -604,7 +652,8 @@ int run_workbench(const WorkbenchOptions& options) {
   const bool worker_stopped = app.engine->stop(0.5);
 
   g_app = nullptr;
-  save_layout(ini_path);   // window places, open panels
+  save_layout(ini_path);   // ImGui's own: table columns
+  app.save_workspaces(workspaces_path);
   if (options.stats) {
     using Json = nlohmann::ordered_json;
     auto per = [](double sum, int n) { return sum / std::max(1, n); };
@@ -674,6 +723,28 @@ int run_workbench(const WorkbenchOptions& options) {
     s["params"] = Json::object();
     for (const ParamInfo& info : param_table()) s["params"][info.name] = get_param(app.settings.params, info);
     s["dictionaries"] = app.settings.dictionaries;
+    // The layout as drawn in the last frame: regions, overlaps, anything cut off (ui/workspace.hpp LayoutAudit).
+    {
+      Json regions = Json::array();
+      Json clipped = Json::array();
+      for (const ui::LayoutAudit::Region& r : app.audit.regions) {
+        Json panels = Json::array();
+        for (ui::Panel p : r.tabs) panels.push_back(ui::panel_key(p));
+        regions.push_back({{"panels", panels},
+                           {"front", r.front == ui::Panel::count ? "" : ui::panel_key(r.front)},
+                           {"rect", {std::lround(r.pos.x), std::lround(r.pos.y), std::lround(r.size.x), std::lround(r.size.y)}}});
+        for (ui::Panel p : r.tabs)
+          for (const std::string& what : app.audit.clipped[static_cast<size_t>(p)])
+            clipped.push_back({{"panel", ui::panel_key(p)}, {"what", what}});
+      }
+      s["layout"] = {{"workspace", app.workspaces.now().name},
+                     {"presentation", app.view.presentation},
+                     {"scale", round_decimals(app.scale, 3)},
+                     {"font_px", round_decimals(ImGui::GetFontSize(), 1)},
+                     {"regions", regions},
+                     {"overlaps", app.audit.overlaps},
+                     {"clipped", clipped}};
+    }
     std::printf("%s\n", s.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
   }
   if (!worker_stopped) {

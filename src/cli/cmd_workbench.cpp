@@ -22,10 +22,12 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "type=TEXT (typed on the keyboard, \\n for Enter), undo, redo, set=PARAM=VALUE (a completed edit), "
                  "save_preset=NAME|PATH, "
                  "quit, answer=save|discard|cancel|write|browse (a dialog's button), browse=source|scene|preset, sheet (the "
-                 "marker sheet dialog), help=shortcuts|first|about.\n"
+                 "marker sheet dialog), help=shortcuts|first|about, "
+                 "workspace=NAME, save_workspace=NAME, move=PANEL>PANEL (into the region of the second), "
+                 "splitter=I,RATIO.\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console.\n"
-                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+Z undo, Ctrl+Shift+Z "
+                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3 workspaces Inspect/Script/Teach, Ctrl+Z undo, Ctrl+Shift+Z "
                  "redo, Ctrl+Q quit; none of them while typing in a text field. Help > Keyboard shortcuts lists them "
                  "all. Drop a scene (.lua, .xml), preset (.yml), image, video or folder on the window to open it.");
   std::vector<std::pair<std::string, std::string>> subcommands;
@@ -54,7 +56,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   cl.app.add_option("--resize", resize, "resize every frame to WxH before detection, or off")
       ->type_name("WxH|off")
       ->check(frame_size({16, 16}, {8192, 8192}, "off"));
-  cl.app.add_flag("--presentation", o.presentation, "start in presentation mode (F5): fonts and sizes doubled");
+  cl.app.add_flag("--presentation", o.presentation, "start in presentation mode (F5): fonts and sizes scaled to the window's height (30 px text at 1080 lines), the live view and stage large");
   cl.app.add_option("--config-dir", o.config_dir,
                     "layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)")
       ->type_name("DIR");

@@ -38,8 +38,8 @@ int green_pixels(const cv::Mat& shot, cv::Rect area) {
   return n;
 }
 
-// The live view's place in the first start's layout of a 1600x900 window: the top-left of the screen.
-const cv::Rect kLiveView(0, 40, 800, 520);
+// The live view's region in the Inspect workspace of a 1600x900 window: the top-left of the screen.
+const cv::Rect kLiveView(0, 50, 730, 500);
 
 // The --stats line (the output's first line) as JSON; a parse error fails the test.
 nlohmann::json stats(const std::string& out) {
@@ -178,16 +178,16 @@ TEST(Workbench, KeepsTheLayoutBetweenRuns) {
   TempDir tmp;
   RunResult r = test::run_arwb_window(window_args(tmp, "--frames 20 --actions '5:close=timings;6:open=dictionary'"));
   ASSERT_EQ(r.status, 0) << r.err;
-  std::string ini = test::read_file(tmp.str("config/imgui.ini"));
-  EXPECT_NE(ini.find("[Window][Live view]"), std::string::npos) << ini;
-  EXPECT_NE(ini.find("timings=0"), std::string::npos) << ini;
-  EXPECT_NE(ini.find("dictionary=1"), std::string::npos) << ini;
+  std::string file = test::read_file(tmp.str("config/workspaces.json"));
+  EXPECT_NE(file.find("\"live_view\""), std::string::npos) << file;
+  EXPECT_EQ(file.find("\"timings\""), file.rfind("\"timings\"")) << file;   // left in the presentation tree only
   // A second run without actions starts from that layout and keeps it.
-  r = test::run_arwb_window(window_args(tmp, "--frames 10"));
+  r = test::run_arwb_window(window_args(tmp, "--frames 10 --stats"));
   ASSERT_EQ(r.status, 0) << r.err;
-  ini = test::read_file(tmp.str("config/imgui.ini"));
-  EXPECT_NE(ini.find("timings=0"), std::string::npos) << ini;
-  EXPECT_NE(ini.find("dictionary=1"), std::string::npos) << ini;
+  const nlohmann::json l = stats(r.out)["layout"];
+  const std::string regions = l["regions"].dump();
+  EXPECT_EQ(regions.find("timings"), std::string::npos) << regions;
+  EXPECT_NE(regions.find("dictionary"), std::string::npos) << regions;
 }
 
 TEST(Workbench, SnapshotSavesTheFrameEveryStageAndTheTrace) {

@@ -1,0 +1,258 @@
+// The tiled workspaces (ui/workspace.hpp), run for real under xvfb-run: each shipped workspace at 1280x720,
+// 1600x900 and 1920x1080, in normal and presentation mode, has no regions overlapping and nothing cut off (the
+// --stats "layout" audit, built on ImGui's own rectangles), shows the live view with its marker outlines (the
+// screenshot), and gives presentation mode large text and most of the screen to the image; the arrangement is
+// kept between runs; a user's own workspace is saved; a bad workspaces file falls back to the shipped ones.
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace arwb {
+namespace {
+
+using Json = nlohmann::json;
+using test::RunResult;
+using test::TempDir;
+
+Json layout_of(const RunResult& r) {
+  try {
+    const Json s = Json::parse(r.out.substr(0, r.out.find('\n')));
+    if (s.contains("layout")) return s["layout"];
+  } catch (const Json::parse_error& e) {
+    ADD_FAILURE() << e.what() << " in: " << r.out;
+  }
+  ADD_FAILURE() << "no layout in the --stats line: " << r.out;
+  return Json::object();
+}
+
+// The region (its JSON) showing panel `key`, or null.
+const Json* region_with(const Json& layout, const std::string& key) {
+  if (!layout.contains("regions")) return nullptr;
+  for (const Json& r : layout["regions"]) {
+    for (const Json& p : r["panels"])
+      if (p == key) return &r;
+  }
+  return nullptr;
+}
+
+double area(const Json& region) { return region["rect"][2].get<double>() * region["rect"][3].get<double>(); }
+
+// The live view's accepted-marker outline colour (ui/widgets.cpp accepted_colour: 0.1, 1.0, 0.2).
+int green_pixels(const cv::Mat& shot, cv::Rect area) {
+  area &= cv::Rect(0, 0, shot.cols, shot.rows);
+  int n = 0;
+  for (int y = area.y; y < area.br().y; ++y) {
+    for (int x = area.x; x < area.br().x; ++x) {
+      const cv::Vec3b& p = shot.at<cv::Vec3b>(y, x);
+      n += p[1] > 225 && p[2] < 90 && p[0] < 110;
+    }
+  }
+  return n;
+}
+
+struct Shipped {
+  const char* name;
+  std::vector<const char*> panels;   // every panel the workspace shows, the ones to leave in front last
+  const char* extra;                 // more arguments (a scene for Script)
+};
+
+// Every tab of the workspace is brought to the front for a few frames (open=), so each panel is audited, then
+// the main ones are left in front for the screenshot. A candidate is selected so the inspector has content.
+std::string visit_all(const Shipped& w) {
+  std::string a = std::string("1:workspace=") + w.name + ";1:freeze;3:select=marker";
+  int frame = 6;
+  for (const char* p : w.panels) {
+    a += ';';
+    a += std::to_string(frame);
+    a += ":open=";
+    a += p;
+    frame += 4;
+  }
+  return a;
+}
+
+const Shipped kInspect{"Inspect",
+                       {"log", "dictionary", "why", "source", "peers", "inspector", "candidates", "parameters",
+                        "timings", "pipeline", "live_view"},
+                       ""};
+const Shipped kScript{"Script", {"log", "console", "scene", "script", "live_view"}, "--scene '" ARWB_SOURCE_DIR "/scripts/museum/museum.lua'"};
+const Shipped kTeach{"Teach", {"candidates", "inspector", "tour", "pipeline", "live_view"}, ""};
+
+// One workspace at one window size, in normal then presentation mode: nothing overlaps, nothing is cut off,
+// the regions tile the window, the live view shows the markers; presentation mode has large text and gives the
+// live view and the stage most of the screen.
+void fits(const Shipped& w, int width, int height) {
+  for (bool present : {false, true}) {
+    SCOPED_TRACE(std::string(w.name) + " at " + std::to_string(width) + "x" + std::to_string(height) +
+                 (present ? " in presentation mode" : ""));
+    TempDir tmp;
+    const std::string shot = tmp.str("shot.png");
+    const int frames = 10 + 4 * static_cast<int>(w.panels.size()) + 6;
+    const RunResult r = test::run_arwb_window(
+        "--config-dir '" + tmp.str("config") + "' --size " + std::to_string(width) + "x" + std::to_string(height) +
+        (present ? " --presentation" : "") + " --frames " + std::to_string(frames) + " --stats --screenshot '" + shot +
+        "' " + w.extra + " --actions '" + visit_all(w) + (w.name == std::string("Teach") ? ";2:tour=2" : "") + "'");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const Json l = layout_of(r);
+    ASSERT_TRUE(l.contains("regions")) << r.out;
+    EXPECT_EQ(l["workspace"], w.name);
+    EXPECT_EQ(l["presentation"], present);
+    EXPECT_EQ(l["overlaps"], 0) << l.dump();
+    EXPECT_TRUE(l["clipped"].empty()) << "cut off: " << l["clipped"].dump(1);
+    // Every panel is in some region, and the regions cover the main area (no hole, no overlap: the sum).
+    for (const char* p : w.panels) EXPECT_NE(region_with(l, p), nullptr) << p << " not shown: " << l.dump();
+    double covered = 0;
+    for (const Json& reg : l["regions"]) {
+      const Json& rc = reg["rect"];
+      EXPECT_GE(rc[0].get<int>(), 0);
+      EXPECT_LE(rc[0].get<int>() + rc[2].get<int>(), width);
+      EXPECT_LE(rc[1].get<int>() + rc[3].get<int>(), height);
+      EXPECT_GT(rc[2].get<int>(), 100) << reg.dump();
+      EXPECT_GT(rc[3].get<int>(), 60) << reg.dump();
+      covered += area(reg);
+    }
+    EXPECT_GT(covered, 0.8 * width * height) << l.dump();
+    const Json* live = region_with(l, "live_view");
+    ASSERT_NE(live, nullptr);
+    const bool script = w.name == std::string("Script");
+    if (present) {
+      // The teacher's screen: text of 28 px or more at 1080 lines, and the image and the stage on most of it
+      // (Script keeps half the width for the editor).
+      if (height >= 1080) {
+        EXPECT_GE(l["font_px"].get<double>(), 28.0);
+      }
+      EXPECT_GT(l["font_px"].get<double>(), 15.0);
+      if (script) {
+        EXPECT_GT(area(*live), 0.3 * width * height) << l.dump();
+      } else {
+        const Json* stage = region_with(l, "pipeline");
+        ASSERT_NE(stage, nullptr);
+        EXPECT_GT(area(*live) + area(*stage), 0.5 * width * height) << l.dump();
+      }
+    }
+    // The screenshot shows the accepted markers' outlines inside the live view's region (the scene's media
+    // cover them in Script).
+    const cv::Mat img = cv::imread(shot);
+    ASSERT_EQ(img.size(), cv::Size(width, height));
+    const Json& rc = (*live)["rect"];
+    const cv::Rect live_rect(rc[0].get<int>(), rc[1].get<int>(), rc[2].get<int>(), rc[3].get<int>());
+    if (!script) {
+      EXPECT_GT(green_pixels(img, live_rect), 100);
+    }
+  }
+}
+
+TEST(Workspaces, InspectFitsAt1280x720) { fits(kInspect, 1280, 720); }
+TEST(Workspaces, InspectFitsAt1600x900) { fits(kInspect, 1600, 900); }
+TEST(Workspaces, InspectFitsAt1920x1080) { fits(kInspect, 1920, 1080); }
+TEST(Workspaces, ScriptFitsAt1280x720) { fits(kScript, 1280, 720); }
+TEST(Workspaces, ScriptFitsAt1600x900) { fits(kScript, 1600, 900); }
+TEST(Workspaces, ScriptFitsAt1920x1080) { fits(kScript, 1920, 1080); }
+TEST(Workspaces, TeachFitsAt1280x720) { fits(kTeach, 1280, 720); }
+TEST(Workspaces, TeachFitsAt1600x900) { fits(kTeach, 1600, 900); }
+TEST(Workspaces, TeachFitsAt1920x1080) { fits(kTeach, 1920, 1080); }
+
+std::string args(const TempDir& tmp, const std::string& more) {
+  return "--config-dir '" + tmp.str("config") + "' --frames 20 --stats " + more;
+}
+
+TEST(Workspaces, SplitterAndMovedPanelAreKeptBetweenRuns) {
+  TempDir tmp;
+  // What dragging the first splitter to 30% and the Timings tab onto the Candidates region does.
+  RunResult r = test::run_arwb_window(args(tmp, "--actions '5:splitter=0,0.3;6:move=timings>candidates'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string file = test::read_file(tmp.str("config/workspaces.json"));
+  EXPECT_NE(file.find("\"ratio\": 0.3"), std::string::npos) << file;
+  // A second run without actions starts from that arrangement.
+  r = test::run_arwb_window(args(tmp, ""));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json l = layout_of(r);
+  const Json* cands = region_with(l, "candidates");
+  ASSERT_NE(cands, nullptr) << l.dump();
+  EXPECT_EQ(cands, region_with(l, "timings")) << l.dump();
+  const Json* live = region_with(l, "live_view");
+  ASSERT_NE(live, nullptr);
+  EXPECT_NEAR((*live)["rect"][2].get<double>(), 0.3 * 1600, 12) << l.dump();
+  EXPECT_EQ(l["overlaps"], 0);
+}
+
+TEST(Workspaces, UsersSaveTheirOwnWorkspace) {
+  TempDir tmp;
+  RunResult r = test::run_arwb_window(args(tmp, "--actions '5:move=log>live_view;6:save_workspace=Mine'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(layout_of(r)["workspace"], "Mine");
+  // Kept: the next run opens in it, with the log beside the live view.
+  r = test::run_arwb_window(args(tmp, ""));
+  Json l = layout_of(r);
+  EXPECT_EQ(l["workspace"], "Mine");
+  EXPECT_EQ(region_with(l, "log"), region_with(l, "live_view")) << l.dump();
+  // The shipped workspaces are still there to switch to.
+  r = test::run_arwb_window(args(tmp, "--actions '2:workspace=Teach'"));
+  l = layout_of(r);
+  EXPECT_EQ(l["workspace"], "Teach");
+  EXPECT_NE(region_with(l, "tour"), nullptr) << l.dump();
+  // A shipped name cannot be taken.
+  r = test::run_arwb_window(args(tmp, "--actions '2:save_workspace=Teach'"));
+  EXPECT_NE(r.err.find("'Teach' is a shipped workspace"), std::string::npos) << r.err;
+}
+
+TEST(Workspaces, ActionsSwitchWorkspaceAndBringPanelsToFront) {
+  TempDir tmp;
+  // In the same frame as the switch: the opened panel goes into the new workspace.
+  RunResult r = test::run_arwb_window(args(tmp, "--actions '2:workspace=Script;2:open=timings;6:close=console'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  Json l = layout_of(r);
+  EXPECT_EQ(l["workspace"], "Script");
+  ASSERT_NE(region_with(l, "script"), nullptr) << l.dump();
+  const Json* t = region_with(l, "timings");   // opened: added to the workspace, in front of its region
+  ASSERT_NE(t, nullptr) << l.dump();
+  EXPECT_EQ((*t)["front"], "timings");
+  EXPECT_EQ(region_with(l, "console"), nullptr) << l.dump();
+  EXPECT_EQ(l["overlaps"], 0);
+  r = test::run_arwb_window(args(tmp, "--actions '2:workspace=Nowhere'"));
+  EXPECT_NE(r.err.find("no workspace 'Nowhere'"), std::string::npos) << r.err;
+}
+
+TEST(Workspaces, AClosedPanelReopensBesideTheOnesItBelongsWith) {
+  TempDir tmp;
+  // Timings shares a region with Peers in the shipped Inspect: closed, then opened again (the View menu), it goes
+  // back there, in front.
+  const RunResult r = test::run_arwb_window(args(tmp, "--actions '5:close=timings;8:open=timings'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json l = layout_of(r);
+  const Json* t = region_with(l, "timings");
+  ASSERT_NE(t, nullptr) << l.dump();
+  EXPECT_EQ(t, region_with(l, "peers")) << l.dump();
+  EXPECT_EQ((*t)["front"], "timings");
+}
+
+TEST(Workspaces, ABadWorkspacesFileGivesAMessageAndTheShippedLayout) {
+  TempDir tmp;
+  std::filesystem::create_directories(tmp.str("config"));
+  for (const std::string& bad :
+       {std::string("{\"version\": 1, \"workspaces\": [{\"name\": \"Inspect\", \"normal\": {\"tabs\": [\"bogus\"]}, "
+                    "\"presentation\": {\"tabs\": []}}]}"),
+        std::string("{ not json"), std::string("{\"version\": 1, \"workspaces\": [{\"name\": \"X\", \"normal\": "
+                                               "{\"split\": \"rows\", \"ratio\": 7, \"first\": {}, \"second\": {}}, "
+                                               "\"presentation\": {\"tabs\": []}}]}")}) {
+    test::write_file(tmp.str("config/workspaces.json"), bad);
+    const RunResult r = test::run_arwb_window(args(tmp, ""));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("workspaces.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(the shipped workspaces are used; the file is kept as"), std::string::npos) << r.err;
+    EXPECT_EQ(test::read_file(tmp.str("config/workspaces.json.bad")), bad);
+    const Json l = layout_of(r);
+    EXPECT_EQ(l["workspace"], "Inspect");
+    EXPECT_NE(region_with(l, "candidates"), nullptr) << l.dump();
+  }
+}
+
+}  // namespace
+}  // namespace arwb
