@@ -225,6 +225,11 @@ struct View {
   std::string print_sheet;       // a dictionary: a panel asks for the marker sheet dialog with it, ids from
   int print_first_id = 0;        // print_first_id
   Panel front = Panel::count;    // a panel the workspace brings to the front of its region next (added if absent)
+  // Opens panel p and brings its tab to the front: what a click, a shortcut or an action that leads to a panel does.
+  void show(Panel p) {
+    open[static_cast<size_t>(p)] = true;
+    front = p;
+  }
   // Teaching
   bool presentation = false;
   int tour_step = 0;

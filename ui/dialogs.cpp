@@ -335,7 +335,7 @@ void App::draw_dialogs(ui::Context& ctx) {
     } else {
       if (ImGui::Button("Save") || a == "save") {
         view.script_save_now = true;   // the editor saves at its next draw; the request's result proceeds
-        view.open[static_cast<size_t>(ui::Panel::script)] = true;
+        view.show(ui::Panel::script);
         save_wait = 0;
       }
       ImGui::SameLine();

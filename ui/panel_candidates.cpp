@@ -339,7 +339,7 @@ void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
       if (ImGui::Selectable(label, selected, ImGuiSelectableFlags_SpanAllColumns | ImGuiSelectableFlags_AllowItemOverlap)) {
         ctx.view.selected_candidate = i;
         st.last_selected = i;
-        ctx.view.open[static_cast<size_t>(Panel::inspector)] = true;
+        ctx.view.show(Panel::inspector);
       }
       if (ImGui::IsItemHovered()) {
         ctx.view.hovered_candidate = i;

@@ -417,7 +417,7 @@ void draw_live_view(Context& ctx) {
         if (x1 - x0 >= 2 && y1 - y0 >= 2) {
           ctx.view.region = {x0, y0, x1 - x0, y1 - y0};
           ctx.view.has_region = true;
-          ctx.view.open[static_cast<size_t>(Panel::why)] = true;
+          ctx.view.show(Panel::why);
         }
       }
     }
@@ -429,7 +429,7 @@ void draw_live_view(Context& ctx) {
       st.pressed_url.clear();
       const int hit = candidate_at(t, {m.mouse_px.x, m.mouse_px.y});
       ctx.view.selected_candidate = hit;
-      if (hit >= 0) ctx.view.open[static_cast<size_t>(Panel::inspector)] = true;
+      if (hit >= 0) ctx.view.show(Panel::inspector);
     }
   }
   if (!st.pressed_url.empty() && ImGui::IsMouseReleased(ImGuiMouseButton_Left)) {

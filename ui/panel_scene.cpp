@@ -101,11 +101,11 @@ void scene_state(Context& ctx) {
       }
       ImGui::SameLine();
     }
-    if (ImGui::SmallButton("Console")) ctx.view.open[static_cast<size_t>(Panel::console)] = true;
+    if (ImGui::SmallButton("Console")) ctx.view.show(Panel::console);
   } else if (!s.file.empty()) {
     if (ImGui::SmallButton("Edit script")) show_script_line(ctx, 0);
     ImGui::SameLine();
-    if (ImGui::SmallButton("Console")) ctx.view.open[static_cast<size_t>(Panel::console)] = true;
+    if (ImGui::SmallButton("Console")) ctx.view.show(Panel::console);
   }
   if (!s.dictionary.empty()) {
     const std::string& reads = ctx.settings.dictionaries.empty() ? std::string() : ctx.settings.dictionaries[0];

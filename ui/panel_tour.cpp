@@ -27,7 +27,7 @@ void stage_figures(Context& ctx, const TourStep& step) {
     const float w = std::min(ImGui::GetContentRegionAvail().x, 520.0f * ctx.scale);
     const float h = w * static_cast<float>(view.rows) / static_cast<float>(view.cols);
     image_button(ctx, "tour:" + step.key, view, f.index, {w, h});
-    if (ImGui::IsItemClicked()) ctx.view.open[static_cast<size_t>(Panel::pipeline)] = true;
+    if (ImGui::IsItemClicked()) ctx.view.show(Panel::pipeline);
   }
 }
 

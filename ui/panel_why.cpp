@@ -112,7 +112,7 @@ void draw_why(Context& ctx) {
       ImGui::PushID(c.index);
       if (ImGui::Selectable(c.line.c_str(), v.selected_candidate == c.index)) {
         v.selected_candidate = c.index;
-        v.open[static_cast<size_t>(Panel::inspector)] = true;
+        v.show(Panel::inspector);
       }
       if (ImGui::IsItemHovered()) v.hovered_candidate = c.index;
       ImGui::PopID();

@@ -31,8 +31,7 @@ bool waiting_for_frame(const Context& ctx) {
 
 void show_script_line(Context& ctx, int line) {
   ctx.view.script_goto_line = line;
-  ctx.view.open[static_cast<size_t>(Panel::script)] = true;
-  ctx.view.front = Panel::script;   // the workspace puts its tab in front
+  ctx.view.show(Panel::script);   // the workspace puts its tab in front
 }
 
 void flow(float width) {

@@ -97,13 +97,13 @@ void App::run_action(const Action& a) {
         if (frame->trace.candidates[i].marker == 0) view.selected_candidate = static_cast<int>(i);
       }
     }
-    if (view.selected_candidate >= 0) view.open[static_cast<size_t>(ui::Panel::inspector)] = true;
+    if (view.selected_candidate >= 0) view.show(ui::Panel::inspector);
   } else if (a.verb == "region") {
     float x, y, w, h;
     if (std::sscanf(a.arg.c_str(), "%f,%f,%f,%f", &x, &y, &w, &h) == 4 && w > 0 && h > 0) {
       view.region = {x, y, w, h};
       view.has_region = true;
-      view.open[static_cast<size_t>(ui::Panel::why)] = true;
+      view.show(ui::Panel::why);
     } else {
       warn("--actions: region wants X,Y,W,H, not '" + a.arg + "'");
     }
@@ -121,7 +121,7 @@ void App::run_action(const Action& a) {
   } else if (a.verb == "tour") {
     view.tour_active = true;
     settings.frozen = true;
-    view.open[static_cast<size_t>(ui::Panel::tour)] = true;
+    view.show(ui::Panel::tour);
     if (!a.arg.empty()) view.tour_step = std::atoi(a.arg.c_str());
   } else if (a.verb == "presentation") {
     set_presentation(!view.presentation);
@@ -170,9 +170,9 @@ void App::run_action(const Action& a) {
     drop(a.arg);
   } else if (a.verb == "focus") {
     view.focus_field = a.arg;
-    if (a.arg == "script") view.open[static_cast<size_t>(ui::Panel::script)] = true;
-    if (a.arg == "source_path") view.open[static_cast<size_t>(ui::Panel::source)] = true;
-    if (a.arg == "preset_path") view.open[static_cast<size_t>(ui::Panel::parameters)] = true;
+    if (a.arg == "script") view.show(ui::Panel::script);
+    if (a.arg == "source_path") view.show(ui::Panel::source);
+    if (a.arg == "preset_path") view.show(ui::Panel::parameters);
   } else if (a.verb == "type") {
     // "\n" is Enter; everything else is typed as it is.
     for (size_t i = 0; i < a.arg.size(); ++i) {
@@ -295,7 +295,7 @@ void App::handle_keys() {
   if (ImGui::IsKeyPressed(GLFW_KEY_T) && !io.KeyCtrl) {
     view.tour_active = true;
     settings.frozen = true;
-    view.open[static_cast<size_t>(ui::Panel::tour)] = true;
+    view.show(ui::Panel::tour);
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_F5)) set_presentation(!view.presentation);
   if (ImGui::IsKeyPressed(GLFW_KEY_Z) && io.KeyCtrl) {
@@ -349,7 +349,7 @@ void App::draw_menu(GLFWwindow* window) {
     if (ImGui::MenuItem("Guided tour", "T")) {
       view.tour_active = true;
       settings.frozen = true;  // a lesson explains one frame; "Next frame" moves on
-      view.open[static_cast<size_t>(ui::Panel::tour)] = true;
+      view.show(ui::Panel::tour);
     }
     ImGui::MenuItem("Freeze frame", "Space", &settings.frozen);
     if (ImGui::MenuItem("Next frame", "N")) requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});

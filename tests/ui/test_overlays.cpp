@@ -21,8 +21,8 @@ using test::RunResult;
 using test::TempDir;
 
 const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
-// The live view's place in the first start's layout of a 1600x900 window.
-const cv::Rect kLiveView(0, 40, 800, 520);
+// The live view's region in the Inspect workspace of a 1600x900 window (as in test_workbench.cpp).
+const cv::Rect kLiveView(0, 50, 730, 500);
 
 nlohmann::json stats(const RunResult& r) {
   const auto s = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')), nullptr, false);
@@ -59,14 +59,28 @@ cv::Rect box_rect(const nlohmann::json& b) {
   return {b[0].get<int>(), b[1].get<int>(), b[2].get<int>() - b[0].get<int>(), b[3].get<int>() - b[1].get<int>()};
 }
 
+// The live view's region as the --stats layout reports it (it differs between the normal and the presentation
+// arrangement); kLiveView when the report has none.
+cv::Rect live_view_region(const nlohmann::json& s) {
+  if (s.contains("layout") && s["layout"].contains("regions")) {
+    for (const auto& r : s["layout"]["regions"]) {
+      for (const auto& p : r["panels"]) {
+        if (p == "live_view") return {r["rect"][0].get<int>(), r["rect"][1].get<int>(), r["rect"][2].get<int>(), r["rect"][3].get<int>()};
+      }
+    }
+  }
+  ADD_FAILURE() << "no live_view region in the layout";
+  return kLiveView;
+}
+
 // The labels' boxes from --stats, each checked against the screenshot: a dark box with green text in it, inside
-// the live view, overlapping no other box.
-std::vector<cv::Rect> checked_label_boxes(const nlohmann::json& labels, const cv::Mat& shot) {
+// the live view's region `view`, overlapping no other box.
+std::vector<cv::Rect> checked_label_boxes(const nlohmann::json& labels, const cv::Mat& shot, cv::Rect view) {
   std::vector<cv::Rect> boxes;
   for (const auto& b : labels["boxes"]) boxes.push_back(box_rect(b));
   for (size_t i = 0; i < boxes.size(); ++i) {
     const cv::Rect r = boxes[i];
-    EXPECT_EQ(r & kLiveView, r) << "label " << i << " outside the live view";
+    EXPECT_EQ(r & view, r) << "label " << i << " outside the live view";
     for (size_t j = i + 1; j < boxes.size(); ++j) {
       // The reported boxes are rounded outwards by up to a pixel: a pixel of contact is not an overlap.
       const cv::Rect both = boxes[i] & boxes[j];
@@ -91,6 +105,7 @@ TEST(Overlays, CrowdedLabelsNeitherOverlapNorCoverMarkersInBothModes) {
   TempDir tmp;
   const std::string image = crowded_image(tmp);
   std::vector<int> heights[2];
+  double scale[2] = {0, 0};
   for (int mode = 0; mode < 2; ++mode) {
     SCOPED_TRACE(mode ? "presentation" : "normal");
     const std::string shot_path = tmp.str(mode ? "presentation.png" : "normal.png");
@@ -109,15 +124,17 @@ TEST(Overlays, CrowdedLabelsNeitherOverlapNorCoverMarkersInBothModes) {
     EXPECT_EQ(labels["on_corners"], 0) << labels;
     const cv::Mat shot = cv::imread(shot_path);
     ASSERT_FALSE(shot.empty());
-    for (const cv::Rect& b : checked_label_boxes(labels, shot)) heights[mode].push_back(b.height);
+    for (const cv::Rect& b : checked_label_boxes(labels, shot, live_view_region(s))) heights[mode].push_back(b.height);
+    scale[mode] = s["layout"].value("scale", 0.0);
     ASSERT_EQ(static_cast<int>(heights[mode].size()), drawn);
   }
-  // Presentation mode doubles the labels' text.
+  // Presentation mode scales the labels' text with the rest (25 px text for 15 at 900 lines: x1.67).
   ASSERT_FALSE(heights[0].empty());
   ASSERT_FALSE(heights[1].empty());
+  ASSERT_GT(scale[1], 1.5);
   const double ratio = static_cast<double>(heights[1][0]) / heights[0][0];
-  EXPECT_GT(ratio, 1.7);
-  EXPECT_LT(ratio, 2.3);
+  EXPECT_GT(ratio, scale[1] * 0.85);
+  EXPECT_LT(ratio, scale[1] * 1.15);
 }
 
 TEST(Overlays, LabelsAndRejectedCandidatesAreHiddenPerKind) {
