@@ -357,14 +357,36 @@ void status_line(Context& ctx, const ImageMapping& m) {
 
 void draw_live_view(Context& ctx) {
   LiveViewState& st = panel_state<LiveViewState>(ctx.view, Panel::live_view);
-  toolbar(ctx);
+  if (ctx.view.presentation) {
+    // In front of a class the picture matters, not the switches: they wait behind one button.
+    if (ImGui::Button("Overlays...")) ImGui::OpenPopup("toolbar");
+    if (ImGui::BeginPopup("toolbar")) {
+      toolbar(ctx);
+      ImGui::EndPopup();
+    }
+  } else {
+    toolbar(ctx);
+  }
   if (waiting_for_frame(ctx)) return;
   const Frame& f = *ctx.frame;
   ImVec2 avail = ImGui::GetContentRegionAvail();
   // Room for the status line's parts, on one line or wrapped (status_line).
-  const float parts = text_width("frame 000000  0000x0000  000%") + text_width("00 markers, 0000 candidates") +
-                      text_width("detect 00.00 ms") + ImGui::GetStyle().ItemSpacing.x * 2;
-  const float lines = parts <= avail.x ? 1.0f : std::ceil(parts / std::max(avail.x, 1.0f)) + 1.0f;
+  // The lines status_line's three parts take when they wrap as flow() wraps them (the zoom at its widest).
+  float lines = 1, x = 0;
+  char parts[3][96];
+  std::snprintf(parts[0], sizeof parts[0], "frame %llu  %dx%d  0000%%", static_cast<unsigned long long>(f.index),
+                f.image.cols, f.image.rows);
+  std::snprintf(parts[1], sizeof parts[1], "%zu markers, %zu candidates", f.trace.markers.size(), f.trace.candidates.size());
+  std::snprintf(parts[2], sizeof parts[2], "detect %.2f ms", f.detect_ms);
+  for (const char* part : parts) {
+    const float w = text_width(part);
+    if (x > 0 && x + ImGui::GetStyle().ItemSpacing.x + w > avail.x) {
+      ++lines;
+      x = w;
+    } else {
+      x += (x > 0 ? ImGui::GetStyle().ItemSpacing.x : 0) + w;
+    }
+  }
   avail.y -= ImGui::GetTextLineHeightWithSpacing() * lines;
   // The composite has the frame's size and pixel coordinates: everything drawn over it stays where it was.
   const ImageMapping m = image_view(ctx, "live", "frame", f.image, f.index, ctx.view.image, avail, ctx.composite);

@@ -34,12 +34,13 @@ void draw_pipeline(Context& ctx) {
     ImGui::TextWrapped("The trace is at level '%s': stage pictures are made only at the full level.",
                        std::string(trace_level_name(t.level)).c_str());
   }
-  // Thumbnails in a scrolling column on the left, so the large view keeps most of the panel.
+  // Thumbnails in a scrolling column on the left, so the large view keeps most of the panel. In presentation mode
+  // the stage alone fills the panel: the tour (or a click in the normal mode) chooses it.
+  const bool stage_only = ctx.view.presentation;
   const float thumb_w = 104.0f * ctx.scale;
   const float thumb_h = thumb_w * 0.75f;
   // As wide as the longest stage name and timing line too, so neither is cut.
   const float column_w = std::max({thumb_w, text_width("perspective_removal"), text_width("99.99 ms 9999>9999")});
-  ImGui::BeginChild("thumbs", {column_w + ImGui::GetStyle().ScrollbarSize + 12.0f * ctx.scale, 0}, false);
   int& sel = ctx.view.pipeline_stage;
   if (sel >= 0 && f.views[static_cast<size_t>(sel)].empty()) sel = -1;
   auto thumb = [&](int stage, const std::string& title, const StageRecord* r) {
@@ -58,10 +59,13 @@ void draw_pipeline(Context& ctx) {
     }
     ImGui::Spacing();
   };
-  thumb(-1, "input", nullptr);
-  for (const StageRecord& r : t.stages) thumb(static_cast<int>(r.stage), std::string(stage_name(r.stage)), &r);
-  ImGui::EndChild();
-  ImGui::SameLine();
+  if (!stage_only) {
+    ImGui::BeginChild("thumbs", {column_w + ImGui::GetStyle().ScrollbarSize + 12.0f * ctx.scale, 0}, false);
+    thumb(-1, "input", nullptr);
+    for (const StageRecord& r : t.stages) thumb(static_cast<int>(r.stage), std::string(stage_name(r.stage)), &r);
+    ImGui::EndChild();
+    ImGui::SameLine();
+  }
   ImGui::BeginGroup();
 
   const bool mosaic = sel >= 0 && stage_view_is_mosaic(static_cast<Stage>(sel));
@@ -70,12 +74,14 @@ void draw_pipeline(Context& ctx) {
   ImGui::TextUnformatted(title.c_str());
   const char* about = mosaic ? "(a tile per candidate that reached this stage, in ledger order)"
                              : "(zoom and pan shared with the live view)";
-  flow(text_width(about));
-  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-  ImGui::TextWrapped("%s", about);
-  ImGui::PopStyleColor();
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Wheel zooms, right-drag pans, right double-click fits.");
-  const char* hint = "Hover the image for pixel values; click a thumbnail to show its stage here.";
+  if (!stage_only) {
+    flow(text_width(about));
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", about);
+    ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Wheel zooms, right-drag pans, right double-click fits.");
+  }
+  const char* hint = stage_only ? "" : "Hover the image for pixel values; click a thumbnail to show its stage here.";
   ImVec2 avail = ImGui::GetContentRegionAvail();
   // Room under the image for the pixel line or the hint, wrapped.
   avail.y -= std::max(ImGui::CalcTextSize(hint, nullptr, false, avail.x).y, ImGui::GetTextLineHeight()) +

@@ -75,10 +75,11 @@ std::vector<Workspace> shipped_workspaces() {
          columns(0.48f, rows(0.6f, tabs({P::live_view}), tabs({P::scene})),
                  rows(0.66f, tabs({P::script}), tabs({P::console, P::log}))),
          columns(0.58f, rows(0.68f, tabs({P::live_view}), tabs({P::scene, P::console, P::log})), tabs({P::script}))),
-      // A teacher: the frame and the stage being explained, large, and the tour beside them.
+      // A teacher: the frame and the stage being explained, large, and the tour beside them; in front of a class
+      // the two pictures side by side (4:3 pictures use a wide screen better so) and the tour's text under them.
       ws("Teach",
          columns(0.7f, rows(0.6f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector, P::candidates})),
-         columns(0.66f, rows(0.56f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector}))),
+         rows(0.62f, columns(0.5f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector}))),
   };
 }
 
