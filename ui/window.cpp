@@ -471,6 +471,7 @@ int run_workbench(const WorkbenchOptions& options) {
   ImGui::StyleColorsDark();
   // Opaque windows: panels opened over others (the scene's, on a first start) stay readable.
   ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.0f;
+  ImGui::GetStyle().Colors[ImGuiCol_PopupBg].w = 1.0f;   // dialogs and menus: no panel text showing through
   app.base_style = ImGui::GetStyle();
   const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   if (fs::exists(font)) {
