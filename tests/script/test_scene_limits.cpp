@@ -60,10 +60,10 @@ marker(1, { on_update = function() local x = setmetatable({}, mt) end })
 
 // ---- wall time -------------------------------------------------------------------------------------------------
 
-// Each s:upper() is one instruction to the budget and 10 ms on 16 MB: 5 million of them would take hours.
+// Each s:upper() is one instruction to the budget and about 3 ms on 4 MB: 5 million of them would take hours.
 TEST(Limits, LibraryCallsOverALongStringInALoopAreStoppedByTime) {
   SceneFixture s;
-  const auto p = s.write("scene.lua", R"(local s = string.rep("x", 16 * 1024 * 1024)
+  const auto p = s.write("scene.lua", R"(local s = string.rep("x", 4 * 1024 * 1024)
 marker(1, { media = text "one", on_update = function(m)
   while true do local u = s:upper() end
 end })
@@ -165,12 +165,12 @@ TEST(Limits, TheMainChunkIsStoppedByTimeAndTheLastGoodSceneStays) {
   SceneFixture s;
   const auto good = s.write("good.lua", "marker(1, { media = text \"good\" })\n");
   ASSERT_TRUE(s.runtime.load(good));
-  const auto bad = s.write("bad.lua", "local s = string.rep(\"x\", 16 * 1024 * 1024)\n"
+  const auto bad = s.write("bad.lua", "local s = string.rep(\"x\", 4 * 1024 * 1024)\n"
                                       "while true do local u = s:upper() end\n");
   const auto t0 = Clock::now();
   EXPECT_FALSE(s.runtime.load(bad));
   EXPECT_LT(seconds_since(t0), 3.0);
-  // Line 2 normally; on a loaded machine the 16 MiB string.rep of line 1 can itself use up the 250 ms of wall time.
+  // Line 2 normally; on a loaded machine the 4 MiB string.rep of line 1 could itself use up the 250 ms of wall time.
   const std::string& e = s.runtime.status().error;
   EXPECT_TRUE(e.ends_with("/bad.lua:2: ran longer than 250 ms while loading the scene") ||
               e.ends_with("/bad.lua:1: ran longer than 250 ms while loading the scene"))
