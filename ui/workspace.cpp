@@ -683,21 +683,25 @@ std::string window_what(const ImGuiWindow* w, const char* side, float by) {
   return buf;
 }
 
+// The part of an entry that names what is cut ("table column 'parameter'"), without by how much.
+std::string_view cut_item(std::string_view what) { return what.substr(0, what.find(':')); }
+
 void audit_windows_and_tables(const std::vector<std::pair<ImGuiWindow*, Panel>>& shown, LayoutAudit* audit) {
   ImGuiContext& g = *ImGui::GetCurrentContext();
   std::array<bool, kPanelCount> settled{};
+  std::array<std::vector<std::string>, kPanelCount> now;   // this frame's entries
   for (int i = 0; i < kPanelCount; ++i) {
     const bool drawn = std::any_of(shown.begin(), shown.end(), [i](const auto& s) { return static_cast<int>(s.second) == i; });
     int& n = audit->drawn_in_a_row[static_cast<size_t>(i)];
     n = drawn ? n + 1 : 0;
     settled[static_cast<size_t>(i)] = n >= 3;
-    if (settled[static_cast<size_t>(i)]) audit->clipped[static_cast<size_t>(i)].clear();
+    if (!settled[static_cast<size_t>(i)]) audit->last_frame[static_cast<size_t>(i)].clear();
   }
   for (ImGuiWindow* w : g.Windows) {
     if (!w->Active || w->Hidden) continue;
     const Panel p = panel_of(w, shown);
     if (p == Panel::count || !settled[static_cast<size_t>(p)]) continue;
-    auto& out = audit->clipped[static_cast<size_t>(p)];
+    auto& out = now[static_cast<size_t>(p)];
     // Sideways: cut off unless the window scrolls sideways. Downwards: only a window without a scrollbar cuts.
     // Against the window's own inner rectangle, not its clip rectangle: a child scrolled out of its parent's view
     // is the parent's scrolling (the parent's own overflow is checked on the parent).
@@ -729,7 +733,7 @@ void audit_windows_and_tables(const std::vector<std::pair<ImGuiWindow*, Panel>>&
       if (t->OuterRect.GetHeight() < need) {
         char buf[120];
         std::snprintf(buf, sizeof buf, "table: %.0f px high, no room for a row under its header", t->OuterRect.GetHeight());
-        audit->clipped[static_cast<size_t>(p)].push_back(buf);
+        now[static_cast<size_t>(p)].push_back(buf);
       }
     }
     for (int c = 0; c < t->ColumnsCount; ++c) {
@@ -742,13 +746,27 @@ void audit_windows_and_tables(const std::vector<std::pair<ImGuiWindow*, Panel>>&
       char buf[200];
       if (content > edge + 1) {
         std::snprintf(buf, sizeof buf, "table column '%s': content %.0f px past its edge", name, content - edge);
-        audit->clipped[static_cast<size_t>(p)].push_back(buf);
+        now[static_cast<size_t>(p)].push_back(buf);
       } else if (col.ContentMaxXHeadersIdeal > edge + 1) {
         std::snprintf(buf, sizeof buf, "table column '%s': header %.0f px past its edge", name,
                       col.ContentMaxXHeadersIdeal - edge);
-        audit->clipped[static_cast<size_t>(p)].push_back(buf);
+        now[static_cast<size_t>(p)].push_back(buf);
       }
     }
+  }
+  // Reported: what is cut in this frame and was in the one before. A table's columns fit new content a frame
+  // after it appears (a longer parameter name in a new row), which no one sees; what stays cut is a fault.
+  for (size_t i = 0; i < now.size(); ++i) {
+    if (!settled[i]) continue;
+    std::vector<std::string>& out = audit->clipped[i];
+    out.clear();
+    for (const std::string& w : now[i]) {
+      const auto& last = audit->last_frame[i];
+      if (std::any_of(last.begin(), last.end(), [&](const std::string& l) { return cut_item(l) == cut_item(w); })) {
+        out.push_back(w);
+      }
+    }
+    audit->last_frame[i] = std::move(now[i]);
   }
 }
 }  // namespace

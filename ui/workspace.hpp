@@ -112,7 +112,8 @@ struct LayoutAudit {
   };
   std::vector<Region> regions;
   int overlaps = 0;
-  std::array<std::vector<std::string>, kPanelCount> clipped;
+  std::array<std::vector<std::string>, kPanelCount> clipped;      // cut in the last two frames the panel was audited
+  std::array<std::vector<std::string>, kPanelCount> last_frame;   // what was cut in its last audited frame
   // Frames each panel has been drawn in a row: its entries are taken from the third on, once ImGui's tables and
   // scrollbars have fitted themselves to it (they lag a frame or two behind a change).
   std::array<int, kPanelCount> drawn_in_a_row{};
