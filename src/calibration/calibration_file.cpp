@@ -3,6 +3,7 @@
 #include "detect/yaml_file.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <functional>
@@ -77,6 +78,12 @@ Status open_storage(const std::string& path, cv::FileStorage* fs) {
   return {};
 }
 
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 bool is_number(const cv::FileNode& n) { return n.isInt() || n.isReal(); }
 
 struct Numbers {
@@ -137,8 +144,8 @@ Status read_camera_matrix(const cv::FileNode& root, const std::string& path, con
     return fail(where + ": expected 3x3 values, found " + std::to_string(rows) + "x" + std::to_string(cols));
   const std::vector<double>& v = m->values;
   c->camera_matrix = cv::Matx33d(v.data());
-  if (!(v[0] > 0)) return fail(where + ": focal length fx " + std::to_string(v[0]) + " is not positive");
-  if (!(v[4] > 0)) return fail(where + ": focal length fy " + std::to_string(v[4]) + " is not positive");
+  if (!(v[0] > 0)) return fail(where + ": focal length fx " + num(v[0]) + " is not positive");
+  if (!(v[4] > 0)) return fail(where + ": focal length fy " + num(v[4]) + " is not positive");
   if (v[3] != 0 || v[6] != 0 || v[7] != 0 || std::abs(v[8] - 1) > 1e-9)
     return fail(where + ": not a camera matrix (its last row must be 0 0 1 and the value under fx 0)");
   return {};
@@ -271,6 +278,15 @@ Result<Calibration> calibration_for_size(const Calibration& c, cv::Size size) {
 
 namespace {
 
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
 Result<int> storage_format(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".xml") return int(cv::FileStorage::FORMAT_XML);
@@ -299,7 +315,7 @@ Status write_calibration(const std::string& path, const Calibration& c, const Ca
   if (!format) return fail(format.error());
   const cv::Mat K(c.camera_matrix), D(1, int(c.distortion.size()), CV_64F, const_cast<double*>(c.distortion.data()));
   return write_storage(path, *format, [&](cv::FileStorage& fs) {
-    fs << "calibration_date" << x.date;
+    fs << "calibration_date" << (x.date.empty() ? utc_now() : x.date);
     fs << "image_width" << c.image_size.width << "image_height" << c.image_size.height;
     fs << "board" << x.board << "view_count" << x.view_count;
     fs << "camera_matrix" << K << "distortion_coefficients" << D;

@@ -49,7 +49,7 @@ struct CalibrationFileExtras {
   std::vector<double> std_distortion;   // as many as distortion
   std::string board;                    // "chessboard 9x6 inner corners, 25 mm squares"
   int view_count = 0;
-  std::string date;                     // ISO 8601, UTC
+  std::string date;                     // ISO 8601, UTC; now when empty
   std::vector<std::string> notes;       // fixed parameters, dropped views
 };
 
