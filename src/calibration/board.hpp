@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,8 +26,21 @@ struct BoardDetection {
 };
 
 // Finds the board in an 8-bit grey or BGR frame (OpenCV's findChessboardCornersSB, which is accurate to a
-// fraction of a pixel without cornerSubPix, then its sharpness estimate).
+// fraction of a pixel without cornerSubPix, then its sharpness estimate). A grid whose points are not nearly all
+// chessboard corners (four squares meeting) is refused: asked for fewer corners than the board has, OpenCV can
+// return one that runs along the board's outer edge.
 BoardDetection detect_chessboard(const cv::Mat& frame, const BoardSpec& board);
+
+// The first of `sizes` (inner corners) that a chessboard in the frame has, by OpenCV's findChessboardCorners,
+// which finds a board only at its exact size: for naming the board that is there when the one asked for is not.
+std::optional<cv::Size> find_any_chessboard(const cv::Mat& frame, std::initializer_list<cv::Size> sizes);
+
+// The inner corners of the chessboard that a grid found in `frame` (at `corners`, all chessboard corners) belongs
+// to, when it is larger than `board`: a grid of 7x5 corners inside a 9x6 board would make every view one of a
+// board other than the one printed. Looks one square beyond each side of the grid for more chessboard corners
+// and goes on while it finds them. nullopt when the board ends where the grid does.
+std::optional<cv::Size> larger_board(const cv::Mat& frame, const BoardSpec& board,
+                                     const std::vector<cv::Point2f>& corners);
 
 // The view's place in the ROS calibrator's four terms, each 0..1: x and y of the board's centre across the room
 // the board leaves in the image, size (the square root of the board's share of the image) and skew (how far the

@@ -171,5 +171,28 @@ TEST(ViewSelection, KeepsStillNewViewsAndSaysWhyOthersAreRefused) {
   EXPECT_EQ(v.kind, "edge") << v.reason;
 }
 
+TEST(BoardDetection, FindsThePapersBoardAndRefusesGridsOfAnotherSize) {
+  const SynthCamera camera;
+  const ChessboardRenderer renderer(camera, SynthChessboard{});
+  const auto poses = chessboard_poses(camera, SynthChessboard{}, 4, 5);
+  for (const auto& [rv, tv] : poses) {
+    const ChessboardView view = renderer.render(rv, tv, 0.6, 1.5, 1);
+    const BoardDetection d = detect_chessboard(view.image, kBoard);
+    ASSERT_TRUE(d.found);
+    EXPECT_FALSE(larger_board(view.image, kBoard, d.corners).has_value());
+    // OpenCV alone returns a 7x5 grid along the board's outer edge for some of these: refused here.
+    EXPECT_FALSE(detect_chessboard(view.image, BoardSpec{7, 5, 25}).found);
+    EXPECT_FALSE(detect_chessboard(view.image, BoardSpec{10, 7, 25}).found);
+    // A correct grid of 7x5 of the board's corners grows back to the whole 9x6 board.
+    std::vector<cv::Point2f> part;
+    for (int r = 1; r < 6; ++r)
+      for (int c = 1; c < 8; ++c) part.push_back(d.corners[size_t(r * 9 + c)]);
+    const std::optional<cv::Size> whole = larger_board(view.image, BoardSpec{7, 5, 25}, part);
+    ASSERT_TRUE(whole.has_value());
+    EXPECT_EQ(*whole, cv::Size(9, 6));
+    EXPECT_EQ(find_any_chessboard(view.image, {{7, 5}, {8, 6}, {9, 6}}), std::optional<cv::Size>(cv::Size(9, 6)));
+  }
+}
+
 }  // namespace
 }  // namespace arwb
