@@ -267,6 +267,17 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"empty", "\n\n", "empty file"}),
     [](const testing::TestParamInfo<Refusal>& p) { return std::string(p.param.name); });
 
+// OpenCV's XML parser recurses once per element: 40,000 nested elements overflow its stack (a crash before our
+// check; fuzz/regressions/calibration/nested_40000_deep.xml).
+TEST(CalibrationFile, RefusesXmlNestedDeeperThanItsParserCanTake) {
+  TempDir dir;
+  std::string text = "<?xml version=\"1.0\"?>\n<opencv_storage>\n";
+  for (int i = 0; i < 40000; ++i) text += "<a>";
+  const Result<Calibration> c = read_text(dir, "deep.xml", text);
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error(), dir.str("deep.xml") + ":3: nested deeper than 32 levels");
+}
+
 TEST(CalibrationFile, RefusesWhatIsNotARegularFile) {
   TempDir dir;
   std::filesystem::create_directory(dir.str("folder.yml"));
