@@ -177,3 +177,22 @@ TEST(Calibrate, CharucoAndCamerasSayNotYet) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Calibrate, SynthChessboardViewsCalibrateToTheCameraWrittenBesideThem) {
+  TempDir dir;
+  const auto s = run_arwb("synth --chessboard --count 12 --seed 3 --out " + q(dir.str("views")));
+  ASSERT_EQ(s.status, 0) << s.err;
+  const Result<Calibration> truth = read_calibration(dir.str("views/truth_camera.yml"));
+  ASSERT_TRUE(truth.ok()) << truth.error();
+  const auto r = run_arwb("calibrate --input " + q(dir.str("views")) + " --out " + q(dir.str("cam.yml")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Result<Calibration> got = read_calibration(dir.str("cam.yml"));
+  ASSERT_TRUE(got.ok()) << got.error();
+  EXPECT_NEAR(got->camera_matrix(0, 0), truth->camera_matrix(0, 0), 0.005 * truth->camera_matrix(0, 0));
+  EXPECT_NEAR(got->camera_matrix(1, 2), truth->camera_matrix(1, 2), 2.0);
+  EXPECT_NEAR(got->distortion[0], truth->distortion[0], 0.02);
+}
+
+}  // namespace
