@@ -170,6 +170,13 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
   rep.checklist.push_back({"image coverage", rep.grid_coverage >= kMinGridCoverage,
                            num(100 * rep.grid_coverage, 0) + " % of an 8x6 grid holds corners (need " +
                                num(100 * kMinGridCoverage, 0) + " %)"});
+  // The benchmark line: OpenCV's defaults on every view given.
+  if (Result<Run> plain = run_opencv(all, board, size, 0, K0)) {
+    s.opencv_defaults.camera_matrix = cv::Matx33d(plain->K);
+    s.opencv_defaults.distortion.assign(plain->D.begin<double>(), plain->D.end<double>());
+    s.opencv_defaults.image_size = size;
+    s.opencv_defaults_rms = plain->rms;
+  }
   for (size_t i = 0; i < views.size(); ++i) rep.worst_first.emplace_back(views[i].name, s.per_view_errors[i]);
   std::stable_sort(rep.worst_first.begin(), rep.worst_first.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
@@ -187,6 +194,12 @@ std::string solution_text(const Solution& s) {
     t += std::string(i ? "  " : "") + dn[i] + " " + num(s.calibration.distortion[i], 4) + " ± " +
          num(s.std_distortion[i], 4);
   t += "\nRMS reprojection error " + num(s.rms, 3) + " px over " + std::to_string(s.view_names.size()) + " views\n";
+  if (!s.opencv_defaults.distortion.empty()) {
+    const cv::Matx33d& O = s.opencv_defaults.camera_matrix;
+    t += "OpenCV calibrateCamera, default flags, all views: fx " + num(O(0, 0)) + "  fy " + num(O(1, 1)) + "  cx " +
+         num(O(0, 2)) + "  cy " + num(O(1, 2)) + "  k1 " + num(s.opencv_defaults.distortion[0], 4) + "  k2 " +
+         num(s.opencv_defaults.distortion[1], 4) + "  RMS " + num(s.opencv_defaults_rms, 3) + " px\n";
+  }
   for (const std::string& n : s.notes) t += "note: " + n + "\n";
   for (const Check& c : s.report.checklist) t += std::string(c.ok ? "[ok]   " : "[poor] ") + c.name + ": " + c.detail + "\n";
   const CoverageBars& b = s.report.bars;
@@ -217,6 +230,12 @@ std::string solution_json(const Solution& s, const BoardSpec& board) {
   j["std_dev_distortion"] = s.std_distortion;
   j["avg_reprojection_error"] = s.rms;
   j["view_count"] = s.view_names.size();
+  if (!s.opencv_defaults.distortion.empty()) {
+    const cv::Matx33d& O = s.opencv_defaults.camera_matrix;
+    j["opencv_defaults"] = {{"fx", O(0, 0)}, {"fy", O(1, 1)}, {"cx", O(0, 2)}, {"cy", O(1, 2)},
+                            {"distortion_coefficients", s.opencv_defaults.distortion},
+                            {"avg_reprojection_error", s.opencv_defaults_rms}};
+  }
   j["notes"] = s.notes;
   json checks = json::array();
   for (const Check& c : s.report.checklist) checks.push_back({{"name", c.name}, {"ok", c.ok}, {"detail", c.detail}});

@@ -55,6 +55,10 @@ struct Solution {
   std::vector<double> std_distortion;     // as calibration.distortion
   std::vector<std::string> notes;         // "k3 fixed at 0: ...", "dropped frame 12 (2.31 px, median 0.22 px)"
   QualityReport report;
+  // The benchmark: OpenCV's calibrateCamera with its default flags on all the views given (none dropped, nothing
+  // fixed), to print beside ours.
+  Calibration opencv_defaults;
+  double opencv_defaults_rms = 0;
 };
 
 // Calibrates from `views` of `board` in frames of `size`. Fails with one line: too few views ("4 views; at least 6

@@ -79,6 +79,9 @@ TEST(CalibrationSolve, FindsTheKnownCameraFromSyntheticChessboardViews) {
               D2.at<double>(1), rms2);
   for (const std::string& n : s->notes) std::printf("note: %s\n", n.c_str());
   EXPECT_LE(s->rms, rms2 + 0.01) << "ours must not be worse than OpenCV's defaults";
+  // The benchmark the report carries is that same run.
+  EXPECT_NEAR(s->opencv_defaults.camera_matrix(0, 0), K2.at<double>(0, 0), 1e-6);
+  EXPECT_NEAR(s->opencv_defaults_rms, rms2, 1e-9);
 }
 
 TEST(CalibrationSolve, ReportsTheChecklistCoverageAndWorstViewFirst) {
