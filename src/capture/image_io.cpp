@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <initializer_list>
+#include <functional>
 #include <mutex>
 #include <limits>
 #include <span>
@@ -525,54 +526,66 @@ bool is_decoder_line(std::string_view line) {
   return false;
 }
 
-// cv::imdecode without the decoder libraries' own lines on the terminal. libpng and libjpeg print warnings and
-// errors straight to stderr, and OpenCV gives no way to hand them a handler of ours. So while the decoder runs,
-// file descriptor 2 points to an anonymous in-memory file; afterwards the decoders' lines are dropped (the first
-// is returned in *said, "IDAT: CRC error", for our own message) and any other line, which another thread wrote
-// meanwhile, is passed on to the real stderr: delayed by the decode, never lost. One decode at a time does this.
+// cv::imdecode without the decoder libraries' own lines on the terminal (libpng and libjpeg print straight to
+// stderr); the first such line is returned in *said, "IDAT: CRC error", for our own message.
 cv::Mat decode_quietly(std::span<const uint8_t> bytes, int flags, std::string* said) {
+  cv::Mat image;
+  const std::string first = without_library_lines(
+      [&] {
+        try {
+          // The Mat only wraps the caller's bytes (checked by the caller to fit an int); imdecode does not write
+          // to them.
+          const cv::Mat buf(1, static_cast<int>(bytes.size()), CV_8U, const_cast<uint8_t*>(bytes.data()));
+          image = cv::imdecode(buf, flags);
+        } catch (const cv::Exception&) {
+          image.release();
+        } catch (const std::exception&) {  // std::bad_alloc from a decoder library
+          image.release();
+        }
+      },
+      is_decoder_line);
+  std::string_view what = first;
+  for (std::string_view prefix : {"libpng error: ", "libpng warning: "})
+    if (what.substr(0, prefix.size()) == prefix) what.remove_prefix(prefix.size());
+  *said = std::string(what.substr(0, 200));
+  return image;
+}
+
+}  // namespace
+
+// While `work` runs, file descriptor 2 points to an anonymous in-memory file, as the libraries give no way to
+// hand them a handler of ours; afterwards their lines are dropped and any other line, which another thread wrote
+// meanwhile, is passed on to the real stderr: delayed, never lost. One such run at a time.
+std::string without_library_lines(const std::function<void()>& work, bool (*is_library_line)(std::string_view)) {
   static std::mutex mutex;
   std::lock_guard lock(mutex);
   std::fflush(stderr);
   const int saved = ::dup(2);
-  const int capture = ::memfd_create("arwb-decoder-messages", MFD_CLOEXEC);
+  const int capture = ::memfd_create("arwb-library-messages", MFD_CLOEXEC);
   const bool redirected = saved >= 0 && capture >= 0 && ::dup2(capture, 2) >= 0;
-  cv::Mat image;
-  try {
-    // The Mat only wraps the caller's bytes (checked by the caller to fit an int); imdecode does not write to them.
-    const cv::Mat buf(1, static_cast<int>(bytes.size()), CV_8U, const_cast<uint8_t*>(bytes.data()));
-    image = cv::imdecode(buf, flags);
-  } catch (const cv::Exception&) {
-    image.release();
-  } catch (const std::exception&) {  // std::bad_alloc from a decoder library
-    image.release();
-  }
+  work();
   std::fflush(stderr);
   if (redirected) ::dup2(saved, 2);
   if (saved >= 0) ::close(saved);
-  if (capture < 0) return image;
+  if (capture < 0) return "";
   std::string text(64 * 1024, '\0');
   const ssize_t n = redirected ? ::pread(capture, text.data(), text.size(), 0) : 0;
   ::close(capture);
   text.resize(n > 0 ? static_cast<size_t>(n) : 0);
-  std::string others;
+  std::string others, first;
   for (size_t start = 0; start < text.size();) {
     size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
     const std::string_view line(text.data() + start, end - start);
-    if (!is_decoder_line(line)) {
-      others.append(line).append("\n");
-    } else if (said->empty()) {
-      std::string_view what = line;
-      for (std::string_view prefix : {"libpng error: ", "libpng warning: "})
-        if (what.substr(0, prefix.size()) == prefix) what.remove_prefix(prefix.size());
-      *said = std::string(what.substr(0, 200));
-    }
+    if (!is_library_line(line)) others.append(line).append("\n");
+    else if (first.empty()) first = std::string(line);
     start = end + 1;
   }
   if (!others.empty()) (void)!::write(2, others.data(), others.size());
-  return image;
+  return first;
 }
+
+namespace {
 
 std::string limit_error(const ImageHeader& h, int64_t max_pixels) {
   const std::string declared = "declares " + std::to_string(h.width) + "x" + std::to_string(h.height) + " pixels, ";

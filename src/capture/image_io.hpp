@@ -12,8 +12,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -98,5 +100,10 @@ std::vector<std::string> list_images(const std::string& folder, std::vector<std:
 // and cv::error's handler is one that prints nothing (the exception still carries the text, which we replace by
 // our own). Our messages say what failed. Called once by load_image, VideoReader::open and arwb's main; idempotent.
 void keep_opencv_quiet();
+
+// Runs `work` with the lines that a library prints straight to stderr (where no log level reaches: libpng,
+// libjpeg, OpenCV's own AVI reader) kept off the terminal: lines for which is_library_line is true are dropped,
+// any other is passed on afterwards. Returns the first line dropped ("" if none), for a message of ours.
+std::string without_library_lines(const std::function<void()>& work, bool (*is_library_line)(std::string_view));
 
 }  // namespace arwb

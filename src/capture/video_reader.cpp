@@ -21,6 +21,14 @@ std::string too_large(double w, double h, int64_t max_pixels) {
   return {};
 }
 
+bool is_avi_reader_line(std::string_view line) {
+  for (std::string_view start : {"Unexpected element", "Unexpected list type", "Unexpected end of file",
+                                 "Failed to parse avi", "Failed to seek in AVI", "Failed to determine AVI",
+                                 "Frame offset points outside"})
+    if (line.substr(0, start.size()) == start) return true;
+  return false;
+}
+
 }  // namespace
 
 bool VideoReader::open_capture() {
@@ -28,10 +36,18 @@ bool VideoReader::open_capture() {
   // by name: CAP_ANY would also try camera backends (gphoto2 scans the USB bus) and CAP_IMAGES (one still).
   for (const cv::VideoCaptureAPIs api : {cv::CAP_FFMPEG, cv::CAP_GSTREAMER, cv::CAP_OPENCV_MJPEG}) {
     if (!cv::videoio_registry::hasBackend(api)) continue;
-    try {
-      if (cap_.open(path_, api) && cap_.isOpened()) return true;
-    } catch (const cv::Exception&) {
-    }
+    bool opened = false;
+    const auto open = [&] {
+      try {
+        opened = cap_.open(path_, api) && cap_.isOpened();
+      } catch (const cv::Exception&) {
+      }
+    };
+    // OpenCV's own AVI reader prints what it finds wrong in a file straight to stderr ("Unexpected element.
+    // Expected: LIST. Got: ."), past every log level; our message names the file instead.
+    if (api == cv::CAP_OPENCV_MJPEG) without_library_lines(open, is_avi_reader_line);
+    else open();
+    if (opened) return true;
   }
   return false;
 }

@@ -1,6 +1,8 @@
 // arwb synth: synthetic photographs of markers with exact truth, for benchmarks, tests and teaching.
+#include "calibration/calibration_file.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "synth/chessboard_view.hpp"
 #include "synth/synth_set.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -10,6 +12,41 @@
 #include <fstream>
 
 namespace arwb {
+
+namespace {
+
+// --chessboard: views of the paper's board (9x6 inner corners, 25 mm) through a known camera with barrel
+// distortion, for arwb calibrate; the camera itself goes beside them as a calibration file to compare with.
+int write_chessboard_views(const std::string& out, int count, int seed) {
+  const SynthCamera camera;
+  const ChessboardRenderer renderer(camera, SynthChessboard{});
+  const auto poses = chessboard_poses(camera, SynthChessboard{}, count, unsigned(seed));
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const ChessboardView v = renderer.render(poses[i].first, poses[i].second, 0.6, 1.5, unsigned(i + 1));
+    char name[32];
+    std::snprintf(name, sizeof name, "/board_%03zu.png", i);
+    if (!cv::imwrite(out + name, v.image)) {
+      print_problem("arwb synth: %s%s: cannot write\n", out.c_str(), name);
+      return 1;
+    }
+  }
+  Calibration truth;
+  truth.camera_matrix = camera.camera_matrix;
+  truth.distortion = camera.distortion;
+  truth.image_size = camera.size;
+  CalibrationFileExtras x;
+  x.board = "chessboard 9x6 inner corners (10x7 squares), 25.00 mm squares";
+  x.view_count = int(poses.size());
+  x.notes = {"the synthetic camera the views were rendered through (the truth)"};
+  if (Status st = write_calibration(out + "/truth_camera.yml", truth, x); !st) {
+    print_problem("arwb synth: %s\n", st.error().c_str());
+    return 1;
+  }
+  std::printf("wrote %zu chessboard views and truth_camera.yml to %s\n", poses.size(), out.c_str());
+  return 0;
+}
+
+}  // namespace
 
 int cmd_synth(int argc, char** argv) {
   CommandLine cl("arwb synth",
@@ -24,6 +61,10 @@ int cmd_synth(int argc, char** argv) {
   cl.app.add_option("--count", count, "images")->type_name("N")->check(whole_number(1, 100000));
   cl.app.add_option("--seed", seed, "the random seed")->type_name("S")->check(whole_number(0, 2147483647));
   cl.app.add_option("--dict", dict_arg, "dictionaries, as for arwb detect")->type_name("NAME[,NAME...]");
+  bool chessboard = false;
+  cl.app.add_flag("--chessboard", chessboard,
+                  "instead: views of the paper's 9x6 chessboard through a known camera with lens distortion (640x480), "
+                  "and that camera as DIR/truth_camera.yml, for arwb calibrate");
   cl.app.add_option("--size", size_arg, "WxH, or mixed: 640x480, 1280x720 and 1920x1080 in turn")
       ->type_name("WxH|mixed")
       ->check(frame_size({64, 64}, {8192, 8192}, "mixed"));
@@ -34,6 +75,13 @@ int cmd_synth(int argc, char** argv) {
   if (!dicts) return 2;
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
+  if (chessboard) {
+    if (ec) {
+      print_problem("arwb synth: %s: cannot create the folder\n", out.c_str());
+      return 1;
+    }
+    return write_chessboard_views(out, count, seed);
+  }
   std::ofstream truth(out + "/truth.jsonl");
   if (ec || !truth) {
     print_problem("arwb synth: %s: cannot create the folder or its truth.jsonl\n", out.c_str());

@@ -7,6 +7,7 @@ std::span<const Subcommand> arwb_subcommands() {
       {"detect", cmd_detect, "detect markers in images, folders or videos (--json: one line per frame)"},
       {"markers", cmd_markers, "write marker PNGs, or a printable PDF/SVG sheet at true size"},
       {"synth", cmd_synth, "make synthetic photographs of markers with a truth.jsonl"},
+      {"calibrate", cmd_calibrate, "calibrate a camera from a video or folder of chessboard images, with a report"},
       {"bench", cmd_bench, "compare arwb with OpenCV aruco and AprilTag on a synthetic set"},
       {"make-media", cmd_make_media, "paint the example scenes' pictures and clip (no downloads)"},
       {"render", cmd_render, "composite a scene's media onto a video, images or the synthetic source (no display)"},

@@ -1,0 +1,83 @@
+// The calibration board, finding it in a frame, and choosing which frames become views: a view must be still
+// (not blurred), add something (its pose unlike the views kept) and keep its corners away from the image's edge.
+// Every frame refused says why.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace arwb {
+
+struct BoardSpec {
+  int cols = 9, rows = 6;     // inner corners, as OpenCV counts them: the paper's board is 9x6 (10x7 squares)
+  double square_mm = 25;
+  std::string describe() const;                  // "chessboard 9x6 inner corners (10x7 squares), 25 mm squares"
+  std::vector<cv::Point3f> object_points() const;  // row by row, in mm, z = 0
+};
+
+struct BoardDetection {
+  bool found = false;
+  std::vector<cv::Point2f> corners;   // row by row, subpixel
+  double edge_width_px = 0;           // OpenCV's sharpness measure: how wide the black-white edges are (blur)
+};
+
+// Finds the board in an 8-bit grey or BGR frame (OpenCV's findChessboardCornersSB, which is accurate to a
+// fraction of a pixel without cornerSubPix, then its sharpness estimate). A grid whose points are not nearly all
+// chessboard corners (four squares meeting) is refused: asked for fewer corners than the board has, OpenCV can
+// return one that runs along the board's outer edge.
+BoardDetection detect_chessboard(const cv::Mat& frame, const BoardSpec& board);
+
+// The first of `sizes` (inner corners) that a chessboard in the frame has, by OpenCV's findChessboardCorners,
+// which finds a board only at its exact size: for naming the board that is there when the one asked for is not.
+std::optional<cv::Size> find_any_chessboard(const cv::Mat& frame, std::initializer_list<cv::Size> sizes);
+
+// The inner corners of the chessboard that a grid found in `frame` (at `corners`, all chessboard corners) belongs
+// to, when it is larger than `board`: a grid of 7x5 corners inside a 9x6 board would make every view one of a
+// board other than the one printed. Looks one square beyond each side of the grid for more chessboard corners
+// and goes on while it finds them. nullopt when the board ends where the grid does.
+std::optional<cv::Size> larger_board(const cv::Mat& frame, const BoardSpec& board,
+                                     const std::vector<cv::Point2f>& corners);
+
+// The view's place in the ROS calibrator's four terms, each 0..1: x and y of the board's centre across the room
+// the board leaves in the image, size (the square root of the board's share of the image) and skew (how far the
+// angle at a corner of the board is from a right angle).
+struct ViewPose {
+  double x = 0, y = 0, size = 0, skew = 0;
+};
+ViewPose view_pose(const std::vector<cv::Point2f>& corners, const BoardSpec& board, cv::Size image);
+
+struct SelectOptions {
+  bool video = true;              // frames follow each other (stillness is measured); false: a folder of stills
+  double max_motion_px = 2.0;     // the largest mean corner motion since the previous frame
+  double max_edge_width_px = 3.5; // blurrier boards are refused
+  double min_edge_margin_px = 8;  // corners nearer the image's edge are refused (lens distortion is worst there,
+                                  // and a corner half out of the image is placed wrongly)
+  double min_pose_distance = 0.15;// the sum of |difference| over x, y, size and skew to every view kept
+  int max_views = 40;
+};
+
+struct Verdict {
+  bool keep = false;
+  std::string reason;   // why not, or "kept"
+  std::string kind;     // the reason's short name for the tally: "no board", "moving", "blurred", "edge", "similar", "enough"
+};
+
+class ViewSelector {
+ public:
+  ViewSelector(BoardSpec board, SelectOptions opt) : board_(board), opt_(opt) {}
+  // Every frame, in order, with its detection (found or not).
+  Verdict consider(const BoardDetection& d, cv::Size image);
+  const std::vector<ViewPose>& kept_poses() const { return kept_; }
+
+ private:
+  BoardSpec board_;
+  SelectOptions opt_;
+  std::vector<cv::Point2f> previous_;   // the previous frame's corners, empty when it had no board
+  std::vector<ViewPose> kept_;
+};
+
+}  // namespace arwb

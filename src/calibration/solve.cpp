@@ -1,0 +1,260 @@
+#include "calibration/solve.hpp"
+
+#include <opencv2/calib3d.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace arwb {
+
+namespace {
+
+constexpr int kEnoughViews = 10;           // the interactive-calibration app's minimum
+constexpr double kMaxRmsPx = 1.0;
+constexpr double kMaxRelativeInterval = 0.05;
+constexpr double kMinGridCoverage = 0.75;
+constexpr int kGridCols = 8, kGridRows = 6;
+// ROS's useful range of each term: a bar is full when the views span this much of it.
+constexpr double kRangeX = 0.7, kRangeY = 0.7, kRangeSize = 0.4, kRangeSkew = 0.5;
+
+std::string num(double v, int decimals = 2) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+struct Run {
+  cv::Mat K, D, std_intrinsics;
+  std::vector<double> per_view;
+  double rms = 0;
+};
+
+Result<Run> run_opencv(const std::vector<CalibrationView>& views, const BoardSpec& board, cv::Size size, int flags,
+                       const cv::Mat& K0) {
+  std::vector<std::vector<cv::Point3f>> obj(views.size(), board.object_points());
+  std::vector<std::vector<cv::Point2f>> img;
+  for (const CalibrationView& v : views) img.push_back(v.corners);
+  Run r;
+  r.K = K0.clone();
+  r.D = cv::Mat::zeros(1, 5, CV_64F);
+  cv::Mat rvecs, tvecs, std_extrinsics, errors;
+  try {
+    // The overload with standard deviations and per-view errors (calibrateCameraExtended in the Python binding).
+    r.rms = cv::calibrateCamera(obj, img, size, r.K, r.D, rvecs, tvecs, r.std_intrinsics, std_extrinsics,
+                                errors, flags);
+  } catch (const cv::Exception& e) {
+    return fail(std::string("OpenCV's calibrateCamera failed (") + e.err + ")");
+  }
+  errors.reshape(1, 1).convertTo(r.per_view, CV_64F);
+  bool finite = std::isfinite(r.rms) && cv::checkRange(r.K) && cv::checkRange(r.D);
+  if (!finite || r.K.at<double>(0, 0) <= 0 || r.K.at<double>(1, 1) <= 0)
+    return fail("the solve gave no usable camera (values not finite or focal length not positive): the views may "
+                "not show the board from enough directions");
+  return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+}
+
+}  // namespace
+
+bool QualityReport::good() const {
+  return std::all_of(checklist.begin(), checklist.end(), [](const Check& c) { return c.ok; });
+}
+
+Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, const BoardSpec& board, cv::Size size,
+                                   const SolveOptions& opt) {
+  if (int(all.size()) < opt.min_views)
+    return fail(std::to_string(all.size()) + " views; at least " + std::to_string(opt.min_views) +
+                " are needed: show the board in more places, tilted several ways");
+  Solution s;
+  // What the views can determine, decided before the solve from where the board was.
+  std::vector<ViewPose> poses;
+  cv::Mat1i grid(kGridRows, kGridCols, 0);
+  for (const CalibrationView& v : all) {
+    poses.push_back(view_pose(v.corners, board, size));
+    for (const cv::Point2f& p : v.corners) {
+      const int gx = std::clamp(int(double(p.x) * kGridCols / size.width), 0, kGridCols - 1);
+      const int gy = std::clamp(int(double(p.y) * kGridRows / size.height), 0, kGridRows - 1);
+      ++grid(gy, gx);
+    }
+  }
+  const auto bar = [&](double ViewPose::*term, double range) {
+    double lo = 1, hi = 0;
+    for (const ViewPose& p : poses) lo = std::min(lo, p.*term), hi = std::max(hi, p.*term);
+    return std::clamp((hi - lo) / range, 0.0, 1.0);
+  };
+  QualityReport& rep = s.report;
+  rep.bars = {bar(&ViewPose::x, kRangeX), bar(&ViewPose::y, kRangeY), bar(&ViewPose::size, kRangeSize),
+              bar(&ViewPose::skew, kRangeSkew)};
+  rep.grid = grid;
+  rep.grid_coverage = double(cv::countNonZero(grid)) / double(grid.total());
+
+  int flags = cv::CALIB_USE_INTRINSIC_GUESS;
+  cv::Mat K0 = (cv::Mat_<double>(3, 3) << size.width, 0, (size.width - 1) / 2.0, 0, size.width,
+                (size.height - 1) / 2.0, 0, 0, 1);
+  // k3 only matters far from the centre and trades against k1 and k2: without many views reaching the image's
+  // outer parts it fits noise.
+  if (int(all.size()) < 15 || rep.grid_coverage < 0.85) {
+    flags |= cv::CALIB_FIX_K3;
+    s.notes.push_back("k3 fixed at 0: " + std::to_string(all.size()) + " views covering " +
+                      num(100 * rep.grid_coverage, 0) + " % of the image (k3 needs 15 views and 85 %)");
+  }
+  if (rep.bars.x < 0.5 || rep.bars.y < 0.5) {
+    flags |= cv::CALIB_FIX_PRINCIPAL_POINT;
+    s.notes.push_back("principal point fixed at the image centre: the board's positions spanned too little of the "
+                      "image (X " + num(100 * rep.bars.x, 0) + " %, Y " + num(100 * rep.bars.y, 0) +
+                      " %; need 50 %) to determine it");
+  }
+
+  std::vector<CalibrationView> views = all;
+  Result<Run> run = run_opencv(views, board, size, flags, K0);
+  if (!run) return fail(run.error());
+  // Outliers: a view far worse than the others is a misdetection or a moving board; dropped, then solved again.
+  const double med = median(run->per_view);
+  std::vector<size_t> order(views.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return run->per_view[a] > run->per_view[b]; });
+  std::vector<bool> drop(views.size(), false);
+  const size_t max_drop = views.size() / 5;
+  size_t dropped = 0;
+  for (size_t i : order) {
+    const double e = run->per_view[i];
+    if (dropped >= max_drop || int(views.size() - dropped) <= opt.min_views) break;
+    if (e > opt.outlier_factor * med && e > opt.outlier_floor_px) {
+      drop[i] = true;
+      ++dropped;
+      s.notes.push_back("dropped " + views[i].name + " (error " + num(e) + " px, median " + num(med) + " px)");
+    }
+  }
+  if (dropped > 0) {
+    std::vector<CalibrationView> kept;
+    for (size_t i = 0; i < views.size(); ++i)
+      if (!drop[i]) kept.push_back(views[i]);
+    views = std::move(kept);
+    run = run_opencv(views, board, size, flags, K0);
+    if (!run) return fail(run.error());
+  }
+
+  s.calibration.camera_matrix = cv::Matx33d(run->K);
+  s.calibration.distortion.assign(run->D.begin<double>(), run->D.end<double>());
+  s.calibration.image_size = size;
+  s.rms = run->rms;
+  s.per_view_errors = run->per_view;
+  for (const CalibrationView& v : views) s.view_names.push_back(v.name);
+  const cv::Mat sd = run->std_intrinsics.reshape(1, 1);
+  for (int i = 0; i < 4; ++i) s.std_intrinsics.push_back(sd.at<double>(0, i));
+  for (size_t i = 0; i < s.calibration.distortion.size(); ++i) s.std_distortion.push_back(sd.at<double>(0, int(4 + i)));
+
+  // The interactive-calibration app's four criteria.
+  rep.checklist.push_back({"enough views", int(views.size()) >= kEnoughViews,
+                           std::to_string(views.size()) + " views (need " + std::to_string(kEnoughViews) + ")"});
+  rep.checklist.push_back({"RMS reprojection error", s.rms <= kMaxRmsPx,
+                           num(s.rms, 3) + " px (need at most " + num(kMaxRmsPx, 1) + " px)"});
+  const double values[4] = {s.calibration.camera_matrix(0, 0), s.calibration.camera_matrix(1, 1),
+                            s.calibration.camera_matrix(0, 2), s.calibration.camera_matrix(1, 2)};
+  const char* names[4] = {"fx", "fy", "cx", "cy"};
+  std::string detail;
+  bool intervals_ok = true;
+  for (int i = 0; i < 4; ++i) {
+    const double rel = 1.96 * s.std_intrinsics[size_t(i)] / std::abs(values[i]);
+    intervals_ok = intervals_ok && rel < kMaxRelativeInterval;
+    detail += std::string(i ? ", " : "") + names[i] + " " + num(100 * rel, 2) + " %";
+  }
+  rep.checklist.push_back({"95 % intervals under 5 %", intervals_ok, detail});
+  rep.checklist.push_back({"image coverage", rep.grid_coverage >= kMinGridCoverage,
+                           num(100 * rep.grid_coverage, 0) + " % of an 8x6 grid holds corners (need " +
+                               num(100 * kMinGridCoverage, 0) + " %)"});
+  // The benchmark line: OpenCV's defaults on every view given.
+  if (Result<Run> plain = run_opencv(all, board, size, 0, K0)) {
+    s.opencv_defaults.camera_matrix = cv::Matx33d(plain->K);
+    s.opencv_defaults.distortion.assign(plain->D.begin<double>(), plain->D.end<double>());
+    s.opencv_defaults.image_size = size;
+    s.opencv_defaults_rms = plain->rms;
+  }
+  for (size_t i = 0; i < views.size(); ++i) rep.worst_first.emplace_back(views[i].name, s.per_view_errors[i]);
+  std::stable_sort(rep.worst_first.begin(), rep.worst_first.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  return s;
+}
+
+std::string solution_text(const Solution& s) {
+  const cv::Matx33d& K = s.calibration.camera_matrix;
+  std::string t;
+  t += "fx " + num(K(0, 0)) + " ± " + num(s.std_intrinsics[0]) + "  fy " + num(K(1, 1)) + " ± " +
+       num(s.std_intrinsics[1]) + "  cx " + num(K(0, 2)) + " ± " + num(s.std_intrinsics[2]) + "  cy " + num(K(1, 2)) +
+       " ± " + num(s.std_intrinsics[3]) + " px\n";
+  const char* dn[5] = {"k1", "k2", "p1", "p2", "k3"};
+  for (size_t i = 0; i < s.calibration.distortion.size() && i < 5; ++i)
+    t += std::string(i ? "  " : "") + dn[i] + " " + num(s.calibration.distortion[i], 4) + " ± " +
+         num(s.std_distortion[i], 4);
+  t += "\nRMS reprojection error " + num(s.rms, 3) + " px over " + std::to_string(s.view_names.size()) + " views\n";
+  if (!s.opencv_defaults.distortion.empty()) {
+    const cv::Matx33d& O = s.opencv_defaults.camera_matrix;
+    t += "OpenCV calibrateCamera, default flags, all views: fx " + num(O(0, 0)) + "  fy " + num(O(1, 1)) + "  cx " +
+         num(O(0, 2)) + "  cy " + num(O(1, 2)) + "  k1 " + num(s.opencv_defaults.distortion[0], 4) + "  k2 " +
+         num(s.opencv_defaults.distortion[1], 4) + "  RMS " + num(s.opencv_defaults_rms, 3) + " px\n";
+  }
+  for (const std::string& n : s.notes) t += "note: " + n + "\n";
+  for (const Check& c : s.report.checklist) t += std::string(c.ok ? "[ok]   " : "[poor] ") + c.name + ": " + c.detail + "\n";
+  const CoverageBars& b = s.report.bars;
+  t += "coverage: X " + num(100 * b.x, 0) + " %  Y " + num(100 * b.y, 0) + " %  size " + num(100 * b.size, 0) +
+       " %  skew " + num(100 * b.skew, 0) + " %\n";
+  t += "worst views:";
+  for (size_t i = 0; i < s.report.worst_first.size() && i < 5; ++i)
+    t += std::string(i ? "," : "") + " " + s.report.worst_first[i].first + " " + num(s.report.worst_first[i].second, 3) +
+         " px";
+  t += "\n";
+  return t;
+}
+
+std::string solution_json(const Solution& s, const BoardSpec& board) {
+  using nlohmann::json;
+  const cv::Matx33d& K = s.calibration.camera_matrix;
+  json j;
+  j["image_width"] = s.calibration.image_size.width;
+  j["image_height"] = s.calibration.image_size.height;
+  j["board"] = board.describe();
+  j["camera_matrix"] = {{K(0, 0), K(0, 1), K(0, 2)}, {K(1, 0), K(1, 1), K(1, 2)}, {K(2, 0), K(2, 1), K(2, 2)}};
+  j["fx"] = K(0, 0);
+  j["fy"] = K(1, 1);
+  j["cx"] = K(0, 2);
+  j["cy"] = K(1, 2);
+  j["distortion_coefficients"] = s.calibration.distortion;
+  j["std_dev_intrinsics_fx_fy_cx_cy"] = s.std_intrinsics;
+  j["std_dev_distortion"] = s.std_distortion;
+  j["avg_reprojection_error"] = s.rms;
+  j["view_count"] = s.view_names.size();
+  if (!s.opencv_defaults.distortion.empty()) {
+    const cv::Matx33d& O = s.opencv_defaults.camera_matrix;
+    j["opencv_defaults"] = {{"fx", O(0, 0)}, {"fy", O(1, 1)}, {"cx", O(0, 2)}, {"cy", O(1, 2)},
+                            {"distortion_coefficients", s.opencv_defaults.distortion},
+                            {"avg_reprojection_error", s.opencv_defaults_rms}};
+  }
+  j["notes"] = s.notes;
+  json checks = json::array();
+  for (const Check& c : s.report.checklist) checks.push_back({{"name", c.name}, {"ok", c.ok}, {"detail", c.detail}});
+  json worst = json::array();
+  for (const auto& [name, e] : s.report.worst_first) worst.push_back({{"view", name}, {"error_px", e}});
+  json grid = json::array();
+  for (int r = 0; r < s.report.grid.rows; ++r) {
+    json row = json::array();
+    for (int c = 0; c < s.report.grid.cols; ++c) row.push_back(s.report.grid(r, c));
+    grid.push_back(row);
+  }
+  j["report"] = {{"good", s.report.good()},
+                 {"checklist", checks},
+                 {"coverage", {{"x", s.report.bars.x}, {"y", s.report.bars.y}, {"size", s.report.bars.size},
+                               {"skew", s.report.bars.skew}}},
+                 {"grid_coverage", s.report.grid_coverage},
+                 {"corner_grid_8x6", grid},
+                 {"per_view_errors_worst_first", worst}};
+  return j.dump();
+}
+
+}  // namespace arwb

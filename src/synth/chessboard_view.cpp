@@ -1,0 +1,139 @@
+#include "synth/chessboard_view.hpp"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <random>
+
+namespace arwb {
+
+namespace {
+constexpr int kSamples = 4;   // per pixel side
+}
+
+ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board)
+    : camera_(std::move(camera)), board_(board) {
+  // Undistorted at every pixel centre (and a ring of one pixel around the image), then interpolated to the 4x4
+  // samples: the lens model is smooth at the scale of a pixel, and this is 16 times fewer points to undistort.
+  const int w = camera_.size.width, h = camera_.size.height;
+  std::vector<cv::Point2f> pts;
+  pts.reserve(size_t(w + 2) * size_t(h + 2));
+  for (int y = -1; y <= h; ++y)
+    for (int x = -1; x <= w; ++x) pts.emplace_back(float(x), float(y));
+  std::vector<cv::Point2f> out;
+  // Iterated to convergence rather than OpenCV's default 5 steps, which leave strong barrel distortion
+  // under-corrected at the corners of the image.
+  cv::undistortPoints(pts, out, cv::Mat(camera_.camera_matrix), camera_.distortion, cv::noArray(), cv::noArray(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-10));
+  const cv::Mat grid = cv::Mat(out, true).reshape(2, h + 2);
+  // Sample (i, j) of pixel (x, y) sits at x + (i + 0.5)/4 - 0.5: pixel centres at integers, as OpenCV's
+  // projectPoints and corner detectors place them.
+  rays_.create(h * kSamples, w * kSamples, CV_32FC2);
+  for (int sy = 0; sy < rays_.rows; ++sy) {
+    const double gy = (sy + 0.5) / kSamples - 0.5 + 1;
+    const int iy = int(std::floor(gy));
+    const float fy = float(gy - iy);
+    auto* row = rays_.ptr<cv::Vec2f>(sy);
+    for (int sx = 0; sx < rays_.cols; ++sx) {
+      const double gx = (sx + 0.5) / kSamples - 0.5 + 1;
+      const int ix = int(std::floor(gx));
+      const float fx = float(gx - ix);
+      const cv::Vec2f a = grid.at<cv::Vec2f>(iy, ix), b = grid.at<cv::Vec2f>(iy, ix + 1);
+      const cv::Vec2f c = grid.at<cv::Vec2f>(iy + 1, ix), d = grid.at<cv::Vec2f>(iy + 1, ix + 1);
+      row[sx] = (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy;
+    }
+  }
+}
+
+ChessboardView ChessboardRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px,
+                                          double noise, unsigned seed) const {
+  ChessboardView v;
+  cv::Matx33d R;
+  cv::Rodrigues(rvec, R);
+  // The plane z = 0 of the board maps to normalised image coordinates by H = [r1 r2 t]; its inverse takes a
+  // sample's ray back to board coordinates.
+  const cv::Matx33d H(R(0, 0), R(0, 1), tvec[0], R(1, 0), R(1, 1), tvec[1], R(2, 0), R(2, 1), tvec[2]);
+  const cv::Matx33d Hi = H.inv();
+  const double sq = board_.square_m;
+  const double x0 = -sq * (1 + board_.margin_squares), x1 = sq * (board_.cols + board_.margin_squares);
+  const double y0 = -sq * (1 + board_.margin_squares), y1 = sq * (board_.rows + board_.margin_squares);
+  const int w = camera_.size.width, h = camera_.size.height;
+  cv::Mat1f acc(h, w, 0.f);
+  for (int sy = 0; sy < rays_.rows; ++sy) {
+    const auto* ray = rays_.ptr<cv::Vec2f>(sy);
+    float* row = acc.ptr<float>(sy / kSamples);
+    for (int sx = 0; sx < rays_.cols; ++sx) {
+      const double px = ray[sx][0], py = ray[sx][1];
+      const double bw = Hi(2, 0) * px + Hi(2, 1) * py + Hi(2, 2);
+      float value;
+      const double bx = (Hi(0, 0) * px + Hi(0, 1) * py + Hi(0, 2)) / bw;
+      const double by = (Hi(1, 0) * px + Hi(1, 1) * py + Hi(1, 2)) / bw;
+      // bw <= 0: the ray meets the plane behind the camera.
+      if (bw <= 0 || bx < x0 || bx >= x1 || by < y0 || by >= y1) {
+        value = float(90 + 60.0 * sx / rays_.cols);   // background
+      } else if (bx < -sq || bx >= sq * board_.cols || by < -sq || by >= sq * board_.rows) {
+        value = 220;   // paper margin
+      } else {
+        const long i = long(std::floor(bx / sq)), j = long(std::floor(by / sq));
+        value = ((i + j) & 1) ? 220.f : 30.f;
+      }
+      row[sx / kSamples] += value;
+    }
+  }
+  acc *= 1.0 / (kSamples * kSamples);
+  if (blur_px > 0) cv::GaussianBlur(acc, acc, cv::Size(), blur_px);
+  if (noise > 0) {
+    cv::Mat1f n(acc.size());
+    cv::theRNG().state = seed;
+    cv::randn(n, 0, noise);
+    acc += n;
+  }
+  acc.convertTo(v.image, CV_8U);
+
+  std::vector<cv::Point3f> obj;
+  for (int r = 0; r < board_.rows; ++r)
+    for (int c = 0; c < board_.cols; ++c) obj.emplace_back(float(c * sq), float(r * sq), 0.f);
+  cv::projectPoints(obj, rvec, tvec, cv::Mat(camera_.camera_matrix), camera_.distortion, v.corners);
+  v.all_inside = true;
+  for (const cv::Point2f& p : v.corners)
+    if (p.x < 2 || p.y < 2 || p.x > float(w - 3) || p.y > float(h - 3)) v.all_inside = false;
+  return v;
+}
+
+std::vector<std::pair<cv::Vec3d, cv::Vec3d>> chessboard_poses(const SynthCamera& camera, const SynthChessboard& board,
+                                                              int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double bw = board.square_m * (board.cols + 1 + 2 * board.margin_squares);
+  const double bh = board.square_m * (board.rows + 1 + 2 * board.margin_squares);
+  const double f = camera.camera_matrix(0, 0);
+  std::vector<std::pair<cv::Vec3d, cv::Vec3d>> poses;
+  for (int tries = 0; int(poses.size()) < count && tries < count * 200; ++tries) {
+    // Tilt about x and y, a little roll; the board's centre aimed at a point spread over the frame.
+    const cv::Vec3d rvec(u(rng) * 0.7, u(rng) * 0.7, u(rng) * 0.3);
+    const double fill = 0.45 + 0.35 * (u(rng) + 1) / 2;   // the board's width over the image's
+    const double z = f * bw / (fill * camera.size.width);
+    const double cx = u(rng) * 0.35 * camera.size.width / f * z, cy = u(rng) * 0.35 * camera.size.height / f * z;
+    cv::Matx33d R;
+    cv::Rodrigues(rvec, R);
+    // t places the board's centre (not its first inner corner) at (cx, cy, z).
+    const cv::Vec3d centre(bw / 2 - board.square_m * (1 + board.margin_squares),
+                           bh / 2 - board.square_m * (1 + board.margin_squares), 0);
+    const cv::Vec3d t = cv::Vec3d(cx, cy, z) - R * centre;
+    std::vector<cv::Point3f> outline{{float(-board.square_m), float(-board.square_m), 0},
+                                     {float(board.square_m * board.cols), float(-board.square_m), 0},
+                                     {float(board.square_m * board.cols), float(board.square_m * board.rows), 0},
+                                     {float(-board.square_m), float(board.square_m * board.rows), 0}};
+    std::vector<cv::Point2f> img;
+    cv::projectPoints(outline, rvec, t, cv::Mat(camera.camera_matrix), camera.distortion, img);
+    bool inside = true;
+    // Squares and a little white at least 12 px inside the image: a detector needs the board's border.
+    for (const cv::Point2f& p : img)
+      if (p.x < 12 || p.y < 12 || p.x > float(camera.size.width - 13) || p.y > float(camera.size.height - 13)) inside = false;
+    if (inside) poses.emplace_back(rvec, t);
+  }
+  return poses;
+}
+
+}  // namespace arwb

@@ -1,0 +1,55 @@
+// Synthetic views of a printed chessboard through a pinhole camera with lens distortion, with the exact image
+// positions of its inner corners: the fixture that calibration is measured against (a known camera in, the
+// solver's estimate out). The board is rendered per pixel, not warped from a picture: each pixel's 4x4 sample
+// rays are undistorted once per camera and intersected with the board's plane, so the distortion is exactly the
+// model OpenCV estimates (k1, k2, p1, p2, k3) and the edges are anti-aliased without blurring the corners away.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace arwb {
+
+struct SynthCamera {
+  cv::Size size{640, 480};
+  cv::Matx33d camera_matrix{560, 0, 322, 0, 555, 236, 0, 0, 1};
+  std::vector<double> distortion{-0.25, 0.08, 0, 0, 0};   // k1 k2 p1 p2 k3: a typical webcam's barrel
+};
+
+struct SynthChessboard {
+  int cols = 9, rows = 6;       // inner corners, as OpenCV counts them (the paper's 9x6: 10x7 squares)
+  double square_m = 0.025;
+  double margin_squares = 1.0;  // white paper around the squares, which detectors need
+};
+
+struct ChessboardView {
+  cv::Mat image;                        // 8-bit grey
+  std::vector<cv::Point2f> corners;     // inner corners row by row (cols per row), OpenCV's projectPoints
+  bool all_inside = false;              // every inner corner at least 2 px inside the image
+};
+
+class ChessboardRenderer {
+ public:
+  ChessboardRenderer(SynthCamera camera, SynthChessboard board);
+  // The board turned by rvec and placed at tvec (metres) in the camera's frame (OpenCV's convention: x right,
+  // y down, z forward); the board's origin is its first inner corner. Paper white 220, squares 30, the
+  // background a soft grey gradient; blur_px > 0 adds a Gaussian blur (motion, focus), noise a Gaussian noise.
+  ChessboardView render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px = 0, double noise = 0,
+                        unsigned seed = 1) const;
+  const SynthCamera& camera() const { return camera_; }
+  const SynthChessboard& board() const { return board_; }
+
+ private:
+  SynthCamera camera_;
+  SynthChessboard board_;
+  cv::Mat rays_;   // CV_32FC2, (h*4) x (w*4): each sample's undistorted normalised coordinates
+};
+
+// A varied set of `count` board poses that keep the board inside the image: distances, tilts up to about 40
+// degrees and positions spread over the frame (the same seed, the same poses).
+std::vector<std::pair<cv::Vec3d, cv::Vec3d>> chessboard_poses(const SynthCamera& camera, const SynthChessboard& board,
+                                                              int count, unsigned seed);
+
+}  // namespace arwb
