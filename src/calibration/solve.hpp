@@ -18,6 +18,7 @@ namespace arwb {
 struct CalibrationView {
   std::string name;                   // "frame 120", "img_004.png": how messages name it
   std::vector<cv::Point2f> corners;   // BoardSpec::object_points' order
+  std::vector<int> ids;               // as BoardDetection::ids: empty when corners are all of them, in order
 };
 
 struct SolveOptions {

@@ -355,4 +355,48 @@ bool open_video_writer(cv::VideoWriter& writer, const std::string& path, double 
   return false;
 }
 
+void add_board_options(CLI::App& app, BoardOptions& o) {
+  app.add_option("--board", o.kind, "the calibration board (default chessboard, the paper's)")
+      ->type_name("chessboard|charuco")->check(CLI::IsMember({"chessboard", "charuco"}));
+  app.add_option("--cols", o.cols, "chessboard: inner corners across (9); charuco: squares across (5)")
+      ->type_name("N")->check(whole_number(3, 40));
+  app.add_option("--rows", o.rows, "chessboard: inner corners down (6); charuco: squares down (7)")
+      ->type_name("N")->check(whole_number(3, 40));
+  app.add_option("--square-mm", o.square_mm, "a square's side as printed (25; charuco 35)")->type_name("S")
+      ->check(real_number(0.1, 1000));
+  app.add_option("--marker-mm", o.marker_mm, "charuco: a marker's side, less than a square's (26)")->type_name("M")
+      ->check(real_number(0.1, 1000));
+  app.add_option("--dict", o.dict, "charuco: the markers' dictionary (DICT_5X5_100)")->type_name("NAME");
+}
+
+std::optional<BoardSpec> board_from_options(const BoardOptions& o, std::string* problem) {
+  BoardSpec b;
+  b.kind = o.kind == "charuco" ? BoardKind::charuco : BoardKind::chessboard;
+  if (b.kind == BoardKind::charuco) {
+    b.cols = 5, b.rows = 7, b.square_mm = 35, b.marker_mm = 26;
+  } else if (o.marker_mm > 0 || !o.dict.empty()) {
+    *problem = std::string(o.marker_mm > 0 ? "--marker-mm" : "--dict") + " is for a ChArUco board (--board charuco)";
+    return std::nullopt;
+  }
+  if (o.cols > 0) b.cols = o.cols;
+  if (o.rows > 0) b.rows = o.rows;
+  if (o.square_mm > 0) b.square_mm = o.square_mm;
+  if (o.marker_mm > 0) b.marker_mm = o.marker_mm;
+  if (b.kind == BoardKind::charuco && o.square_mm > 0 && o.marker_mm <= 0) b.marker_mm = 0.75 * b.square_mm;
+  if (!o.dict.empty()) {
+    std::string error;
+    const std::optional<Dictionary> d = dictionary_by_name(o.dict, &error);
+    if (!d) {
+      *problem = "--dict " + o.dict + ": " + error;
+      return std::nullopt;
+    }
+    b.dictionary = d->name();
+  }
+  if (std::string p = b.problem(); !p.empty()) {
+    *problem = p;
+    return std::nullopt;
+  }
+  return b;
+}
+
 }  // namespace arwb

@@ -3,6 +3,7 @@
 // option nobody declared is an error, so a typo never passes silently.
 #pragma once
 
+#include "calibration/board.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/params.hpp"
 
@@ -63,6 +64,19 @@ bool load_params_option(const std::string& path, const char* command, DetectorPa
 // "0-49", "3,7,10-12": ids in the order given, each once, all in the dictionary. nullopt and a message naming the
 // bad part (and the dictionary's range) otherwise.
 std::optional<std::vector<int>> parse_id_list(std::string_view spec, const Dictionary& dict, std::string* error);
+
+// --board chessboard|charuco, --cols, --rows, --square-mm, --marker-mm, --dict: a calibration board, declared once
+// for `arwb calibrate` and `arwb markers --board`. Defaults: the paper's chessboard (9x6 inner corners, 25 mm);
+// for charuco, 5x7 squares of 35 mm with 26 mm markers of DICT_5X5_100 (fits A4), each unless given.
+struct BoardOptions {
+  std::string kind;
+  int cols = 0, rows = 0;
+  double square_mm = 0, marker_mm = 0;
+  std::string dict;
+};
+void add_board_options(CLI::App& app, BoardOptions& o);
+// The board the options describe, or nullopt with *problem naming the option at fault.
+std::optional<BoardSpec> board_from_options(const BoardOptions& o, std::string* problem);
 
 // Opens `writer` on `path` through FFmpeg for 8-bit BGR frames: MJPG for .avi; otherwise H.264 ("avc1"), which
 // plays in browsers and phones, else MPEG-4 part 2 ("mp4v"), which every FFmpeg build has. False when FFmpeg

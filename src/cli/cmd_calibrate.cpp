@@ -128,22 +128,13 @@ int cmd_calibrate(int argc, char** argv) {
                  "95 % intervals of fx, fy, cx, cy under 5 %, image coverage) and shows ROS's X, Y, size and skew "
                  "coverage and the views worst first. Exit status 0 when a file was written, 1 when the input could "
                  "not calibrate, 2 for a bad option.");
-  std::string input, board_kind = "chessboard", dict = "", out, paper_dir;
-  BoardSpec board;
-  double marker_mm = 0;
+  std::string input, out, paper_dir;
+  BoardOptions board_options;
   int max_views = 40;
   bool json = false;
   cl.app.add_option("--input", input, "a video or a folder of images of the board")
       ->type_name("VIDEO|DIR")->required();
-  cl.app.add_option("--board", board_kind, "the board: chessboard (charuco is not read yet)")
-      ->type_name("chessboard|charuco")->check(CLI::IsMember({"chessboard", "charuco"}));
-  cl.app.add_option("--cols", board.cols, "inner corners across the board")->type_name("N")->check(whole_number(3, 40));
-  cl.app.add_option("--rows", board.rows, "inner corners down the board")->type_name("N")->check(whole_number(3, 40));
-  cl.app.add_option("--square-mm", board.square_mm, "a square's side as printed")->type_name("S")
-      ->check(real_number(0.1, 1000));
-  cl.app.add_option("--marker-mm", marker_mm, "a ChArUco marker's side (charuco only)")->type_name("M")
-      ->check(real_number(0.1, 1000));
-  cl.app.add_option("--dict", dict, "a ChArUco board's dictionary (charuco only)")->type_name("NAME");
+  add_board_options(cl.app, board_options);
   cl.app.add_option("--out", out, "the calibration file to write")->type_name("FILE.xml|FILE.yml")->required();
   cl.app.add_option("--paper-files", paper_dir, "also write the paper's cameraMatrix.xml and distCoeffs.xml here")
       ->type_name("DIR");
@@ -151,7 +142,11 @@ int cmd_calibrate(int argc, char** argv) {
   cl.app.add_flag("--json", json, "print the result and the quality report as one JSON object");
   if (const auto status = cl.parse(argc, argv)) return *status;
 
-  if (board_kind == "charuco")
+  std::string board_problem;
+  const std::optional<BoardSpec> board_given = board_from_options(board_options, &board_problem);
+  if (!board_given) return cl.usage_error(board_problem);
+  const BoardSpec board = *board_given;
+  if (board.kind == BoardKind::charuco)
     return cl.usage_error("--board charuco: not yet; this version calibrates with a chessboard (--board chessboard)");
   if (input.rfind("camera:", 0) == 0)
     return cl.usage_error("--input " + input + ": cameras are not read yet; record a video of the board and give it");
@@ -233,7 +228,7 @@ int cmd_calibrate(int argc, char** argv) {
       return 1;
     }
     cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
-    const BoardDetection d = detect_chessboard(grey, board);
+    const BoardDetection d = detect_board(grey, board);
     if (d.found && boards == 0) {
       if (std::optional<cv::Size> larger = larger_board(grey, board, d.corners)) {
         *larger = as_given(*larger, board);
@@ -247,7 +242,7 @@ int cmd_calibrate(int argc, char** argv) {
     boards += d.found;
     const Verdict v = selector.consider(d, size);
     ++tally[v.kind];
-    if (v.keep) views.push_back({name, d.corners});
+    if (v.keep) views.push_back({name, d.corners, d.ids});
     if (samples.size() < 3 && (read - 1) % 10 == 0) samples.emplace_back(name, grey.clone());
     if (progress && read % 5 == 0) {
       std::fprintf(stderr, "\r%s: %d", kCommand, read);

@@ -41,7 +41,7 @@ Views make_views(int count, double noise) {
     }
     err += std::min(fwd, back) / double(d.corners.size());
     ++n;
-    v.views.push_back({"view " + std::to_string(i), d.corners});
+    v.views.push_back({"view " + std::to_string(i), d.corners, {}});
   }
   v.mean_corner_error = n ? err / n : 1e9;
   return v;
@@ -188,13 +188,13 @@ TEST(BoardDetection, FindsThePapersBoardAndRefusesGridsOfAnotherSize) {
     std::vector<cv::Point2f> raw;
     opencv_edge_grids += cv::findChessboardCornersSB(view.image, cv::Size(7, 5), raw,
                                                      cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_ACCURACY);
-    EXPECT_FALSE(detect_chessboard(view.image, BoardSpec{7, 5, 25}).found);
-    EXPECT_FALSE(detect_chessboard(view.image, BoardSpec{10, 7, 25}).found);
+    EXPECT_FALSE(detect_chessboard(view.image, BoardSpec{.cols = 7, .rows = 5}).found);
+    EXPECT_FALSE(detect_chessboard(view.image, BoardSpec{.cols = 10, .rows = 7}).found);
     // A correct grid of 7x5 of the board's corners grows back to the whole 9x6 board.
     std::vector<cv::Point2f> part;
     for (int r = 1; r < 6; ++r)
       for (int c = 1; c < 8; ++c) part.push_back(d.corners[size_t(r * 9 + c)]);
-    const std::optional<cv::Size> whole = larger_board(view.image, BoardSpec{7, 5, 25}, part);
+    const std::optional<cv::Size> whole = larger_board(view.image, BoardSpec{.cols = 7, .rows = 5}, part);
     ASSERT_TRUE(whole.has_value());
     EXPECT_EQ(*whole, cv::Size(9, 6));
     EXPECT_EQ(find_any_chessboard(view.image, {{7, 5}, {8, 6}, {9, 6}}), std::optional<cv::Size>(cv::Size(9, 6)));
