@@ -44,6 +44,13 @@ struct QualityReport {
   cv::Mat1i grid;                      // corners per cell of an 8x6 grid over the image
   double grid_coverage = 0;            // share of the grid's cells holding a corner
   std::vector<std::pair<std::string, double>> worst_first;   // per-view RMS error, px
+  // Cross-validation as mrcal does it: the views split in two halves (alternately), each calibrated alone; every
+  // cell of a grid over the image is unprojected to a ray by one half's calibration and projected by the other's.
+  // The distance between the two, px, per cell (rows x cols of the grid, CV_32F): small where the result can be
+  // trusted, large where the views did not pin the lens down. Empty when there are too few views to split.
+  cv::Mat1f cross_validation;
+  double cross_validation_max_px = 0;   // the largest cell
+  double cross_validation_median_px = 0;
   bool good() const;                   // every check passes
 };
 

@@ -24,6 +24,8 @@ SourceStatus SyntheticSource::next(double now_s, cv::Mat& out) {
   return {};
 }
 
+const SynthCamera* SyntheticSource::board_camera() const { return nullptr; }   // boards: not rendered yet
+
 SourceInfo SyntheticSource::info() const {
   SourceInfo i;
   i.kind = SourceKind::synthetic;

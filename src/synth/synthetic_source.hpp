@@ -4,6 +4,7 @@
 #pragma once
 
 #include "capture/source.hpp"
+#include "synth/chessboard_view.hpp"
 #include "synth/synthetic_world.hpp"
 
 #include <memory>
@@ -20,6 +21,9 @@ class SyntheticSource : public FrameSource {
   SyntheticWorld& world() { return world_; }
   // The exact markers of the frame `next` last returned, in its pixels.
   const std::vector<TruthMarker>& truth() const { return truth_; }
+  // The camera that the board is seen through while the controls show a calibration board (controls().board not
+  // empty): the truth a calibration is compared with. Null while markers are shown.
+  const SynthCamera* board_camera() const;
 
  private:
   SyntheticWorld world_;
