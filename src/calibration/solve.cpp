@@ -1,5 +1,7 @@
 #include "calibration/solve.hpp"
 
+#include "calibration/cross_validation.hpp"
+
 #include <opencv2/calib3d.hpp>
 
 #include <nlohmann/json.hpp>
@@ -177,6 +179,26 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
     s.opencv_defaults.image_size = size;
     s.opencv_defaults_rms = plain->rms;
   }
+  // Cross-validation: the views used, split alternately (so that each half spans the session), solved apart with
+  // the same flags, and compared over the image.
+  if (views.size() >= 2 * size_t(opt.min_views)) {
+    std::vector<CalibrationView> half[2];
+    for (size_t i = 0; i < views.size(); ++i) half[i % 2].push_back(views[i]);
+    Result<Run> a = run_opencv(half[0], board, size, flags, K0), b = run_opencv(half[1], board, size, flags, K0);
+    if (a && b) {
+      const auto as_calibration = [&](const Run& r) {
+        Calibration c;
+        c.camera_matrix = cv::Matx33d(r.K);
+        c.distortion.assign(r.D.begin<double>(), r.D.end<double>());
+        c.image_size = size;
+        return c;
+      };
+      const ProjectionDiff d = projection_diff(as_calibration(*a), as_calibration(*b), size);
+      rep.cross_validation = d.diff;
+      rep.cross_validation_max_px = d.max_px;
+      rep.cross_validation_median_px = d.median_px;
+    }
+  }
   for (size_t i = 0; i < views.size(); ++i) rep.worst_first.emplace_back(views[i].name, s.per_view_errors[i]);
   std::stable_sort(rep.worst_first.begin(), rep.worst_first.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
@@ -205,6 +227,13 @@ std::string solution_text(const Solution& s) {
   const CoverageBars& b = s.report.bars;
   t += "coverage: X " + num(100 * b.x, 0) + " %  Y " + num(100 * b.y, 0) + " %  size " + num(100 * b.size, 0) +
        " %  skew " + num(100 * b.skew, 0) + " %\n";
+  if (s.report.cross_validation.empty())
+    t += "cross-validation: needs twice the fewest views a solve takes (" + std::to_string(s.view_names.size()) +
+         " used)\n";
+  else
+    t += "cross-validation (two halves of the views solved apart): they agree within " +
+         num(s.report.cross_validation_median_px) + " px at the median cell, " +
+         num(s.report.cross_validation_max_px) + " px at worst\n";
   t += "worst views:";
   for (size_t i = 0; i < s.report.worst_first.size() && i < 5; ++i)
     t += std::string(i ? "," : "") + " " + s.report.worst_first[i].first + " " + num(s.report.worst_first[i].second, 3) +
@@ -254,6 +283,20 @@ std::string solution_json(const Solution& s, const BoardSpec& board) {
                  {"grid_coverage", s.report.grid_coverage},
                  {"corner_grid_8x6", grid},
                  {"per_view_errors_worst_first", worst}};
+  if (!s.report.cross_validation.empty()) {
+    json cv_grid = json::array();
+    for (int r = 0; r < s.report.cross_validation.rows; ++r) {
+      json row = json::array();
+      for (int c = 0; c < s.report.cross_validation.cols; ++c) {
+        const float v = s.report.cross_validation(r, c);
+        row.push_back(std::isfinite(v) ? json(v) : json(nullptr));
+      }
+      cv_grid.push_back(row);
+    }
+    j["report"]["cross_validation"] = {{"median_px", s.report.cross_validation_median_px},
+                                       {"max_px", s.report.cross_validation_max_px},
+                                       {"grid_px", cv_grid}};
+  }
   return j.dump();
 }
 
