@@ -4,6 +4,7 @@
 #include "calibration/calibration_file.hpp"
 #include "calibration/solve.hpp"
 #include "capture/image_io.hpp"
+#include "capture/source.hpp"
 #include "capture/video_reader.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
@@ -15,6 +16,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -84,6 +87,41 @@ class FolderFrames : public Frames {
   size_t next_ = 0;
 };
 
+// A camera's frames until the time given runs out, enough views are kept, or the user presses Ctrl+C: then the
+// views kept so far are solved, so stopping early loses nothing.
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void on_interrupt(int) { g_stop = 1; }
+
+class CameraFrames : public Frames {
+ public:
+  CameraFrames(std::unique_ptr<FrameSource> source, double seconds)
+      : source_(std::move(source)),
+        until_(std::chrono::steady_clock::now() +
+               std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds))) {
+    g_stop = 0;
+    previous_ = std::signal(SIGINT, on_interrupt);
+  }
+  ~CameraFrames() override { std::signal(SIGINT, previous_); }
+  bool next(cv::Mat* out, std::string* name, std::string* problem) override {
+    if (g_stop || std::chrono::steady_clock::now() >= until_) return false;
+    const SourceStatus st = source_->next(0, *out);
+    if (st.status != FrameStatus::ok) {   // a camera that stops giving frames ends the input; what was kept is solved
+      *problem = st.message.empty() ? source_->info().name + ": no frame" : st.message;
+      return false;
+    }
+    *name = "frame " + std::to_string(index_++);
+    return true;
+  }
+  int64_t count() const override { return 0; }
+  bool interrupted() const { return g_stop != 0; }
+
+ private:
+  std::unique_ptr<FrameSource> source_;
+  std::chrono::steady_clock::time_point until_;
+  void (*previous_)(int) = SIG_DFL;
+  int64_t index_ = 0;
+};
+
 // A board's size said the way the user gave theirs (9x6 rather than 6x9, when they gave more columns than rows).
 cv::Size as_given(cv::Size found, const BoardSpec& given) {
   const int hi = std::max(found.width, found.height), lo = std::min(found.width, found.height);
@@ -132,8 +170,13 @@ int cmd_calibrate(int argc, char** argv) {
   BoardOptions board_options;
   int max_views = 40;
   bool json = false;
-  cl.app.add_option("--input", input, "a video or a folder of images of the board")
-      ->type_name("VIDEO|DIR")->required();
+  double seconds = 120;
+  cl.app.add_option("--input", input,
+                    "a video, a folder of images of the board, or a camera (camera:N or camera:N@WxH: frames are read "
+                    "until --max-views views are kept, --seconds pass, or Ctrl+C, and the views kept are solved)")
+      ->type_name("VIDEO|DIR|camera:N[@WxH]")->required();
+  cl.app.add_option("--seconds", seconds, "a camera: read it this long at most (120)")->type_name("S")
+      ->check(CLI::Range(1.0, 3600.0));
   add_board_options(cl.app, board_options);
   cl.app.add_option("--out", out, "the calibration file to write")->type_name("FILE.xml|FILE.yml")->required();
   cl.app.add_option("--paper-files", paper_dir, "also write the paper's cameraMatrix.xml and distCoeffs.xml here")
@@ -148,8 +191,12 @@ int cmd_calibrate(int argc, char** argv) {
   const BoardSpec board = *board_given;
   if (board.kind == BoardKind::charuco)
     return cl.usage_error("--board charuco: not yet; this version calibrates with a chessboard (--board chessboard)");
-  if (input.rfind("camera:", 0) == 0)
-    return cl.usage_error("--input " + input + ": cameras are not read yet; record a video of the board and give it");
+  SourceSpec camera;
+  const bool is_camera = input.rfind("camera:", 0) == 0;
+  if (is_camera) {
+    std::string error;
+    if (!parse_source_spec(input, &camera, &error)) return cl.usage_error("--input " + error);
+  }
   // What can be refused before a long input is read, is.
   const std::string ext = std::filesystem::path(out).extension().string();
   if (ext != ".xml" && ext != ".yml" && ext != ".yaml")
@@ -169,7 +216,20 @@ int cmd_calibrate(int argc, char** argv) {
   std::unique_ptr<Frames> frames;
   SelectOptions select;
   select.max_views = max_views;
-  switch (classify_path(input)) {
+  CameraFrames* camera_frames = nullptr;
+  if (is_camera) {
+    std::string error;
+    std::unique_ptr<FrameSource> source = open_capture_source(camera, &error);
+    if (!source) {
+      print_problem("%s: %s\n", kCommand, error.c_str());
+      return 1;
+    }
+    auto f = std::make_unique<CameraFrames>(std::move(source), seconds);
+    camera_frames = f.get();
+    frames = std::move(f);
+    std::fprintf(stderr, "%s: reading %s for up to %.0f s; show the board still, in many places and tilts; Ctrl+C "
+                 "stops and solves with the views kept\n", kCommand, input.c_str(), seconds);
+  } else switch (classify_path(input)) {
     case PathKind::folder: {
       std::string error;
       std::vector<std::string> skipped;
@@ -243,14 +303,18 @@ int cmd_calibrate(int argc, char** argv) {
     const Verdict v = selector.consider(d, size);
     ++tally[v.kind];
     if (v.keep) views.push_back({name, d.corners, d.ids});
+    if (camera_frames && int(views.size()) >= max_views) break;
     if (samples.size() < 3 && (read - 1) % 10 == 0) samples.emplace_back(name, grey.clone());
     if (progress && read % 5 == 0) {
       std::fprintf(stderr, "\r%s: %d", kCommand, read);
       if (total > 0) std::fprintf(stderr, "/%lld", static_cast<long long>(total));
-      std::fprintf(stderr, " frames, board in %d, %zu views kept ", boards, views.size());
+      std::fprintf(stderr, " frames, board in %d, %zu views kept (this frame: %s)   ", boards, views.size(),
+                   v.kind.c_str());
     }
   }
   if (progress) std::fputc('\n', stderr);
+  if (camera_frames && camera_frames->interrupted())
+    std::fprintf(stderr, "%s: stopped (Ctrl+C): solving with the %zu views kept\n", kCommand, views.size());
   if (!problem.empty()) print_problem("%s: %s\n", kCommand, problem.c_str());
   const std::string summary = std::to_string(read) + " frame" + (read == 1 ? "" : "s") + " read, board in " +
                               std::to_string(boards) + ", " + std::to_string(views.size()) + " views kept; " +

@@ -168,12 +168,25 @@ TEST(Calibrate, ATruncatedVideoIsNamed) {
                                       dir.str("cut.avi") + ": ");
 }
 
-TEST(Calibrate, CharucoAndCamerasSayNotYet) {
+TEST(Calibrate, ACorruptVideoIsNamed) {
   TempDir dir;
-  expect_one_line_and_nothing_written(dir, "--input x --board charuco --out " + q(dir.str("cam.xml")),
-                                      "--board charuco: not yet", 2);
-  expect_one_line_and_nothing_written(dir, "--input camera:0 --out " + q(dir.str("cam.xml")),
-                                      "cameras are not read yet", 2);
+  test::write_file(dir.str("board.mp4"), std::string(4096, '\x5a'));   // a video's name, no video's bytes
+  const auto r = run_arwb("calibrate --input " + q(dir.str("board.mp4")) + " --out " + q(dir.str("cam.xml")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_EQ(line_count(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find(dir.str("board.mp4")), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.str("cam.xml")));
+}
+
+TEST(Calibrate, ACameraThatCannotBeOpenedIsNamedAndABadCameraArgumentIsAUsageError) {
+  // No camera is promised on a test machine: what can be tested is the refusal, by name, before anything is written.
+  TempDir dir;
+  expect_one_line_and_nothing_written(dir, "--input camera:63 --out " + q(dir.str("cam.xml")),
+                                      "camera:63: cannot open /dev/video63");
+  expect_one_line_and_nothing_written(dir, "--input camera:front --out " + q(dir.str("cam.xml")),
+                                      "camera:front: the camera must be a device number", 2);
+  expect_one_line_and_nothing_written(dir, "--input camera:0@big --out " + q(dir.str("cam.xml")),
+                                      "the resolution must be WxH", 2);
 }
 
 }  // namespace
