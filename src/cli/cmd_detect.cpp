@@ -1,4 +1,7 @@
-// arwb detect: markers in images, folders of images and videos, as text or one JSON line per frame.
+// arwb detect: markers in images, folders of images and videos, as text or one JSON line per frame. With a
+// calibration (--calib), each marker's corners also as an ideal pinhole camera would see them (lens distortion
+// removed), the input that pose estimation takes.
+#include "calibration/calibration_file.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "detect/detector.hpp"
@@ -7,11 +10,14 @@
 #include "base/decimals.hpp"
 
 #include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/videoio.hpp>
 
 #include <chrono>
 #include <cstdio>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,10 +27,34 @@ namespace {
 struct Output {
   bool json = false;
   int frames = 0;
+  std::optional<Calibration> calib;                        // --calib as read
+  std::map<std::pair<int, int>, Calibration> calib_sized;  // ... for each frame size met (scaled when needed)
 };
+
+// The calibration for a frame of `size`, or null with the reason printed once per source and size (an aspect
+// ratio the calibration was not made for: its corners would be wrong everywhere).
+const Calibration* calibration_for(Output& out, const std::string& source, cv::Size size) {
+  const auto key = std::make_pair(size.width, size.height);
+  if (auto it = out.calib_sized.find(key); it != out.calib_sized.end()) return &it->second;
+  Result<Calibration> c = calibration_for_size(*out.calib, size);
+  if (!c) {
+    print_problem("%s: %s (skipped)\n", source.c_str(), c.error().c_str());
+    return nullptr;
+  }
+  return &out.calib_sized.emplace(key, std::move(*c)).first->second;
+}
+
+std::vector<cv::Point2f> undistorted(const Calibration& c, const Marker& m) {
+  std::vector<cv::Point2f> in(m.corners.begin(), m.corners.end()), outp;
+  cv::undistortPoints(in, outp, cv::Mat(c.camera_matrix), cv::Mat(c.distortion), cv::noArray(),
+                      cv::Mat(c.camera_matrix));
+  return outp;
+}
 
 void report(Output& out, const std::string& source, int frame, const cv::Mat& image, const Detector& det,
             int threads) {
+  const Calibration* calib = nullptr;
+  if (out.calib && !(calib = calibration_for(out, source, image.size()))) return;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Marker> markers = det.detect(image, nullptr, TraceLevel::off, threads);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -36,8 +66,13 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
     for (const Marker& m : markers) {
       Json corners = Json::array();
       for (const auto& c : m.corners) corners.push_back({round_decimals(c.x, 3), round_decimals(c.y, 3)});
-      line["markers"].push_back(
-          {{"id", m.id}, {"dict", m.dict}, {"corners", std::move(corners)}, {"hamming", m.hamming}});
+      Json marker = {{"id", m.id}, {"dict", m.dict}, {"corners", std::move(corners)}, {"hamming", m.hamming}};
+      if (calib) {
+        Json ideal = Json::array();
+        for (const cv::Point2f& c : undistorted(*calib, m)) ideal.push_back({round_decimals(c.x, 3), round_decimals(c.y, 3)});
+        marker["corners_undistorted"] = std::move(ideal);
+      }
+      line["markers"].push_back(std::move(marker));
     }
     // A path need not be UTF-8: invalid bytes are replaced rather than thrown on.
     std::fputs((line.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n").c_str(), stdout);
@@ -49,6 +84,10 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
     for (const Marker& m : markers) {
       std::printf("  id %d %s hamming %d corners", m.id, m.dict.c_str(), m.hamming);
       for (const auto& c : m.corners) std::printf(" (%.2f, %.2f)", c.x, c.y);
+      if (calib) {
+        std::printf(" undistorted");
+        for (const cv::Point2f& c : undistorted(*calib, m)) std::printf(" (%.2f, %.2f)", c.x, c.y);
+      }
       std::printf("\n");
     }
   }
@@ -106,7 +145,7 @@ int cmd_detect(int argc, char** argv) {
                  "Problems with one PATH are reported on stderr and the others still processed; the exit status is "
                  "non-zero only when no frame could be processed.");
   Output out;
-  std::string dict_arg = "ARUCO_ORIGINAL", params_path;
+  std::string dict_arg = "ARUCO_ORIGINAL", params_path, calib_path;
   int threads = 1;
   std::vector<std::string> paths;
   cl.app.add_option("PATH", paths, "an image, a folder of images or a video")->required();
@@ -116,6 +155,12 @@ int cmd_detect(int argc, char** argv) {
       ->type_name("NAME[,NAME...]");
   cl.app.add_option("--params", params_path, "a YAML preset of detector parameters (see arwb's parameter table)")
       ->type_name("FILE.yml");
+  cl.app.add_option("--calib", calib_path,
+                    "a camera calibration (arwb calibrate's file, OpenCV's, the paper's cameraMatrix.xml with its "
+                    "distCoeffs.xml beside it, or ROS's ost.yaml; scaled to frames of another size with the same "
+                    "aspect ratio): each marker's corners are also given with the lens distortion removed "
+                    "(corners_undistorted)")
+      ->type_name("FILE");
   cl.app.add_option("--threads", threads, "threads for the detector")->type_name("N")->check(whole_number(1, 64));
   cl.app.add_flag("--json", out.json,
                   "one line per frame: {\"source\",\"frame\",\"width\",\"height\",\"ms\",\"markers\":[...]}");
@@ -125,6 +170,11 @@ int cmd_detect(int argc, char** argv) {
   if (!dicts) return 2;
   DetectorParams params;
   if (!load_params_option(params_path, "arwb detect", params)) return 2;
+  if (!calib_path.empty()) {
+    Result<Calibration> c = read_calibration(calib_path);
+    if (!c) return cl.usage_error("--calib " + c.error());
+    out.calib = std::move(*c);
+  }
   cv::setNumThreads(threads);
   const Detector det(std::move(*dicts), params);
 

@@ -1,10 +1,12 @@
 // `arwb detect`, `arwb synth` and `arwb bench` run as a user runs them: the JSON line checked field by field
 // against a synthetic set's truth, folders, videos, and every kind of bad input named in one line.
+#include "calibration/calibration_file.hpp"
 #include "detect/dictionary.hpp"
 #include "synth/synth.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -257,4 +259,81 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   EXPECT_EQ(from_dir.status, 0) << from_dir.err;
   EXPECT_NE(from_dir.out.find("arwb"), std::string::npos);
   EXPECT_EQ(run_arwb("bench " + q(dir.str("nowhere"))).status, 1);
+}
+
+namespace {
+
+std::string write_camera(const std::string& path, cv::Size size, double f, std::vector<double> distortion) {
+  Calibration c;
+  c.camera_matrix = cv::Matx33d(f, 0, (size.width - 1) / 2.0, 0, f, (size.height - 1) / 2.0, 0, 0, 1);
+  c.distortion = std::move(distortion);
+  c.image_size = size;
+  const Status st = write_calibration(path, c, {});
+  EXPECT_TRUE(st.ok()) << st.error();
+  return path;
+}
+
+}  // namespace
+
+TEST(CliDetect, ACalibrationAddsEachMarkersCornersWithTheLensDistortionRemoved) {
+  test::TempDir dir;
+  write_scene(dir.str("scene.png"));
+  const std::vector<double> barrel{-0.3, 0.1, 0.001, -0.002, 0};
+  write_camera(dir.str("cam.yml"), {640, 480}, 600, barrel);
+  const auto r = run_arwb("detect --json --calib " + q(dir.str("cam.yml")) + " " + q(dir.str("scene.png")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  Json j = parse(lines(r.out).at(0));
+  ASSERT_EQ(j["markers"].size(), 2u);
+  const cv::Matx33d K(600, 0, 319.5, 0, 600, 239.5, 0, 0, 1);
+  for (Json& m : j["markers"]) {
+    std::vector<cv::Point2f> corners, expected;
+    for (Json& c : m["corners"]) corners.emplace_back(c[0].get<float>(), c[1].get<float>());
+    cv::undistortPoints(corners, expected, cv::Mat(K), barrel, cv::noArray(), cv::Mat(K));
+    ASSERT_EQ(m["corners_undistorted"].size(), 4u) << m.dump();
+    double moved = 0;
+    for (size_t k = 0; k < 4; ++k) {
+      EXPECT_NEAR(m["corners_undistorted"][k][0].get<double>(), expected[k].x, 0.01);
+      EXPECT_NEAR(m["corners_undistorted"][k][1].get<double>(), expected[k].y, 0.01);
+      moved += cv::norm(expected[k] - corners[k]);
+    }
+    EXPECT_GT(moved, 4.0) << "barrel distortion should move corners away from the centre";
+  }
+  // Without --calib the field is absent: the JSON's documented shape is unchanged.
+  const auto plain = run_arwb("detect --json " + q(dir.str("scene.png")));
+  EXPECT_EQ(plain.out.find("corners_undistorted"), std::string::npos);
+}
+
+TEST(CliDetect, ACalibrationIsScaledToTheSameAspectAndRefusedForAnother) {
+  test::TempDir dir;
+  write_scene(dir.str("scene.png"));   // 640x480
+  // Made at 1280x960 (4:3): the same camera at half the size, focal length and centre halved.
+  write_camera(dir.str("big.yml"), {1280, 960}, 1200, {0, 0, 0, 0, 0});
+  const auto scaled = run_arwb("detect --json --calib " + q(dir.str("big.yml")) + " " + q(dir.str("scene.png")));
+  ASSERT_EQ(scaled.status, 0) << scaled.err;
+  Json j = parse(lines(scaled.out).at(0));
+  ASSERT_FALSE(j["markers"].empty());
+  for (Json& m : j["markers"])   // no distortion: undistorted corners are the corners, at any scale
+    for (size_t k = 0; k < 4; ++k)
+      EXPECT_NEAR(m["corners_undistorted"][k][0].get<double>(), m["corners"][k][0].get<double>(), 0.01);
+
+  write_camera(dir.str("wide.yml"), {1280, 720}, 1000, {0, 0, 0, 0, 0});
+  const auto wide = run_arwb("detect --json --calib " + q(dir.str("wide.yml")) + " " + q(dir.str("scene.png")));
+  EXPECT_EQ(wide.status, 1) << "no frame could be processed";
+  EXPECT_EQ(lines(wide.err).size(), 1u) << wide.err;
+  EXPECT_NE(wide.err.find("made for 1280x720 (16:9), the source is 640x480 (4:3)"), std::string::npos) << wide.err;
+  EXPECT_NE(wide.err.find(dir.str("scene.png")), std::string::npos) << wide.err;
+}
+
+TEST(CliDetect, ABadCalibrationFileIsNamedWithItsKey) {
+  test::TempDir dir;
+  write_scene(dir.str("scene.png"));
+  test::write_file(dir.str("bad.yml"), "%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n  rows: 2\n  cols: 3\n"
+                                       "  dt: d\n  data: [1, 0, 0, 0, 1, 0]\n");
+  const auto r = run_arwb("detect --calib " + q(dir.str("bad.yml")) + " " + q(dir.str("scene.png")));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("--calib " + dir.str("bad.yml") + ": camera_matrix"), std::string::npos) << r.err;
+  const auto missing = run_arwb("detect --calib " + q(dir.str("none.yml")) + " " + q(dir.str("scene.png")));
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find(dir.str("none.yml")), std::string::npos) << missing.err;
 }
