@@ -58,6 +58,22 @@ Result<Run> run_opencv(const std::vector<CalibrationView>& views, const BoardSpe
   return r;
 }
 
+// Where the largest cell of a heatmap over the image is, in words: "the top-left corner", "the centre".
+std::string where_worst(const cv::Mat1f& m) {
+  cv::Point at(0, 0);
+  float worst = -1;
+  for (int r = 0; r < m.rows; ++r)
+    for (int c = 0; c < m.cols; ++c)
+      if (std::isfinite(m(r, c)) && m(r, c) > worst) worst = m(r, c), at = {c, r};
+  const int col = 3 * at.x / std::max(m.cols, 1), row = 3 * at.y / std::max(m.rows, 1);
+  static const char* rows[3] = {"top", "middle", "bottom"};
+  static const char* cols[3] = {"left", "centre", "right"};
+  if (row == 1 && col == 1) return "the centre";
+  if (row == 1) return std::string("the ") + cols[col] + " edge";
+  if (col == 1) return std::string("the ") + rows[row] + " edge";
+  return std::string("the ") + rows[row] + "-" + cols[col] + " corner";
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0 : v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
@@ -233,7 +249,7 @@ std::string solution_text(const Solution& s) {
   else
     t += "cross-validation (two halves of the views solved apart): they agree within " +
          num(s.report.cross_validation_median_px) + " px at the median cell, " +
-         num(s.report.cross_validation_max_px) + " px at worst\n";
+         num(s.report.cross_validation_max_px) + " px at worst (" + where_worst(s.report.cross_validation) + ")\n";
   t += "worst views:";
   for (size_t i = 0; i < s.report.worst_first.size() && i < 5; ++i)
     t += std::string(i ? "," : "") + " " + s.report.worst_first[i].first + " " + num(s.report.worst_first[i].second, 3) +

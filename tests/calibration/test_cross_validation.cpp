@@ -111,6 +111,7 @@ TEST(CrossValidation, ViewsThatCoverTheImageAgreeAndViewsInTheMiddleDoNotInTheCo
 
   const std::string text = solution_text(*good);
   EXPECT_NE(text.find("cross-validation (two halves"), std::string::npos) << text;
+  EXPECT_NE(text.find(" px at worst (the "), std::string::npos) << text;
   EXPECT_NE(solution_json(*good, BoardSpec{}).find("\"cross_validation\""), std::string::npos);
 }
 
