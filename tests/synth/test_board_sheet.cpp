@@ -107,7 +107,7 @@ TEST(BoardSheet, ASmallerChessboardGoesOnA4PortraitOrOnTheA3AskedFor) {
 TEST(BoardSheet, TheWhiteBorderAroundAChessboardIsClearOnThePage) {
   const BoardSheetLayout lay = layout_of(BoardSpec{});
   const cv::Mat page = render_board_sheet(lay, kPxPerMm);
-  const double q = lay.quiet_mm;
+  const double q = lay.board.square_mm;   // one square of white all round, whatever the layout says
   const cv::Rect2d outer(lay.board_mm.x - q, lay.board_mm.y - q, lay.board_mm.width + 2 * q,
                          lay.board_mm.height + 2 * q);
   cv::Mat border(page.size(), CV_8U, cv::Scalar(0));
