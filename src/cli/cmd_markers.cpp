@@ -32,9 +32,10 @@ constexpr int kMinPx = 1, kMaxPx = 1000;
 // Below this a printer's dot gain blurs a board's corners (and a ChArUco marker's cells) away.
 constexpr double kMinBoardSquareMm = 2.0;
 
+// A number as the user would type it back: as many digits as it has, no trailing zeros.
 std::string format_g(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
+  std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
 }
 
@@ -78,16 +79,25 @@ int write_pngs(const Dictionary& dict, const std::vector<int>& ids, int px, cons
   return 0;
 }
 
-int write_sheet(const Dictionary& dict, const std::vector<int>& ids, double size_mm, SheetFormat format,
-                const std::string& path) {
-  SheetResult r;
+// Runs a sheet's writer: nullopt when it wrote; else the status after the message, 2 for a sheet that cannot be
+// made, 1 for a file that cannot be written.
+template <typename Write>
+std::optional<int> sheet_failure(Write write) {
   try {
-    r = write_marker_sheet(dict, ids, size_mm, format, path);
+    write();
   } catch (const std::invalid_argument& e) {
     return fail(2, e.what());
   } catch (const std::runtime_error& e) {
     return fail(1, e.what());
   }
+  return std::nullopt;
+}
+
+int write_sheet(const Dictionary& dict, const std::vector<int>& ids, double size_mm, SheetFormat format,
+                const std::string& path) {
+  SheetResult r;
+  if (const auto status = sheet_failure([&] { r = write_marker_sheet(dict, ids, size_mm, format, path); }))
+    return *status;
   std::string files = r.files.front();
   if (r.files.size() == 2) files += ", " + r.files.back();
   if (r.files.size() > 2) files += ", " + r.files[1] + " ... " + r.files.back();
@@ -96,19 +106,12 @@ int write_sheet(const Dictionary& dict, const std::vector<int>& ids, double size
   return 0;
 }
 
-// A number as the user would type it back: as many digits as it has, no trailing zeros.
-std::string exact(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
 // The `arwb calibrate` line that looks for exactly this board (every board option spelt out).
 std::string calibrate_line(const BoardSpec& b) {
   std::string line = "arwb calibrate --input VIDEO --board " + std::string(board_kind_name(b.kind)) + " --cols " +
                      std::to_string(b.cols) + " --rows " + std::to_string(b.rows) + " --square-mm " +
-                     exact(b.square_mm);
-  if (b.kind == BoardKind::charuco) line += " --marker-mm " + exact(b.marker_mm) + " --dict " + b.dictionary;
+                     format_g(b.square_mm);
+  if (b.kind == BoardKind::charuco) line += " --marker-mm " + format_g(b.marker_mm) + " --dict " + b.dictionary;
   return line + " --out camera.yml";
 }
 
@@ -117,13 +120,8 @@ int write_board(const BoardSpec& board, PaperChoice paper, const std::string& ou
   std::string problem;
   const auto layout = board_sheet_layout(board, paper, {board.describe(), "read it with: " + calibrate}, &problem);
   if (!layout) return fail(2, problem);
-  try {
-    write_board_sheet(*layout, lower_extension(out) == ".svg" ? SheetFormat::svg : SheetFormat::pdf, out);
-  } catch (const std::invalid_argument& e) {
-    return fail(2, e.what());
-  } catch (const std::runtime_error& e) {
-    return fail(1, e.what());
-  }
+  const SheetFormat format = lower_extension(out) == ".svg" ? SheetFormat::svg : SheetFormat::pdf;
+  if (const auto status = sheet_failure([&] { write_board_sheet(*layout, format, out); })) return *status;
   std::printf("wrote %s: %s, on %s\nread it with: %s\n", out.c_str(), board.describe().c_str(),
               layout->paper_name().c_str(), calibrate.c_str());
   return 0;

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -31,12 +30,6 @@ struct Page {
   double w, h;   // portrait
 };
 constexpr Page kA4{"A4", 210, 297}, kA3{"A3", 297, 420};
-
-std::string format_mm(double mm) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", mm);
-  return buf;
-}
 
 // Squares across and down, whatever the kind counts.
 cv::Size squares(const BoardSpec& b) {
@@ -188,13 +181,13 @@ std::optional<BoardSheetLayout> board_sheet_layout(const BoardSpec& board, Paper
   const cv::Size n = squares(board);
   const std::string what = std::string(board.kind == BoardKind::charuco ? "a ChArUco board" : "a chessboard") +
                            " of " + std::to_string(n.width) + "x" + std::to_string(n.height) + " squares of " +
-                           format_mm(board.square_mm) + " mm";
+                           sheet::format_mm(board.square_mm) + " mm";
   const std::string where = paper == PaperChoice::a4   ? "A4 (--paper a4)"
                             : paper == PaperChoice::a3 ? "A3 (--paper a3)"
                                                        : "A4 or A3";
   *problem = what + " does not fit on " + where + " within 10 mm margins with the text under it" +
              (board.kind == BoardKind::chessboard ? " and a one-square white border" : "") +
-             (largest > 0 ? "; the largest --square-mm that fits is " + format_mm(largest)
+             (largest > 0 ? "; the largest --square-mm that fits is " + sheet::format_mm(largest)
                           : "; fewer --cols or --rows are needed");
   return std::nullopt;
 }

@@ -29,6 +29,12 @@ using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_dest
 
 namespace sheet {
 
+std::string format_mm(double mm) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", mm);
+  return buf;
+}
+
 void set_font(cairo_t* cr, double size_mm) {
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, size_mm);
@@ -172,6 +178,7 @@ SheetResult write_pages(SheetFormat format, const std::string& path, double w_mm
 namespace {
 
 using sheet::fill_rect;
+using sheet::format_mm;
 using sheet::kFooterMm;
 using sheet::set_font;
 using sheet::text_width_mm;
@@ -187,12 +194,6 @@ constexpr double kEpsMm = 1e-9;
 // Label font size: a fixed fraction of the marker, kept readable on small markers and modest on large ones.
 double label_font_mm(double marker_mm) { return std::clamp(0.06 * marker_mm, 1.8, 3.0); }
 double label_height_mm(double font_mm) { return 1.6 * font_mm; }  // room for descenders and a little air
-
-std::string format_mm(double mm) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", mm);
-  return buf;
-}
 
 std::string marker_label(const Dictionary& dict, int id, double marker_mm) {
   return dict.name() + " id " + std::to_string(id) + ", " + format_mm(marker_mm) + " mm";

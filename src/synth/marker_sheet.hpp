@@ -65,6 +65,8 @@ namespace sheet {
 constexpr double kPtPerMm = 72.0 / 25.4;  // cairo's PDF and SVG surfaces measure in points
 constexpr double kFooterMm = 14.0;        // the measuring bar and its instruction, at the bottom inside the margin
 
+std::string format_mm(double mm);   // "25", "22.5": a length in a sheet's text
+
 // In these, cr is scaled to millimetres. Text metrics are not rounded to device pixels (the page is vector).
 void set_font(cairo_t* cr, double size_mm);
 double text_width_mm(cairo_t* cr, const std::string& text);
