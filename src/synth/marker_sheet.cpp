@@ -8,8 +8,10 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -161,14 +163,32 @@ SheetResult write_pages(SheetFormat format, const std::string& path, double w_mm
   }
   SheetResult result;
   result.pages = pages;
+  if (files.size() == 1) {
+    std::string error;
+    if (!write_file_atomically(path, files.front().second, &error))
+      throw std::runtime_error("cannot write '" + path + "': " + error);
+    result.files.push_back(path);
+    return result;
+  }
+  // The pages of one sheet go together: each is made beside its place first, and they replace the old pages only
+  // once all are there, so a failure leaves the old pages as they were.
+  std::vector<std::string> staged;
   for (const auto& [file, bytes] : files) {
     std::string error;
-    if (!write_file_atomically(file, bytes, &error)) {
-      // The pages of one sheet go together: those written by this call are taken back.
-      for (const std::string& done : result.files) std::remove(done.c_str());
+    if (!write_file_atomically(file + ".arwb-page", bytes, &error)) {
+      for (const std::string& s : staged) std::remove(s.c_str());
+      std::remove((file + ".arwb-page").c_str());
       throw std::runtime_error("cannot write '" + file + "': " + error);
     }
-    result.files.push_back(file);
+    staged.push_back(file + ".arwb-page");
+  }
+  for (size_t i = 0; i < files.size(); ++i) {
+    if (std::rename(staged[i].c_str(), files[i].first.c_str()) != 0) {
+      const std::string why = std::strerror(errno);
+      for (size_t k = i; k < staged.size(); ++k) std::remove(staged[k].c_str());
+      throw std::runtime_error("cannot write '" + files[i].first + "': " + why);
+    }
+    result.files.push_back(files[i].first);
   }
   return result;
 }

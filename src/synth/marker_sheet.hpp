@@ -78,8 +78,9 @@ void draw_marker(cairo_t* cr, const cv::Mat& bits, double x, double y, double si
 void draw_measuring_bar(cairo_t* cr, double x, double baseline);
 
 // Draws `pages` pages of w_mm x h_mm, each by draw(cr, page) with cr in points, into a PDF (one file) or SVG (one
-// file a page: path, <stem>-2.svg, ...), and writes the file(s) whole: the bytes are made first, then each file
-// replaces its old self in one rename. Throws std::runtime_error "cannot write '<file>': <reason>".
+// file a page: path, <stem>-2.svg, ...), and writes the file(s) whole: the bytes are made first, then the files
+// replace their old selves by renames once all are on disk. Throws std::runtime_error "cannot write '<file>':
+// <reason>", the older files as they were.
 SheetResult write_pages(SheetFormat format, const std::string& path, double w_mm, double h_mm, int pages,
                         const std::string& title, const std::function<void(cairo_t*, int)>& draw);
 

@@ -557,6 +557,31 @@ TEST(MarkersBoard, BadOptionsAreNamedAndNothingIsWritten) {
   EXPECT_TRUE(files_in(tmp.str()).empty());
 }
 
+TEST(MarkersBoard, AFailedWriteLeavesTheOlderFileAsItWas) {
+  // The new page goes to a temporary file beside the old one first; here that name is taken by a folder.
+  TempDir tmp;
+  const std::string file = tmp.str("board.pdf");
+  arwb::test::write_file(file, "an older board");
+  std::filesystem::create_directory(file + ".arwb-saving");
+  const auto r = run_arwb("markers --board chessboard --out '" + file + "'");
+  EXPECT_EQ(r.status, 1);
+  expect_one_line_error(r, "cannot write '" + file + "'");
+  EXPECT_EQ(arwb::test::read_file(file), "an older board");
+}
+
+TEST(MarkersCli, AFailedPageOfAnSvgSheetLeavesEveryOlderPageAsItWas) {
+  TempDir tmp;
+  arwb::test::write_file(tmp.str("s.svg"), "old page 1");
+  arwb::test::write_file(tmp.str("s-2.svg"), "old page 2");
+  std::filesystem::create_directory(tmp.str("s-2.svg.arwb-page.arwb-saving"));   // page 2 cannot be made
+  const auto r = run_arwb("markers --ids 0-9 --size-mm 50 --out '" + tmp.str("s.svg") + "'");
+  EXPECT_EQ(r.status, 1);
+  expect_one_line_error(r, "cannot write '" + tmp.str("s-2.svg") + "'");
+  EXPECT_EQ(arwb::test::read_file(tmp.str("s.svg")), "old page 1");
+  EXPECT_EQ(arwb::test::read_file(tmp.str("s-2.svg")), "old page 2");
+  EXPECT_EQ(files_in(tmp.str()), (std::set<std::string>{"s.svg", "s-2.svg", "s-2.svg.arwb-page.arwb-saving"}));
+}
+
 TEST(MarkersBoard, AnUnwritableOutputIsNamed) {
   const auto r = run_arwb("markers --board chessboard --out /proc/x/board.pdf");
   EXPECT_EQ(r.status, 1);
