@@ -73,11 +73,13 @@ std::optional<BoardSheetLayout> place(const BoardSpec& board, const Page& page, 
   return lay;
 }
 
+// The pages to try, smallest first: each paper portrait, then landscape.
 std::vector<std::pair<Page, bool>> pages_for(PaperChoice paper) {
+  const std::vector<Page> papers = paper == PaperChoice::a4   ? std::vector<Page>{kA4}
+                                   : paper == PaperChoice::a3 ? std::vector<Page>{kA3}
+                                                              : std::vector<Page>{kA4, kA3};
   std::vector<std::pair<Page, bool>> out;
-  for (const Page& p : {kA4, kA3}) {
-    if ((paper == PaperChoice::a4 && p.name != kA4.name) || (paper == PaperChoice::a3 && p.name != kA3.name))
-      continue;
+  for (const Page& p : papers) {
     out.emplace_back(p, false);
     out.emplace_back(p, true);
   }
