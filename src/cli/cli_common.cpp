@@ -355,18 +355,19 @@ bool open_video_writer(cv::VideoWriter& writer, const std::string& path, double 
   return false;
 }
 
-void add_board_options(CLI::App& app, BoardOptions& o) {
+void add_board_options(CLI::App& app, BoardOptions& o, bool with_dict) {
   app.add_option("--board", o.kind, "the calibration board (default chessboard, the paper's)")
       ->type_name("chessboard|charuco")->check(CLI::IsMember({"chessboard", "charuco"}));
+  // Their defaults depend on --board and are in the descriptions; the 0 each holds until given is not one.
   app.add_option("--cols", o.cols, "chessboard: inner corners across (9); charuco: squares across (5)")
-      ->type_name("N")->check(whole_number(3, 40));
+      ->type_name("N")->check(whole_number(3, 40))->default_str("");
   app.add_option("--rows", o.rows, "chessboard: inner corners down (6); charuco: squares down (7)")
-      ->type_name("N")->check(whole_number(3, 40));
+      ->type_name("N")->check(whole_number(3, 40))->default_str("");
   app.add_option("--square-mm", o.square_mm, "a square's side as printed (25; charuco 35)")->type_name("S")
-      ->check(real_number(0.1, 1000));
+      ->check(real_number(0.1, 1000))->default_str("");
   app.add_option("--marker-mm", o.marker_mm, "charuco: a marker's side, less than a square's (26)")->type_name("M")
-      ->check(real_number(0.1, 1000));
-  app.add_option("--dict", o.dict, "charuco: the markers' dictionary (DICT_5X5_100)")->type_name("NAME");
+      ->check(real_number(0.1, 1000))->default_str("");
+  if (with_dict) app.add_option("--dict", o.dict, "charuco: the markers' dictionary (DICT_5X5_100)")->type_name("NAME");
 }
 
 std::optional<BoardSpec> board_from_options(const BoardOptions& o, std::string* problem) {

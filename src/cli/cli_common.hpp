@@ -74,7 +74,8 @@ struct BoardOptions {
   double square_mm = 0, marker_mm = 0;
   std::string dict;
 };
-void add_board_options(CLI::App& app, BoardOptions& o);
+// with_dict false leaves --dict to the command, which then fills o.dict itself (`arwb markers` has its own --dict).
+void add_board_options(CLI::App& app, BoardOptions& o, bool with_dict = true);
 // The board the options describe, or nullopt with *problem naming the option at fault.
 std::optional<BoardSpec> board_from_options(const BoardOptions& o, std::string* problem);
 

@@ -1,6 +1,8 @@
 // Printable marker sheets: layout of A4 pages and drawing with cairo. See marker_sheet.hpp.
 #include "synth/marker_sheet.hpp"
 
+#include "base/files.hpp"
+
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <cairo.h>
@@ -19,21 +21,15 @@ namespace arwb {
 
 namespace {
 
-constexpr double kPtPerMm = 72.0 / 25.4;  // cairo's PDF and SVG surfaces measure in points
-constexpr double kPrintableWidthMm = kSheetPageWidthMm - 2 * kSheetMarginMm;
-constexpr double kFooterMm = 14.0;        // the measuring bar and its text, at the bottom inside the margin
-constexpr double kGridHeightMm = kSheetPageHeightMm - 2 * kSheetMarginMm - kFooterMm;
-constexpr double kGapMm = 3.0;            // between cut outlines, so cutting one piece out spares its neighbours
-constexpr double kCutLineMm = 0.2;
-constexpr double kLabelPadMm = 1.0;       // each side of a label that is wider than the marker
 constexpr double kFooterFontMm = 2.6;
 constexpr double kBarMm = 100.0;
-// A little slack so that sizes which fit exactly are not rejected over rounding.
-constexpr double kEpsMm = 1e-9;
 
-// Label font size: a fixed fraction of the marker, kept readable on small markers and modest on large ones.
-double label_font_mm(double marker_mm) { return std::clamp(0.06 * marker_mm, 1.8, 3.0); }
-double label_height_mm(double font_mm) { return 1.6 * font_mm; }  // room for descenders and a little air
+using CairoPtr = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
+using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+
+}  // namespace
+
+namespace sheet {
 
 std::string format_mm(double mm) {
   char buf[32];
@@ -41,14 +37,6 @@ std::string format_mm(double mm) {
   return buf;
 }
 
-std::string marker_label(const Dictionary& dict, int id, double marker_mm) {
-  return dict.name() + " id " + std::to_string(id) + ", " + format_mm(marker_mm) + " mm";
-}
-
-using CairoPtr = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-
-// Text metrics must not be rounded to device pixels: the layout is in millimetres on a vector surface.
 void set_font(cairo_t* cr, double size_mm) {
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, size_mm);
@@ -63,17 +51,6 @@ double text_width_mm(cairo_t* cr, const std::string& text) {
   cairo_text_extents_t ext;
   cairo_text_extents(cr, text.c_str(), &ext);
   return ext.x_advance;
-}
-
-// The widest label on the sheet, measured with the font the sheet uses.
-double widest_label_mm(const Dictionary& dict, const std::vector<int>& ids, double marker_mm) {
-  SurfacePtr scratch(cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, nullptr), cairo_surface_destroy);
-  CairoPtr cr(cairo_create(scratch.get()), cairo_destroy);
-  cairo_scale(cr.get(), kPtPerMm, kPtPerMm);
-  set_font(cr.get(), label_font_mm(marker_mm));
-  double widest = 0;
-  for (int id : ids) widest = std::max(widest, text_width_mm(cr.get(), marker_label(dict, id, marker_mm)));
-  return widest;
 }
 
 void fill_rect(cairo_t* cr, double x, double y, double w, double h, double grey) {
@@ -108,24 +85,156 @@ void draw_marker(cairo_t* cr, const cv::Mat& bits, double x, double y, double si
   cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
 }
 
-// A 100 mm bar with ticks every 10 mm (longer every 50 mm) and the instruction to measure it. The end ticks stay
-// inside the bar so that the whole figure is exactly 100 mm wide.
-void draw_footer(cairo_t* cr, const std::string& caption) {
-  const double x0 = kSheetMarginMm;
-  const double baseline = kSheetPageHeightMm - kSheetMarginMm - 1.0;
+void draw_measuring_bar(cairo_t* cr, double x0, double baseline) {
   const double bar_top = baseline - 7.5;
   const double bar_h = 1.2;
   fill_rect(cr, x0, bar_top, kBarMm, bar_h, 0);
-  constexpr double tick_w = 0.25;
-  for (int k = 0; k <= 10; ++k) {
-    const double len = k % 5 == 0 ? 3.0 : 1.8;
-    const double tx = std::clamp(x0 + 10.0 * k - tick_w / 2, x0, x0 + kBarMm - tick_w);
+  constexpr double tick_w = 0.15;
+  for (int k = 0; k <= 100; ++k) {
+    const double len = k % 10 == 0 ? 3.0 : k % 5 == 0 ? 2.0 : 1.2;
+    const double tx = std::clamp(x0 + k - tick_w / 2, x0, x0 + kBarMm - tick_w);
     fill_rect(cr, tx, bar_top - len, tick_w, len, 0);
   }
   set_font(cr, kFooterFontMm);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_move_to(cr, x0, baseline);
-  cairo_show_text(cr, "this bar must measure 100 mm (print at actual size, not fit to page)");
+  cairo_show_text(cr, "print at 100 % (actual size, not fit to page): this bar must measure 100 mm");
+}
+
+namespace {
+
+// What cairo writes, kept in memory until the page is whole.
+cairo_status_t append(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+// Page k (from 1) of an SVG sheet: the path itself first, then <stem>-k<ext>.
+std::string svg_page_path(const std::string& path, int page) {
+  if (page == 1) return path;
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.find_last_of('.');
+  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  const std::string stem = has_ext ? path.substr(0, dot) : path;
+  const std::string ext = has_ext ? path.substr(dot) : "";
+  return stem + "-" + std::to_string(page) + ext;
+}
+
+void check(cairo_surface_t* surface, const std::string& path) {
+  if (const cairo_status_t status = cairo_surface_status(surface); status != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error("cannot write '" + path + "': " + cairo_status_to_string(status));
+}
+
+}  // namespace
+
+SheetResult write_pages(SheetFormat format, const std::string& path, double w_mm, double h_mm, int pages,
+                        const std::string& title, const std::function<void(cairo_t*, int)>& draw) {
+  const double w_pt = w_mm * kPtPerMm, h_pt = h_mm * kPtPerMm;
+  std::vector<std::pair<std::string, std::string>> files;  // name, bytes
+  if (format == SheetFormat::pdf) {
+    std::string bytes;
+    SurfacePtr surface(cairo_pdf_surface_create_for_stream(&append, &bytes, w_pt, h_pt), cairo_surface_destroy);
+    cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_TITLE, title.c_str());
+    cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "arwb markers");
+    CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
+    for (int page = 0; page < pages; ++page) {
+      draw(cr.get(), page);
+      cairo_show_page(cr.get());
+    }
+    cr.reset();
+    cairo_surface_finish(surface.get());
+    check(surface.get(), path);
+    files.emplace_back(path, std::move(bytes));
+  } else {
+    // SVG 1.1 keeps only the last page of a multi-page cairo surface, hence one surface and file per page.
+    for (int page = 0; page < pages; ++page) {
+      std::string bytes;
+      const std::string file = svg_page_path(path, page + 1);
+      SurfacePtr surface(cairo_svg_surface_create_for_stream(&append, &bytes, w_pt, h_pt), cairo_surface_destroy);
+      // Units on width and height make viewers and printers honour the physical size (the default is unitless).
+      cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_PT);
+      CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
+      draw(cr.get(), page);
+      cr.reset();
+      cairo_surface_finish(surface.get());
+      check(surface.get(), file);
+      files.emplace_back(file, std::move(bytes));
+    }
+  }
+  SheetResult result;
+  result.pages = pages;
+  if (files.size() == 1) {
+    std::string error;
+    if (!write_file_atomically(path, files.front().second, &error))
+      throw std::runtime_error("cannot write '" + path + "': " + error);
+    result.files.push_back(path);
+    return result;
+  }
+  // The pages of one sheet go together: each is made beside its place first, and they replace the old pages only
+  // once all are there, so a failure leaves the old pages as they were.
+  std::vector<std::string> staged;
+  for (const auto& [file, bytes] : files) {
+    std::string error;
+    if (!write_file_atomically(file + ".arwb-page", bytes, &error)) {
+      for (const std::string& s : staged) std::remove(s.c_str());
+      std::remove((file + ".arwb-page").c_str());
+      throw std::runtime_error("cannot write '" + file + "': " + error);
+    }
+    staged.push_back(file + ".arwb-page");
+  }
+  for (size_t i = 0; i < files.size(); ++i) {
+    if (std::rename(staged[i].c_str(), files[i].first.c_str()) != 0) {
+      const std::string why = std::strerror(errno);
+      for (size_t k = i; k < staged.size(); ++k) std::remove(staged[k].c_str());
+      throw std::runtime_error("cannot write '" + files[i].first + "': " + why);
+    }
+    result.files.push_back(files[i].first);
+  }
+  return result;
+}
+
+}  // namespace sheet
+
+namespace {
+
+using sheet::fill_rect;
+using sheet::format_mm;
+using sheet::kFooterMm;
+using sheet::set_font;
+using sheet::text_width_mm;
+
+constexpr double kPrintableWidthMm = kSheetPageWidthMm - 2 * kSheetMarginMm;
+constexpr double kGridHeightMm = kSheetPageHeightMm - 2 * kSheetMarginMm - kFooterMm;
+constexpr double kGapMm = 3.0;            // between cut outlines, so cutting one piece out spares its neighbours
+constexpr double kCutLineMm = 0.2;
+constexpr double kLabelPadMm = 1.0;       // each side of a label that is wider than the marker
+// A little slack so that sizes which fit exactly are not rejected over rounding.
+constexpr double kEpsMm = 1e-9;
+
+// Label font size: a fixed fraction of the marker, kept readable on small markers and modest on large ones.
+double label_font_mm(double marker_mm) { return std::clamp(0.06 * marker_mm, 1.8, 3.0); }
+double label_height_mm(double font_mm) { return 1.6 * font_mm; }  // room for descenders and a little air
+
+std::string marker_label(const Dictionary& dict, int id, double marker_mm) {
+  return dict.name() + " id " + std::to_string(id) + ", " + format_mm(marker_mm) + " mm";
+}
+
+// The widest label on the sheet, measured with the font the sheet uses.
+double widest_label_mm(const Dictionary& dict, const std::vector<int>& ids, double marker_mm) {
+  SurfacePtr scratch(cairo_recording_surface_create(CAIRO_CONTENT_COLOR_ALPHA, nullptr), cairo_surface_destroy);
+  CairoPtr cr(cairo_create(scratch.get()), cairo_destroy);
+  cairo_scale(cr.get(), sheet::kPtPerMm, sheet::kPtPerMm);
+  set_font(cr.get(), label_font_mm(marker_mm));
+  double widest = 0;
+  for (int id : ids) widest = std::max(widest, text_width_mm(cr.get(), marker_label(dict, id, marker_mm)));
+  return widest;
+}
+
+// The measuring bar at the left, the page's caption at the right.
+void draw_footer(cairo_t* cr, const std::string& caption) {
+  const double baseline = kSheetPageHeightMm - kSheetMarginMm - 1.0;
+  sheet::draw_measuring_bar(cr, kSheetMarginMm, baseline);
+  set_font(cr, kFooterFontMm);
   cairo_move_to(cr, kSheetPageWidthMm - kSheetMarginMm - text_width_mm(cr, caption), baseline);
   cairo_show_text(cr, caption.c_str());
 }
@@ -133,7 +242,7 @@ void draw_footer(cairo_t* cr, const std::string& caption) {
 void draw_page(cairo_t* cr, const SheetLayout& lay, const Dictionary& dict, std::span<const int> ids,
                const std::string& caption) {
   cairo_save(cr);
-  cairo_scale(cr, kPtPerMm, kPtPerMm);
+  cairo_scale(cr, sheet::kPtPerMm, sheet::kPtPerMm);
   // An SVG page is transparent otherwise, which shows as black on a dark viewer background.
   fill_rect(cr, 0, 0, kSheetPageWidthMm, kSheetPageHeightMm, 1);
 
@@ -152,7 +261,7 @@ void draw_page(cairo_t* cr, const SheetLayout& lay, const Dictionary& dict, std:
 
     const double mx = bx + (lay.box_w_mm - lay.marker_mm) / 2;
     const double my = by + kCutLineMm + lay.quiet_mm;
-    draw_marker(cr, dict.bits(ids[i]), mx, my, lay.marker_mm);
+    sheet::draw_marker(cr, dict.bits(ids[i]), mx, my, lay.marker_mm);
 
     const std::string label = marker_label(dict, ids[i], lay.marker_mm);
     set_font(cr, lay.label_mm);
@@ -163,62 +272,6 @@ void draw_page(cairo_t* cr, const SheetLayout& lay, const Dictionary& dict, std:
   }
   draw_footer(cr, caption);
   cairo_restore(cr);
-}
-
-// A file cairo writes through, so that a failure can be reported with the system's reason.
-struct FileSink {
-  std::string path;
-  std::FILE* file = nullptr;
-  int error = 0;
-
-  static cairo_status_t write(void* closure, const unsigned char* data, unsigned int length) {
-    auto* self = static_cast<FileSink*>(closure);
-    if (std::fwrite(data, 1, length, self->file) != length) {
-      self->error = errno;
-      return CAIRO_STATUS_WRITE_ERROR;
-    }
-    return CAIRO_STATUS_SUCCESS;
-  }
-
-  explicit FileSink(std::string p) : path(std::move(p)) {
-    file = std::fopen(path.c_str(), "wb");
-    if (!file) throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
-  }
-  FileSink(const FileSink&) = delete;
-  FileSink& operator=(const FileSink&) = delete;
-  ~FileSink() {
-    if (file) {
-      std::fclose(file);
-      std::remove(path.c_str());
-    }
-  }
-
-  // Called once cairo has finished the surface; throws if anything went wrong on the way.
-  void close(cairo_status_t status) {
-    std::FILE* f = std::exchange(file, nullptr);
-    const bool closed = std::fclose(f) == 0;
-    if (!closed && error == 0) error = errno;
-    if (status == CAIRO_STATUS_SUCCESS && closed && error == 0) return;
-    std::remove(path.c_str());
-    const std::string why = error != 0 ? std::strerror(error) : cairo_status_to_string(status);
-    throw std::runtime_error("cannot write '" + path + "': " + why);
-  }
-};
-
-void finish(cairo_surface_t* surface, FileSink& sink) {
-  cairo_surface_finish(surface);
-  sink.close(cairo_surface_status(surface));
-}
-
-// Page k (from 1) of an SVG sheet: the path itself first, then <stem>-k<ext>.
-std::string svg_page_path(const std::string& path, int page) {
-  if (page == 1) return path;
-  const size_t slash = path.find_last_of('/');
-  const size_t dot = path.find_last_of('.');
-  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
-  const std::string stem = has_ext ? path.substr(0, dot) : path;
-  const std::string ext = has_ext ? path.substr(dot) : "";
-  return stem + "-" + std::to_string(page) + ext;
 }
 
 }  // namespace
@@ -248,54 +301,19 @@ SheetResult write_marker_sheet(const Dictionary& dict, const std::vector<int>& i
   const SheetLayout lay = sheet_layout(marker_mm, dict.marker_size(), widest_label_mm(dict, ids, marker_mm));
   if (!lay.fits())
     throw std::invalid_argument("a " + format_mm(marker_mm) + " mm " + dict.name() + " marker does not fit on the page");
-  const int count = static_cast<int>(ids.size());
-  SheetResult result;
-  result.pages = std::max(1, lay.pages(count));
-  const double w_pt = kSheetPageWidthMm * kPtPerMm, h_pt = kSheetPageHeightMm * kPtPerMm;
-
+  const int pages = std::max(1, lay.pages(static_cast<int>(ids.size())));
   auto page_ids = [&](int page) {
     const size_t first = static_cast<size_t>(page * lay.per_page());
     const size_t n = std::min(static_cast<size_t>(lay.per_page()), ids.size() - std::min(first, ids.size()));
     return std::span<const int>(ids).subspan(std::min(first, ids.size()), n);
   };
-  auto caption = [&](int page) {
-    return dict.name() + ", " + format_mm(marker_mm) + " mm, page " + std::to_string(page + 1) + " of " +
-           std::to_string(result.pages);
-  };
-
-  if (format == SheetFormat::pdf) {
-    FileSink sink(path);
-    SurfacePtr surface(cairo_pdf_surface_create_for_stream(&FileSink::write, &sink, w_pt, h_pt),
-                       cairo_surface_destroy);
-    const std::string title = dict.name() + " markers, " + format_mm(marker_mm) + " mm";
-    cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_TITLE, title.c_str());
-    cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "arwb markers");
-    CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
-    for (int page = 0; page < result.pages; ++page) {
-      draw_page(cr.get(), lay, dict, page_ids(page), caption(page));
-      cairo_show_page(cr.get());
-    }
-    cr.reset();
-    finish(surface.get(), sink);
-    result.files.push_back(path);
-    return result;
-  }
-
-  // SVG 1.1 keeps only the last page of a multi-page cairo surface, hence one surface and file per page.
-  for (int page = 0; page < result.pages; ++page) {
-    const std::string file = svg_page_path(path, page + 1);
-    FileSink sink(file);
-    SurfacePtr surface(cairo_svg_surface_create_for_stream(&FileSink::write, &sink, w_pt, h_pt),
-                       cairo_surface_destroy);
-    // Units on width and height make viewers and printers honour the physical size (the default is unitless).
-    cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_PT);
-    CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
-    draw_page(cr.get(), lay, dict, page_ids(page), caption(page));
-    cr.reset();
-    finish(surface.get(), sink);
-    result.files.push_back(file);
-  }
-  return result;
+  const std::string title = dict.name() + " markers, " + format_mm(marker_mm) + " mm";
+  return sheet::write_pages(format, path, kSheetPageWidthMm, kSheetPageHeightMm, pages, title,
+                            [&](cairo_t* cr, int page) {
+                              const std::string caption = dict.name() + ", " + format_mm(marker_mm) + " mm, page " +
+                                                          std::to_string(page + 1) + " of " + std::to_string(pages);
+                              draw_page(cr, lay, dict, page_ids(page), caption);
+                            });
 }
 
 }  // namespace arwb

@@ -12,6 +12,9 @@
 
 #include "detect/dictionary.hpp"
 
+#include <cairo.h>
+
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,8 +55,35 @@ struct SheetResult {
 };
 
 // Writes the sheet. Throws std::invalid_argument if the size does not fit on a page, std::runtime_error naming the
-// file if it cannot be written (a partly written file is removed).
+// file if it cannot be written (nothing is written then; an older file of that name stays as it was).
 SheetResult write_marker_sheet(const Dictionary& dict, const std::vector<int>& ids, double marker_mm,
                                SheetFormat format, const std::string& path);
+
+// ---- What every printed sheet shares (the marker sheets here, the calibration board in board_sheet.hpp) ----------
+namespace sheet {
+
+constexpr double kPtPerMm = 72.0 / 25.4;  // cairo's PDF and SVG surfaces measure in points
+constexpr double kFooterMm = 14.0;        // the measuring bar and its instruction, at the bottom inside the margin
+
+std::string format_mm(double mm);   // "25", "22.5": a length in a sheet's text
+
+// In these, cr is scaled to millimetres. Text metrics are not rounded to device pixels (the page is vector).
+void set_font(cairo_t* cr, double size_mm);
+double text_width_mm(cairo_t* cr, const std::string& text);
+void fill_rect(cairo_t* cr, double x, double y, double w, double h, double grey);
+// A marker whose outer black edge is size_mm, top-left at (x, y), as one even-odd path (see above).
+void draw_marker(cairo_t* cr, const cv::Mat& bits, double x, double y, double size_mm);
+// A 100 mm bar, a tick every millimetre (longer every 5 and 10), its left end at x, and under it on `baseline` the
+// instruction to print at actual size. The ends' ticks stay inside the bar, so the figure is exactly 100 mm wide.
+void draw_measuring_bar(cairo_t* cr, double x, double baseline);
+
+// Draws `pages` pages of w_mm x h_mm, each by draw(cr, page) with cr in points, into a PDF (one file) or SVG (one
+// file a page: path, <stem>-2.svg, ...), and writes the file(s) whole: the bytes are made first, then the files
+// replace their old selves by renames once all are on disk. Throws std::runtime_error "cannot write '<file>':
+// <reason>", the older files as they were.
+SheetResult write_pages(SheetFormat format, const std::string& path, double w_mm, double h_mm, int pages,
+                        const std::string& title, const std::function<void(cairo_t*, int)>& draw);
+
+}  // namespace sheet
 
 }  // namespace arwb

@@ -1,5 +1,6 @@
 // `arwb markers`: PNGs that decode back to the dictionary's bits, sheets whose markers have the size asked for on
-// paper, and one-line errors naming the bad value.
+// paper, calibration boards (--board) on the paper they fit with the calibrate line that reads them, and one-line
+// errors naming the bad value.
 #include "synth/marker_sheet.hpp"
 #include "detect/dictionary.hpp"
 #include "support.hpp"
@@ -15,6 +16,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -421,6 +423,169 @@ TEST(MarkersCli, UnknownOptionsAndHelp) {
   EXPECT_NE(r.out.find("usage: arwb markers"), std::string::npos);
   EXPECT_NE(r.out.find("--size-mm"), std::string::npos);
   EXPECT_TRUE(r.err.empty());
+}
+
+// ---- calibration boards (--board) -------------------------------------------------------------------------------
+
+// The page size of a one-page PDF in points, from its /MediaBox.
+cv::Size2d media_box_pt(const std::string& pdf) {
+  const size_t at = pdf.find("/MediaBox");
+  if (at == std::string::npos) return {};
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  if (std::sscanf(pdf.c_str() + at, "/MediaBox [ %lf %lf %lf %lf ]", &x0, &y0, &x1, &y1) != 4) return {};
+  return {x1 - x0, y1 - y0};
+}
+
+void expect_page_mm(const std::string& pdf_file, double w_mm, double h_mm) {
+  const std::string pdf = arwb::test::read_file(pdf_file);
+  ASSERT_EQ(pdf.rfind("%PDF", 0), 0u);
+  const int pages = static_cast<int>(count(pdf, "/Type /Page")) - static_cast<int>(count(pdf, "/Type /Pages"));
+  EXPECT_EQ(pages, 1);
+  const cv::Size2d pt = media_box_pt(pdf);
+  EXPECT_NEAR(pt.width, w_mm / kMmPerPt, 0.01);
+  EXPECT_NEAR(pt.height, h_mm / kMmPerPt, 0.01);
+}
+
+TEST(MarkersBoard, ThePapersChessboardIsPrintedOnA3LandscapeWithTheLineThatReadsIt) {
+  TempDir tmp;
+  const auto r = run_arwb("markers --board chessboard --out '" + tmp.str("board.pdf") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_NE(r.out.find("chessboard 9x6 inner corners (10x7 squares), 25.00 mm squares, on A3 landscape"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("read it with: arwb calibrate --input VIDEO --board chessboard --cols 9 --rows 6 "
+                       "--square-mm 25 --out camera.yml\n"), std::string::npos) << r.out;
+  expect_page_mm(tmp.str("board.pdf"), 420, 297);
+}
+
+TEST(MarkersBoard, TheCalibrateLinePrintedIsOneCalibrateAccepts) {
+  TempDir tmp;
+  const auto r = run_arwb("markers --board chessboard --cols 7 --rows 5 --square-mm 22.5 --out '" + tmp.str("b.pdf") +
+                          "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string key = "read it with: arwb ";
+  const size_t at = r.out.find(key);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::string line = r.out.substr(at + key.size());
+  line = line.substr(0, line.find('\n'));
+  EXPECT_NE(line.find("--cols 7 --rows 5 --square-mm 22.5"), std::string::npos) << line;
+  // With a video that is not there, calibrate gets past its options and stops at the input.
+  line.replace(line.find("VIDEO"), 5, "'" + tmp.str("no-such-video.mp4") + "'");
+  line.replace(line.find("camera.yml"), 10, "'" + tmp.str("camera.yml") + "'");
+  const auto c = run_arwb(line);
+  EXPECT_NE(c.status, 0);
+  EXPECT_NE(c.err.find("no-such-video.mp4"), std::string::npos) << c.err;
+  EXPECT_EQ(c.err.find("--board"), std::string::npos) << c.err;
+  EXPECT_EQ(c.err.find("--square-mm"), std::string::npos) << c.err;
+}
+
+TEST(MarkersBoard, TheDefaultChArUcoBoardFitsA4Portrait) {
+  TempDir tmp;
+  const auto r = run_arwb("markers --board charuco --out '" + tmp.str("charuco.pdf") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("ChArUco 5x7 squares (4x6 inner corners), 35.00 mm squares, 26.00 mm markers, DICT_5X5_100"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("on A4 portrait"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--board charuco --cols 5 --rows 7 --square-mm 35 --marker-mm 26 --dict DICT_5X5_100"),
+            std::string::npos) << r.out;
+  expect_page_mm(tmp.str("charuco.pdf"), 210, 297);
+}
+
+TEST(MarkersBoard, PaperCanBeChosenAndSvgIsOnePageAtTrueSize) {
+  TempDir tmp;
+  auto r = run_arwb("markers --board charuco --paper a3 --out '" + tmp.str("a3.pdf") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_page_mm(tmp.str("a3.pdf"), 297, 420);
+
+  r = run_arwb("markers --board charuco --dict 4x4_50 --cols 6 --rows 4 --square-mm 30 --out '" +
+               tmp.str("b.svg") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(files_in(tmp.str()), (std::set<std::string>{"a3.pdf", "b.svg"}));
+  const Svg svg = parse_svg(arwb::test::read_file(tmp.str("b.svg")));
+  EXPECT_NEAR(svg.width_mm, 210, 0.1) << "6x4 squares of 30 mm: 180 mm across, A4 portrait";
+  EXPECT_NEAR(svg.height_mm, 297, 0.1);
+  // The 12 markers, 22.5 mm (--marker-mm defaults to 3/4 of the square), with the bits of ids 0..11.
+  const auto markers = marker_paths(svg);
+  ASSERT_EQ(markers.size(), 12u);
+  for (size_t i = 0; i < markers.size(); ++i) {
+    EXPECT_NEAR(markers[i].subpaths.front().w(), 22.5, 0.01);
+    expect_same_bits(bits_of(markers[i], 4), dict("4X4_50").bits(int(i)), "marker " + std::to_string(i));
+  }
+}
+
+TEST(MarkersBoard, ABoardTooLargeIsRefusedWithTheLargestSquareAndNothingIsWritten) {
+  TempDir tmp;
+  const std::string file = tmp.str("big.pdf");
+  arwb::test::write_file(file, "an older file");
+  auto r = run_arwb("markers --board chessboard --square-mm 60 --out '" + file + "'");
+  EXPECT_EQ(r.status, 2);
+  expect_one_line_error(r, "the largest --square-mm that fits is ");
+  EXPECT_EQ(arwb::test::read_file(file), "an older file");
+
+  r = run_arwb("markers --board chessboard --paper a4 --out '" + tmp.str("a4.pdf") + "'");
+  EXPECT_EQ(r.status, 2);
+  expect_one_line_error(r, "--paper a4");
+  EXPECT_FALSE(std::filesystem::exists(tmp.str("a4.pdf")));
+}
+
+TEST(MarkersBoard, BadOptionsAreNamedAndNothingIsWritten) {
+  TempDir tmp;
+  const std::string out = "--out '" + tmp.str("b.pdf") + "'";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--board circles " + out, "--board circles"},
+      {"--board charuco --marker-mm 40 " + out, "--marker-mm 40"},
+      {"--board chessboard --marker-mm 5 " + out, "--marker-mm is for a ChArUco board"},
+      {"--board chessboard --dict 4X4_50 " + out, "--dict is for a ChArUco board"},
+      {"--board charuco --dict NO_SUCH " + out, "--dict NO_SUCH"},
+      {"--board charuco --dict 4X4_50 --cols 11 --rows 11 --square-mm 10 " + out,
+       "--dict 4X4_50 has 50 markers; a 11x11 ChArUco board needs 60"},
+      {"--board chessboard --cols 2 " + out, "--cols 2"},
+      {"--board chessboard --square-mm 1.5 " + out, "--square-mm 1.5"},
+      {"--board chessboard --square-mm -3 " + out, "--square-mm"},
+      {"--board chessboard --paper a5 " + out, "--paper a5"},
+      {"--board chessboard --ids 3 " + out, "--ids is for marker sheets"},
+      {"--board chessboard --size-mm 30 " + out, "--size-mm is for marker sheets"},
+      {"--cols 5 " + out, "--cols is for a calibration board"},
+      {"--paper a3 " + out, "--paper is for a calibration board"},
+      {"--board chessboard --out '" + tmp.str("folder") + "'", "a board is printed to FILE.pdf or FILE.svg"},
+  };
+  for (const auto& [args, names] : cases) {
+    const auto r = run_arwb("markers " + args);
+    EXPECT_EQ(r.status, 2) << args;
+    expect_one_line_error(r, names);
+  }
+  EXPECT_TRUE(files_in(tmp.str()).empty());
+}
+
+TEST(MarkersBoard, AFailedWriteLeavesTheOlderFileAsItWas) {
+  // The new page goes to a temporary file beside the old one first; here that name is taken by a folder.
+  TempDir tmp;
+  const std::string file = tmp.str("board.pdf");
+  arwb::test::write_file(file, "an older board");
+  std::filesystem::create_directory(file + ".arwb-saving");
+  const auto r = run_arwb("markers --board chessboard --out '" + file + "'");
+  EXPECT_EQ(r.status, 1);
+  expect_one_line_error(r, "cannot write '" + file + "'");
+  EXPECT_EQ(arwb::test::read_file(file), "an older board");
+}
+
+TEST(MarkersCli, AFailedPageOfAnSvgSheetLeavesEveryOlderPageAsItWas) {
+  TempDir tmp;
+  arwb::test::write_file(tmp.str("s.svg"), "old page 1");
+  arwb::test::write_file(tmp.str("s-2.svg"), "old page 2");
+  std::filesystem::create_directory(tmp.str("s-2.svg.arwb-page.arwb-saving"));   // page 2 cannot be made
+  const auto r = run_arwb("markers --ids 0-9 --size-mm 50 --out '" + tmp.str("s.svg") + "'");
+  EXPECT_EQ(r.status, 1);
+  expect_one_line_error(r, "cannot write '" + tmp.str("s-2.svg") + "'");
+  EXPECT_EQ(arwb::test::read_file(tmp.str("s.svg")), "old page 1");
+  EXPECT_EQ(arwb::test::read_file(tmp.str("s-2.svg")), "old page 2");
+  EXPECT_EQ(files_in(tmp.str()), (std::set<std::string>{"s.svg", "s-2.svg", "s-2.svg.arwb-page.arwb-saving"}));
+}
+
+TEST(MarkersBoard, AnUnwritableOutputIsNamed) {
+  const auto r = run_arwb("markers --board chessboard --out /proc/x/board.pdf");
+  EXPECT_EQ(r.status, 1);
+  expect_one_line_error(r, "'/proc/x/board.pdf'");
 }
 
 }  // namespace
