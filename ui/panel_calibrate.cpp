@@ -107,7 +107,11 @@ void frames_so_far(const CalibrationSnapshot& s) {
     ImGui::TextWrapped("%s: %s", s.frame_name.c_str(), s.verdict.reason.c_str());
     ImGui::PopStyleColor();
   }
-  ImGui::TextWrapped("%d frames, board in %d, %zu views kept", s.frames, s.boards, s.views.size());
+  ImGui::TextWrapped("%d frames judged, board in %d, %zu views kept", s.frames, s.boards, s.views.size());
+  if (s.skipped > 0) {
+    text_disabled_wrapped((std::to_string(s.skipped) + " frames went by while the board was being searched for "
+                           "(hold the board still: a view needs two frames alike)").c_str());
+  }
   std::string refused;
   for (const auto& [kind, n] : s.tally)
     if (kind != "kept") refused += (refused.empty() ? "" : ", ") + kind + " " + std::to_string(n);

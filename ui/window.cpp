@@ -224,6 +224,26 @@ void App::run_action(const Action& a) {
     if (!c || n < 1 || n > static_cast<int>(c->views.size()))
       return warn("--actions calib_drop=" + a.arg + ": no such view (" + std::to_string(c ? c->views.size() : 0) + " kept)");
     requests.push_back({ui::RequestKind::calibration_drop, c->views[static_cast<size_t>(n - 1)].name, 0, {}, {}});
+  } else if (a.verb == "calib_wait") {
+    // calib_wait[=N]: for scripts and tests, the window waits (up to 120 s) until N views are kept and the views
+    // are solved, whatever the machine's speed. The worker goes on meanwhile; the window is not drawn.
+    const size_t want = static_cast<size_t>(std::max(0, std::atoi(a.arg.c_str())));
+    const auto end = Clock::now() + std::chrono::seconds(120);
+    // The settings changed this frame (a workspace switched to, capture turned off) reach the worker first.
+    forward_settings();
+    // Two frames newer than now: the worker may be finishing a frame begun before this frame's requests reached it.
+    std::shared_ptr<const Frame> f = engine->latest();
+    for (int i = 0; i < 2 && Clock::now() < end; ++i) f = engine->wait_newer(f ? f->index : 0, 60);
+    while (Clock::now() < end) {
+      const CalibrationSnapshot* c = f ? f->calibration.get() : nullptr;
+      const bool settled = c && !c->solving && (c->solved_revision == c->revision || !c->solve_error.empty());
+      if (c && c->views.size() >= want && settled && c->capture == settings.calibration.capture) {
+        frame = f;
+        return;
+      }
+      f = engine->wait_newer(f ? f->index : 0, 0.5);
+    }
+    warn("--actions calib_wait=" + a.arg + ": the calibration did not get there within 120 s");
   } else if (a.verb == "calib_reset") {
     requests.push_back({ui::RequestKind::calibration_reset, "", 0, {}, {}});
   } else if (a.verb == "calib_save") {
@@ -770,6 +790,7 @@ int run_workbench(const WorkbenchOptions& options) {
         c["capture"] = k->capture;
         c["frames"] = k->frames;
         c["boards"] = k->boards;
+        c["skipped"] = k->skipped;
         c["views"] = k->views.size();
         c["kept"] = k->tally.count("kept") ? k->tally.at("kept") : 0;
         c["dropped"] = k->dropped;

@@ -52,6 +52,7 @@ CalibrationSession::CalibrationSession(BoardSpec board, SelectOptions select, So
 
 CalibrationSession::~CalibrationSession() {
   if (running_.valid()) running_.wait();
+  if (finding_.valid()) finding_.wait();
 }
 
 void CalibrationSession::set_board(const BoardSpec& board) {
@@ -119,18 +120,35 @@ bool CalibrationSession::drop_view(const std::string& name) {
 
 void CalibrationSession::feed(const cv::Mat& frame, const std::string& name) {
   if (frame.empty()) return;
-  if (state_.image_size.area() > 0 && frame.size() != state_.image_size) reset();
-  state_.image_size = frame.size();
+  judge(detect_board(frame, board_), frame.size(), name);
+}
+
+void CalibrationSession::offer(const cv::Mat& frame, const std::string& name) {
+  if (frame.empty()) return;
+  if (finding_.valid()) {
+    ++state_.skipped;
+    changed();
+    return;
+  }
+  finding_size_ = frame.size();
+  finding_name_ = name;
+  finding_base_ = base_revision_;
+  finding_ = std::async(std::launch::async, [image = frame.clone(), board = board_] { return detect_board(image, board); });
+}
+
+void CalibrationSession::judge(const BoardDetection& d, cv::Size size, const std::string& name) {
+  if (state_.image_size.area() > 0 && size != state_.image_size) reset();
+  state_.image_size = size;
   state_.frame_name = name;
-  state_.detection = detect_board(frame, board_);
+  state_.detection = d;
   ++state_.frames;
   state_.boards += state_.detection.found;
   if (state_.capture) {
-    state_.verdict = selector_.consider(state_.detection, frame.size());
+    state_.verdict = selector_.consider(state_.detection, size);
     ++state_.tally[state_.verdict.kind];
     if (state_.verdict.keep) {
       state_.views.push_back({name, state_.detection.corners, state_.detection.ids});
-      state_.poses.push_back(view_pose(state_.detection.corners, board_, frame.size()));
+      state_.poses.push_back(view_pose(state_.detection.corners, board_, size));
       ++state_.revision;
       update_coverage();
     }
@@ -153,6 +171,12 @@ void CalibrationSession::start_solve() {
 
 bool CalibrationSession::poll() {
   bool any = false;
+  if (finding_.valid() && finding_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    const BoardDetection d = finding_.get();
+    // A search begun before a reset or another board is of no use now.
+    if (finding_base_ == base_revision_) judge(d, finding_size_, finding_name_);
+    any = true;
+  }
   if (running_.valid() && running_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     Result<Solution> r = running_.get();
     state_.solving = false;
@@ -199,7 +223,9 @@ bool CalibrationSession::wait_solved(double timeout_s) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   for (;;) {
     poll();
-    const bool settled = !running_.valid() && (state_.solved_revision == state_.revision ||
+    // Nothing judged since a reset leaves nothing to solve.
+    const bool settled = !running_.valid() && !finding_.valid() && (state_.solved_revision == state_.revision ||
+                                                                    state_.image_size.area() == 0 ||
                                                (!state_.solve_error.empty() && running_revision_ == state_.revision));
     if (settled) return true;
     if (std::chrono::steady_clock::now() >= end) return false;

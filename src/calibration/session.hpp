@@ -1,7 +1,9 @@
 // A calibration session, as the Calibrate workspace runs one: frames come in one by one, the board is looked for in
 // each, the selector keeps the frames that make good views (and says why it refused the others), and the views
-// are solved again whenever they change. The solve runs on a thread of its own (it can take a second), so feeding
-// frames never waits for it; the newest finished solve is handed out with the rest of the state as one immutable
+// are solved again whenever they change. The solve runs on a thread of its own (it can take a second), and so can
+// the board search (OpenCV's search for a chessboard takes a second or more on a frame without one): a live
+// source offers every frame, and the frames that come while the search is busy are skipped, so the live view
+// never waits for either. The newest finished solve is handed out with the rest of the state as one immutable
 // snapshot. Knows nothing of the window: the workbench's worker feeds it and publishes the snapshot on its Frame.
 #pragma once
 
@@ -30,6 +32,7 @@ struct CalibrationSnapshot {
   bool capture = true;                    // frames are being judged and kept
   cv::Size image_size;                    // of the views (0x0 before the first frame)
   int frames = 0, boards = 0;             // frames judged, and those with the board in them
+  int skipped = 0;                        // frames offered while the board search was busy with an earlier one
   // The frame this snapshot was made with: where the board was found (empty when it was not) and the verdict.
   BoardDetection detection;
   Verdict verdict;
@@ -77,6 +80,9 @@ class CalibrationSession {
   // and, while capturing, the frame judged and perhaps kept. A frame of another size than the views starts
   // afresh (one calibration is of one camera at one size).
   void feed(const cv::Mat& frame, const std::string& name);
+  // The same for a live source: the board is searched for on a thread of its own when it is idle (the frame is
+  // skipped otherwise); poll() judges the frame when the search is done.
+  void offer(const cv::Mat& frame, const std::string& name);
   // Takes a finished solve and starts the next one when the views changed; true when the state changed.
   bool poll();
   // The state now; the same pointer until something changes.
@@ -89,6 +95,7 @@ class CalibrationSession {
   void start_solve();
   void rebuild_selector();
   void update_coverage();
+  void judge(const BoardDetection& d, cv::Size size, const std::string& name);
 
   BoardSpec board_;
   SelectOptions select_;
@@ -98,6 +105,10 @@ class CalibrationSession {
   std::shared_ptr<const CalibrationSnapshot> snap_;
   std::future<Result<Solution>> running_;
   int running_revision_ = -1;
+  std::future<BoardDetection> finding_;   // the board search in flight
+  cv::Size finding_size_;
+  std::string finding_name_;
+  int finding_base_ = 0;
   int base_revision_ = 0;        // solves of views older than this (before a reset) are thrown away
 };
 

@@ -26,6 +26,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "workspace=NAME, save_workspace=NAME, move=PANEL>PANEL (into the region of the second), "
                  "splitter=I,RATIO, calib_board=chessboard|charuco[,COLS,ROWS[,SQUARE_MM[,MARKER_MM]]], "
                  "calib_capture=on|off, calib_drop=N (the N-th view kept), calib_reset, calib_save=PATH, "
+                 "calib_wait[=N] (waits until N views are kept and solved), "
                  "undistort=on|off.\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console calibrate calibration_views.\n"

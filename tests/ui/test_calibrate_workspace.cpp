@@ -1,5 +1,5 @@
-// The Calibrate workspace, run for real under xvfb-run on a video of a chessboard held still in one place after
-// another (synthetic views of a known camera): it fills up over the frames (views kept, frames refused by reason,
+// The Calibrate workspace, run for real under xvfb-run on a folder of chessboard views (synthetic views of a
+// known camera); calib_wait makes the runs independent of the machine's speed: it fills up over the frames (views kept, frames refused by reason,
 // a solve with its checklist near the truth), calib_drop takes a view out and the worker solves again without it,
 // calib_save writes a file the shared reader reads back, and --calibration with a bad file says what and where
 // while the window runs on, a good one drives the undistorted view.
@@ -10,8 +10,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
+#include <opencv2/imgcodecs.hpp>
 
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -23,24 +24,21 @@ using test::RunResult;
 using test::TempDir;
 using Json = nlohmann::json;
 
-// A 20 fps video of 24 views of the paper's board, each held for 4 frames (so the selector sees it still), made
-// once per binary.
-const std::string& chessboard_video() {
+// A folder of 16 views of the paper's board (the folder source plays one a second, and its frames are judged as
+// stills), made once per binary.
+const std::string& chessboard_folder() {
   static TempDir* dir = new TempDir;   // kept for the binary's life
   static const std::string path = [] {
-    const std::string p = dir->str("board.avi");
     const SynthCamera camera;
     const SynthChessboard board{9, 6, 0.025, 1.0};
     const ChessboardRenderer renderer(camera, board);
-    cv::VideoWriter w(p, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 20, camera.size);
-    const auto poses = chessboard_poses(camera, board, 24, 7);
-    cv::Mat bgr;
+    const auto poses = chessboard_poses(camera, board, 16, 7);
     for (size_t i = 0; i < poses.size(); ++i) {
-      cv::cvtColor(renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image, bgr,
-                   cv::COLOR_GRAY2BGR);
-      for (int k = 0; k < 4; ++k) w.write(bgr);
+      char name[32];
+      std::snprintf(name, sizeof name, "board_%02zu.png", i);
+      cv::imwrite(dir->str(name), renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image);
     }
-    return p;
+    return dir->str();
   }();
   return path;
 }
@@ -55,19 +53,18 @@ Json stats(const RunResult& r) {
 }
 
 std::string args(const TempDir& tmp, const std::string& more) {
-  return "--config-dir '" + tmp.str("config") + "' --source '" + chessboard_video() + "' --stats " + more;
+  return "--config-dir '" + tmp.str("config") + "' --source '" + chessboard_folder() + "' --stats " + more;
 }
 
 TEST(Calibrate, FillsUpOverTheFramesAndSolvesNearTheTruth) {
   TempDir tmp;
-  const RunResult r = test::run_arwb_window(args(tmp, "--frames 420 --actions '1:workspace=Calibrate'"));
+  const RunResult r = test::run_arwb_window(args(tmp, "--frames 12 --actions '1:workspace=Calibrate;2:calib_wait=10'"));
   ASSERT_EQ(r.status, 0) << r.err;
   const Json c = stats(r)["calibration"];
   ASSERT_TRUE(c.is_object()) << r.out;
   EXPECT_TRUE(c["active"].get<bool>());
-  EXPECT_GT(c["frames"].get<int>(), 40) << c.dump();
-  EXPECT_GE(c["views"].get<int>(), 12) << c.dump();
-  EXPECT_GT(c["refused"]["moving"].get<int>(), 0) << "a board that has just moved is refused: " << c.dump();
+  EXPECT_GE(c["frames"].get<int>(), 10) << c.dump();
+  EXPECT_GE(c["views"].get<int>(), 10) << c.dump();
   ASSERT_TRUE(c.contains("checklist")) << "no solve: " << c.dump();
   EXPECT_EQ(c["checklist"].size(), 4u);
   EXPECT_EQ(c["checklist"][0]["name"], "enough views");
@@ -89,7 +86,8 @@ TEST(Calibrate, NothingIsLookedForOutsideTheWorkspace) {
 TEST(Calibrate, DroppingAViewSolvesAgainWithoutIt) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(
-      args(tmp, "--verbose --frames 460 --actions '1:workspace=Calibrate;300:calib_capture=off;320:calib_drop=2'"));
+      args(tmp, "--verbose --frames 12 --actions "
+                "'1:workspace=Calibrate;2:calib_wait=7;3:calib_capture=off;4:calib_wait;5:calib_drop=2;6:calib_wait'"));
   ASSERT_EQ(r.status, 0) << r.err;
   const Json c = stats(r)["calibration"];
   ASSERT_TRUE(c.contains("solved_views")) << c.dump();
@@ -97,7 +95,7 @@ TEST(Calibrate, DroppingAViewSolvesAgainWithoutIt) {
   EXPECT_EQ(c["views"].get<int>(), c["kept"].get<int>() - 1) << c.dump();
   EXPECT_TRUE(c["current"].get<bool>()) << "the solve after the drop had time to finish: " << c.dump();
   EXPECT_EQ(c["solved_views"], c["views"]) << c.dump();
-  EXPECT_NE(r.err.find("calibration: dropped frame "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("calibration: dropped board_"), std::string::npos) << r.err;
   EXPECT_FALSE(c["capture"].get<bool>());
 }
 
@@ -105,7 +103,8 @@ TEST(Calibrate, SavesAFileTheReaderReadsBack) {
   TempDir tmp;
   const std::string out = tmp.str("camera.yml");
   const RunResult r = test::run_arwb_window(
-      args(tmp, "--frames 420 --actions '1:workspace=Calibrate;300:calib_capture=off;400:calib_save=" + out + "'"));
+      args(tmp, "--frames 8 --actions '1:workspace=Calibrate;2:calib_wait=6;3:calib_capture=off;4:calib_wait;"
+                "5:calib_save=" + out + "'"));
   ASSERT_EQ(r.status, 0) << r.err;
   const Json c = stats(r)["calibration"];
   ASSERT_TRUE(fs::exists(out)) << r.err;
@@ -119,7 +118,8 @@ TEST(Calibrate, SavesAFileTheReaderReadsBack) {
   // Saving where it cannot be written: one line naming the file, nothing written, the window goes on.
   const std::string bad = tmp.str("no/such/folder/camera.yml");
   const RunResult r2 = test::run_arwb_window(
-      args(tmp, "--frames 420 --actions '1:workspace=Calibrate;300:calib_capture=off;400:calib_save=" + bad + "'"));
+      args(tmp, "--frames 8 --actions '1:workspace=Calibrate;2:calib_wait=6;3:calib_capture=off;4:calib_wait;"
+                "5:calib_save=" + bad + "'"));
   ASSERT_EQ(r2.status, 0) << r2.err;
   EXPECT_NE(r2.err.find(bad), std::string::npos) << r2.err;
   EXPECT_FALSE(fs::exists(bad));
@@ -153,7 +153,7 @@ TEST(Calibrate, AGoodCalibrationFileDrivesTheUndistortedView) {
   ASSERT_TRUE(write_calibration(good, c, {}).ok());
   const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") +
                                             "' --source synthetic --frames 40 --stats --calibration '" + good +
-                                            "' --actions '1:workspace=Calibrate;2:undistort=on'");
+                                            "' --actions '1:workspace=Calibrate;2:undistort=on;3:calib_wait'");
   ASSERT_EQ(r.status, 0) << r.err;
   const Json s = stats(r);
   EXPECT_EQ(s["problems"], 0) << r.err;

@@ -106,6 +106,28 @@ TEST(CalibrationSession, SaysWhyFramesAreRefusedAndWhatIsMissingBeforeSolving) {
   EXPECT_EQ(session.snapshot()->frames, 0);
 }
 
+TEST(CalibrationSession, OfferedFramesAreSearchedOffTheCallersThreadAndJudgedWhenPolled) {
+  CalibrationSession session;
+  const std::vector<cv::Mat> views = render_views(1);
+  session.offer(views[0], "frame 0");
+  ASSERT_TRUE(session.wait_solved(30));   // the search done, the frame judged
+  auto s = session.snapshot();
+  EXPECT_EQ(s->frames, 1);
+  EXPECT_TRUE(s->detection.found);
+  EXPECT_EQ(s->frame_name, "frame 0");
+  EXPECT_EQ(s->verdict.kind, "moving");
+  session.offer(views[0], "frame 1");
+  ASSERT_TRUE(session.wait_solved(30));
+  s = session.snapshot();
+  EXPECT_EQ(s->frames, 2);
+  EXPECT_EQ(s->views.size(), 1u) << s->verdict.reason;
+  // A search begun before a reset is thrown away.
+  session.offer(views[0], "frame 2");
+  session.reset();
+  ASSERT_TRUE(session.wait_solved(30));
+  EXPECT_EQ(session.snapshot()->frames, 0);
+}
+
 TEST(CalibrationSession, WorkerFeedsItWhileCalibratingAndPublishesTheSolve) {
   test::TempDir dir;
   const std::vector<cv::Mat> views = render_views(16);
