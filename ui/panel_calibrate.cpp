@@ -174,7 +174,7 @@ void camera(const CalibrationSnapshot* s, const Frame& f) {
   if (!ImGui::BeginTable("camera", cols, tf)) return;
   ImGui::TableSetupColumn("");
   ImGui::TableSetupColumn("value");
-  ImGui::TableSetupColumn("± 1σ");
+  ImGui::TableSetupColumn("± (1 sd)");
   if (truth) {
     ImGui::TableSetupColumn("truth");
     ImGui::TableSetupColumn("diff");

@@ -252,10 +252,10 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
       const std::string name = w.info.kind == SourceKind::folder && !w.info.item.empty() ? w.info.item
                                : w.info.kind == SourceKind::video ? "frame " + std::to_string(w.info.position)
                                                                   : "frame " + std::to_string(f.index);
-      // Stills come one a second and each may be a view: searched now. A live source's frames are offered to the
-      // search on its own thread, so that a frame without a board (a second's search) does not stop the live view.
-      if (stills) session.feed(f.image, name);
-      else session.offer(f.image, name);
+      // Offered to the search on the session's own thread: a frame without a board can take OpenCV a second, which
+      // must not stop the live view (nor quitting). A folder's image that comes while it is busy is skipped; a
+      // looping folder shows it again.
+      session.offer(f.image, name);
     }
     f.calibration = session.snapshot();
   }

@@ -147,15 +147,18 @@ TEST(CalibrationSession, WorkerFeedsItWhileCalibratingAndPublishesTheSolve) {
   EXPECT_FALSE(f->calibration) << "no board is looked for outside the Calibrate workspace";
   e.set_calibrating(true);
   e.set_undistort(true);
-  // A folder plays one image a second; step through it instead.
+  // A folder plays one image a second; step through it instead (an image that comes while the board search is
+  // busy is skipped, and comes again when the folder loops).
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   uint64_t last = f->index;
-  int steps = 0;
+  int steps = 0, judged = 0;
   while (std::chrono::steady_clock::now() < end) {
     f = e.wait_newer(last, 1.0);
     last = f->index;
     if (f->calibration && f->calibration->current() && f->calibration->views.size() >= 12) break;
-    if (steps < 18 && f->calibration) {
+    // The next image once this one is judged (or at the start).
+    if (steps < 40 && f->calibration && (f->calibration->frames > judged || steps == 0)) {
+      judged = f->calibration->frames;
       e.step(1);
       ++steps;
     }
