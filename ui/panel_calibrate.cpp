@@ -143,7 +143,7 @@ void checklist(const CalibrationSnapshot& s) {
 
 void coverage(const CalibrationSnapshot& s, float scale) {
   heading("Coverage");
-  const float label = ImGui::CalcTextSize("size ").x;
+  const float label = ImGui::CalcTextSize("skew").x + ImGui::GetStyle().ItemSpacing.x;
   const std::pair<const char*, double> bars[] = {{"X", s.bars.x}, {"Y", s.bars.y}, {"size", s.bars.size}, {"skew", s.bars.skew}};
   for (const auto& [name, v] : bars) {
     ImGui::TextUnformatted(name);

@@ -241,7 +241,15 @@ void overlay_truth(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
 void overlay_board(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   const CalibrationSnapshot& s = *ctx.frame->calibration;
   const BoardDetection& d = s.detection;
-  if (!d.found || d.corners.empty()) return;
+  // The search runs behind the frames: its corners are drawn only on the frame they were found in.
+  const bool this_frame = s.frame_name == ctx.frame->calibration_name;
+  if (!this_frame || !d.found || d.corners.empty()) {
+    const std::string text = !this_frame ? "looking for the board..." : "no " + s.board.describe() + " in view";
+    dl->AddRectFilled({m.min.x + 4, m.min.y + 4}, {m.min.x + 10 + ImGui::CalcTextSize(text.c_str()).x,
+                                                   m.min.y + 8 + ImGui::GetTextLineHeight()}, IM_COL32(0, 0, 0, 170), 3);
+    dl->AddText({m.min.x + 7, m.min.y + 6}, IM_COL32(255, 255, 255, 255), text.c_str());
+    return;
+  }
   const ImU32 col = s.verdict.keep ? IM_COL32(80, 220, 100, 255) : IM_COL32(255, 160, 40, 255);
   const float t = 1.5f * ctx.scale;
   const int cols = s.board.inner_corners().width;

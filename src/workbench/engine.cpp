@@ -101,6 +101,7 @@ struct Engine::Worker {
   // read, and as fitted to the frames' size) and the undistortion maps of the calibration last used.
   bool calibrating = false;
   bool undistort = false;
+  std::string calibration_name;   // the name the last frame was offered under
   std::unique_ptr<CalibrationSession> session;
   std::optional<Calibration> loaded_raw;
   std::shared_ptr<const Calibration> loaded;
@@ -256,7 +257,9 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
       // must not stop the live view (nor quitting). A folder's image that comes while it is busy is skipped; a
       // looping folder shows it again.
       session.offer(f.image, name);
+      w.calibration_name = name;
     }
+    f.calibration_name = w.calibration_name;
     f.calibration = session.snapshot();
   }
   if (w.loaded_raw && f.image.size() != w.loaded_for) {

@@ -65,6 +65,9 @@ struct Frame {
   // Calibration. The session's state while the Calibrate workspace is shown (null otherwise: no board is looked
   // for then); the board is found in `image`'s pixels.
   std::shared_ptr<const CalibrationSnapshot> calibration;
+  // The name this frame's image was given to the board search under: the snapshot's detection is of this frame
+  // when its frame_name is the same (the search runs behind the frames).
+  std::string calibration_name;
   // The calibration given with --calibration, made for this frame's size; null without one (or when it does not
   // fit the source: the log says why).
   std::shared_ptr<const Calibration> loaded_calibration;
