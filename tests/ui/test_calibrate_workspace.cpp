@@ -83,6 +83,21 @@ TEST(Calibrate, NothingIsLookedForOutsideTheWorkspace) {
   EXPECT_FALSE(stats(r)["calibration"]["active"].get<bool>());
 }
 
+TEST(Calibrate, AnotherBoardStartsAfreshAndABoardThatCannotExistIsRefused) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(args(
+      tmp, "--frames 10 --actions '1:workspace=Calibrate;2:calib_wait=2;3:calib_board=charuco,5,7,35,40;"
+           "4:calib_board=charuco;5:calib_wait'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("--marker-mm 40.00 must be less than --square-mm 35.00"), std::string::npos) << r.err;
+  const Json c = stats(r)["calibration"];
+  EXPECT_NE(c["board"].get<std::string>().find("ChArUco 5x7 squares"), std::string::npos) << c.dump();
+  // The chessboard's views are gone with its board, and no ChArUco board is in these frames.
+  EXPECT_EQ(c["views"], 0) << c.dump();
+  EXPECT_EQ(c["boards"], 0) << c.dump();
+  EXPECT_GE(c["refused"]["no board"].get<int>(), 1) << c.dump();
+}
+
 TEST(Calibrate, DroppingAViewSolvesAgainWithoutIt) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(
