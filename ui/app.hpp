@@ -90,6 +90,8 @@ struct App {
   GLFWwindow* glfw_window = nullptr;   // for quitting from a dialog or an action
   // Desktop habits (ui/dialogs.cpp)
   ui::FileBrowser browser;          // File > Open source / scene / preset
+  ui::FileBrowser calibration_browser;   // the Calibrate panel's Save...
+  bool calibrating_sent = false;    // what the engine was last told: a Calibrate panel is shown
   ui::SettingsHistory history;      // undo and redo of the parameters and dictionaries
   ui::DetectorState committed;      // the state the last history entry ended in
   std::string change_name;          // names the next entry ("preset fast.yml"); "" : described from the change
@@ -152,6 +154,7 @@ struct App {
   bool take_screenshot(const std::string& path, GLFWwindow* window);
   // ui/requests.cpp
   void handle_requests();
+  void save_calibration(const std::string& path, bool paper_files);
   void poll_background();        // the sweep's and the dictionaries' results, the watched file
   void list_presets();
   void list_examples();

@@ -5,6 +5,7 @@
 // to the worker, and reports back through the Status.
 #pragma once
 
+#include "detect/board_spec.hpp"
 #include "detect/diagnose.hpp"
 #include "workbench/frame.hpp"
 #include "detect/params.hpp"
@@ -36,11 +37,19 @@ namespace arwb::ui {
 
 // The panels, in the order of the View menu. Their titles are the window names ImGui saves the layout under.
 enum class Panel { live_view, pipeline, candidates, inspector, parameters, timings, dictionary, peers, source, tour,
-                   why, log, scene, script, console, count };
+                   why, log, scene, script, console, calibrate, calibration_views, count };
 constexpr int kPanelCount = static_cast<int>(Panel::count);
 const char* panel_title(Panel p);
 const char* panel_key(Panel p);   // "live_view", "pipeline"... (for --at N:open=KEY and the saved layout)
 bool panel_from_key(std::string_view key, Panel* out);
+
+// The Calibrate workspace's settings: the board looked for, whether frames are judged and kept, and whether the
+// live view shows the frame undistorted with the newest calibration.
+struct CalibrationSettings {
+  BoardSpec board;
+  bool capture = true;
+  bool undistort = false;
+};
 
 // Settings the user edits; the workbench sends each change to the worker.
 struct Settings {
@@ -52,6 +61,7 @@ struct Settings {
   bool frozen = false;
   bool peer_opencv = false;
   bool peer_apriltag = false;
+  CalibrationSettings calibration;
 };
 
 enum class RequestKind {
@@ -77,6 +87,9 @@ enum class RequestKind {
                  // is listed instead (unless payload is "folder": a folder of images as the source), a file is
                  // opened as that kind (and remembered in Status::recent)
   toggle_favourite,  // text: a folder, starred or unstarred in Status::recent
+  calibration_drop,  // text: the name of a kept calibration view, dropped (and the views solved again)
+  calibration_reset, // forget the calibration views and their solve
+  calibration_save,  // text: the file to write the newest solve to; value 1: the paper's two files beside it too
 };
 
 struct Request {
@@ -222,6 +235,8 @@ struct View {
   // A text field to take the keyboard at its next draw ("script", "source_path", "preset_path"): --actions focus=.
   std::string focus_field;
   int browse_kind = -1;          // a FileKind: a panel asks the window to open its file browser for it
+  bool save_calibration = false; // the Calibrate panel asks for the file browser to save the calibration
+  bool calibration_paper_files = false;   // saving also writes the paper's cameraMatrix.xml and distCoeffs.xml
   std::string print_sheet;       // a dictionary: a panel asks for the marker sheet dialog with it, ids from
   int print_first_id = 0;        // print_first_id
   Panel front = Panel::count;    // a panel the workspace brings to the front of its region next (added if absent)

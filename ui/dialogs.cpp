@@ -311,6 +311,20 @@ void App::draw_dialogs(ui::Context& ctx) {
   }
   ui::draw_file_browser(ctx, browser);
   if (browser.visible) modal = "File browser";
+  // The Calibrate panel's Save...: where to write the calibration, then a request.
+  if (view.save_calibration) {
+    view.save_calibration = false;
+    const auto& recent = status.recent.of(ui::FileKind::calibration);
+    const std::string folder = recent.empty() ? "." : fs::path(recent[0]).parent_path().string();
+    ui::open_browser(ctx, calibration_browser, ui::FileKind::calibration, "Save the calibration as", folder, true,
+                     "camera.yml");
+  }
+  {
+    std::string chosen;
+    if (ui::draw_file_browser(ctx, calibration_browser, &chosen))
+      requests.push_back({ui::RequestKind::calibration_save, chosen, view.calibration_paper_files ? 1 : 0, {}, {}});
+    if (calibration_browser.visible) modal = "File browser";
+  }
 
   // The unsaved-edits question.
   if (unsaved_ask) {

@@ -235,6 +235,53 @@ void overlay_truth(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   }
 }
 
+// The calibration board as the worker found it on this frame: its corners joined in their order (the line runs
+// row by row, so a board found turned shows at once), the first corner marked, the outline of a full board, all
+// green when the frame was kept as a view and orange otherwise, with the reason above the board.
+void overlay_board(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+  const CalibrationSnapshot& s = *ctx.frame->calibration;
+  const BoardDetection& d = s.detection;
+  // The search runs behind the frames: its corners are drawn only on the frame they were found in.
+  const bool this_frame = s.frame_name == ctx.frame->calibration_name;
+  if (!this_frame || !d.found || d.corners.empty()) {
+    const std::string text = !this_frame ? "looking for the board..." : "no " + s.board.describe() + " in view";
+    dl->AddRectFilled({m.min.x + 4, m.min.y + 4}, {m.min.x + 10 + ImGui::CalcTextSize(text.c_str()).x,
+                                                   m.min.y + 8 + ImGui::GetTextLineHeight()}, IM_COL32(0, 0, 0, 170), 3);
+    dl->AddText({m.min.x + 7, m.min.y + 6}, IM_COL32(255, 255, 255, 255), text.c_str());
+    return;
+  }
+  const ImU32 col = s.verdict.keep ? IM_COL32(80, 220, 100, 255) : IM_COL32(255, 160, 40, 255);
+  const float t = 1.5f * ctx.scale;
+  const int cols = s.board.inner_corners().width;
+  const size_t n = d.corners.size();
+  for (size_t i = 0; i + 1 < n; ++i) {
+    // Within a row, and from a row's end to the next row's start (a chessboard's all-corners order), fading.
+    const bool row_jump = d.ids.empty() && cols > 0 && (i + 1) % size_t(cols) == 0;
+    dl->AddLine(m.to_screen(d.corners[i]), m.to_screen(d.corners[i + 1]),
+                row_jump ? IM_COL32(255, 255, 255, 90) : col, row_jump ? 1.0f * ctx.scale : t);
+  }
+  for (const cv::Point2f& p : d.corners) dl->AddCircle(m.to_screen(p), 3.0f * ctx.scale, col, 10, t);
+  const ImVec2 first = m.to_screen(d.corners[0]);
+  const float r = 5 * ctx.scale;
+  dl->AddRectFilled({first.x - r, first.y - r}, {first.x + r, first.y + r}, col);
+  if (d.ids.empty() && cols > 0 && n >= size_t(cols) * 2 && n % size_t(cols) == 0) {
+    const ImVec2 q[4] = {m.to_screen(d.corners[0]), m.to_screen(d.corners[size_t(cols) - 1]),
+                         m.to_screen(d.corners[n - 1]), m.to_screen(d.corners[n - size_t(cols)])};
+    dl->AddPolyline(q, 4, col, ImDrawFlags_Closed, 2.5f * ctx.scale);
+  }
+  float top = 1e9f, left = 1e9f;
+  for (const cv::Point2f& p : d.corners) {
+    const ImVec2 sp = m.to_screen(p);
+    top = std::min(top, sp.y);
+    left = std::min(left, sp.x);
+  }
+  const std::string text = s.verdict.keep ? "kept as view " + std::to_string(s.views.size()) : s.verdict.reason;
+  const ImVec2 ts = ImGui::CalcTextSize(text.c_str());
+  const ImVec2 at{std::max(left, m.min.x + 2), std::max(top - ts.y - 8 * ctx.scale, m.min.y + 2)};
+  dl->AddRectFilled({at.x - 3, at.y - 2}, {at.x + ts.x + 3, at.y + ts.y + 2}, IM_COL32(0, 0, 0, 170), 3);
+  dl->AddText(at, col, text.c_str());
+}
+
 // The candidate under the mouse: the smallest quad (or bbox) that contains the point.
 int candidate_at(const FrameTrace& t, cv::Point2f p) {
   int best = -1;
@@ -388,11 +435,26 @@ void draw_live_view(Context& ctx) {
     }
   }
   avail.y -= ImGui::GetTextLineHeightWithSpacing() * lines;
+  // Undistorted with a calibration (the Calibrate panel's toggle): a picture of other pixel coordinates, so nothing
+  // found on the frame is drawn over it.
+  if (ctx.settings.calibration.undistort && !f.undistorted.empty()) {
+    const ImageMapping m = image_view(ctx, "live", "undistorted", f.undistorted, f.index, ctx.view.image, avail);
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const std::string text = "undistorted with " + f.undistorted_by;
+    dl->AddRectFilled({m.min.x + 4, m.min.y + 4},
+                      {m.min.x + 10 + ImGui::CalcTextSize(text.c_str()).x, m.min.y + 8 + ImGui::GetTextLineHeight()},
+                      IM_COL32(0, 0, 0, 170), 3);
+    dl->AddText({m.min.x + 7, m.min.y + 6}, IM_COL32(255, 255, 255, 255), text.c_str());
+    status_line(ctx, m);
+    return;
+  }
   // The composite has the frame's size and pixel coordinates: everything drawn over it stays where it was.
   const ImageMapping m = image_view(ctx, "live", "frame", f.image, f.index, ctx.view.image, avail, ctx.composite);
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->PushClipRect(m.min, m.max, true);
-  overlay_candidates(ctx, m, dl);
+  // While calibrating, the board's hundreds of rejected squares would hide it.
+  if (f.calibration) overlay_board(ctx, m, dl);
+  else overlay_candidates(ctx, m, dl);
   overlay_peers(ctx, m, dl);
   if (ctx.view.show_accepted) overlay_markers(ctx, m, dl);
   if (ctx.view.show_truth) overlay_truth(ctx, m, dl);

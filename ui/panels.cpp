@@ -7,7 +7,8 @@ void draw_panel(Panel p, Context& ctx) {
   static constexpr Fn kDraw[kPanelCount] = {draw_live_view, draw_pipeline,  draw_candidates, draw_inspector,
                                             draw_parameters, draw_timings,  draw_dictionary, draw_peers,
                                             draw_source,     draw_tour,     draw_why,        draw_log,
-                                            draw_scene,      draw_script,   draw_console};
+                                            draw_scene,      draw_script,   draw_console,
+                                            draw_calibrate,  draw_calibration_views};
   kDraw[static_cast<int>(p)](ctx);
 }
 

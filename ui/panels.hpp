@@ -24,6 +24,8 @@ void draw_log(Context& ctx);          // messages, warnings and errors
 void draw_scene(Context& ctx);        // the scene in use: load, examples, mappings, markers in view
 void draw_script(Context& ctx);       // the scene file's text: edit, save, error line marked
 void draw_console(Context& ctx);      // the scene's print output, warnings and errors
+void draw_calibrate(Context& ctx);    // the calibration coach: board, capture, checklist, coverage, the camera
+void draw_calibration_views(Context& ctx);   // per-view errors (click drops), coverage and cross-validation maps
 
 // Draws panel p into the current window.
 void draw_panel(Panel p, Context& ctx);

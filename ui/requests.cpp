@@ -8,6 +8,7 @@
 
 #include "base/decimals.hpp"
 #include "base/files.hpp"
+#include "calibration/calibration_file.hpp"
 #include "media/open_url.hpp"
 #include "synth/marker_sheet.hpp"
 #include "workbench/snapshot.hpp"
@@ -309,8 +310,48 @@ void App::handle_requests() {
         status.recent.toggle_favourite(r.text);
         save_recent();
         break;
+      case ui::RequestKind::calibration_drop: engine->drop_calibration_view(r.text); break;
+      case ui::RequestKind::calibration_reset: engine->reset_calibration(); break;
+      case ui::RequestKind::calibration_save: save_calibration(r.text, r.value != 0); break;
     }
   }
+}
+
+// The newest solve, as `arwb calibrate` writes it (write_calibration: whole or not at all), and the paper's two
+// files beside it when asked.
+void App::save_calibration(const std::string& text, bool paper_files) {
+  const std::shared_ptr<const CalibrationSnapshot> snap = frame ? frame->calibration : nullptr;
+  if (!snap || !snap->solution) {
+    error("calibration: nothing solved yet to save (keep at least 6 views in the Calibrate workspace)");
+    return;
+  }
+  const Solution& s = *snap->solution;
+  CalibrationFileExtras x;
+  x.avg_reprojection_error = s.rms;
+  x.per_view_reprojection_errors = s.per_view_errors;
+  x.std_intrinsics = s.std_intrinsics;
+  x.std_distortion = s.std_distortion;
+  x.board = snap->board.describe();
+  x.view_count = int(s.view_names.size());
+  x.notes = s.notes;
+  const std::string path = fs::absolute(text).lexically_normal().string();
+  if (Status st = write_calibration(path, s.calibration, x); !st) {
+    error("calibration: " + st.error());
+    return;
+  }
+  std::string also;
+  if (paper_files) {
+    const std::string dir = fs::path(path).parent_path().string();
+    if (Status st = write_paper_files(dir, s.calibration); !st) {
+      error("calibration: " + st.error());
+      return;
+    }
+    also = " and the paper's cameraMatrix.xml, distCoeffs.xml beside it";
+  }
+  status.recent.add(ui::FileKind::calibration, path);
+  save_recent();
+  note_status("calibration: wrote " + path + also + " (" + std::to_string(s.view_names.size()) + " views, RMS " +
+              decimals_text(s.rms, 3) + " px)");
 }
 
 // [SECTION] Background

@@ -205,6 +205,49 @@ void App::run_action(const Action& a) {
     requests.push_back({ui::RequestKind::save_preset, a.arg, 0, {}, {}});
   } else if (a.verb == "sheet") {
     open_sheet_dialog();
+  } else if (a.verb == "calib_board") {
+    // calib_board=chessboard|charuco[,COLS,ROWS[,SQUARE_MM[,MARKER_MM]]]: the board the Calibrate workspace looks for.
+    const std::string kind = a.arg.substr(0, a.arg.find(','));
+    if (kind != "chessboard" && kind != "charuco") return warn("--actions calib_board: chessboard or charuco, not '" + a.arg + "'");
+    BoardSpec b = default_board(kind == "charuco" ? BoardKind::charuco : BoardKind::chessboard);
+    if (a.arg.size() > kind.size())
+      std::sscanf(a.arg.c_str() + kind.size(), ",%d,%d,%lf,%lf", &b.cols, &b.rows, &b.square_mm, &b.marker_mm);
+    if (const std::string why = b.problem(); !why.empty()) return warn("--actions calib_board=" + a.arg + ": " + why);
+    settings.calibration.board = b;
+  } else if (a.verb == "calib_capture" || a.verb == "undistort") {
+    if (a.arg != "on" && a.arg != "off") return warn("--actions " + a.verb + ": on or off, not '" + a.arg + "'");
+    (a.verb == "undistort" ? settings.calibration.undistort : settings.calibration.capture) = a.arg == "on";
+  } else if (a.verb == "calib_drop") {
+    // calib_drop=N: the N-th view kept (from 1), as clicking its bar does.
+    const int n = std::atoi(a.arg.c_str());
+    const CalibrationSnapshot* c = frame ? frame->calibration.get() : nullptr;
+    if (!c || n < 1 || n > static_cast<int>(c->views.size()))
+      return warn("--actions calib_drop=" + a.arg + ": no such view (" + std::to_string(c ? c->views.size() : 0) + " kept)");
+    requests.push_back({ui::RequestKind::calibration_drop, c->views[static_cast<size_t>(n - 1)].name, 0, {}, {}});
+  } else if (a.verb == "calib_wait") {
+    // calib_wait[=N]: for scripts and tests, the window waits (up to 120 s) until N views are kept and the views
+    // are solved, whatever the machine's speed. The worker goes on meanwhile; the window is not drawn.
+    const size_t want = static_cast<size_t>(std::max(0, std::atoi(a.arg.c_str())));
+    const auto end = Clock::now() + std::chrono::seconds(120);
+    // The settings changed this frame (a workspace switched to, capture turned off) reach the worker first.
+    forward_settings();
+    // Two frames newer than now: the worker may be finishing a frame begun before this frame's requests reached it.
+    std::shared_ptr<const Frame> f = engine->latest();
+    for (int i = 0; i < 2 && Clock::now() < end; ++i) f = engine->wait_newer(f ? f->index : 0, 60);
+    while (Clock::now() < end) {
+      const CalibrationSnapshot* c = f ? f->calibration.get() : nullptr;
+      const bool settled = c && !c->solving && (c->solved_revision == c->revision || !c->solve_error.empty());
+      if (c && c->views.size() >= want && settled && c->capture == settings.calibration.capture) {
+        frame = f;
+        return;
+      }
+      f = engine->wait_newer(f ? f->index : 0, 0.5);
+    }
+    warn("--actions calib_wait=" + a.arg + ": the calibration did not get there within 120 s");
+  } else if (a.verb == "calib_reset") {
+    requests.push_back({ui::RequestKind::calibration_reset, "", 0, {}, {}});
+  } else if (a.verb == "calib_save") {
+    requests.push_back({ui::RequestKind::calibration_save, a.arg, view.calibration_paper_files ? 1 : 0, {}, {}});
   } else if (a.verb == "help") {
     show_shortcuts |= a.arg == "shortcuts";
     show_first_steps |= a.arg == "first";
@@ -243,7 +286,21 @@ void App::forward_settings() {
   if (settings.peer_opencv != sent.peer_opencv || settings.peer_apriltag != sent.peer_apriltag) {
     engine->set_peers(settings.peer_opencv, settings.peer_apriltag);
   }
+  // A board that cannot exist (a ChArUco marker as large as its square, typed half-way) stays unsent.
+  const BoardSpec board_sent = sent.calibration.board;
+  bool board_ok = true;
+  if (!same_board(settings.calibration.board, sent.calibration.board)) {
+    board_ok = settings.calibration.board.problem().empty();
+    if (board_ok) engine->set_calibration_board(settings.calibration.board);
+  }
+  if (settings.calibration.capture != sent.calibration.capture) engine->set_calibration_capture(settings.calibration.capture);
+  if (settings.calibration.undistort != sent.calibration.undistort) engine->set_undistort(settings.calibration.undistort);
+  // The board is looked for only while a Calibrate panel is on screen.
+  const bool calibrating = view.open[static_cast<size_t>(ui::Panel::calibrate)] ||
+                           view.open[static_cast<size_t>(ui::Panel::calibration_views)];
+  if (calibrating != calibrating_sent) engine->set_calibrating(calibrating_sent = calibrating);
   sent = settings;
+  if (!board_ok) sent.calibration.board = board_sent;
 }
 
 void App::update_region() {
@@ -724,6 +781,53 @@ int run_workbench(const WorkbenchOptions& options) {
     s["params"] = Json::object();
     for (const ParamInfo& info : param_table()) s["params"][info.name] = get_param(app.settings.params, info);
     s["dictionaries"] = app.settings.dictionaries;
+    // The Calibrate workspace's session as the last frame had it: views kept, refusals by reason, the newest solve
+    // and its checklist; the calibration loaded with --calibration; what the live view was undistorted with.
+    {
+      Json c = {{"active", app.frame && app.frame->calibration != nullptr}};
+      if (const CalibrationSnapshot* k = app.frame ? app.frame->calibration.get() : nullptr) {
+        c["board"] = k->board.describe();
+        c["capture"] = k->capture;
+        c["frames"] = k->frames;
+        c["boards"] = k->boards;
+        c["skipped"] = k->skipped;
+        c["views"] = k->views.size();
+        c["kept"] = k->tally.count("kept") ? k->tally.at("kept") : 0;
+        c["dropped"] = k->dropped;
+        Json refused = Json::object();
+        for (const auto& [kind, n] : k->tally)
+          if (kind != "kept") refused[kind] = n;
+        c["refused"] = refused;
+        c["verdict"] = k->verdict.reason;
+        c["solving"] = k->solving;
+        c["solve_error"] = k->solve_error;
+        c["coverage"] = {{"x", round_decimals(k->bars.x, 3)}, {"y", round_decimals(k->bars.y, 3)},
+                         {"size", round_decimals(k->bars.size, 3)}, {"skew", round_decimals(k->bars.skew, 3)}};
+        if (const Solution* sol = k->solution.get()) {
+          const cv::Matx33d& K = sol->calibration.camera_matrix;
+          c["solved_views"] = sol->view_names.size();
+          c["current"] = k->current();
+          c["rms"] = round_decimals(sol->rms, 4);
+          c["fx"] = round_decimals(K(0, 0), 3);
+          c["fy"] = round_decimals(K(1, 1), 3);
+          c["cx"] = round_decimals(K(0, 2), 3);
+          c["cy"] = round_decimals(K(1, 2), 3);
+          c["distortion"] = sol->calibration.distortion;
+          Json checks = Json::array();
+          for (const Check& ch : sol->report.checklist) checks.push_back({{"name", ch.name}, {"ok", ch.ok}});
+          c["checklist"] = checks;
+          c["cross_validation_max_px"] = round_decimals(sol->report.cross_validation_max_px, 3);
+        }
+      }
+      if (app.frame && app.frame->calibration_truth) {
+        const cv::Matx33d& T = app.frame->calibration_truth->camera_matrix;
+        c["truth"] = {{"fx", round_decimals(T(0, 0), 3)}, {"fy", round_decimals(T(1, 1), 3)},
+                      {"cx", round_decimals(T(0, 2), 3)}, {"cy", round_decimals(T(1, 2), 3)}};
+      }
+      c["loaded"] = app.frame && app.frame->loaded_calibration ? app.frame->loaded_calibration->source : "";
+      c["undistorted_by"] = app.frame ? app.frame->undistorted_by : "";
+      s["calibration"] = c;
+    }
     // The layout as drawn in the last frame: regions, overlaps, anything cut off (ui/workspace.hpp LayoutAudit).
     {
       Json regions = Json::array();

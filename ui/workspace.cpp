@@ -80,6 +80,13 @@ std::vector<Workspace> shipped_workspaces() {
       ws("Teach",
          columns(0.7f, rows(0.6f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector, P::candidates})),
          rows(0.62f, columns(0.5f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector}))),
+      // Someone calibrating a camera: the board as found, the coach (checklist, coverage, the camera and its
+      // uncertainty) beside it, the views and where the result can be trusted under it; in front of a class the
+      // live view large and the coach beside it.
+      ws("Calibrate",
+         columns(0.56f, rows(0.64f, tabs({P::live_view}), tabs({P::calibration_views, P::log})),
+                 tabs({P::calibrate, P::source})),
+         columns(0.6f, tabs({P::live_view}), rows(0.62f, tabs({P::calibrate}), tabs({P::calibration_views, P::source})))),
   };
 }
 

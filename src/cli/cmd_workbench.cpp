@@ -24,10 +24,13 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "quit, answer=save|discard|cancel|write|browse (a dialog's button), browse=source|scene|preset, sheet (the "
                  "marker sheet dialog), help=shortcuts|first|about, "
                  "workspace=NAME, save_workspace=NAME, move=PANEL>PANEL (into the region of the second), "
-                 "splitter=I,RATIO.\n"
+                 "splitter=I,RATIO, calib_board=chessboard|charuco[,COLS,ROWS[,SQUARE_MM[,MARKER_MM]]], "
+                 "calib_capture=on|off, calib_drop=N (the N-th view kept), calib_reset, calib_save=PATH, "
+                 "calib_wait[=N] (waits until N views are kept and solved), "
+                 "undistort=on|off.\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
-                 "log scene script console.\n"
-                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3 workspaces Inspect/Script/Teach, Ctrl+Z undo, Ctrl+Shift+Z "
+                 "log scene script console calibrate calibration_views.\n"
+                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3/4 workspaces Inspect/Script/Teach/Calibrate, Ctrl+Z undo, Ctrl+Shift+Z "
                  "redo, Ctrl+Q quit; none of them while typing in a text field. Help > Keyboard shortcuts lists them "
                  "all. Drop a scene (.lua, .xml), preset (.yml), image, video or folder on the window to open it.");
   std::vector<std::pair<std::string, std::string>> subcommands;
@@ -65,6 +68,10 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   cl.app.add_flag("--verbose", o.verbose, "every log line to stderr, not only warnings and errors");
   cl.app.add_option("--scene", o.engine.scene_file, "a Lua scene or the paper's XML database")
       ->type_name("FILE.lua|FILE.xml");
+  cl.app.add_option("--calibration", o.engine.calibration_file,
+                    "a camera calibration (OpenCV's, its interactive app's, the paper's or ROS's file) for the "
+                    "undistorted view; a bad one is reported and the workbench runs without it")
+      ->type_name("FILE.xml|FILE.yml");
   cl.app.add_option("--actions", actions, "scripted steps 'N:verb[=arg];...', see below")->type_name("STEPS");
   if (const auto status = cl.parse(argc, argv)) return *status;
 

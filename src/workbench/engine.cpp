@@ -6,7 +6,10 @@
 #include "detect/peers.hpp"
 #include "workbench/scene_stage.hpp"
 #include "detect/trace_view.hpp"
+#include "calibration/calibration_file.hpp"
+#include "calibration/session.hpp"
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -57,9 +60,15 @@ struct Engine::Pending {
   bool next_frame = false;
   std::optional<std::pair<bool, bool>> peers;
   std::optional<std::string> scene_file;
+  std::optional<bool> calibrating, calibration_capture, undistort;
+  std::optional<BoardSpec> calibration_board;
+  std::vector<std::string> calibration_drops;
+  bool calibration_reset = false;
+  std::optional<std::string> calibration_file;
   bool any() const {
     return source || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
-           next_frame || peers || scene_file;
+           next_frame || peers || scene_file || calibrating || calibration_capture || undistort || calibration_board ||
+           !calibration_drops.empty() || calibration_reset || calibration_file;
   }
 };
 
@@ -88,11 +97,28 @@ struct Engine::Worker {
   std::unique_ptr<SceneStage> stage;   // the Lua scene or XML database, once one was asked for
   uint64_t index = 0;
   Clock::time_point t0 = Clock::now();
+  // Calibration: the session (made when first asked for, kept when the workspace is left), the loaded file (as
+  // read, and as fitted to the frames' size) and the undistortion maps of the calibration last used.
+  bool calibrating = false;
+  bool undistort = false;
+  std::string calibration_name;   // the name the last frame was offered under
+  std::unique_ptr<CalibrationSession> session;
+  std::optional<Calibration> loaded_raw;
+  std::shared_ptr<const Calibration> loaded;
+  cv::Size loaded_for;
+  std::shared_ptr<const void> maps_of;   // held, so that its address is not another calibration's later
+  cv::Size maps_size;
+  cv::Mat map1, map2;
+  CalibrationSession& calibration() {
+    if (!session) session = std::make_unique<CalibrationSession>();
+    return *session;
+  }
 };
 
 struct Engine::State {
   void run();
   void publish(std::shared_ptr<Frame> f);
+  void calibrate(Worker& w, Frame& f, bool fresh, double sx, double sy);
 
   LogFn log_;
   mutable std::mutex mutex_;
@@ -114,6 +140,7 @@ Engine::Engine(EngineConfig config, LogFn log) : s_(std::make_shared<State>()) {
   s_->pending_->dictionaries = s_->worker_->config.dictionaries;
   if (!s_->worker_->config.scene_file.empty()) s_->pending_->scene_file = s_->worker_->config.scene_file;
   s_->source_in_use_ = s_->worker_->config.source;
+  if (!s_->worker_->config.calibration_file.empty()) s_->pending_->calibration_file = s_->worker_->config.calibration_file;
 }
 
 Engine::~Engine() { stop(); }
@@ -188,7 +215,17 @@ void Engine::set_frozen(bool frozen) { ARWB_SET(frozen, frozen); }
 void Engine::next_frame() { ARWB_SET(next_frame, true); }
 void Engine::set_peers(bool opencv, bool apriltag) { ARWB_SET(peers, std::make_pair(opencv, apriltag)); }
 void Engine::load_scene(const std::string& path) { ARWB_SET(scene_file, path); }
+void Engine::set_calibrating(bool on) { ARWB_SET(calibrating, on); }
+void Engine::set_calibration_board(const BoardSpec& board) { ARWB_SET(calibration_board, board); }
+void Engine::set_calibration_capture(bool on) { ARWB_SET(calibration_capture, on); }
+void Engine::reset_calibration() { ARWB_SET(calibration_reset, true); }
+void Engine::load_calibration(const std::string& path) { ARWB_SET(calibration_file, path); }
+void Engine::set_undistort(bool on) { ARWB_SET(undistort, on); }
 #undef ARWB_SET
+void Engine::drop_calibration_view(const std::string& name) {
+  std::lock_guard lock(s_->mutex_);
+  s_->pending_->calibration_drops.push_back(name);
+}
 void Engine::step(int delta) {
   std::lock_guard lock(s_->mutex_);
   s_->pending_->steps.push_back(delta);
@@ -203,6 +240,84 @@ void Engine::State::publish(std::shared_ptr<Frame> f) {
     latest_ = std::move(f);
   }
   published_.notify_all();
+}
+
+// The frame's calibration: the session fed with a new frame while calibrating, the loaded calibration fitted to
+// the frame's size, the synthetic camera's truth and the undistorted image.
+void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double sy) {
+  if (w.calibrating) {
+    CalibrationSession& session = w.calibration();
+    if (fresh) {
+      const bool stills = w.info.kind == SourceKind::folder || w.info.kind == SourceKind::image;
+      session.set_stills(stills);
+      const std::string name = w.info.kind == SourceKind::folder && !w.info.item.empty() ? w.info.item
+                               : w.info.kind == SourceKind::video ? "frame " + std::to_string(w.info.position)
+                                                                  : "frame " + std::to_string(f.index);
+      // Offered to the search on the session's own thread: a frame without a board can take OpenCV a second, which
+      // must not stop the live view (nor quitting). A folder's image that comes while it is busy is skipped; a
+      // looping folder shows it again.
+      session.offer(f.image, name);
+      w.calibration_name = name;
+    }
+    f.calibration_name = w.calibration_name;
+    f.calibration = session.snapshot();
+  }
+  if (w.loaded_raw && f.image.size() != w.loaded_for) {
+    w.loaded_for = f.image.size();
+    if (Result<Calibration> c = calibration_for_size(*w.loaded_raw, f.image.size())) {
+      w.loaded = std::make_shared<const Calibration>(std::move(*c));
+    } else {
+      w.loaded.reset();
+      log_(2, c.error());
+    }
+  }
+  if (!w.loaded_raw) w.loaded.reset();
+  f.loaded_calibration = w.loaded;
+  if (const auto* syn = dynamic_cast<const SyntheticSource*>(w.source.get())) {
+    if (const SynthCamera* cam = syn->board_camera()) {
+      Calibration t;
+      t.camera_matrix = cam->camera_matrix;
+      // Pixel centres scale, not pixel corners (the same rule as the truth's corners above).
+      t.camera_matrix(0, 0) *= sx;
+      t.camera_matrix(1, 1) *= sy;
+      t.camera_matrix(0, 2) = (t.camera_matrix(0, 2) + 0.5) * sx - 0.5;
+      t.camera_matrix(1, 2) = (t.camera_matrix(1, 2) + 0.5) * sy - 0.5;
+      t.distortion = cam->distortion;
+      t.image_size = f.image.size();
+      t.source = "the synthetic camera";
+      f.calibration_truth = std::move(t);
+    }
+  }
+  if (!w.undistort) return;
+  // The newest solve, else the loaded file.
+  const Calibration* use = nullptr;
+  std::shared_ptr<const void> owner;
+  std::string by;
+  std::shared_ptr<const CalibrationSnapshot> snap = w.session ? w.session->snapshot() : nullptr;
+  if (snap && snap->solution && snap->solution->calibration.image_size == f.image.size()) {
+    use = &snap->solution->calibration;
+    owner = snap->solution;
+    by = "the solve of " + std::to_string(snap->solution->view_names.size()) + " views";
+  } else if (w.loaded) {
+    use = w.loaded.get();
+    owner = w.loaded;
+    by = w.loaded->source;
+  }
+  if (!use) return;
+  if (owner != w.maps_of || f.image.size() != w.maps_size) {
+    try {
+      cv::initUndistortRectifyMap(cv::Mat(use->camera_matrix), use->distortion, cv::noArray(),
+                                  cv::Mat(use->camera_matrix), f.image.size(), CV_16SC2, w.map1, w.map2);
+    } catch (const cv::Exception& e) {
+      log_(2, "undistort: " + one_line_reason(e));
+      w.undistort = false;
+      return;
+    }
+    w.maps_of = owner;
+    w.maps_size = f.image.size();
+  }
+  cv::remap(f.image, f.undistorted, w.map1, w.map2, cv::INTER_LINEAR);
+  f.undistorted_by = by;
 }
 
 void Engine::State::run() {
@@ -313,6 +428,38 @@ void Engine::State::run() {
       for (const std::string& e : w.stage->take_errors()) log_(2, e);
       w.redetect = true;   // show the new scene on the current frame, even when frozen
     }
+
+    if (p.calibrating) w.calibrating = *p.calibrating;
+    if (p.calibration_board) w.calibration().set_board(*p.calibration_board);
+    if (p.calibration_capture) w.calibration().set_capture(*p.calibration_capture);
+    if (p.calibration_reset) w.calibration().reset();
+    for (const std::string& name : p.calibration_drops) {
+      if (w.calibration().drop_view(name)) {
+        log_(0, "calibration: dropped " + name + "; solving the " +
+                    std::to_string(w.calibration().snapshot()->views.size()) + " views left");
+      } else {
+        log_(1, "calibration: no view '" + name + "' to drop");
+      }
+    }
+    if (p.undistort) w.undistort = *p.undistort;
+    if (p.calibration_file) {
+      if (p.calibration_file->empty()) {
+        w.loaded_raw.reset();
+      } else if (Result<Calibration> c = read_calibration(*p.calibration_file)) {
+        w.loaded_raw = std::move(*c);
+        log_(0, "calibration: " + *p.calibration_file);
+      } else {
+        log_(2, c.error() + (w.loaded_raw ? " (the calibration loaded before stays)" : ""));
+      }
+      w.loaded.reset();
+      w.loaded_for = {};
+    }
+    // Show at once what changed the calibration (a view dropped, a solve finished), even when no new frame comes.
+    if (p.calibrating || p.calibration_board || p.calibration_capture || p.calibration_reset ||
+        !p.calibration_drops.empty() || p.undistort || p.calibration_file) {
+      w.redetect = true;
+    }
+    if (w.calibrating && w.session && w.session->poll()) w.redetect = true;
 
     // 2. A new frame when it is due (the fps cap), unless frozen.
     const double now = seconds_since(w.t0);
@@ -426,6 +573,7 @@ void Engine::State::run() {
           return w.apriltag->detect(f->image);
         });
       }
+      calibrate(w, *f, fresh, sx, sy);
       const double done = seconds_since(w.t0);
       w.finished.push_back(done);
       while (!w.finished.empty() && w.finished.front() < done - 1.0) w.finished.pop_front();

@@ -11,6 +11,7 @@
 // worker is left running on its own state, which it shares, so the Engine can still be destroyed safely.
 #pragma once
 
+#include "detect/board_spec.hpp"
 #include "detect/detector.hpp"
 #include "workbench/frame.hpp"
 #include "detect/params.hpp"
@@ -36,6 +37,7 @@ struct EngineConfig {
   TraceLevel level = TraceLevel::full;
   int threads = 1;   // detector threads (the UI has the other core)
   std::string scene_file;   // a Lua scene or XML database to load at start ("" none)
+  std::string calibration_file;   // a calibration to load at start (--calibration; "" none)
 };
 
 class Engine {
@@ -72,6 +74,20 @@ class Engine {
   // Loads a scene (Lua or XML database; "" unloads). Errors reach the frame's SceneStatus and the log; the last
   // good scene stays. The file is then watched and reloaded when it changes on disk.
   void load_scene(const std::string& path);
+
+  // Calibration (the Calibrate workspace). While calibrating, every new frame is searched for the board and fed
+  // to the session, whose state each Frame carries; the solve runs on a thread of its own, and a finished one is
+  // published with the current frame even when no new frame comes (frozen, or a video at its end).
+  void set_calibrating(bool on);
+  void set_calibration_board(const BoardSpec& board);
+  void set_calibration_capture(bool on);
+  void drop_calibration_view(const std::string& name);
+  void reset_calibration();
+  // Reads a calibration file (read_calibration) for the undistorted view; a bad one is logged and the last good one
+  // stays. "" forgets it.
+  void load_calibration(const std::string& path);
+  // Each frame also undistorted (Frame::undistorted) with the newest calibration.
+  void set_undistort(bool on);
 
   double detect_fps() const;                 // finished frames per second over the last second or so
   uint64_t frames_done() const;

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "track/overlay.hpp"
+#include "calibration/calibration_file.hpp"
+#include "calibration/session.hpp"
 #include "capture/source.hpp"
 #include "track/tracker.hpp"
 #include "detect/match.hpp"
@@ -14,6 +16,8 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +62,22 @@ struct Frame {
   std::vector<TrackedMarker> tracks;
   std::vector<Overlay> overlays;
   SceneStatus scene;
+  // Calibration. The session's state while the Calibrate workspace is shown (null otherwise: no board is looked
+  // for then); the board is found in `image`'s pixels.
+  std::shared_ptr<const CalibrationSnapshot> calibration;
+  // The name this frame's image was given to the board search under: the snapshot's detection is of this frame
+  // when its frame_name is the same (the search runs behind the frames).
+  std::string calibration_name;
+  // The calibration given with --calibration, made for this frame's size; null without one (or when it does not
+  // fit the source: the log says why).
+  std::shared_ptr<const Calibration> loaded_calibration;
+  // The synthetic source's camera while it shows a calibration board, in this frame's pixels: the truth a solve
+  // is compared with.
+  std::optional<Calibration> calibration_truth;
+  // `image` undistorted with the newest solve (or else the loaded calibration), when asked for and there is one;
+  // `undistorted_by` says which ("the solve of 14 views", "cam.yml").
+  cv::Mat undistorted;
+  std::string undistorted_by;
 };
 
 }  // namespace arwb

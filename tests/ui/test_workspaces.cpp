@@ -4,6 +4,7 @@
 // screenshot), and gives presentation mode large text and most of the screen to the image; the arrangement is
 // kept between runs; a user's own workspace is saved; a bad workspaces file falls back to the shipped ones.
 #include "support.hpp"
+#include "synth/chessboard_view.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -61,12 +62,13 @@ struct Shipped {
   const char* name;
   std::vector<const char*> panels;   // every panel the workspace shows, the ones to leave in front last
   const char* extra;                 // more arguments (a scene for Script)
+  const char* before = "";           // actions after switching to it (Calibrate: wait for views and a solve)
 };
 
 // Every tab of the workspace is brought to the front for a few frames (open=), so each panel is audited, then
 // the main ones are left in front for the screenshot. A candidate is selected so the inspector has content.
 std::string visit_all(const Shipped& w) {
-  std::string a = std::string("1:workspace=") + w.name + ";1:freeze;3:select=marker";
+  std::string a = std::string("1:workspace=") + w.name + w.before + ";1:freeze;3:select=marker";
   int frame = 6;
   for (const char* p : w.panels) {
     a += ';';
@@ -84,6 +86,24 @@ const Shipped kInspect{"Inspect",
                        ""};
 const Shipped kScript{"Script", {"log", "console", "scene", "script", "live_view"}, "--scene '" ARWB_SOURCE_DIR "/scripts/museum/museum.lua'"};
 const Shipped kTeach{"Teach", {"candidates", "inspector", "tour", "pipeline", "live_view"}, ""};
+// On a folder of chessboard views, with views kept and solved before the panels are visited, so that every part
+// of the coach (checklist, bars, the camera's table, the per-view bars, the maps) is drawn and audited.
+const std::string& chessboard_source() {
+  static TempDir* dir = new TempDir;   // kept for the binary's life
+  static const std::string arg = [] {
+    const SynthCamera camera;
+    const SynthChessboard board{9, 6, 0.025, 1.0};
+    const ChessboardRenderer renderer(camera, board);
+    const auto poses = chessboard_poses(camera, board, 8, 3);
+    for (size_t i = 0; i < poses.size(); ++i)
+      cv::imwrite(dir->str("board_" + std::to_string(i) + ".png"),
+                  renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image);
+    return "--source '" + dir->str() + "'";
+  }();
+  return arg;
+}
+const Shipped kCalibrate{"Calibrate", {"log", "source", "calibration_views", "calibrate", "live_view"}, "",
+                         ";1:calib_wait=7"};
 
 // One workspace at one window size, in normal then presentation mode: nothing overlaps, nothing is cut off,
 // the regions tile the window, the live view shows the markers; presentation mode has large text and gives the
@@ -95,10 +115,11 @@ void fits(const Shipped& w, int width, int height) {
     TempDir tmp;
     const std::string shot = tmp.str("shot.png");
     const int frames = 10 + 4 * static_cast<int>(w.panels.size()) + 6;
+    const bool calibrate = w.name == std::string("Calibrate");
     const RunResult r = test::run_arwb_window(
         "--config-dir '" + tmp.str("config") + "' --size " + std::to_string(width) + "x" + std::to_string(height) +
         (present ? " --presentation" : "") + " --frames " + std::to_string(frames) + " --stats --screenshot '" + shot +
-        "' " + w.extra + " --actions '" + visit_all(w) + (w.name == std::string("Teach") ? ";2:tour=2" : "") + "'");
+        "' " + (calibrate ? chessboard_source() : std::string(w.extra)) + " --actions '" + visit_all(w) + (w.name == std::string("Teach") ? ";2:tour=2" : "") + "'");
     ASSERT_EQ(r.status, 0) << r.err;
     const Json l = layout_of(r);
     ASSERT_TRUE(l.contains("regions")) << r.out;
@@ -131,6 +152,8 @@ void fits(const Shipped& w, int width, int height) {
       EXPECT_GT(l["font_px"].get<double>(), 15.0);
       if (script) {
         EXPECT_GT(area(*live), 0.3 * width * height) << l.dump();
+      } else if (calibrate) {
+        EXPECT_GT(area(*live), 0.5 * width * height) << l.dump();
       } else {
         const Json* stage = region_with(l, "pipeline");
         ASSERT_NE(stage, nullptr);
@@ -143,7 +166,12 @@ void fits(const Shipped& w, int width, int height) {
     ASSERT_EQ(img.size(), cv::Size(width, height));
     const Json& rc = (*live)["rect"];
     const cv::Rect live_rect(rc[0].get<int>(), rc[1].get<int>(), rc[2].get<int>(), rc[3].get<int>());
-    if (!script) {
+    if (calibrate) {
+      // The coach had something to show: views kept and solved.
+      const Json c = Json::parse(r.out.substr(0, r.out.find('\n')))["calibration"];
+      EXPECT_GE(c["views"].get<int>(), 7) << c.dump();
+      EXPECT_TRUE(c.contains("checklist")) << c.dump();
+    } else if (!script) {
       EXPECT_GT(green_pixels(img, live_rect), 100);
     }
   }
@@ -158,6 +186,9 @@ TEST(Workspaces, ScriptFitsAt1920x1080) { fits(kScript, 1920, 1080); }
 TEST(Workspaces, TeachFitsAt1280x720) { fits(kTeach, 1280, 720); }
 TEST(Workspaces, TeachFitsAt1600x900) { fits(kTeach, 1600, 900); }
 TEST(Workspaces, TeachFitsAt1920x1080) { fits(kTeach, 1920, 1080); }
+TEST(Workspaces, CalibrateFitsAt1280x720) { fits(kCalibrate, 1280, 720); }
+TEST(Workspaces, CalibrateFitsAt1600x900) { fits(kCalibrate, 1600, 900); }
+TEST(Workspaces, CalibrateFitsAt1920x1080) { fits(kCalibrate, 1920, 1080); }
 
 std::string args(const TempDir& tmp, const std::string& more) {
   return "--config-dir '" + tmp.str("config") + "' --frames 20 --stats " + more;

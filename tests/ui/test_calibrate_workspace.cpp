@@ -1,0 +1,190 @@
+// The Calibrate workspace, run for real under xvfb-run on a folder of chessboard views (synthetic views of a
+// known camera); calib_wait makes the runs independent of the machine's speed: it fills up over the frames (views kept, frames refused by reason,
+// a solve with its checklist near the truth), calib_drop takes a view out and the worker solves again without it,
+// calib_save writes a file the shared reader reads back, and --calibration with a bad file says what and where
+// while the window runs on, a good one drives the undistorted view.
+#include "calibration/calibration_file.hpp"
+#include "synth/chessboard_view.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace arwb {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunResult;
+using test::TempDir;
+using Json = nlohmann::json;
+
+// A folder of 16 views of the paper's board (the folder source plays one a second, and its frames are judged as
+// stills), made once per binary.
+const std::string& chessboard_folder() {
+  static TempDir* dir = new TempDir;   // kept for the binary's life
+  static const std::string path = [] {
+    const SynthCamera camera;
+    const SynthChessboard board{9, 6, 0.025, 1.0};
+    const ChessboardRenderer renderer(camera, board);
+    const auto poses = chessboard_poses(camera, board, 16, 7);
+    for (size_t i = 0; i < poses.size(); ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "board_%02zu.png", i);
+      cv::imwrite(dir->str(name), renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image);
+    }
+    return dir->str();
+  }();
+  return path;
+}
+
+Json stats(const RunResult& r) {
+  try {
+    return Json::parse(r.out.substr(0, r.out.find('\n')));
+  } catch (const Json::parse_error& e) {
+    ADD_FAILURE() << e.what() << " in: " << r.out;
+    return Json::object();
+  }
+}
+
+std::string args(const TempDir& tmp, const std::string& more) {
+  return "--config-dir '" + tmp.str("config") + "' --source '" + chessboard_folder() + "' --stats " + more;
+}
+
+TEST(Calibrate, FillsUpOverTheFramesAndSolvesNearTheTruth) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(args(tmp, "--frames 12 --actions '1:workspace=Calibrate;2:calib_wait=10'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json c = stats(r)["calibration"];
+  ASSERT_TRUE(c.is_object()) << r.out;
+  EXPECT_TRUE(c["active"].get<bool>());
+  EXPECT_GE(c["frames"].get<int>(), 10) << c.dump();
+  EXPECT_GE(c["views"].get<int>(), 10) << c.dump();
+  ASSERT_TRUE(c.contains("checklist")) << "no solve: " << c.dump();
+  EXPECT_EQ(c["checklist"].size(), 4u);
+  EXPECT_EQ(c["checklist"][0]["name"], "enough views");
+  EXPECT_TRUE(c["checklist"][0]["ok"].get<bool>()) << c.dump();
+  EXPECT_LT(c["rms"].get<double>(), 1.0);
+  const SynthCamera truth;
+  EXPECT_NEAR(c["fx"].get<double>(), truth.camera_matrix(0, 0), 0.01 * truth.camera_matrix(0, 0)) << c.dump();
+  EXPECT_NEAR(c["fy"].get<double>(), truth.camera_matrix(1, 1), 0.01 * truth.camera_matrix(1, 1)) << c.dump();
+  EXPECT_GT(c["coverage"]["x"].get<double>(), 0.3);
+}
+
+TEST(Calibrate, NothingIsLookedForOutsideTheWorkspace) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(args(tmp, "--frames 30"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(stats(r)["calibration"]["active"].get<bool>());
+}
+
+TEST(Calibrate, AnotherBoardStartsAfreshAndABoardThatCannotExistIsRefused) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(args(
+      tmp, "--frames 10 --actions '1:workspace=Calibrate;2:calib_wait=2;3:calib_board=charuco,5,7,35,40;"
+           "4:calib_board=charuco;5:calib_wait'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("--marker-mm 40.00 must be less than --square-mm 35.00"), std::string::npos) << r.err;
+  const Json c = stats(r)["calibration"];
+  EXPECT_NE(c["board"].get<std::string>().find("ChArUco 5x7 squares"), std::string::npos) << c.dump();
+  // The chessboard's views are gone with its board, and no ChArUco board is in these frames.
+  EXPECT_EQ(c["views"], 0) << c.dump();
+  EXPECT_EQ(c["boards"], 0) << c.dump();
+  EXPECT_GE(c["refused"]["no board"].get<int>(), 1) << c.dump();
+}
+
+TEST(Calibrate, DroppingAViewSolvesAgainWithoutIt) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(
+      args(tmp, "--verbose --frames 12 --actions "
+                "'1:workspace=Calibrate;2:calib_wait=7;3:calib_capture=off;4:calib_wait;5:calib_drop=2;6:calib_wait'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json c = stats(r)["calibration"];
+  ASSERT_TRUE(c.contains("solved_views")) << c.dump();
+  EXPECT_EQ(c["dropped"], 1) << c.dump();
+  EXPECT_EQ(c["views"].get<int>(), c["kept"].get<int>() - 1) << c.dump();
+  EXPECT_TRUE(c["current"].get<bool>()) << "the solve after the drop had time to finish: " << c.dump();
+  EXPECT_EQ(c["solved_views"], c["views"]) << c.dump();
+  EXPECT_NE(r.err.find("calibration: dropped board_"), std::string::npos) << r.err;
+  EXPECT_FALSE(c["capture"].get<bool>());
+}
+
+TEST(Calibrate, SavesAFileTheReaderReadsBack) {
+  TempDir tmp;
+  const std::string out = tmp.str("camera.yml");
+  const RunResult r = test::run_arwb_window(
+      args(tmp, "--frames 8 --actions '1:workspace=Calibrate;2:calib_wait=6;3:calib_capture=off;4:calib_wait;"
+                "5:calib_save=" + out + "'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json c = stats(r)["calibration"];
+  ASSERT_TRUE(fs::exists(out)) << r.err;
+  const Result<Calibration> back = read_calibration(out);
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_NEAR(back->camera_matrix(0, 0), c["fx"].get<double>(), 0.01);
+  EXPECT_NEAR(back->camera_matrix(1, 2), c["cy"].get<double>(), 0.01);
+  EXPECT_EQ(back->image_size, cv::Size(640, 480));
+  EXPECT_NE(stats(r)["note"].get<std::string>().find("calibration: wrote"), std::string::npos) << r.out;
+
+  // Saving where it cannot be written: one line naming the file, nothing written, the window goes on.
+  const std::string bad = tmp.str("no/such/folder/camera.yml");
+  const RunResult r2 = test::run_arwb_window(
+      args(tmp, "--frames 8 --actions '1:workspace=Calibrate;2:calib_wait=6;3:calib_capture=off;4:calib_wait;"
+                "5:calib_save=" + bad + "'"));
+  ASSERT_EQ(r2.status, 0) << r2.err;
+  EXPECT_NE(r2.err.find(bad), std::string::npos) << r2.err;
+  EXPECT_FALSE(fs::exists(bad));
+}
+
+TEST(Calibrate, ABadCalibrationFileIsNamedAndTheWindowRunsOn) {
+  TempDir tmp;
+  const std::string bad = tmp.str("cam.yml");
+  test::write_file(bad, "%YAML:1.0\ncamera_matrix: !!opencv-matrix\n  rows: 2\n  cols: 3\n  dt: d\n"
+                        "  data: [ 500, 0, 320, 0, 500, 240 ]\ndistortion_coefficients: !!opencv-matrix\n"
+                        "  rows: 1\n  cols: 5\n  dt: d\n  data: [ 0, 0, 0, 0, 0 ]\n");
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") +
+                                            "' --source synthetic --frames 40 --stats --calibration '" + bad +
+                                            "' --actions '1:workspace=Calibrate;2:undistort=on'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("cam.yml: camera_matrix"), std::string::npos) << r.err;
+  const Json s = stats(r);
+  EXPECT_GE(s["problems"].get<int>(), 1);
+  EXPECT_EQ(s["frames"], 40);
+  EXPECT_EQ(s["calibration"]["loaded"], "");
+  EXPECT_EQ(s["calibration"]["undistorted_by"], "");
+}
+
+TEST(Calibrate, AGoodCalibrationFileDrivesTheUndistortedView) {
+  TempDir tmp;
+  const std::string good = tmp.str("cam.yml");
+  Calibration c;
+  c.camera_matrix = cv::Matx33d(560, 0, 322, 0, 555, 236, 0, 0, 1);
+  c.distortion = {-0.25, 0.08, 0, 0, 0};
+  c.image_size = {1280, 960};   // the same aspect ratio: scaled to the 640x480 working image
+  ASSERT_TRUE(write_calibration(good, c, {}).ok());
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") +
+                                            "' --source synthetic --frames 40 --stats --calibration '" + good +
+                                            "' --actions '1:workspace=Calibrate;2:undistort=on;3:calib_wait'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json s = stats(r);
+  EXPECT_EQ(s["problems"], 0) << r.err;
+  EXPECT_NE(s["calibration"]["loaded"].get<std::string>().find("cam.yml"), std::string::npos) << s.dump();
+  EXPECT_NE(s["calibration"]["undistorted_by"].get<std::string>().find("cam.yml"), std::string::npos) << s.dump();
+
+  // Another aspect ratio cannot be scaled: refused with the sizes, and nothing undistorts.
+  c.image_size = {1280, 720};
+  ASSERT_TRUE(write_calibration(good, c, {}).ok());
+  const RunResult r2 = test::run_arwb_window("--config-dir '" + tmp.str("config") +
+                                             "' --source synthetic --frames 40 --stats --calibration '" + good +
+                                             "' --actions '1:workspace=Calibrate;2:undistort=on'");
+  ASSERT_EQ(r2.status, 0) << r2.err;
+  EXPECT_NE(r2.err.find("1280x720"), std::string::npos) << r2.err;
+  EXPECT_EQ(stats(r2)["calibration"]["undistorted_by"], "");
+}
+
+}  // namespace
+}  // namespace arwb
