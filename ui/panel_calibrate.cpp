@@ -79,7 +79,7 @@ void toolbar(Context& ctx, const CalibrationSnapshot* s) {
   flow(checkbox_width("Undistorted view"));
   ImGui::Checkbox("Undistorted view", &c.undistort);
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("The live view undistorted with the newest solve (or the calibration loaded with --calibration)");
+    ImGui::SetTooltip("The live view undistorted with the newest solve (or the calibration loaded with --calib)");
   flow(button_width("Reset"));
   if (ImGui::Button("Reset")) ctx.request(RequestKind::calibration_reset);
   const bool can_save = s && s->solution;
@@ -164,7 +164,7 @@ void camera(const CalibrationSnapshot* s, const Frame& f) {
   heading("Camera");
   if (!c) {
     text_disabled_wrapped("No calibration yet: keep at least 6 views (move the board to many places, tilted), or "
-                          "start with --calibration FILE.");
+                          "start with --calib FILE.");
     return;
   }
   if (!sol) ImGui::TextWrapped("From %s (made for %dx%d)", c->source.c_str(), c->image_size.width, c->image_size.height);

@@ -782,7 +782,7 @@ int run_workbench(const WorkbenchOptions& options) {
     for (const ParamInfo& info : param_table()) s["params"][info.name] = get_param(app.settings.params, info);
     s["dictionaries"] = app.settings.dictionaries;
     // The Calibrate workspace's session as the last frame had it: views kept, refusals by reason, the newest solve
-    // and its checklist; the calibration loaded with --calibration; what the live view was undistorted with.
+    // and its checklist; the calibration loaded with --calib; what the live view was undistorted with.
     {
       Json c = {{"active", app.frame && app.frame->calibration != nullptr}};
       if (const CalibrationSnapshot* k = app.frame ? app.frame->calibration.get() : nullptr) {

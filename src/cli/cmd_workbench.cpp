@@ -68,7 +68,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   cl.app.add_flag("--verbose", o.verbose, "every log line to stderr, not only warnings and errors");
   cl.app.add_option("--scene", o.engine.scene_file, "a Lua scene or the paper's XML database")
       ->type_name("FILE.lua|FILE.xml");
-  cl.app.add_option("--calibration", o.engine.calibration_file,
+  cl.app.add_option("--calib", o.engine.calibration_file,
                     "a camera calibration (OpenCV's, its interactive app's, the paper's or ROS's file) for the "
                     "undistorted view; a bad one is reported and the workbench runs without it")
       ->type_name("FILE.xml|FILE.yml");

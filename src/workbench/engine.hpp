@@ -37,7 +37,7 @@ struct EngineConfig {
   TraceLevel level = TraceLevel::full;
   int threads = 1;   // detector threads (the UI has the other core)
   std::string scene_file;   // a Lua scene or XML database to load at start ("" none)
-  std::string calibration_file;   // a calibration to load at start (--calibration; "" none)
+  std::string calibration_file;   // a calibration to load at start (--calib; "" none)
 };
 
 class Engine {

@@ -68,7 +68,7 @@ struct Frame {
   // The name this frame's image was given to the board search under: the snapshot's detection is of this frame
   // when its frame_name is the same (the search runs behind the frames).
   std::string calibration_name;
-  // The calibration given with --calibration, made for this frame's size; null without one (or when it does not
+  // The calibration given with --calib, made for this frame's size; null without one (or when it does not
   // fit the source: the log says why).
   std::shared_ptr<const Calibration> loaded_calibration;
   // The synthetic source's camera while it shows a calibration board, in this frame's pixels: the truth a solve

@@ -1,7 +1,7 @@
 // The Calibrate workspace, run for real under xvfb-run on a folder of chessboard views (synthetic views of a
 // known camera); calib_wait makes the runs independent of the machine's speed: it fills up over the frames (views kept, frames refused by reason,
 // a solve with its checklist near the truth), calib_drop takes a view out and the worker solves again without it,
-// calib_save writes a file the shared reader reads back, and --calibration with a bad file says what and where
+// calib_save writes a file the shared reader reads back, and --calib with a bad file says what and where
 // while the window runs on, a good one drives the undistorted view.
 #include "calibration/calibration_file.hpp"
 #include "synth/chessboard_view.hpp"
@@ -147,7 +147,7 @@ TEST(Calibrate, ABadCalibrationFileIsNamedAndTheWindowRunsOn) {
                         "  data: [ 500, 0, 320, 0, 500, 240 ]\ndistortion_coefficients: !!opencv-matrix\n"
                         "  rows: 1\n  cols: 5\n  dt: d\n  data: [ 0, 0, 0, 0, 0 ]\n");
   const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") +
-                                            "' --source synthetic --frames 40 --stats --calibration '" + bad +
+                                            "' --source synthetic --frames 40 --stats --calib '" + bad +
                                             "' --actions '1:workspace=Calibrate;2:undistort=on'");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("cam.yml: camera_matrix"), std::string::npos) << r.err;
@@ -167,7 +167,7 @@ TEST(Calibrate, AGoodCalibrationFileDrivesTheUndistortedView) {
   c.image_size = {1280, 960};   // the same aspect ratio: scaled to the 640x480 working image
   ASSERT_TRUE(write_calibration(good, c, {}).ok());
   const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") +
-                                            "' --source synthetic --frames 40 --stats --calibration '" + good +
+                                            "' --source synthetic --frames 40 --stats --calib '" + good +
                                             "' --actions '1:workspace=Calibrate;2:undistort=on;3:calib_wait'");
   ASSERT_EQ(r.status, 0) << r.err;
   const Json s = stats(r);
@@ -179,7 +179,7 @@ TEST(Calibrate, AGoodCalibrationFileDrivesTheUndistortedView) {
   c.image_size = {1280, 720};
   ASSERT_TRUE(write_calibration(good, c, {}).ok());
   const RunResult r2 = test::run_arwb_window("--config-dir '" + tmp.str("config") +
-                                             "' --source synthetic --frames 40 --stats --calibration '" + good +
+                                             "' --source synthetic --frames 40 --stats --calib '" + good +
                                              "' --actions '1:workspace=Calibrate;2:undistort=on'");
   ASSERT_EQ(r2.status, 0) << r2.err;
   EXPECT_NE(r2.err.find("1280x720"), std::string::npos) << r2.err;
