@@ -23,7 +23,8 @@ struct BoardDetection {
   std::vector<cv::Point2f> corners;   // subpixel; a chessboard's row by row, all of them
   std::vector<int> ids;               // each corner's index into object_points(): empty when all are there in
                                       // order (a chessboard); a ChArUco view may hold part of the board
-  double edge_width_px = 0;           // OpenCV's sharpness measure: how wide the black-white edges are (blur)
+  double edge_width_px = 0;           // how wide the black-white edges are, px (blur): OpenCV's measure for a
+                                      // chessboard, charuco_edge_width's for ChArUco
 };
 
 // Finds `board` of either kind in an 8-bit grey or BGR frame: the one entry point for the CLI and the workbench.
@@ -35,8 +36,12 @@ constexpr int kMinCharucoCorners = 6;
 // Finds a ChArUco board (OpenCV 4.6's layout) in an 8-bit grey or BGR frame: its markers by OpenCV's
 // detectMarkers, then the chessboard corners between them by interpolateCornersCharuco, each with its id (an index
 // into board.object_points()), sorted by id. Found when at least kMinCharucoCorners corners are there and they are
-// not all on one line. The sharpness is OpenCV's chessboard measure on the largest full block of corners.
+// not all on one line. The sharpness is measured across the square edges between neighbouring corners (OpenCV's
+// chessboard measure reads the markers as edges).
 BoardDetection detect_charuco(const cv::Mat& frame, const BoardSpec& board);
+// The sharpness figure of a ChArUco view (see detect_charuco), px; 0 when no two neighbouring corners are there.
+double charuco_edge_width(const cv::Mat& grey, const BoardSpec& board, const std::vector<cv::Point2f>& corners,
+                          const std::vector<int>& ids);
 
 // OpenCV's CharucoBoard for `board` (its predefined dictionary by detect's name for it), metres as units; null
 // when the dictionary is not one of OpenCV's predefined ones.
