@@ -81,7 +81,13 @@ ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board
 
 ChessboardView ChessboardRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px,
                                           double noise, unsigned seed, int samples) const {
-  ChessboardView v;
+  cv::Mat1f acc(camera_.size, 0.f);
+  render_rows(rvec, tvec, acc, 0, camera_.size.height, samples);
+  return finish(acc, rvec, tvec, blur_px, noise, seed);
+}
+
+void ChessboardRenderer::render_rows(const cv::Vec3d& rvec, const cv::Vec3d& tvec, cv::Mat1f& acc, int row0,
+                                     int row1, int samples) const {
   cv::Matx33d R;
   cv::Rodrigues(rvec, R);
   // The plane z = 0 of the board maps to normalised image coordinates by H = [r1 r2 t]; its inverse takes a
@@ -91,14 +97,17 @@ ChessboardView ChessboardRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d
   const double sq = board_.square_m;
   const double x0 = -sq * (1 + board_.margin_squares), x1 = sq * (board_.cols + board_.margin_squares);
   const double y0 = -sq * (1 + board_.margin_squares), y1 = sq * (board_.rows + board_.margin_squares);
-  const int w = camera_.size.width, h = camera_.size.height;
-  cv::Mat1f acc(h, w, 0.f);
+  row0 = std::clamp(row0, 0, camera_.size.height);
+  row1 = std::clamp(row1, row0, camera_.size.height);
+  if (acc.size() != camera_.size) acc = cv::Mat1f(camera_.size, 0.f);
+  if (row0 == row1) return;
+  acc.rowRange(row0, row1).setTo(0);
   const bool charuco = board_.kind == BoardKind::charuco;
   const int squares_x = board_.cols + 1;
   const double marker = board_.marker_m, inset = (sq - marker) / 2;
   // 2 samples a side: the outer two of the four (offsets -3/8 and +3/8 px), whose mean is the pixel's centre.
   const int step = samples == 2 ? 3 : 1;
-  for (int sy = 0; sy < rays_.rows; sy += (step == 3 && sy % 4 == 3) ? 1 : step) {
+  for (int sy = row0 * kSamples; sy < row1 * kSamples; sy += (step == 3 && sy % 4 == 3) ? 1 : step) {
     const auto* ray = rays_.ptr<cv::Vec2f>(sy);
     float* row = acc.ptr<float>(sy / kSamples);
     for (int sx = 0; sx < rays_.cols; sx += (step == 3 && sx % 4 == 3) ? 1 : step) {
@@ -129,7 +138,14 @@ ChessboardView ChessboardRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d
       row[sx / kSamples] += value;
     }
   }
-  acc *= step == 3 ? 1.0 / 4 : 1.0 / (kSamples * kSamples);
+  acc.rowRange(row0, row1) *= step == 3 ? 1.0 / 4 : 1.0 / (kSamples * kSamples);
+}
+
+ChessboardView ChessboardRenderer::finish(cv::Mat1f acc, const cv::Vec3d& rvec, const cv::Vec3d& tvec,
+                                          double blur_px, double noise, unsigned seed) const {
+  ChessboardView v;
+  const int w = camera_.size.width, h = camera_.size.height;
+  const double sq = board_.square_m;
   if (blur_px > 0) cv::GaussianBlur(acc, acc, cv::Size(), blur_px);
   if (noise > 0) {
     cv::Mat1f n(acc.size());

@@ -50,6 +50,13 @@ class ChessboardRenderer {
   // samples: 4 (4x4 per pixel) or 2 (2x2, four times faster, for frames nobody measures: a board moving).
   ChessboardView render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px = 0, double noise = 0,
                         unsigned seed = 1, int samples = 4) const;
+  // render() in parts, for a caller that spreads the work over several frames: render_rows draws the image rows
+  // [row0, row1) into acc (grey levels, float; made the image's size if it is not), finish blurs, adds noise and
+  // places the corners. render() is render_rows over every row, then finish.
+  void render_rows(const cv::Vec3d& rvec, const cv::Vec3d& tvec, cv::Mat1f& acc, int row0, int row1,
+                   int samples = 4) const;
+  ChessboardView finish(cv::Mat1f acc, const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px = 0,
+                        double noise = 0, unsigned seed = 1) const;
   const SynthCamera& camera() const { return camera_; }
   const SynthChessboard& board() const { return board_; }
 
