@@ -203,17 +203,23 @@ BoardDetection detect_charuco(const cv::Mat& frame, const BoardSpec& board) {
       d.ids.push_back(ids[i]);
     }
     // OpenCV 4.6's interpolation leaves its corners about half a pixel down and right of where they are (measured
-    // on synthetic views: (+0.5, +0.5) px); refined again with a window that stays clear of the markers (a tenth
-    // of a square), they come within a tenth of a pixel.
-    std::vector<double> square_px;
-    for (size_t i = 0; i + 1 < d.ids.size(); ++i)
-      if (d.ids[i + 1] == d.ids[i] + 1 && d.ids[i + 1] % grid.width != 0)
-        square_px.push_back(cv::norm(d.corners[i + 1] - d.corners[i]));
-    if (!square_px.empty() && !d.corners.empty()) {
-      std::nth_element(square_px.begin(), square_px.begin() + std::ptrdiff_t(square_px.size() / 2), square_px.end());
-      const int win = std::clamp(int(0.1 * square_px[square_px.size() / 2]), 2, 5);
-      cv::cornerSubPix(grey, d.corners, cv::Size(win, win), cv::Size(-1, -1),
+    // on synthetic views: (+0.5, +0.5) px), and further off on tilted views; refined again, each with a window that
+    // stays clear of the markers' corners (a fourteenth of its nearest neighbour's distance, 2 to 4 px), they come
+    // within a tenth of a pixel.
+    std::map<int, size_t> at;
+    for (size_t i = 0; i < d.ids.size(); ++i) at[d.ids[i]] = i;
+    for (size_t i = 0; i < d.ids.size(); ++i) {
+      const int id = d.ids[i], c = id % grid.width;
+      double nearest = 1e9;
+      for (const int n : {c > 0 ? id - 1 : -1, c + 1 < grid.width ? id + 1 : -1, id - grid.width, id + grid.width})
+        if (const auto it = at.find(n); n >= 0 && it != at.end())
+          nearest = std::min(nearest, double(cv::norm(d.corners[it->second] - d.corners[i])));
+      if (nearest > 1e8) continue;
+      const int win = std::clamp(int(nearest / 14), 2, 4);
+      std::vector<cv::Point2f> one{d.corners[i]};
+      cv::cornerSubPix(grey, one, cv::Size(win, win), cv::Size(-1, -1),
                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 0.001));
+      d.corners[i] = one[0];
     }
   } catch (const cv::Exception&) {   // a frame OpenCV cannot work on is a frame without a board
     return {};

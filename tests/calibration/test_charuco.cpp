@@ -104,7 +104,12 @@ TEST(Charuco, APartialViewIsFoundWithTheIdsOfTheCornersInside) {
     if (!d.found) continue;
     ++found;
     EXPECT_LT(int(d.ids.size()), spec.inner_corners().area());
-    EXPECT_LT(worst_corner_error(d.corners, d.ids, v), 0.3);
+    // Ids at their corners (a wrong one would be a square off); a few corners of steeply tilted views stay up to
+    // a pixel off after OpenCV's interpolation, most within a tenth.
+    EXPECT_LT(worst_corner_error(d.corners, d.ids, v), 1.5);
+    double mean = 0;
+    for (size_t i = 0; i < d.ids.size(); ++i) mean += cv::norm(d.corners[i] - v.corners[size_t(d.ids[i])]);
+    EXPECT_LT(mean / double(d.ids.size()), 0.2);
   }
   EXPECT_GE(found, 4);
 }
