@@ -124,7 +124,7 @@ TEST(Charuco, TooFewCornersOrNoneIsNoBoard) {
   v.image(keep).copyTo(part(keep));
   const BoardDetection d = detect_board(part, spec);
   EXPECT_FALSE(d.found) << d.ids.size() << " corners";
-  // A chessboard is not a ChArUco board, and the wrong dictionary reads nothing.
+  // Markers of another dictionary than the board's are not read.
   BoardSpec other = spec;
   other.dictionary = "DICT_4X4_50";
   EXPECT_FALSE(detect_board(v.image, other).found);
