@@ -105,12 +105,19 @@ void ChessboardRenderer::render_rows(const cv::Vec3d& rvec, const cv::Vec3d& tve
   const bool charuco = board_.kind == BoardKind::charuco;
   const int squares_x = board_.cols + 1;
   const double marker = board_.marker_m, inset = (sq - marker) / 2;
-  // 2 samples a side: the outer two of the four (offsets -3/8 and +3/8 px), whose mean is the pixel's centre.
-  const int step = samples == 2 ? 3 : 1;
-  for (int sy = row0 * kSamples; sy < row1 * kSamples; sy += (step == 3 && sy % 4 == 3) ? 1 : step) {
+  // Which of the four samples a side are taken: all; the outer two (offsets -3/8 and +3/8 px, whose mean is the
+  // pixel's centre); or one (+1/8 px: a moving board, which nobody measures).
+  const std::vector<int> taken = samples >= 4 ? std::vector<int>{0, 1, 2, 3}
+                                 : samples == 2 ? std::vector<int>{0, 3}
+                                                : std::vector<int>{2};
+  const int n_taken = int(taken.size());
+  for (int sy = row0 * kSamples; sy < row1 * kSamples; ++sy) {
+    if (std::find(taken.begin(), taken.end(), sy % kSamples) == taken.end()) continue;
     const auto* ray = rays_.ptr<cv::Vec2f>(sy);
     float* row = acc.ptr<float>(sy / kSamples);
-    for (int sx = 0; sx < rays_.cols; sx += (step == 3 && sx % 4 == 3) ? 1 : step) {
+    for (int sx0 = 0; sx0 < rays_.cols; sx0 += kSamples)
+    for (int k = 0; k < n_taken; ++k) {
+      const int sx = sx0 + taken[size_t(k)];
       const double px = ray[sx][0], py = ray[sx][1];
       const double bw = Hi(2, 0) * px + Hi(2, 1) * py + Hi(2, 2);
       float value;
@@ -138,7 +145,7 @@ void ChessboardRenderer::render_rows(const cv::Vec3d& rvec, const cv::Vec3d& tve
       row[sx / kSamples] += value;
     }
   }
-  acc.rowRange(row0, row1) *= step == 3 ? 1.0 / 4 : 1.0 / (kSamples * kSamples);
+  acc.rowRange(row0, row1) *= 1.0 / (n_taken * n_taken);
 }
 
 ChessboardView ChessboardRenderer::finish(cv::Mat1f acc, const cv::Vec3d& rvec, const cv::Vec3d& tvec,

@@ -369,10 +369,10 @@ SyntheticFrame SyntheticWorld::render_board(const SyntheticControls& c, double t
     }
     frame.image = st.cached.clone();
   } else {
-    // On the way from the previous pose: nobody measures a moving board, so 2x2 samples a pixel are enough.
+    // On the way from the previous pose: nobody measures a moving board, so one sample a pixel is enough.
     const auto& [r0, t0] = st.poses[size_t((k + n - 1) % n)];
     const double a = phase / kBoardMoveS, e = a * a * (3 - 2 * a);   // eased: still at either end
-    cv::cvtColor(st.renderer->render(r0 * (1 - e) + rk * e, t0 * (1 - e) + tk * e, 0, 0, 1, 2).image, frame.image,
+    cv::cvtColor(st.renderer->render(r0 * (1 - e) + rk * e, t0 * (1 - e) + tk * e, 0, 0, 1, 1).image, frame.image,
                  cv::COLOR_GRAY2BGR);
     if (st.next_pose != k) st.next_pose = k, st.next_rows = 0;
     const int band = (h + 7) / 8;
