@@ -12,6 +12,10 @@
 #include <string>
 #include <vector>
 
+namespace cv::aruco {
+class CharucoBoard;
+}
+
 namespace arwb {
 
 struct BoardDetection {
@@ -19,11 +23,29 @@ struct BoardDetection {
   std::vector<cv::Point2f> corners;   // subpixel; a chessboard's row by row, all of them
   std::vector<int> ids;               // each corner's index into object_points(): empty when all are there in
                                       // order (a chessboard); a ChArUco view may hold part of the board
-  double edge_width_px = 0;           // OpenCV's sharpness measure: how wide the black-white edges are (blur)
+  double edge_width_px = 0;           // how wide the black-white edges are, px (blur): OpenCV's measure for a
+                                      // chessboard, charuco_edge_width's for ChArUco
 };
 
 // Finds `board` of either kind in an 8-bit grey or BGR frame: the one entry point for the CLI and the workbench.
 BoardDetection detect_board(const cv::Mat& frame, const BoardSpec& board);
+
+// The fewest ChArUco corners a view must have (and not all on one line) to count as the board found.
+constexpr int kMinCharucoCorners = 6;
+
+// Finds a ChArUco board (OpenCV 4.6's layout) in an 8-bit grey or BGR frame: its markers by OpenCV's
+// detectMarkers, then the chessboard corners between them by interpolateCornersCharuco, each with its id (an index
+// into board.object_points()), sorted by id. Found when at least kMinCharucoCorners corners are there and they are
+// not all on one line. The sharpness is measured across the square edges between neighbouring corners (OpenCV's
+// chessboard measure reads the markers as edges).
+BoardDetection detect_charuco(const cv::Mat& frame, const BoardSpec& board);
+// The sharpness figure of a ChArUco view (see detect_charuco), px; 0 when no two neighbouring corners are there.
+double charuco_edge_width(const cv::Mat& grey, const BoardSpec& board, const std::vector<cv::Point2f>& corners,
+                          const std::vector<int>& ids);
+
+// OpenCV's CharucoBoard for `board` (its predefined dictionary by detect's name for it), metres as units; null
+// when the dictionary is not one of OpenCV's predefined ones.
+cv::Ptr<cv::aruco::CharucoBoard> opencv_charuco_board(const BoardSpec& board);
 
 // Finds the board in an 8-bit grey or BGR frame (OpenCV's findChessboardCornersSB, which is accurate to a
 // fraction of a pixel without cornerSubPix, then its sharpness estimate). A grid whose points are not nearly all
@@ -49,6 +71,11 @@ struct ViewPose {
   double x = 0, y = 0, size = 0, skew = 0;
 };
 ViewPose view_pose(const std::vector<cv::Point2f>& corners, const BoardSpec& board, cv::Size image);
+// The same for a view that may hold part of the board (ids as BoardDetection::ids; empty: all, in order): x, y and
+// size from the corners seen (their mean, the area of their hull), skew from the whole board's outline placed by
+// the homography of the corners seen.
+ViewPose view_pose(const std::vector<cv::Point2f>& corners, const std::vector<int>& ids, const BoardSpec& board,
+                   cv::Size image);
 
 struct SelectOptions {
   bool video = true;              // frames follow each other (stillness is measured); false: a folder of stills
@@ -77,6 +104,7 @@ class ViewSelector {
   BoardSpec board_;
   SelectOptions opt_;
   std::vector<cv::Point2f> previous_;   // the previous frame's corners, empty when it had no board
+  std::vector<int> previous_ids_;       // and their ids (ChArUco)
   std::vector<ViewPose> kept_;
 };
 

@@ -2,6 +2,7 @@
 
 #include "calibration/cross_validation.hpp"
 
+#include <opencv2/aruco/charuco.hpp>
 #include <opencv2/calib3d.hpp>
 
 #include <nlohmann/json.hpp>
@@ -36,19 +37,40 @@ struct Run {
 
 Result<Run> run_opencv(const std::vector<CalibrationView>& views, const BoardSpec& board, cv::Size size, int flags,
                        const cv::Mat& K0) {
-  std::vector<std::vector<cv::Point3f>> obj(views.size(), board.object_points());
-  std::vector<std::vector<cv::Point2f>> img;
-  for (const CalibrationView& v : views) img.push_back(v.corners);
   Run r;
   r.K = K0.clone();
   r.D = cv::Mat::zeros(1, 5, CV_64F);
   cv::Mat rvecs, tvecs, std_extrinsics, errors;
-  try {
-    // The overload with standard deviations and per-view errors (calibrateCameraExtended in the Python binding).
-    r.rms = cv::calibrateCamera(obj, img, size, r.K, r.D, rvecs, tvecs, r.std_intrinsics, std_extrinsics,
-                                errors, flags);
-  } catch (const cv::Exception& e) {
-    return fail(std::string("OpenCV's calibrateCamera failed (") + e.err + ")");
+  if (board.kind == BoardKind::charuco) {
+    // OpenCV's ChArUco variant: each view's corners with their ids, the object points taken from the board (its
+    // origin is the board's outer corner, one square from ours: the poses differ, the camera does not).
+    const cv::Ptr<cv::aruco::CharucoBoard> cb = opencv_charuco_board(board);
+    if (!cb) return fail("the ChArUco board's dictionary " + board.dictionary + " is not one of OpenCV's");
+    std::vector<cv::Mat> corners, ids;
+    for (const CalibrationView& v : views) {
+      std::vector<int> vi = v.ids;
+      if (vi.empty())
+        for (int i = 0; i < int(v.corners.size()); ++i) vi.push_back(i);
+      corners.push_back(cv::Mat(v.corners, true));
+      ids.push_back(cv::Mat(vi, true));
+    }
+    try {
+      r.rms = cv::aruco::calibrateCameraCharuco(corners, ids, cb, size, r.K, r.D, rvecs, tvecs, r.std_intrinsics,
+                                                std_extrinsics, errors, flags);
+    } catch (const cv::Exception& e) {
+      return fail(std::string("OpenCV's calibrateCameraCharuco failed (") + e.err + ")");
+    }
+  } else {
+    std::vector<std::vector<cv::Point3f>> obj(views.size(), board.object_points());
+    std::vector<std::vector<cv::Point2f>> img;
+    for (const CalibrationView& v : views) img.push_back(v.corners);
+    try {
+      // The overload with standard deviations and per-view errors (calibrateCameraExtended in the Python binding).
+      r.rms = cv::calibrateCamera(obj, img, size, r.K, r.D, rvecs, tvecs, r.std_intrinsics, std_extrinsics,
+                                  errors, flags);
+    } catch (const cv::Exception& e) {
+      return fail(std::string("OpenCV's calibrateCamera failed (") + e.err + ")");
+    }
   }
   errors.reshape(1, 1).convertTo(r.per_view, CV_64F);
   bool finite = std::isfinite(r.rms) && cv::checkRange(r.K) && cv::checkRange(r.D);
@@ -95,7 +117,7 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
   std::vector<ViewPose> poses;
   cv::Mat1i grid(kGridRows, kGridCols, 0);
   for (const CalibrationView& v : all) {
-    poses.push_back(view_pose(v.corners, board, size));
+    poses.push_back(view_pose(v.corners, v.ids, board, size));
     for (const cv::Point2f& p : v.corners) {
       const int gx = std::clamp(int(double(p.x) * kGridCols / size.width), 0, kGridCols - 1);
       const int gy = std::clamp(int(double(p.y) * kGridRows / size.height), 0, kGridRows - 1);
@@ -188,7 +210,7 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
   rep.checklist.push_back({"image coverage", rep.grid_coverage >= kMinGridCoverage,
                            num(100 * rep.grid_coverage, 0) + " % of an 8x6 grid holds corners (need " +
                                num(100 * kMinGridCoverage, 0) + " %)"});
-  // The benchmark line: OpenCV's defaults on every view given.
+  // The benchmark line: OpenCV's defaults on every view given (for ChArUco, its calibrateCameraCharuco's).
   if (Result<Run> plain = run_opencv(all, board, size, 0, K0)) {
     s.opencv_defaults.camera_matrix = cv::Matx33d(plain->K);
     s.opencv_defaults.distortion.assign(plain->D.begin<double>(), plain->D.end<double>());

@@ -1,5 +1,5 @@
-// arwb calibrate: the paper's first module. A video or a folder of images of a chessboard becomes a calibration
-// file (camera_matrix, distortion_coefficients and the paper's cameraMatrix, distCoeffs) with a quality report.
+// arwb calibrate: the paper's first module. A video or a folder of images of a chessboard (or a ChArUco board)
+// becomes a calibration file (camera_matrix, distortion_coefficients and the paper's cameraMatrix, distCoeffs) with a quality report.
 #include "calibration/board.hpp"
 #include "calibration/calibration_file.hpp"
 #include "calibration/solve.hpp"
@@ -159,7 +159,10 @@ std::string tally_text(const std::map<std::string, int>& tally) {
 int cmd_calibrate(int argc, char** argv) {
   CommandLine cl(kCommand,
                  "Calibrates a camera from a video or a folder of images of a chessboard (the paper's: 9x6 inner "
-                 "corners, 25 mm squares). Views are chosen by themselves: the board still and sharp, its pose unlike "
+                 "corners, 25 mm squares) or of a ChArUco board (--board charuco: cols and rows count squares, as "
+                 "OpenCV's CharucoBoard; OpenCV 4.6's layout, so boards printed for the older layout, before 4.6, "
+                 "which differs for an even number of rows, are not read; a view may show part of it). Views are "
+                 "chosen by themselves: the board still and sharp, its pose unlike "
                  "the views already kept, its corners away from the image's edge. Solves with OpenCV, drops outlier "
                  "views, fixes what the views cannot determine, and writes OpenCV FileStorage with the paper's names.",
                  "The report checks the four criteria of OpenCV's interactive calibration (enough views, RMS error, "
@@ -189,8 +192,6 @@ int cmd_calibrate(int argc, char** argv) {
   const std::optional<BoardSpec> board_given = board_from_options(board_options, &board_problem);
   if (!board_given) return cl.usage_error(board_problem);
   const BoardSpec board = *board_given;
-  if (board.kind == BoardKind::charuco)
-    return cl.usage_error("--board charuco: not yet; this version calibrates with a chessboard (--board chessboard)");
   SourceSpec camera;
   const bool is_camera = input.rfind("camera:", 0) == 0;
   if (is_camera) {
@@ -289,7 +290,7 @@ int cmd_calibrate(int argc, char** argv) {
     }
     cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
     const BoardDetection d = detect_board(grey, board);
-    if (d.found && boards == 0) {
+    if (d.found && boards == 0 && board.kind == BoardKind::chessboard) {
       if (std::optional<cv::Size> larger = larger_board(grey, board, d.corners)) {
         *larger = as_given(*larger, board);
         if (progress) std::fputc('\n', stderr);
@@ -319,6 +320,13 @@ int cmd_calibrate(int argc, char** argv) {
   const std::string summary = std::to_string(read) + " frame" + (read == 1 ? "" : "s") + " read, board in " +
                               std::to_string(boards) + ", " + std::to_string(views.size()) + " views kept; " +
                               tally_text(tally);
+  if (boards == 0 && board.kind == BoardKind::charuco) {
+    print_problem("%s: no %s in any of the %d frames of %s (at least %d corners, not on one line); check --cols, "
+                  "--rows (squares) and --dict; boards printed for OpenCV's older ChArUco layout (before 4.6; it "
+                  "differs for an even number of rows) are not read\n",
+                  kCommand, board.describe().c_str(), read, input.c_str(), kMinCharucoCorners);
+    return 1;
+  }
   if (boards == 0) {
     print_problem("%s: no %dx%d chessboard in any of the %d frames of %s%s\n", kCommand, board.cols, board.rows, read,
                   input.c_str(), other_board_hint(samples, board).c_str());

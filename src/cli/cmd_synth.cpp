@@ -10,17 +10,23 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 namespace arwb {
 
 namespace {
 
-// --chessboard: views of the paper's board (9x6 inner corners, 25 mm) through a known camera with barrel
-// distortion, for arwb calibrate; the camera itself goes beside them as a calibration file to compare with.
-int write_chessboard_views(const std::string& out, int count, int seed) {
+// --chessboard: views of a calibration board (by default the paper's, 9x6 inner corners, 25 mm; or a ChArUco
+// board, a quarter of its views held partly out of the image) through a known camera with barrel distortion, for
+// arwb calibrate; the camera itself goes beside them as a calibration file to compare with.
+int write_chessboard_views(const std::string& out, int count, int seed, const BoardSpec& spec) {
   const SynthCamera camera;
-  const ChessboardRenderer renderer(camera, SynthChessboard{});
-  const auto poses = chessboard_poses(camera, SynthChessboard{}, count, unsigned(seed));
+  const SynthChessboard board = SynthChessboard::of(spec);
+  const ChessboardRenderer renderer(camera, board);
+  const int partial = spec.kind == BoardKind::charuco ? count / 4 : 0;
+  auto poses = chessboard_poses(camera, board, count - partial, unsigned(seed));
+  const auto more = partial_board_poses(camera, board, partial, unsigned(seed) + 1);
+  poses.insert(poses.end(), more.begin(), more.end());
   for (size_t i = 0; i < poses.size(); ++i) {
     const ChessboardView v = renderer.render(poses[i].first, poses[i].second, 0.6, 1.5, unsigned(i + 1));
     char name[32];
@@ -35,14 +41,15 @@ int write_chessboard_views(const std::string& out, int count, int seed) {
   truth.distortion = camera.distortion;
   truth.image_size = camera.size;
   CalibrationFileExtras x;
-  x.board = "chessboard 9x6 inner corners (10x7 squares), 25.00 mm squares";
+  x.board = spec.describe();
   x.view_count = int(poses.size());
   x.notes = {"the synthetic camera the views were rendered through (the truth)"};
   if (Status st = write_calibration(out + "/truth_camera.yml", truth, x); !st) {
     print_problem("arwb synth: %s\n", st.error().c_str());
     return 1;
   }
-  std::printf("wrote %zu chessboard views and truth_camera.yml to %s\n", poses.size(), out.c_str());
+  std::printf("wrote %zu views of the %s and truth_camera.yml to %s\n", poses.size(), spec.describe().c_str(),
+              out.c_str());
   return 0;
 }
 
@@ -60,15 +67,32 @@ int cmd_synth(int argc, char** argv) {
   cl.app.add_option("--out", out, "the folder to write (created if needed)")->type_name("DIR")->required();
   cl.app.add_option("--count", count, "images")->type_name("N")->check(whole_number(1, 100000));
   cl.app.add_option("--seed", seed, "the random seed")->type_name("S")->check(whole_number(0, 2147483647));
-  cl.app.add_option("--dict", dict_arg, "dictionaries, as for arwb detect")->type_name("NAME[,NAME...]");
   bool chessboard = false;
   cl.app.add_flag("--chessboard", chessboard,
-                  "instead: views of the paper's 9x6 chessboard through a known camera with lens distortion (640x480), "
-                  "and that camera as DIR/truth_camera.yml, for arwb calibrate");
+                  "instead: views of a calibration board (the paper's 9x6 chessboard unless --board and its options "
+                  "say otherwise) through a known camera with lens distortion (640x480), and that camera as "
+                  "DIR/truth_camera.yml, for arwb calibrate");
+  // The board's options are calibrate's; --dict is shared: the markers' dictionaries, or a ChArUco board's.
+  BoardOptions board_options;
+  add_board_options(cl.app, board_options);
+  cl.app.get_option("--dict")
+      ->description("dictionaries, as for arwb detect (ARUCO_ORIGINAL); with --chessboard --board charuco, the "
+                    "ChArUco board's (DICT_5X5_100)")
+      ->type_name("NAME[,NAME...]");
   cl.app.add_option("--size", size_arg, "WxH, or mixed: 640x480, 1280x720 and 1920x1080 in turn")
       ->type_name("WxH|mixed")
       ->check(frame_size({64, 64}, {8192, 8192}, "mixed"));
   if (const auto status = cl.parse(argc, argv)) return *status;
+  if (!board_options.dict.empty() && !chessboard) dict_arg = board_options.dict;
+  std::optional<BoardSpec> board;
+  if (chessboard) {
+    std::string problem;
+    board = board_from_options(board_options, &problem);
+    if (!board) return cl.usage_error(problem);
+  } else if (!board_options.kind.empty() || board_options.cols || board_options.rows || board_options.square_mm ||
+             board_options.marker_mm) {
+    return cl.usage_error("--board, --cols, --rows, --square-mm and --marker-mm are for --chessboard");
+  }
   std::vector<cv::Size> sizes = mixed_sizes();
   if (size_arg != "mixed") sizes = {*parse_frame_size(size_arg)};
   const auto dicts = dictionaries_option(dict_arg, "arwb synth");
@@ -80,7 +104,7 @@ int cmd_synth(int argc, char** argv) {
       print_problem("arwb synth: %s: cannot create the folder\n", out.c_str());
       return 1;
     }
-    return write_chessboard_views(out, count, seed);
+    return write_chessboard_views(out, count, seed, *board);
   }
   std::ofstream truth(out + "/truth.jsonl");
   if (ec || !truth) {

@@ -1,5 +1,7 @@
 #include "detect/board_spec.hpp"
 
+#include "detect/dictionary.hpp"
+
 #include <cstdio>
 
 namespace arwb {
@@ -24,6 +26,14 @@ std::string BoardSpec::problem() const {
   if (marker_mm <= 0) return "--marker-mm: give the markers' side (less than --square-mm " + num(square_mm, 2) + ")";
   if (marker_mm >= square_mm)
     return "--marker-mm " + num(marker_mm, 2) + " must be less than --square-mm " + num(square_mm, 2);
+  std::string error;
+  const std::optional<Dictionary> d = dictionary_by_name(dictionary, &error);
+  if (!d) return "--dict " + error;
+  // One marker in every white square: half of them, rounded down (the top-left square is black).
+  const int needed = cols * rows / 2;
+  if (d->size() < needed)
+    return "--dict " + dictionary + " has " + std::to_string(d->size()) + " markers; a " + std::to_string(cols) + "x" +
+           std::to_string(rows) + " ChArUco board needs " + std::to_string(needed);
   return {};
 }
 

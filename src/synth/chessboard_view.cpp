@@ -1,15 +1,32 @@
 #include "synth/chessboard_view.hpp"
 
+#include "detect/dictionary.hpp"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 namespace arwb {
 
 namespace {
 constexpr int kSamples = 4;   // per pixel side
+}
+
+SynthChessboard SynthChessboard::of(const BoardSpec& spec, double margin_squares) {
+  SynthChessboard b;
+  const cv::Size inner = spec.inner_corners();
+  b.cols = inner.width;
+  b.rows = inner.height;
+  b.square_m = spec.square_mm / 1000;
+  b.margin_squares = margin_squares;
+  b.kind = spec.kind;
+  b.marker_m = spec.marker_mm / 1000;
+  b.dictionary = spec.dictionary;
+  return b;
 }
 
 ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board)
@@ -44,11 +61,33 @@ ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board
       row[sx] = (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy;
     }
   }
+  if (board_.kind != BoardKind::charuco) return;
+  // OpenCV 4.6's layout: squares row by row, the top-left one black, a marker in each white square, ids in order.
+  const std::optional<Dictionary> dict = dictionary_by_name(board_.dictionary);
+  const int sx = board_.cols + 1, sy = board_.rows + 1;
+  marker_cells_.assign(size_t(sx) * size_t(sy), cv::Mat());
+  int id = 0;
+  for (int j = 0; j < sy; ++j)
+    for (int i = 0; i < sx; ++i) {
+      if ((i + j) % 2 == 0) continue;
+      const int this_id = id++;
+      if (!dict || this_id >= dict->size()) continue;   // past the dictionary's end: a white square
+      const int n = dict->marker_size();
+      cv::Mat cells = cv::Mat::zeros(n + 2, n + 2, CV_8U);
+      dict->bits(this_id).copyTo(cells(cv::Rect(1, 1, n, n)));
+      marker_cells_[size_t(j * sx + i)] = cells;
+    }
 }
 
 ChessboardView ChessboardRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px,
-                                          double noise, unsigned seed) const {
-  ChessboardView v;
+                                          double noise, unsigned seed, int samples) const {
+  cv::Mat1f acc(camera_.size, 0.f);
+  render_rows(rvec, tvec, acc, 0, camera_.size.height, samples);
+  return finish(acc, rvec, tvec, blur_px, noise, seed);
+}
+
+void ChessboardRenderer::render_rows(const cv::Vec3d& rvec, const cv::Vec3d& tvec, cv::Mat1f& acc, int row0,
+                                     int row1, int samples) const {
   cv::Matx33d R;
   cv::Rodrigues(rvec, R);
   // The plane z = 0 of the board maps to normalised image coordinates by H = [r1 r2 t]; its inverse takes a
@@ -58,12 +97,27 @@ ChessboardView ChessboardRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d
   const double sq = board_.square_m;
   const double x0 = -sq * (1 + board_.margin_squares), x1 = sq * (board_.cols + board_.margin_squares);
   const double y0 = -sq * (1 + board_.margin_squares), y1 = sq * (board_.rows + board_.margin_squares);
-  const int w = camera_.size.width, h = camera_.size.height;
-  cv::Mat1f acc(h, w, 0.f);
-  for (int sy = 0; sy < rays_.rows; ++sy) {
+  row0 = std::clamp(row0, 0, camera_.size.height);
+  row1 = std::clamp(row1, row0, camera_.size.height);
+  if (acc.size() != camera_.size) acc = cv::Mat1f(camera_.size, 0.f);
+  if (row0 == row1) return;
+  acc.rowRange(row0, row1).setTo(0);
+  const bool charuco = board_.kind == BoardKind::charuco;
+  const int squares_x = board_.cols + 1;
+  const double marker = board_.marker_m, inset = (sq - marker) / 2;
+  // Which of the four samples a side are taken: all; the outer two (offsets -3/8 and +3/8 px, whose mean is the
+  // pixel's centre); or one (+1/8 px: a moving board, which nobody measures).
+  const std::vector<int> taken = samples >= 4 ? std::vector<int>{0, 1, 2, 3}
+                                 : samples == 2 ? std::vector<int>{0, 3}
+                                                : std::vector<int>{2};
+  const int n_taken = int(taken.size());
+  for (int sy = row0 * kSamples; sy < row1 * kSamples; ++sy) {
+    if (std::find(taken.begin(), taken.end(), sy % kSamples) == taken.end()) continue;
     const auto* ray = rays_.ptr<cv::Vec2f>(sy);
     float* row = acc.ptr<float>(sy / kSamples);
-    for (int sx = 0; sx < rays_.cols; ++sx) {
+    for (int sx0 = 0; sx0 < rays_.cols; sx0 += kSamples)
+    for (int k = 0; k < n_taken; ++k) {
+      const int sx = sx0 + taken[size_t(k)];
       const double px = ray[sx][0], py = ray[sx][1];
       const double bw = Hi(2, 0) * px + Hi(2, 1) * py + Hi(2, 2);
       float value;
@@ -77,11 +131,28 @@ ChessboardView ChessboardRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d
       } else {
         const long i = long(std::floor(bx / sq)), j = long(std::floor(by / sq));
         value = ((i + j) & 1) ? 220.f : 30.f;
+        if (charuco && ((i + j) & 1)) {
+          // The square's marker, if any: (i + 1, j + 1) in OpenCV's squares, which start at the outer corner.
+          const cv::Mat& cells = marker_cells_[size_t((j + 1) * squares_x + (i + 1))];
+          const double across = bx - double(i) * sq - inset, down = by - double(j) * sq - inset;
+          if (!cells.empty() && across >= 0 && down >= 0 && across < marker && down < marker) {
+            const int n = cells.rows;
+            const int cu = std::min(n - 1, int(across / marker * n)), cr = std::min(n - 1, int(down / marker * n));
+            value = cells.at<uchar>(cr, cu) ? 220.f : 30.f;
+          }
+        }
       }
       row[sx / kSamples] += value;
     }
   }
-  acc *= 1.0 / (kSamples * kSamples);
+  acc.rowRange(row0, row1) *= 1.0 / (n_taken * n_taken);
+}
+
+ChessboardView ChessboardRenderer::finish(cv::Mat1f acc, const cv::Vec3d& rvec, const cv::Vec3d& tvec,
+                                          double blur_px, double noise, unsigned seed) const {
+  ChessboardView v;
+  const int w = camera_.size.width, h = camera_.size.height;
+  const double sq = board_.square_m;
   if (blur_px > 0) cv::GaussianBlur(acc, acc, cv::Size(), blur_px);
   if (noise > 0) {
     cv::Mat1f n(acc.size());
@@ -132,6 +203,42 @@ std::vector<std::pair<cv::Vec3d, cv::Vec3d>> chessboard_poses(const SynthCamera&
     for (const cv::Point2f& p : img)
       if (p.x < 12 || p.y < 12 || p.x > float(camera.size.width - 13) || p.y > float(camera.size.height - 13)) inside = false;
     if (inside) poses.emplace_back(rvec, t);
+  }
+  return poses;
+}
+
+std::vector<std::pair<cv::Vec3d, cv::Vec3d>> partial_board_poses(const SynthCamera& camera,
+                                                                 const SynthChessboard& board, int count,
+                                                                 unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double bw = board.square_m * (board.cols + 1), bh = board.square_m * (board.rows + 1);
+  const double f = camera.camera_matrix(0, 0);
+  std::vector<cv::Point3f> inner;
+  for (int r = 0; r < board.rows; ++r)
+    for (int c = 0; c < board.cols; ++c)
+      inner.emplace_back(float(c * board.square_m), float(r * board.square_m), 0.f);
+  std::vector<std::pair<cv::Vec3d, cv::Vec3d>> poses;
+  for (int tries = 0; int(poses.size()) < count && tries < count * 400; ++tries) {
+    const cv::Vec3d rvec(u(rng) * 0.6, u(rng) * 0.6, u(rng) * 0.3);
+    const double fill = 0.8 + 0.5 * (u(rng) + 1) / 2;   // the board wider than most of the image
+    const double z = f * bw / (fill * camera.size.width);
+    const double cx = u(rng) * 0.45 * camera.size.width / f * z, cy = u(rng) * 0.45 * camera.size.height / f * z;
+    cv::Matx33d R;
+    cv::Rodrigues(rvec, R);
+    const cv::Vec3d centre(bw / 2 - board.square_m, bh / 2 - board.square_m, 0);
+    const cv::Vec3d t = cv::Vec3d(cx, cy, z) - R * centre;
+    std::vector<cv::Point2f> img;
+    cv::projectPoints(inner, rvec, t, cv::Mat(camera.camera_matrix), camera.distortion, img);
+    // A board held close, not one that fills the room: its corners stay within a third of the image of it.
+    const int n = int(std::count_if(img.begin(), img.end(), [&](const cv::Point2f& p) {
+      return p.x >= 12 && p.y >= 12 && p.x <= float(camera.size.width - 13) && p.y <= float(camera.size.height - 13);
+    }));
+    const bool near = std::all_of(img.begin(), img.end(), [&](const cv::Point2f& p) {
+      return p.x > -0.3f * float(camera.size.width) && p.x < 1.3f * float(camera.size.width) &&
+             p.y > -0.3f * float(camera.size.height) && p.y < 1.3f * float(camera.size.height);
+    });
+    if (near && 3 * n >= int(img.size()) && 5 * n <= 4 * int(img.size())) poses.emplace_back(rvec, t);
   }
   return poses;
 }

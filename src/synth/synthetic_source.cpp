@@ -24,7 +24,7 @@ SourceStatus SyntheticSource::next(double now_s, cv::Mat& out) {
   return {};
 }
 
-const SynthCamera* SyntheticSource::board_camera() const { return nullptr; }   // boards: not rendered yet
+const SynthCamera* SyntheticSource::board_camera() const { return world_.board_camera(); }
 
 SourceInfo SyntheticSource::info() const {
   SourceInfo i;

@@ -88,6 +88,7 @@ SyntheticControls clamped(const SyntheticControls& c) {
   o.marker_size_m = clamp(c.marker_size_m, 0.02, 0.3);
   o.markers = std::clamp(c.markers, 1, 8);
   o.first_id = std::max(c.first_id, 0);
+  if (o.board != "chessboard" && o.board != "charuco") o.board.clear();
   return o;
 }
 
@@ -186,6 +187,7 @@ void SyntheticWorld::set_controls(const SyntheticControls& c) {
 SyntheticFrame SyntheticWorld::render(double t) const {
   // controls() hands out a mutable reference, so clamp again here rather than trust what it holds.
   const SyntheticControls c = clamped(controls_);
+  if (!c.board.empty()) return render_board(c, std::isfinite(t) ? t : 0);
   SyntheticFrame frame;
   frame.image = background_.clone();
   auto dict = dictionary_by_name(c.dict);
@@ -257,8 +259,13 @@ SyntheticFrame SyntheticWorld::render(double t) const {
   std::sort(frame.markers.begin(), frame.markers.end(),
             [](const TruthMarker& a, const TruthMarker& b) { return a.id < b.id; });
 
+  optics(frame.image, c, t);
+  return frame;
+}
+
+void SyntheticWorld::optics(cv::Mat& image, const SyntheticControls& c, double t) const {
   // [SECTION] optics and sensor: blur, then light (slow global swell, a gradient that turns), then noise.
-  if (c.blur_px > 0.05) cv::GaussianBlur(frame.image, frame.image, cv::Size(0, 0), c.blur_px);
+  if (c.blur_px > 0.05) cv::GaussianBlur(image, image, cv::Size(0, 0), c.blur_px);
   const double global = c.light * (0.85 + 0.15 * std::sin(0.5 * t + 1.0));
   const double ga = 0.2 * t;
   const double gx = 0.35 * std::cos(ga) / size_.width, gy = 0.35 * std::sin(ga) / size_.height;
@@ -274,7 +281,7 @@ SyntheticFrame SyntheticWorld::render(double t) const {
       const int g = int(g0 + dg * x + 0.5);
       gain[size_t(3 * x)] = gain[size_t(3 * x + 1)] = gain[size_t(3 * x + 2)] = g;
     }
-    uint8_t* px = frame.image.ptr<uint8_t>(y);
+    uint8_t* px = image.ptr<uint8_t>(y);
     const int16_t* nz = table + size_t(y) * size_t(w3) + size_t(rows_rng.uniform(0, kNoiseSlack));
     const int* gp = gain.data();
     for (int i = 0; i < w3; ++i) {
@@ -282,6 +289,97 @@ SyntheticFrame SyntheticWorld::render(double t) const {
       px[i] = uint8_t(v < 0 ? 0 : v > 255 ? 255 : v);
     }
   }
+}
+
+// [SECTION] board mode: a calibration board held in front of a known camera, from pose to pose.
+
+struct SyntheticWorld::BoardStage {
+  std::string name;   // "chessboard", "charuco"
+  SynthCamera camera;
+  std::unique_ptr<ChessboardRenderer> renderer;
+  std::vector<std::pair<cv::Vec3d, cv::Vec3d>> poses;
+  // The pose held last, rendered at full quality once: a pause shows the same board for a second.
+  int cached_pose = -1;
+  cv::Mat cached;   // BGR, before optics
+  // The pose being moved to, rendered at full quality a band of rows a frame while the board moves, so that no
+  // one frame pays for the whole of it.
+  int next_pose = -1, next_rows = 0;
+  cv::Mat1f next;
+};
+
+BoardSpec SyntheticWorld::board_spec(const std::string& board) {
+  if (board == "charuco")   // the CLI's ChArUco defaults (cli_common's board options)
+    return BoardSpec{.kind = BoardKind::charuco, .cols = 5, .rows = 7, .square_mm = 35, .marker_mm = 26};
+  return BoardSpec{};   // the paper's chessboard: 9x6 inner corners, 25 mm
+}
+
+const SyntheticWorld::BoardStage* SyntheticWorld::stage(const std::string& board) const {
+  if (board.empty()) return nullptr;
+  if (board_ && board_->name == board) return board_.get();
+  auto s = std::make_shared<BoardStage>();
+  s->name = board;
+  // SynthCamera's defaults are for 640x480: the same lens at this world's size.
+  const double scale = size_.width / double(s->camera.size.width);
+  s->camera.camera_matrix(0, 0) *= scale;
+  s->camera.camera_matrix(1, 1) *= scale;
+  s->camera.camera_matrix(0, 2) *= scale;
+  s->camera.camera_matrix(1, 2) *= scale;
+  s->camera.size = size_;
+  const SynthChessboard sb = SynthChessboard::of(board_spec(board));
+  s->renderer = std::make_unique<ChessboardRenderer>(s->camera, sb);
+  s->poses = chessboard_poses(s->camera, sb, kBoardPoses, unsigned(seed_ % 1000 + 3));
+  // A ChArUco board may be read in part: every fourth pose holds it partly out of the image.
+  if (board == "charuco") {
+    const auto partial = partial_board_poses(s->camera, sb, kBoardPoses / 4, unsigned(seed_ % 1000 + 5));
+    for (size_t i = 0; i < partial.size(); ++i)
+      s->poses.insert(s->poses.begin() + std::ptrdiff_t(std::min(s->poses.size(), 4 * i + 3)), partial[i]);
+  }
+  if (s->poses.empty()) return nullptr;
+  board_ = std::move(s);
+  return board_.get();
+}
+
+const SynthCamera* SyntheticWorld::board_camera() const {
+  const BoardStage* s = stage(clamped(controls_).board);
+  return s ? &s->camera : nullptr;
+}
+
+SyntheticFrame SyntheticWorld::render_board(const SyntheticControls& c, double t) const {
+  const BoardStage* s = stage(c.board);
+  SyntheticFrame frame;
+  if (!s) {
+    frame.image = background_.clone();
+    return frame;
+  }
+  BoardStage& st = *board_;
+  const int n = int(st.poses.size());
+  const double period = kBoardMoveS + kBoardHoldS;
+  const double cycle = std::floor(std::max(t, 0.0) / period);
+  const double phase = std::max(t, 0.0) - cycle * period;
+  const int k = int(std::fmod(cycle, double(n)));
+  const int h = st.camera.size.height;
+  const auto& [rk, tk] = st.poses[size_t(k)];
+  if (phase >= kBoardMoveS) {
+    if (st.cached_pose != k) {
+      if (st.next_pose != k) st.next_rows = 0;
+      st.renderer->render_rows(rk, tk, st.next, st.next_rows, h);
+      cv::cvtColor(st.renderer->finish(st.next, rk, tk).image, st.cached, cv::COLOR_GRAY2BGR);
+      st.cached_pose = k;
+      st.next_pose = -1;
+    }
+    frame.image = st.cached.clone();
+  } else {
+    // On the way from the previous pose: nobody measures a moving board, so one sample a pixel is enough.
+    const auto& [r0, t0] = st.poses[size_t((k + n - 1) % n)];
+    const double a = phase / kBoardMoveS, e = a * a * (3 - 2 * a);   // eased: still at either end
+    cv::cvtColor(st.renderer->render(r0 * (1 - e) + rk * e, t0 * (1 - e) + tk * e, 0, 0, 1, 1).image, frame.image,
+                 cv::COLOR_GRAY2BGR);
+    if (st.next_pose != k) st.next_pose = k, st.next_rows = 0;
+    const int band = (h + 7) / 8;
+    st.renderer->render_rows(rk, tk, st.next, st.next_rows, std::min(h, st.next_rows + band));
+    st.next_rows = std::min(h, st.next_rows + band);
+  }
+  optics(frame.image, c, t);
   return frame;
 }
 

@@ -3,12 +3,15 @@
 // when there is no camera, and what the GUI tests look at.
 #pragma once
 
+#include "detect/board_spec.hpp"
 #include "detect/dictionary.hpp"
+#include "synth/chessboard_view.hpp"
 #include "synth/synth.hpp"
 
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,14 +55,32 @@ class SyntheticWorld {
   const SyntheticControls& controls() const { return controls_; }
   void set_controls(const SyntheticControls& c);   // clamps into range; an unknown dictionary keeps the old one
   cv::Size size() const { return size_; }
+  // The camera a calibration board is seen through while controls().board names one ("chessboard", "charuco"):
+  // SynthCamera's defaults scaled to this world's size. Null while markers are shown.
+  const SynthCamera* board_camera() const;
+  // The board shown while controls().board names one (the paper's chessboard, the CLI's ChArUco defaults).
+  static BoardSpec board_spec(const std::string& board);
+
+  // The board's schedule: each pose is reached in kBoardMoveS, then held for kBoardHoldS (long enough for a
+  // still-frame check to keep a view), over kBoardPoses poses, looping.
+  static constexpr double kBoardMoveS = 0.6, kBoardHoldS = 1.1;
+  static constexpr int kBoardPoses = 20;
 
  private:
+  struct BoardStage;
+  // The stage for `board`, made when first asked for (the renderer undistorts every pixel once).
+  const BoardStage* stage(const std::string& board) const;
+  SyntheticFrame render_board(const SyntheticControls& c, double t) const;
+  // Blur, then light (a slow global swell, a gradient that turns), then noise, on a BGR frame.
+  void optics(cv::Mat& image, const SyntheticControls& c, double t) const;
+
   cv::Size size_;
   double focal_px_;
   uint64_t seed_;
   SyntheticControls controls_;
   cv::Mat background_;   // rendered once
   cv::Mat noise_;        // CV_16SC1 normal samples, read at a per-frame offset: noise without a draw per pixel
+  mutable std::shared_ptr<BoardStage> board_;   // the board shown last, with its pose cache
 };
 
 }  // namespace arwb
