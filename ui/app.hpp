@@ -92,6 +92,9 @@ struct App {
   ui::FileBrowser browser;          // File > Open source / scene / preset
   ui::FileBrowser calibration_browser;   // the Calibrate panel's Save...
   bool calibrating_sent = false;    // what the engine was last told: a Calibrate panel is shown
+  // The synthetic source shows the Calibrate workspace's board while a Calibrate panel is on screen, when it was
+  // showing markers: put there by the window (the kind it follows), taken away again when the panels close.
+  std::string synthetic_board_auto;
   ui::SettingsHistory history;      // undo and redo of the parameters and dictionaries
   ui::DetectorState committed;      // the state the last history entry ended in
   std::string change_name;          // names the next entry ("preset fast.yml"); "" : described from the change
@@ -147,6 +150,7 @@ struct App {
   std::string preset_path(const std::string& text, bool saving) const;
   void sync_scene();
   void forward_settings();
+  void follow_calibration_board(bool calibrating);
   void update_region();
   void record_stats();
   void draw_menu(GLFWwindow* window);

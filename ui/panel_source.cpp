@@ -139,6 +139,14 @@ void synthetic_controls(Context& ctx) {
   if (!ctx.frame || ctx.frame->source.kind != SourceKind::synthetic) return;
   SyntheticControls& c = ctx.settings.synthetic;
   section("Synthetic source");
+  // What the source shows: markers, or a calibration board held in front of a camera with a known lens (the
+  // Calibrate workspace puts its board here by itself).
+  static const char* kShows[] = {"markers", "chessboard (9x6, 25 mm)", "ChArUco board (5x7, 35 mm)"};
+  static const char* kBoards[] = {"", "chessboard", "charuco"};
+  int shows = c.board == "chessboard" ? 1 : c.board == "charuco" ? 2 : 0;
+  fit_item_width(220 * ctx.scale, "shows##synthetic");
+  if (ImGui::Combo("shows##synthetic", &shows, kShows, IM_ARRAYSIZE(kShows))) c.board = kBoards[shows];
+  const bool board = !c.board.empty();
   ImGui::Checkbox("animate", &c.animate);
   auto slider = [&](const char* label, double& v, float lo, float hi, const char* fmt) {
     float f = static_cast<float>(v);
@@ -147,11 +155,17 @@ void synthetic_controls(Context& ctx) {
   };
   if (c.animate) slider("speed##synthetic", c.speed, 0.0f, 4.0f, "%.2fx");
   else slider("time", c.time_s, 0.0f, 120.0f, "%.1f s");
-  slider("distance", c.distance_m, 0.2f, 3.0f, "%.2f m");
-  slider("tilt", c.tilt_deg, 0.0f, 80.0f, "%.0f deg");
   slider("light", c.light, 0.2f, 1.5f, "%.2f");
   slider("blur", c.blur_px, 0.0f, 5.0f, "%.1f px");
   slider("noise", c.noise, 0.0f, 40.0f, "%.0f grey levels");
+  if (board) {   // the board's poses and its camera are fixed: the rest are the markers' own
+    text_disabled_wrapped("The board moves from pose to pose in front of a camera with a known lens: calibrate it in "
+                          "the Calibrate workspace, which shows that camera beside the result.");
+    if (ImGui::Button("Reset synthetic")) c = SyntheticControls{};
+    return;
+  }
+  slider("distance", c.distance_m, 0.2f, 3.0f, "%.2f m");
+  slider("tilt", c.tilt_deg, 0.0f, 80.0f, "%.0f deg");
   slider("marker size", c.marker_size_m, 0.02f, 0.3f, "%.3f m");
   fit_item_width(180 * ctx.scale, "markers");
   ImGui::SliderInt("markers", &c.markers, 1, 8);

@@ -276,7 +276,29 @@ void App::sync_scene() {
 }
 
 // [SECTION] Frame state
+// On the synthetic source, the Calibrate workspace shows the kind of board it looks for (that kind's defaults: the
+// paper's chessboard, the CLI's ChArUco board), so that a class sees calibration without a camera; leaving the
+// workspace brings the markers back. A board the user chose in the Source panel is left as it is.
+void App::follow_calibration_board(bool calibrating) {
+  const bool synthetic = frame && frame->source.kind == SourceKind::synthetic;
+  std::string& shown = settings.synthetic.board;
+  if (calibrating && !calibrating_sent && synthetic && shown.empty()) synthetic_board_auto = "?";
+  if (!synthetic_board_auto.empty() && shown != synthetic_board_auto && synthetic_board_auto != "?") {
+    synthetic_board_auto.clear();   // the user chose another in the Source panel
+    return;
+  }
+  if (calibrating && !synthetic_board_auto.empty())
+    shown = synthetic_board_auto = board_kind_name(settings.calibration.board.kind);
+  if (!calibrating && !synthetic_board_auto.empty()) {
+    shown.clear();
+    synthetic_board_auto.clear();
+  }
+}
+
 void App::forward_settings() {
+  const bool calibrating = view.open[static_cast<size_t>(ui::Panel::calibrate)] ||
+                           view.open[static_cast<size_t>(ui::Panel::calibration_views)];
+  follow_calibration_board(calibrating);
   if (!(settings.params == sent.params)) engine->set_params(settings.params);
   if (settings.dictionaries != sent.dictionaries) engine->set_dictionaries(settings.dictionaries);
   if (!(settings.acquisition == sent.acquisition)) engine->set_acquisition(settings.acquisition);
@@ -296,8 +318,6 @@ void App::forward_settings() {
   if (settings.calibration.capture != sent.calibration.capture) engine->set_calibration_capture(settings.calibration.capture);
   if (settings.calibration.undistort != sent.calibration.undistort) engine->set_undistort(settings.calibration.undistort);
   // The board is looked for only while a Calibrate panel is on screen.
-  const bool calibrating = view.open[static_cast<size_t>(ui::Panel::calibrate)] ||
-                           view.open[static_cast<size_t>(ui::Panel::calibration_views)];
   if (calibrating != calibrating_sent) engine->set_calibrating(calibrating_sent = calibrating);
   sent = settings;
   if (!board_ok) sent.calibration.board = board_sent;
@@ -758,6 +778,7 @@ int run_workbench(const WorkbenchOptions& options) {
                    {"shortened", lr.shortened}, {"overlaps", lr.overlaps},     {"on_corners", lr.on_corners},
                    {"boxes", lr.boxes}};
     s["source"] = app.engine->source().text();
+    s["synthetic_board"] = app.settings.synthetic.board;   // what the synthetic source shows: "" markers, or a board
     s["problems"] = app.log.problems();
     if (app.view.has_region) {
       // The Why panel's report on the last frame: its headline and the dictionary it advises adding.

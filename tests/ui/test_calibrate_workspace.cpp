@@ -56,7 +56,7 @@ std::string args(const TempDir& tmp, const std::string& more) {
   return "--config-dir '" + tmp.str("config") + "' --source '" + chessboard_folder() + "' --stats " + more;
 }
 
-TEST(Calibrate, FillsUpOverTheFramesAndSolvesNearTheTruth) {
+TEST(CalibrateWorkspace, FillsUpOverTheFramesAndSolvesNearTheTruth) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(args(tmp, "--frames 12 --actions '1:workspace=Calibrate;2:calib_wait=10'"));
   ASSERT_EQ(r.status, 0) << r.err;
@@ -76,14 +76,46 @@ TEST(Calibrate, FillsUpOverTheFramesAndSolvesNearTheTruth) {
   EXPECT_GT(c["coverage"]["x"].get<double>(), 0.3);
 }
 
-TEST(Calibrate, NothingIsLookedForOutsideTheWorkspace) {
+// What a teacher does without a camera: the synthetic source shows the workspace's board through its known lens,
+// the solve comes out beside that truth, and leaving the workspace brings the markers back.
+TEST(CalibrateWorkspace, OnTheSyntheticSourceTheBoardComesAndTheTruthIsBesideTheResult) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 40 --actions "
+                                            "'1:workspace=Calibrate;2:calib_wait=8'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json s = stats(r);
+  const Json c = s["calibration"];
+  ASSERT_TRUE(c.contains("truth")) << "no synthetic camera to compare with: " << c.dump();
+  ASSERT_TRUE(c.contains("fx")) << "no solve: " << c.dump();
+  EXPECT_GE(c["solved_views"].get<int>(), 8) << c.dump();
+  for (const char* k : {"fx", "fy"})
+    EXPECT_NEAR(c[k].get<double>(), c["truth"][k].get<double>(), 0.01 * c["truth"][k].get<double>()) << k << c.dump();
+  for (const char* k : {"cx", "cy"})
+    EXPECT_NEAR(c[k].get<double>(), c["truth"][k].get<double>(), 3.0) << k << c.dump();
+  EXPECT_EQ(s["synthetic_board"], "chessboard");
+  const RunResult back = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 20 "
+                                               "--actions '1:workspace=Calibrate;10:workspace=Inspect'");
+  ASSERT_EQ(back.status, 0) << back.err;
+  EXPECT_EQ(stats(back)["synthetic_board"], "") << "back in Inspect, the synthetic source shows markers again";
+
+  // The ChArUco board: the synthetic source follows the kind of board the workspace looks for.
+  const RunResult ch = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 20 --actions "
+                                             "'1:workspace=Calibrate;1:calib_board=charuco;3:calib_wait=6'");
+  ASSERT_EQ(ch.status, 0) << ch.err;
+  const Json sc = stats(ch);
+  EXPECT_EQ(sc["synthetic_board"], "charuco");
+  EXPECT_GE(sc["calibration"]["views"].get<int>(), 6) << sc["calibration"].dump();
+  EXPECT_NE(sc["calibration"]["board"].get<std::string>().find("ChArUco"), std::string::npos);
+}
+
+TEST(CalibrateWorkspace, NothingIsLookedForOutsideTheWorkspace) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(args(tmp, "--frames 30"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_FALSE(stats(r)["calibration"]["active"].get<bool>());
 }
 
-TEST(Calibrate, AnotherBoardStartsAfreshAndABoardThatCannotExistIsRefused) {
+TEST(CalibrateWorkspace, AnotherBoardStartsAfreshAndABoardThatCannotExistIsRefused) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(args(
       tmp, "--frames 10 --actions '1:workspace=Calibrate;2:calib_wait=2;3:calib_board=charuco,5,7,35,40;"
@@ -98,7 +130,7 @@ TEST(Calibrate, AnotherBoardStartsAfreshAndABoardThatCannotExistIsRefused) {
   EXPECT_GE(c["refused"]["no board"].get<int>(), 1) << c.dump();
 }
 
-TEST(Calibrate, DroppingAViewSolvesAgainWithoutIt) {
+TEST(CalibrateWorkspace, DroppingAViewSolvesAgainWithoutIt) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(
       args(tmp, "--verbose --frames 12 --actions "
@@ -114,7 +146,7 @@ TEST(Calibrate, DroppingAViewSolvesAgainWithoutIt) {
   EXPECT_FALSE(c["capture"].get<bool>());
 }
 
-TEST(Calibrate, SavesAFileTheReaderReadsBack) {
+TEST(CalibrateWorkspace, SavesAFileTheReaderReadsBack) {
   TempDir tmp;
   const std::string out = tmp.str("camera.yml");
   const RunResult r = test::run_arwb_window(
@@ -140,7 +172,7 @@ TEST(Calibrate, SavesAFileTheReaderReadsBack) {
   EXPECT_FALSE(fs::exists(bad));
 }
 
-TEST(Calibrate, ABadCalibrationFileIsNamedAndTheWindowRunsOn) {
+TEST(CalibrateWorkspace, ABadCalibrationFileIsNamedAndTheWindowRunsOn) {
   TempDir tmp;
   const std::string bad = tmp.str("cam.yml");
   test::write_file(bad, "%YAML:1.0\ncamera_matrix: !!opencv-matrix\n  rows: 2\n  cols: 3\n  dt: d\n"
@@ -158,7 +190,7 @@ TEST(Calibrate, ABadCalibrationFileIsNamedAndTheWindowRunsOn) {
   EXPECT_EQ(s["calibration"]["undistorted_by"], "");
 }
 
-TEST(Calibrate, AGoodCalibrationFileDrivesTheUndistortedView) {
+TEST(CalibrateWorkspace, AGoodCalibrationFileDrivesTheUndistortedView) {
   TempDir tmp;
   const std::string good = tmp.str("cam.yml");
   Calibration c;
