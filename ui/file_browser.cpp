@@ -117,7 +117,11 @@ void open_browser(Context& ctx, FileBrowser& b, FileKind kind, const std::string
 }
 
 bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
-  const std::string id = b.title + "###file_browser";
+  // One popup (and so one ImGui window) per browser: the window has several (File > Open, the marker sheet's and
+  // the Calibrate panel's Save...), and two sharing an id would draw into one window, each taking the other's keys.
+  char tag[40];
+  std::snprintf(tag, sizeof tag, "###file_browser_%p", static_cast<const void*>(&b));
+  const std::string id = b.title + tag;
   bool focus = false;
   if (b.opening) {
     ImGui::OpenPopup(id.c_str());
