@@ -311,7 +311,7 @@ void App::forward_settings() {
   // A board that cannot exist (a ChArUco marker as large as its square, typed half-way) stays unsent.
   const BoardSpec board_sent = sent.calibration.board;
   bool board_ok = true;
-  if (!same_board(settings.calibration.board, sent.calibration.board)) {
+  if (!(settings.calibration.board == sent.calibration.board)) {
     board_ok = settings.calibration.board.problem().empty();
     if (board_ok) engine->set_calibration_board(settings.calibration.board);
   }

@@ -18,6 +18,13 @@ inline double round_decimals(double v, int decimals) {
   return r == 0 ? 0.0 : r;
 }
 
+// v with exactly `decimals` decimals, as printf's %.*f ("25.00", "0.5"): for figures a message lines up or compares.
+inline std::string fixed_text(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
 // v with at most `decimals` decimals and no trailing zeros ("2.5", "3", never "-0"); "nan", "inf" or "-inf".
 inline std::string decimals_text(double v, int decimals) {
   if (std::isnan(v)) return "nan";

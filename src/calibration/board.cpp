@@ -1,5 +1,6 @@
 #include "calibration/board.hpp"
 
+#include "base/decimals.hpp"
 #include "detect/dictionary.hpp"
 
 #include <opencv2/aruco/charuco.hpp>
@@ -15,11 +16,7 @@
 namespace arwb {
 
 namespace {
-std::string num(double v, int decimals = 1) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string num(double v, int decimals = 1) { return fixed_text(v, decimals); }
 }  // namespace
 
 namespace {
@@ -297,9 +294,36 @@ ViewPose view_pose(const std::vector<cv::Point2f>& corners, const BoardSpec& boa
   return view_pose(corners, {}, board, image);
 }
 
+namespace {
+
+// The ROS terms from what both kinds of view give: the corners seen, the area they cover, and three of the board's
+// outer corners a, b, c in its own order (the skew is the angle at b; a right angle is no skew).
+ViewPose pose_terms(const std::vector<cv::Point2f>& corners, double area, cv::Point2d a, cv::Point2d b, cv::Point2d c,
+                    cv::Size image) {
+  const double border = std::sqrt(area);
+  cv::Point2d mean(0, 0);
+  for (const cv::Point2f& pt : corners) mean += cv::Point2d(pt);
+  mean *= 1.0 / double(corners.size());
+  const auto span = [&](double m, double extent) {
+    const double room = extent - border;
+    return room <= 0 ? 0.5 : std::clamp((m - border / 2) / room, 0.0, 1.0);
+  };
+  ViewPose v;
+  v.x = span(mean.x, image.width);
+  v.y = span(mean.y, image.height);
+  v.size = std::sqrt(area / (double(image.width) * image.height));
+  const cv::Point2d u = a - b, w = c - b;
+  const double angle = std::acos(std::clamp(u.dot(w) / (cv::norm(u) * cv::norm(w) + 1e-12), -1.0, 1.0));
+  v.skew = std::min(1.0, 2 * std::abs(CV_PI / 2 - angle));
+  return v;
+}
+
+}  // namespace
+
 ViewPose view_pose(const std::vector<cv::Point2f>& corners, const std::vector<int>& ids, const BoardSpec& board,
                    cv::Size image) {
   const cv::Size grid = board.inner_corners();
+  if (corners.size() < 4) return {};
   if (!ids.empty() || board.kind == BoardKind::charuco) {
     // Part of the board, or a ChArUco board: its outline placed by the homography of the corners seen.
     std::vector<int> all(corners.size());
@@ -308,56 +332,25 @@ ViewPose view_pose(const std::vector<cv::Point2f>& corners, const std::vector<in
     const std::vector<cv::Point3f> obj = board.object_points();
     std::vector<cv::Point2f> plane;
     for (int id : which) plane.emplace_back(obj[size_t(id)].x, obj[size_t(id)].y);
-    ViewPose v;
-    if (corners.size() < 4) return v;
     std::vector<cv::Point2f> hull;
     cv::convexHull(corners, hull);
     const double area = cv::contourArea(hull);
-    const double border = std::sqrt(area);
-    cv::Point2d mean(0, 0);
-    for (const cv::Point2f& pt : corners) mean += cv::Point2d(pt);
-    mean *= 1.0 / double(corners.size());
-    const auto span = [&](double m, double extent) {
-      const double room = extent - border;
-      return room <= 0 ? 0.5 : std::clamp((m - border / 2) / room, 0.0, 1.0);
-    };
-    v.x = span(mean.x, image.width);
-    v.y = span(mean.y, image.height);
-    v.size = std::sqrt(area / (double(image.width) * image.height));
     const cv::Mat H = cv::findHomography(plane, corners);
-    if (H.empty()) return v;
+    if (H.empty()) {   // no outline to measure the skew on: none is counted
+      const cv::Point2d m(corners[0]);
+      return pose_terms(corners, area, m + cv::Point2d(1, 0), m, m + cv::Point2d(0, 1), image);
+    }
     const float w = float(board.square_mm * (grid.width - 1)), h = float(board.square_mm * (grid.height - 1));
     const std::vector<cv::Point2f> outline{{0, 0}, {w, 0}, {w, h}};
     std::vector<cv::Point2f> o;
     cv::perspectiveTransform(outline, o, H);
-    const cv::Point2d u = cv::Point2d(o[0] - o[1]), t = cv::Point2d(o[2] - o[1]);
-    const double angle = std::acos(std::clamp(u.dot(t) / (cv::norm(u) * cv::norm(t) + 1e-12), -1.0, 1.0));
-    v.skew = std::min(1.0, 2 * std::abs(CV_PI / 2 - angle));
-    return v;
+    return pose_terms(corners, area, o[0], o[1], o[2], image);
   }
-  // The board's four outer inner corners, in its own row-by-row order.
+  // The board's four outer inner corners, in its own row-by-row order; the area of a b c d from its diagonals.
   const cv::Point2d a = corners[0], b = corners[size_t(grid.width) - 1], c = corners.back(),
                     d = corners[corners.size() - size_t(grid.width)];
-  // Area of the quadrilateral a b c d from its diagonals.
   const cv::Point2d p = c - a, q = d - b;
-  const double area = std::abs(p.x * q.y - p.y * q.x) / 2;
-  const double border = std::sqrt(area);
-  cv::Point2d mean(0, 0);
-  for (const cv::Point2f& pt : corners) mean += cv::Point2d(pt);
-  mean *= 1.0 / double(corners.size());
-  ViewPose v;
-  const auto span = [&](double m, double extent) {
-    const double room = extent - border;
-    return room <= 0 ? 0.5 : std::clamp((m - border / 2) / room, 0.0, 1.0);
-  };
-  v.x = span(mean.x, image.width);
-  v.y = span(mean.y, image.height);
-  v.size = std::sqrt(area / (double(image.width) * image.height));
-  // Skew: the angle at corner b between its sides to a and to c; a right angle is no skew.
-  const cv::Point2d u = a - b, w = c - b;
-  const double angle = std::acos(std::clamp(u.dot(w) / (cv::norm(u) * cv::norm(w) + 1e-12), -1.0, 1.0));
-  v.skew = std::min(1.0, 2 * std::abs(CV_PI / 2 - angle));
-  return v;
+  return pose_terms(corners, std::abs(p.x * q.y - p.y * q.x) / 2, a, b, c, image);
 }
 
 Verdict ViewSelector::consider(const BoardDetection& det, cv::Size image) {

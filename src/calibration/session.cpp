@@ -8,46 +8,17 @@ namespace arwb {
 
 namespace {
 constexpr size_t kRecent = 12;
-// As solve.cpp's report: ROS's useful range of each term, and the grid's cells.
-constexpr double kRangeX = 0.7, kRangeY = 0.7, kRangeSize = 0.4, kRangeSkew = 0.5;
-constexpr int kGridCols = 8, kGridRows = 6;
 }  // namespace
 
-BoardSpec default_board(BoardKind kind) {
-  BoardSpec b;
-  if (kind == BoardKind::charuco) {
-    b.kind = BoardKind::charuco;
-    b.cols = 5, b.rows = 7, b.square_mm = 35, b.marker_mm = 26;
-  }
-  return b;
-}
-
 void CalibrationSession::update_coverage() {
-  state_.grid = cv::Mat1i(kGridRows, kGridCols, 0);
-  const cv::Size size = state_.image_size;
-  for (const CalibrationView& v : state_.views)
-    for (const cv::Point2f& p : v.corners)
-      ++state_.grid(std::clamp(int(double(p.y) * kGridRows / size.height), 0, kGridRows - 1),
-                    std::clamp(int(double(p.x) * kGridCols / size.width), 0, kGridCols - 1));
-  const auto bar = [&](double ViewPose::*term, double range) {
-    if (state_.poses.empty()) return 0.0;
-    double lo = 1, hi = 0;
-    for (const ViewPose& p : state_.poses) lo = std::min(lo, p.*term), hi = std::max(hi, p.*term);
-    return std::clamp((hi - lo) / range, 0.0, 1.0);
-  };
-  state_.bars = {bar(&ViewPose::x, kRangeX), bar(&ViewPose::y, kRangeY), bar(&ViewPose::size, kRangeSize),
-                 bar(&ViewPose::skew, kRangeSkew)};
-}
-
-bool same_board(const BoardSpec& a, const BoardSpec& b) {
-  return a.kind == b.kind && a.cols == b.cols && a.rows == b.rows && a.square_mm == b.square_mm &&
-         a.marker_mm == b.marker_mm && a.dictionary == b.dictionary;
+  state_.grid = corner_grid(state_.views, state_.image_size);
+  state_.bars = coverage_bars(state_.poses);
 }
 
 CalibrationSession::CalibrationSession(BoardSpec board, SelectOptions select, SolveOptions solve)
     : board_(std::move(board)), select_(select), solve_opt_(solve), selector_(board_, select_) {
   state_.board = board_;
-  state_.grid = cv::Mat1i(kGridRows, kGridCols, 0);
+  state_.grid = corner_grid({}, {});
 }
 
 CalibrationSession::~CalibrationSession() {
@@ -56,7 +27,7 @@ CalibrationSession::~CalibrationSession() {
 }
 
 void CalibrationSession::set_board(const BoardSpec& board) {
-  if (same_board(board, board_)) return;
+  if (board == board_) return;
   board_ = board;
   reset();
 }
@@ -83,7 +54,7 @@ void CalibrationSession::reset() {
   base_revision_ = revision;
   state_.solving = running_.valid();
   selector_ = ViewSelector(board_, select_);
-  state_.grid = cv::Mat1i(kGridRows, kGridCols, 0);
+  state_.grid = corner_grid({}, {});
   changed();
 }
 

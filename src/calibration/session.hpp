@@ -21,10 +21,6 @@
 
 namespace arwb {
 
-bool same_board(const BoardSpec& a, const BoardSpec& b);
-// The board a kind starts with: the paper's chessboard (9x6 inner corners, 25 mm), or `arwb calibrate`'s ChArUco
-// default (5x7 squares of 35 mm, 26 mm markers, DICT_5X5_100).
-BoardSpec default_board(BoardKind kind);
 
 // What the Calibrate panels draw, as of one frame.
 struct CalibrationSnapshot {

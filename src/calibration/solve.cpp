@@ -1,5 +1,6 @@
 #include "calibration/solve.hpp"
 
+#include "base/decimals.hpp"
 #include "calibration/cross_validation.hpp"
 
 #include <opencv2/aruco/charuco.hpp>
@@ -23,11 +24,7 @@ constexpr int kGridCols = 8, kGridRows = 6;
 // ROS's useful range of each term: a bar is full when the views span this much of it.
 constexpr double kRangeX = 0.7, kRangeY = 0.7, kRangeSize = 0.4, kRangeSkew = 0.5;
 
-std::string num(double v, int decimals = 2) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string num(double v, int decimals = 2) { return fixed_text(v, decimals); }
 
 struct Run {
   cv::Mat K, D, std_intrinsics;
@@ -103,6 +100,27 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
+CoverageBars coverage_bars(const std::vector<ViewPose>& poses) {
+  const auto bar = [&](double ViewPose::*term, double range) {
+    if (poses.empty()) return 0.0;
+    double lo = 1, hi = 0;
+    for (const ViewPose& p : poses) lo = std::min(lo, p.*term), hi = std::max(hi, p.*term);
+    return std::clamp((hi - lo) / range, 0.0, 1.0);
+  };
+  return {bar(&ViewPose::x, kRangeX), bar(&ViewPose::y, kRangeY), bar(&ViewPose::size, kRangeSize),
+          bar(&ViewPose::skew, kRangeSkew)};
+}
+
+cv::Mat1i corner_grid(const std::vector<CalibrationView>& views, cv::Size size) {
+  cv::Mat1i grid(kGridRows, kGridCols, 0);
+  if (size.area() <= 0) return grid;
+  for (const CalibrationView& v : views)
+    for (const cv::Point2f& p : v.corners)
+      ++grid(std::clamp(int(double(p.y) * kGridRows / size.height), 0, kGridRows - 1),
+             std::clamp(int(double(p.x) * kGridCols / size.width), 0, kGridCols - 1));
+  return grid;
+}
+
 bool QualityReport::good() const {
   return std::all_of(checklist.begin(), checklist.end(), [](const Check& c) { return c.ok; });
 }
@@ -115,23 +133,10 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
   Solution s;
   // What the views can determine, decided before the solve from where the board was.
   std::vector<ViewPose> poses;
-  cv::Mat1i grid(kGridRows, kGridCols, 0);
-  for (const CalibrationView& v : all) {
-    poses.push_back(view_pose(v.corners, v.ids, board, size));
-    for (const cv::Point2f& p : v.corners) {
-      const int gx = std::clamp(int(double(p.x) * kGridCols / size.width), 0, kGridCols - 1);
-      const int gy = std::clamp(int(double(p.y) * kGridRows / size.height), 0, kGridRows - 1);
-      ++grid(gy, gx);
-    }
-  }
-  const auto bar = [&](double ViewPose::*term, double range) {
-    double lo = 1, hi = 0;
-    for (const ViewPose& p : poses) lo = std::min(lo, p.*term), hi = std::max(hi, p.*term);
-    return std::clamp((hi - lo) / range, 0.0, 1.0);
-  };
+  for (const CalibrationView& v : all) poses.push_back(view_pose(v.corners, v.ids, board, size));
   QualityReport& rep = s.report;
-  rep.bars = {bar(&ViewPose::x, kRangeX), bar(&ViewPose::y, kRangeY), bar(&ViewPose::size, kRangeSize),
-              bar(&ViewPose::skew, kRangeSkew)};
+  rep.bars = coverage_bars(poses);
+  const cv::Mat1i grid = corner_grid(all, size);
   rep.grid = grid;
   rep.grid_coverage = double(cv::countNonZero(grid)) / double(grid.total());
 
@@ -216,6 +221,7 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
     s.opencv_defaults.distortion.assign(plain->D.begin<double>(), plain->D.end<double>());
     s.opencv_defaults.image_size = size;
     s.opencv_defaults_rms = plain->rms;
+    s.opencv_defaults_call = board.kind == BoardKind::charuco ? "calibrateCameraCharuco" : "calibrateCamera";
   }
   // Cross-validation: the views used, split alternately (so that each half spans the session), solved apart with
   // the same flags, and compared over the image.
@@ -256,7 +262,7 @@ std::string solution_text(const Solution& s) {
   t += "\nRMS reprojection error " + num(s.rms, 3) + " px over " + std::to_string(s.view_names.size()) + " views\n";
   if (!s.opencv_defaults.distortion.empty()) {
     const cv::Matx33d& O = s.opencv_defaults.camera_matrix;
-    t += "OpenCV calibrateCamera, default flags, all views: fx " + num(O(0, 0)) + "  fy " + num(O(1, 1)) + "  cx " +
+    t += "OpenCV " + s.opencv_defaults_call + ", default flags, all views: fx " + num(O(0, 0)) + "  fy " + num(O(1, 1)) + "  cx " +
          num(O(0, 2)) + "  cy " + num(O(1, 2)) + "  k1 " + num(s.opencv_defaults.distortion[0], 4) + "  k2 " +
          num(s.opencv_defaults.distortion[1], 4) + "  RMS " + num(s.opencv_defaults_rms, 3) + " px\n";
   }
@@ -299,7 +305,7 @@ std::string solution_json(const Solution& s, const BoardSpec& board) {
   j["view_count"] = s.view_names.size();
   if (!s.opencv_defaults.distortion.empty()) {
     const cv::Matx33d& O = s.opencv_defaults.camera_matrix;
-    j["opencv_defaults"] = {{"fx", O(0, 0)}, {"fy", O(1, 1)}, {"cx", O(0, 2)}, {"cy", O(1, 2)},
+    j["opencv_defaults"] = {{"call", s.opencv_defaults_call}, {"fx", O(0, 0)}, {"fy", O(1, 1)}, {"cx", O(0, 2)}, {"cy", O(1, 2)},
                             {"distortion_coefficients", s.opencv_defaults.distortion},
                             {"avg_reprojection_error", s.opencv_defaults_rms}};
   }

@@ -32,6 +32,11 @@ struct CoverageBars {
   double x = 0, y = 0, size = 0, skew = 0;
 };
 
+// The bars of views at `poses`, and how many of their corners fell in each cell of an 8x6 grid over an image of
+// `size`: the report's coverage, which the Calibrate workspace also fills live as views are kept.
+CoverageBars coverage_bars(const std::vector<ViewPose>& poses);
+cv::Mat1i corner_grid(const std::vector<CalibrationView>& views, cv::Size size);
+
 struct Check {
   std::string name;     // "enough views", "RMS reprojection error", "95 % intervals under 5 %", "image coverage"
   bool ok = false;
@@ -67,6 +72,7 @@ struct Solution {
   // fixed), to print beside ours.
   Calibration opencv_defaults;
   double opencv_defaults_rms = 0;
+  std::string opencv_defaults_call;       // "calibrateCamera", or "calibrateCameraCharuco" for a ChArUco board
 };
 
 // Calibrates from `views` of `board` in frames of `size`. Fails with one line: too few views ("4 views; at least 6

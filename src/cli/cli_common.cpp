@@ -371,11 +371,8 @@ void add_board_options(CLI::App& app, BoardOptions& o, bool with_dict) {
 }
 
 std::optional<BoardSpec> board_from_options(const BoardOptions& o, std::string* problem) {
-  BoardSpec b;
-  b.kind = o.kind == "charuco" ? BoardKind::charuco : BoardKind::chessboard;
-  if (b.kind == BoardKind::charuco) {
-    b.cols = 5, b.rows = 7, b.square_mm = 35, b.marker_mm = 26;
-  } else if (o.marker_mm > 0 || !o.dict.empty()) {
+  BoardSpec b = default_board(o.kind == "charuco" ? BoardKind::charuco : BoardKind::chessboard);
+  if (b.kind == BoardKind::chessboard && (o.marker_mm > 0 || !o.dict.empty())) {
     *problem = std::string(o.marker_mm > 0 ? "--marker-mm" : "--dict") + " is for a ChArUco board (--board charuco)";
     return std::nullopt;
   }

@@ -1,5 +1,6 @@
 #include "detect/board_spec.hpp"
 
+#include "base/decimals.hpp"
 #include "detect/dictionary.hpp"
 
 #include <cstdio>
@@ -7,12 +8,14 @@
 namespace arwb {
 
 namespace {
-std::string num(double v, int decimals = 1) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string num(double v, int decimals = 1) { return fixed_text(v, decimals); }
 }  // namespace
+
+BoardSpec default_board(BoardKind kind) {
+  BoardSpec b;
+  if (kind == BoardKind::charuco) b.kind = kind, b.cols = 5, b.rows = 7, b.square_mm = 35, b.marker_mm = 26;
+  return b;
+}
 
 const char* board_kind_name(BoardKind k) { return k == BoardKind::charuco ? "charuco" : "chessboard"; }
 

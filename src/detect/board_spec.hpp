@@ -28,7 +28,12 @@ struct BoardSpec {
   // Empty when the board can exist; else what is wrong, naming the option: "--marker-mm 30 must be less than
   // --square-mm 25", "--dict DICT_4X4_50 has 50 markers; a 5x7 ChArUco board needs 17".
   std::string problem() const;
+  bool operator==(const BoardSpec&) const = default;
 };
 const char* board_kind_name(BoardKind k);   // "chessboard", "charuco"
+// The board a kind starts with, everywhere (the CLI's defaults, the synthetic source, the Calibrate workspace):
+// the paper's chessboard (9x6 inner corners, 25 mm), or a ChArUco board of 5x7 squares of 35 mm with 26 mm
+// markers of DICT_5X5_100, which fits on A4.
+BoardSpec default_board(BoardKind kind);
 
 }  // namespace arwb

@@ -308,9 +308,7 @@ struct SyntheticWorld::BoardStage {
 };
 
 BoardSpec SyntheticWorld::board_spec(const std::string& board) {
-  if (board == "charuco")   // the CLI's ChArUco defaults (cli_common's board options)
-    return BoardSpec{.kind = BoardKind::charuco, .cols = 5, .rows = 7, .square_mm = 35, .marker_mm = 26};
-  return BoardSpec{};   // the paper's chessboard: 9x6 inner corners, 25 mm
+  return default_board(board == "charuco" ? BoardKind::charuco : BoardKind::chessboard);
 }
 
 const SyntheticWorld::BoardStage* SyntheticWorld::stage(const std::string& board) const {
