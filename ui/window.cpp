@@ -820,6 +820,8 @@ int run_workbench(const WorkbenchOptions& options) {
           if (kind != "kept") refused[kind] = n;
         c["refused"] = refused;
         c["verdict"] = k->verdict.reason;
+        // The board as the live view draws it: found on the very frame shown (not a frame before it).
+        c["board_on_frame"] = k->frame_name == app.frame->calibration_name && k->detection.found;
         c["solving"] = k->solving;
         c["solve_error"] = k->solve_error;
         c["coverage"] = {{"x", round_decimals(k->bars.x, 3)}, {"y", round_decimals(k->bars.y, 3)},

@@ -94,17 +94,18 @@ void CalibrationSession::feed(const cv::Mat& frame, const std::string& name) {
   judge(detect_board(frame, board_), frame.size(), name);
 }
 
-void CalibrationSession::offer(const cv::Mat& frame, const std::string& name) {
-  if (frame.empty()) return;
+bool CalibrationSession::offer(const cv::Mat& frame, const std::string& name) {
+  if (frame.empty()) return false;
   if (finding_.valid()) {
     ++state_.skipped;
     changed();
-    return;
+    return false;
   }
   finding_size_ = frame.size();
   finding_name_ = name;
   finding_base_ = base_revision_;
   finding_ = std::async(std::launch::async, [image = frame.clone(), board = board_] { return detect_board(image, board); });
+  return true;
 }
 
 void CalibrationSession::judge(const BoardDetection& d, cv::Size size, const std::string& name) {
@@ -119,7 +120,7 @@ void CalibrationSession::judge(const BoardDetection& d, cv::Size size, const std
     ++state_.tally[state_.verdict.kind];
     if (state_.verdict.keep) {
       state_.views.push_back({name, state_.detection.corners, state_.detection.ids});
-      state_.poses.push_back(view_pose(state_.detection.corners, board_, size));
+      state_.poses.push_back(view_pose(state_.detection.corners, state_.detection.ids, board_, size));
       ++state_.revision;
       update_coverage();
     }

@@ -77,8 +77,8 @@ class CalibrationSession {
   // afresh (one calibration is of one camera at one size).
   void feed(const cv::Mat& frame, const std::string& name);
   // The same for a live source: the board is searched for on a thread of its own when it is idle (the frame is
-  // skipped otherwise); poll() judges the frame when the search is done.
-  void offer(const cv::Mat& frame, const std::string& name);
+  // skipped otherwise, and false returned); poll() judges the frame when the search is done.
+  bool offer(const cv::Mat& frame, const std::string& name);
   // Takes a finished solve and starts the next one when the views changed; true when the state changed.
   bool poll();
   // The state now; the same pointer until something changes.

@@ -102,6 +102,7 @@ struct Engine::Worker {
   bool calibrating = false;
   bool undistort = false;
   std::string calibration_name;   // the name the last frame was offered under
+  bool calibration_searched = false;   // the frame shown was taken by the board search (not skipped as it was busy)
   std::unique_ptr<CalibrationSession> session;
   std::optional<Calibration> loaded_raw;
   std::shared_ptr<const Calibration> loaded;
@@ -256,8 +257,12 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
       // Offered to the search on the session's own thread: a frame without a board can take OpenCV a second, which
       // must not stop the live view (nor quitting). A folder's image that comes while it is busy is skipped; a
       // looping folder shows it again.
-      session.offer(f.image, name);
+      w.calibration_searched = session.offer(f.image, name);
       w.calibration_name = name;
+    } else if (!w.calibration_searched) {
+      // The frame shown was skipped while the search was busy: searched once the search is free, so that a frozen
+      // or ended source shows its board (the finished search's poll brings the worker back here).
+      w.calibration_searched = session.offer(f.image, w.calibration_name);
     }
     f.calibration_name = w.calibration_name;
     f.calibration = session.snapshot();

@@ -93,6 +93,11 @@ TEST(CalibrateWorkspace, OnTheSyntheticSourceTheBoardComesAndTheTruthIsBesideThe
   for (const char* k : {"cx", "cy"})
     EXPECT_NEAR(c[k].get<double>(), c["truth"][k].get<double>(), 3.0) << k << c.dump();
   EXPECT_EQ(s["synthetic_board"], "chessboard");
+  // Frozen, the frame shown is searched too (it may have come while the search was busy): its board is drawn.
+  const RunResult frozen = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 60 "
+                                                 "--actions '1:workspace=Calibrate;2:calib_wait=2;3:freeze'");
+  ASSERT_EQ(frozen.status, 0) << frozen.err;
+  EXPECT_TRUE(stats(frozen)["calibration"].value("board_on_frame", false)) << stats(frozen)["calibration"].dump();
   const RunResult back = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 20 "
                                                "--actions '1:workspace=Calibrate;10:workspace=Inspect'");
   ASSERT_EQ(back.status, 0) << back.err;
