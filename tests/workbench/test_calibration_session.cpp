@@ -29,12 +29,14 @@ std::vector<cv::Mat> render_views(int count) {
   return out;
 }
 
-void expect_near_truth(const Calibration& c) {
+// `focal` is the relative bound on fx and fy: the 0.5 % where the views are the same every run, looser
+// where the worker's timing decides which frames the search takes (as the window tests' 1 %).
+void expect_near_truth(const Calibration& c, double focal = 0.005) {
   const SynthCamera truth;
   const cv::Matx33d& K = c.camera_matrix;
   const cv::Matx33d& T = truth.camera_matrix;
-  EXPECT_NEAR(K(0, 0), T(0, 0), 0.005 * T(0, 0));
-  EXPECT_NEAR(K(1, 1), T(1, 1), 0.005 * T(1, 1));
+  EXPECT_NEAR(K(0, 0), T(0, 0), focal * T(0, 0));
+  EXPECT_NEAR(K(1, 1), T(1, 1), focal * T(1, 1));
   EXPECT_NEAR(K(0, 2), T(0, 2), 2.0);
   EXPECT_NEAR(K(1, 2), T(1, 2), 2.0);
 }
@@ -166,7 +168,7 @@ TEST(CalibrationSession, WorkerFeedsItWhileCalibratingAndPublishesTheSolve) {
   ASSERT_TRUE(f->calibration);
   EXPECT_GE(f->calibration->views.size(), 12u);
   ASSERT_TRUE(f->calibration->solution) << f->calibration->solve_error;
-  expect_near_truth(f->calibration->solution->calibration);
+  expect_near_truth(f->calibration->solution->calibration, 0.01);
   // Undistorted with the solve, once it is there.
   f = e.wait_newer(f->index, 5.0);
   EXPECT_FALSE(f->undistorted.empty());
