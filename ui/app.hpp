@@ -100,6 +100,7 @@ struct App {
   std::string change_name;          // names the next entry ("preset fast.yml"); "" : described from the change
   std::string note;                 // shown in the status bar for a while (undo, redo, a marker sheet written)
   double note_time = -100;
+  static constexpr double kNoteSeconds = 10;   // how long a note stays in the status bar
   std::vector<std::string> dropped; // paths dropped on the window, opened at the next frame
   // The unsaved-edits question: what waits for the answer.
   bool unsaved_ask = false;         // open the modal at the next draw

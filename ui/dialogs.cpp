@@ -34,7 +34,6 @@ namespace fs = std::filesystem;
 
 namespace {
 constexpr FileLimit kRecentFile{"a recent-files list", 64u << 10};
-constexpr double kNoteS = 10;   // how long a note stays in the status bar
 }  // namespace
 
 void App::note_status(const std::string& s) {

@@ -448,7 +448,7 @@ void App::draw_status_bar(float height) {
               settings.frozen ? "FROZEN" : "live");
   // A note (undo, redo, a file written) stays for a while; then the newest warning or error.
   const double now = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (!note.empty() && now - note_time < 10) {
+  if (!note.empty() && now - note_time < kNoteSeconds) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.6f, 0.85f, 1, 1), "| %s", note.c_str());
   }

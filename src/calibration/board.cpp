@@ -241,9 +241,11 @@ BoardDetection detect_board(const cv::Mat& frame, const BoardSpec& board) {
   return detect_charuco(frame, board);
 }
 
-std::optional<cv::Size> find_any_chessboard(const cv::Mat& frame, std::initializer_list<cv::Size> sizes) {
+std::optional<cv::Size> find_any_chessboard(const cv::Mat& frame, std::vector<cv::Size> sizes) {
   const cv::Mat grey = grey_of(frame);
+  std::stable_sort(sizes.begin(), sizes.end(), [](cv::Size a, cv::Size b) { return a.area() > b.area(); });
   for (const cv::Size s : sizes) {
+    if (s.width < 2 || s.height < 2) continue;
     std::vector<cv::Point2f> corners;
     bool found = false;
     try {

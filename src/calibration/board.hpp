@@ -53,9 +53,11 @@ cv::Ptr<cv::aruco::CharucoBoard> opencv_charuco_board(const BoardSpec& board);
 // return one that runs along the board's outer edge.
 BoardDetection detect_chessboard(const cv::Mat& frame, const BoardSpec& board);
 
-// The first of `sizes` (inner corners) that a chessboard in the frame has, by OpenCV's findChessboardCorners,
+// The largest of `sizes` (inner corners) that a chessboard in the frame has, by OpenCV's findChessboardCorners,
 // which finds a board only at its exact size: for naming the board that is there when the one asked for is not.
-std::optional<cv::Size> find_any_chessboard(const cv::Mat& frame, std::initializer_list<cv::Size> sizes);
+// Largest, whatever the order given: OpenCV can find a grid one corner short inside a board (8x6 in the paper's
+// 9x6), never one larger than the board, so the largest grid found is the board.
+std::optional<cv::Size> find_any_chessboard(const cv::Mat& frame, std::vector<cv::Size> sizes);
 
 // The inner corners of the chessboard that a grid found in `frame` (at `corners`, all chessboard corners) belongs
 // to, when it is larger than `board`: a grid of 7x5 corners inside a 9x6 board would make every view one of a

@@ -135,13 +135,8 @@ std::string other_board_hint(const std::vector<std::pair<std::string, cv::Mat>>&
   const int c = given.cols, r = given.rows;
   std::vector<cv::Size> sizes{{c - 1, r - 1}, {c + 1, r + 1}, {c - 1, r}, {c, r - 1}, {c + 1, r}, {c, r + 1},
                                {c - 2, r - 2}, {9, 6}, {8, 6}, {7, 6}, {7, 5}, {10, 7}, {11, 8}, {8, 5}, {6, 4}, {5, 4}};
-  // Largest first: OpenCV can find a grid one corner short inside a board (8x6 in the paper's 9x6), never one
-  // larger than the board, so the largest grid found is the board.
-  std::stable_sort(sizes.begin(), sizes.end(), [](cv::Size a, cv::Size b) { return a.area() > b.area(); });
   for (const auto& [name, grey] : samples) {
-    std::optional<cv::Size> found;
-    for (const cv::Size& size : sizes)
-      if (size.width > 1 && size.height > 1 && (found = find_any_chessboard(grey, {size}))) break;
+    const std::optional<cv::Size> found = find_any_chessboard(grey, sizes);   // the largest there
     if (!found) continue;
     const cv::Size size = as_given(*found, given);
     return "; a " + std::to_string(size.width) + "x" + std::to_string(size.height) + " chessboard is in " + name +

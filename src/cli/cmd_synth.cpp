@@ -89,8 +89,8 @@ int cmd_synth(int argc, char** argv) {
     std::string problem;
     board = board_from_options(board_options, &problem);
     if (!board) return cl.usage_error(problem);
-  } else if (!board_options.kind.empty() || board_options.cols || board_options.rows || board_options.square_mm ||
-             board_options.marker_mm) {
+  } else if (!board_options.kind.empty() || board_options.cols || board_options.rows || board_options.square_mm != 0 ||
+             board_options.marker_mm != 0) {
     return cl.usage_error("--board, --cols, --rows, --square-mm and --marker-mm are for --chessboard");
   }
   std::vector<cv::Size> sizes = mixed_sizes();

@@ -182,7 +182,10 @@ std::vector<std::pair<cv::Vec3d, cv::Vec3d>> chessboard_poses(const SynthCamera&
   std::vector<std::pair<cv::Vec3d, cv::Vec3d>> poses;
   for (int tries = 0; int(poses.size()) < count && tries < count * 200; ++tries) {
     // Tilt about x and y, a little roll; the board's centre aimed at a point spread over the frame.
-    const cv::Vec3d rvec(u(rng) * 0.7, u(rng) * 0.7, u(rng) * 0.3);
+    // One draw per statement: the order of a call's arguments is unspecified, and GCC and Clang differ, so the
+    // drawn poses (and every test built on them) would differ between the two compilers' builds.
+    const double roll = u(rng), tilt_y = u(rng), tilt_x = u(rng);
+    const cv::Vec3d rvec(tilt_x * 0.7, tilt_y * 0.7, roll * 0.3);
     const double fill = 0.45 + 0.35 * (u(rng) + 1) / 2;   // the board's width over the image's
     const double z = f * bw / (fill * camera.size.width);
     const double cx = u(rng) * 0.35 * camera.size.width / f * z, cy = u(rng) * 0.35 * camera.size.height / f * z;
@@ -220,7 +223,8 @@ std::vector<std::pair<cv::Vec3d, cv::Vec3d>> partial_board_poses(const SynthCame
       inner.emplace_back(float(c * board.square_m), float(r * board.square_m), 0.f);
   std::vector<std::pair<cv::Vec3d, cv::Vec3d>> poses;
   for (int tries = 0; int(poses.size()) < count && tries < count * 400; ++tries) {
-    const cv::Vec3d rvec(u(rng) * 0.6, u(rng) * 0.6, u(rng) * 0.3);
+    const double roll = u(rng), tilt_y = u(rng), tilt_x = u(rng);   // in this order: see chessboard_poses
+    const cv::Vec3d rvec(tilt_x * 0.6, tilt_y * 0.6, roll * 0.3);
     const double fill = 0.8 + 0.5 * (u(rng) + 1) / 2;   // the board wider than most of the image
     const double z = f * bw / (fill * camera.size.width);
     const double cx = u(rng) * 0.45 * camera.size.width / f * z, cy = u(rng) * 0.45 * camera.size.height / f * z;

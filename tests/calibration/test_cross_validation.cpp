@@ -68,7 +68,10 @@ std::vector<CalibrationView> views_at(const SynthCamera& cam, const std::vector<
     std::vector<cv::Point2f> corners;
     cv::projectPoints(object, poses[i].first, poses[i].second, cv::Mat(cam.camera_matrix), cv::Mat(cam.distortion),
                       corners);
-    for (cv::Point2f& p : corners) p += cv::Point2f(noise(rng), noise(rng));
+    for (cv::Point2f& p : corners) {   // one draw per statement: argument order differs between compilers
+      const float dy = noise(rng), dx = noise(rng);
+      p += cv::Point2f(dx, dy);
+    }
     views.push_back({"view " + std::to_string(i), corners, {}});
   }
   return views;
@@ -85,8 +88,10 @@ TEST(CrossValidation, ViewsThatCoverTheImageAgreeAndViewsInTheMiddleDoNotInTheCo
   std::vector<std::pair<cv::Vec3d, cv::Vec3d>> middle;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> tilt(-0.45, 0.45), shift(-0.02, 0.02);
-  for (int i = 0; i < 24; ++i)
-    middle.push_back({cv::Vec3d(tilt(rng), tilt(rng), tilt(rng) * 0.3), cv::Vec3d(-0.1 + shift(rng), -0.0625 + shift(rng), 0.75)});
+  for (int i = 0; i < 24; ++i) {
+    const double roll = tilt(rng), ty = tilt(rng), tx = tilt(rng), sy = shift(rng), sx = shift(rng);
+    middle.push_back({cv::Vec3d(tx, ty, roll * 0.3), cv::Vec3d(-0.1 + sx, -0.0625 + sy, 0.75)});
+  }
   const Result<Solution> poor = solve_calibration(views_at(cam, middle), BoardSpec{}, cam.size);
   ASSERT_TRUE(poor.ok()) << poor.error();
 

@@ -49,12 +49,15 @@ cv::Mat busy_page(const Dictionary& d) {
     return std::abs((p.x % 128) - 64) < 44 && std::abs((p.y % 120) - 60) < 44;
   };
   for (int i = 0; i < 900; ++i) {
-    const cv::Point p(rng.uniform(0, 640), rng.uniform(0, 480));
+    // One draw per statement: the order of a call's arguments differs between compilers.
+    const int y = rng.uniform(0, 480), x = rng.uniform(0, 640);
+    const cv::Point p(x, y);
     if (near_marker(p)) continue;
-    if (i % 2)
-      cv::ellipse(img, p, {rng.uniform(5, 10), rng.uniform(4, 8)}, rng.uniform(0, 180), 0, 360,
-                  cv::Scalar::all(rng.uniform(20, 90)), cv::FILLED);
-    else
+    if (i % 2) {
+      const int grey = rng.uniform(20, 90), angle = rng.uniform(0, 180);
+      const int a = rng.uniform(5, 10), b = rng.uniform(4, 8);
+      cv::ellipse(img, p, {a, b}, angle, 0, 360, cv::Scalar::all(grey), cv::FILLED);
+    } else
       cv::circle(img, p, rng.uniform(1, 3), cv::Scalar::all(40), cv::FILLED);
   }
   for (int r = 0; r <= 4; ++r)
@@ -73,8 +76,8 @@ cv::Mat busy_page(const Dictionary& d) {
       const cv::Point p(64 + 128 * c, std::clamp(120 * r, 14, 466));
       cv::rectangle(img, cv::Rect(p.x - 17, p.y - 17, 34, 34), cv::Scalar::all(235), cv::FILLED);
       cv::rectangle(img, cv::Rect(p.x - 11, p.y - 11, 22, 22), cv::Scalar::all(15), cv::FILLED);
-      cv::rectangle(img, cv::Rect(p.x - 5, p.y - 5, rng.uniform(3, 8), rng.uniform(3, 8)), cv::Scalar::all(230),
-                    cv::FILLED);
+      const int h = rng.uniform(3, 8), w = rng.uniform(3, 8);
+      cv::rectangle(img, cv::Rect(p.x - 5, p.y - 5, w, h), cv::Scalar::all(230), cv::FILLED);
     }
   return img;
 }
