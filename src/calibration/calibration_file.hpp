@@ -25,6 +25,7 @@ struct Calibration {
   std::vector<double> distortion;   // k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4 [tx ty]]]]: 4, 5, 8, 12 or 14 values
   cv::Size image_size;              // 0x0 when the file does not say
   std::string source;               // the file (or files) read, for messages
+  bool assumed = false;             // not measured: default values (pose/marker_pose.hpp's default_calibration)
 };
 
 // Reads a calibration. Every failure is one line naming the file and, where it is about a value, the key:

@@ -12,10 +12,6 @@
 
 namespace arwb {
 
-namespace {
-constexpr int kSamples = 4;   // per pixel side
-}
-
 SynthChessboard SynthChessboard::of(const BoardSpec& spec, double margin_squares) {
   SynthChessboard b;
   const cv::Size inner = spec.inner_corners();
@@ -29,11 +25,10 @@ SynthChessboard SynthChessboard::of(const BoardSpec& spec, double margin_squares
   return b;
 }
 
-ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board)
-    : camera_(std::move(camera)), board_(board) {
+cv::Mat sample_rays(const SynthCamera& camera) {
   // Undistorted at every pixel centre (and a ring of one pixel around the image), then interpolated to the 4x4
   // samples: the lens model is smooth at the scale of a pixel, and this is 16 times fewer points to undistort.
-  const int w = camera_.size.width, h = camera_.size.height;
+  const int w = camera.size.width, h = camera.size.height;
   std::vector<cv::Point2f> pts;
   pts.reserve(size_t(w + 2) * size_t(h + 2));
   for (int y = -1; y <= h; ++y)
@@ -41,19 +36,20 @@ ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board
   std::vector<cv::Point2f> out;
   // Iterated to convergence rather than OpenCV's default 5 steps, which leave strong barrel distortion
   // under-corrected at the corners of the image.
-  cv::undistortPoints(pts, out, cv::Mat(camera_.camera_matrix), camera_.distortion, cv::noArray(), cv::noArray(),
+  cv::undistortPoints(pts, out, cv::Mat(camera.camera_matrix), camera.distortion, cv::noArray(), cv::noArray(),
                       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-10));
   const cv::Mat grid = cv::Mat(out, true).reshape(2, h + 2);
   // Sample (i, j) of pixel (x, y) sits at x + (i + 0.5)/4 - 0.5: pixel centres at integers, as OpenCV's
   // projectPoints and corner detectors place them.
-  rays_.create(h * kSamples, w * kSamples, CV_32FC2);
-  for (int sy = 0; sy < rays_.rows; ++sy) {
-    const double gy = (sy + 0.5) / kSamples - 0.5 + 1;
+  cv::Mat rays;
+  rays.create(h * kRaySamples, w * kRaySamples, CV_32FC2);
+  for (int sy = 0; sy < rays.rows; ++sy) {
+    const double gy = (sy + 0.5) / kRaySamples - 0.5 + 1;
     const int iy = int(std::floor(gy));
     const float fy = float(gy - iy);
-    auto* row = rays_.ptr<cv::Vec2f>(sy);
-    for (int sx = 0; sx < rays_.cols; ++sx) {
-      const double gx = (sx + 0.5) / kSamples - 0.5 + 1;
+    auto* row = rays.ptr<cv::Vec2f>(sy);
+    for (int sx = 0; sx < rays.cols; ++sx) {
+      const double gx = (sx + 0.5) / kRaySamples - 0.5 + 1;
       const int ix = int(std::floor(gx));
       const float fx = float(gx - ix);
       const cv::Vec2f a = grid.at<cv::Vec2f>(iy, ix), b = grid.at<cv::Vec2f>(iy, ix + 1);
@@ -61,6 +57,11 @@ ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board
       row[sx] = (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy;
     }
   }
+  return rays;
+}
+
+ChessboardRenderer::ChessboardRenderer(SynthCamera camera, SynthChessboard board)
+    : camera_(std::move(camera)), board_(board), rays_(sample_rays(camera_)) {
   if (board_.kind != BoardKind::charuco) return;
   // OpenCV 4.6's layout: squares row by row, the top-left one black, a marker in each white square, ids in order.
   const std::optional<Dictionary> dict = dictionary_by_name(board_.dictionary);
@@ -111,11 +112,11 @@ void ChessboardRenderer::render_rows(const cv::Vec3d& rvec, const cv::Vec3d& tve
                                  : samples == 2 ? std::vector<int>{0, 3}
                                                 : std::vector<int>{2};
   const int n_taken = int(taken.size());
-  for (int sy = row0 * kSamples; sy < row1 * kSamples; ++sy) {
-    if (std::find(taken.begin(), taken.end(), sy % kSamples) == taken.end()) continue;
+  for (int sy = row0 * kRaySamples; sy < row1 * kRaySamples; ++sy) {
+    if (std::find(taken.begin(), taken.end(), sy % kRaySamples) == taken.end()) continue;
     const auto* ray = rays_.ptr<cv::Vec2f>(sy);
-    float* row = acc.ptr<float>(sy / kSamples);
-    for (int sx0 = 0; sx0 < rays_.cols; sx0 += kSamples)
+    float* row = acc.ptr<float>(sy / kRaySamples);
+    for (int sx0 = 0; sx0 < rays_.cols; sx0 += kRaySamples)
     for (int k = 0; k < n_taken; ++k) {
       const int sx = sx0 + taken[size_t(k)];
       const double px = ray[sx][0], py = ray[sx][1];
@@ -142,7 +143,7 @@ void ChessboardRenderer::render_rows(const cv::Vec3d& rvec, const cv::Vec3d& tve
           }
         }
       }
-      row[sx / kSamples] += value;
+      row[sx / kRaySamples] += value;
     }
   }
   acc.rowRange(row0, row1) *= 1.0 / (n_taken * n_taken);

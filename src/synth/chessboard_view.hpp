@@ -41,6 +41,12 @@ struct ChessboardView {
   bool all_inside = false;              // every inner corner at least 2 px inside the image
 };
 
+// Each 4x4 sample of each pixel's ray as undistorted normalised coordinates (CV_32FC2, (h*4) x (w*4)): sample
+// (i, j) of pixel (x, y) sits at x + (i + 0.5)/4 - 0.5, pixel centres at integers as OpenCV places them. What the
+// renderers of planar targets (boards, markers) intersect with their plane.
+cv::Mat sample_rays(const SynthCamera& camera);
+inline constexpr int kRaySamples = 4;   // per pixel side
+
 class ChessboardRenderer {
  public:
   ChessboardRenderer(SynthCamera camera, SynthChessboard board);
