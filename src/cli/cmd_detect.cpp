@@ -1,7 +1,9 @@
 // arwb detect: markers in images, folders of images and videos, as text or one JSON line per frame. With a
 // calibration (--calib), each marker's corners also as an ideal pinhole camera would see them (lens distortion
-// removed), the input that pose estimation takes.
+// removed); with a marker size (--marker-size), each marker's pose (pose/marker_pose.hpp), through the
+// calibration or else the paper's default camera, marked as assumed.
 #include "calibration/calibration_file.hpp"
+#include "pose/marker_pose.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "detect/detector.hpp"
@@ -29,7 +31,54 @@ struct Output {
   int frames = 0;
   std::optional<Calibration> calib;                        // --calib as read
   std::map<std::pair<int, int>, Calibration> calib_sized;  // ... for each frame size met (scaled when needed)
+  double marker_size = 0;                                  // --marker-size; 0: no pose
+  // In a video, each id's pose on the previous frame (when the id was there once): it resolves the ambiguity.
+  std::map<std::pair<std::string, int>, cv::Vec3d> previous;
 };
+
+nlohmann::ordered_json vec_json(const cv::Vec3d& v) {
+  return {round_decimals(v[0], 6), round_decimals(v[1], 6), round_decimals(v[2], 6)};
+}
+
+// Each marker's pose, or nullopt where it has none (no --marker-size, a degenerate quad). In a video the previous
+// frame's pose of the same id (seen once there and here) chooses between the two solutions of an ambiguous view.
+std::vector<std::optional<MarkerPose>> poses_of(Output& out, const std::vector<Marker>& markers,
+                                                const Calibration& camera, bool video_frame) {
+  std::vector<std::optional<MarkerPose>> poses(markers.size());
+  if (out.marker_size <= 0) return poses;
+  std::map<std::pair<std::string, int>, int> count;
+  for (const Marker& m : markers) ++count[{m.dict, m.id}];
+  std::map<std::pair<std::string, int>, cv::Vec3d> now;
+  for (size_t i = 0; i < markers.size(); ++i) {
+    const auto key = std::make_pair(markers[i].dict, markers[i].id);
+    poses[i] = estimate_marker_pose(markers[i].corners, out.marker_size, camera);
+    if (!poses[i] || count[key] != 1) continue;
+    if (auto it = out.previous.find(key); video_frame && it != out.previous.end())
+      poses[i] = resolve_with_previous(*poses[i], it->second);
+    now[key] = poses[i]->pose.rvec;
+  }
+  out.previous = std::move(now);
+  return poses;
+}
+
+nlohmann::ordered_json pose_json(const MarkerPose& p) {
+  using Json = nlohmann::ordered_json;
+  const PoseAngles a = pose_angles(p.pose);
+  return Json{{"rvec", vec_json(p.pose.rvec)},
+              {"tvec", vec_json(p.pose.tvec)},
+              {"error_px", round_decimals(p.pose.error_px, 4)},
+              {"ambiguity", round_decimals(p.ambiguity, 4)},
+              {"alternative", {{"rvec", vec_json(p.alternative.rvec)},
+                               {"tvec", vec_json(p.alternative.tvec)},
+                               {"error_px", round_decimals(p.alternative.error_px, 4)}}},
+              {"chosen_by_previous", p.chosen_by_previous},
+              {"camera", p.assumed_camera ? "assumed" : "calibrated"},
+              {"distance", round_decimals(a.distance, 6)},
+              {"tilt_deg", round_decimals(a.tilt_deg, 3)},
+              {"yaw_deg", round_decimals(a.yaw_deg, 3)},
+              {"pitch_deg", round_decimals(a.pitch_deg, 3)},
+              {"roll_deg", round_decimals(a.roll_deg, 3)}};
+}
 
 // The calibration for a frame of `size`, or null with the reason printed once per source and size (an aspect
 // ratio the calibration was not made for: its corners would be wrong everywhere).
@@ -59,11 +108,14 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
   const std::vector<Marker> markers = det.detect(image, nullptr, TraceLevel::off, threads);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ++out.frames;
+  const Calibration camera = calib ? *calib : default_calibration(image.size());
+  const std::vector<std::optional<MarkerPose>> poses = poses_of(out, markers, camera, frame > 0);
   if (out.json) {
     using Json = nlohmann::ordered_json;
     Json line = {{"source", source}, {"frame", frame}, {"width", image.cols}, {"height", image.rows},
                  {"ms", round_decimals(ms, 3)}, {"markers", Json::array()}};
-    for (const Marker& m : markers) {
+    for (size_t i = 0; i < markers.size(); ++i) {
+      const Marker& m = markers[i];
       Json corners = Json::array();
       for (const auto& c : m.corners) corners.push_back({round_decimals(c.x, 3), round_decimals(c.y, 3)});
       Json marker = {{"id", m.id}, {"dict", m.dict}, {"corners", std::move(corners)}, {"hamming", m.hamming}};
@@ -72,6 +124,7 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
         for (const cv::Point2f& c : undistorted(*calib, m)) ideal.push_back({round_decimals(c.x, 3), round_decimals(c.y, 3)});
         marker["corners_undistorted"] = std::move(ideal);
       }
+      if (poses[i]) marker["pose"] = pose_json(*poses[i]);
       line["markers"].push_back(std::move(marker));
     }
     // A path need not be UTF-8: invalid bytes are replaced rather than thrown on.
@@ -81,7 +134,8 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
     if (frame > 0 || source.empty()) std::printf(" frame %d", frame);
     std::printf(": %zu marker%s (%dx%d, %.2f ms)\n", markers.size(), markers.size() == 1 ? "" : "s", image.cols,
                 image.rows, ms);
-    for (const Marker& m : markers) {
+    for (size_t i = 0; i < markers.size(); ++i) {
+      const Marker& m = markers[i];
       std::printf("  id %d %s hamming %d corners", m.id, m.dict.c_str(), m.hamming);
       for (const auto& c : m.corners) std::printf(" (%.2f, %.2f)", c.x, c.y);
       if (calib) {
@@ -89,6 +143,15 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
         for (const cv::Point2f& c : undistorted(*calib, m)) std::printf(" (%.2f, %.2f)", c.x, c.y);
       }
       std::printf("\n");
+      if (const auto& p = poses[i]) {
+        const PoseAngles a = pose_angles(p->pose);
+        std::printf("    pose: t (%.4g, %.4g, %.4g), distance %.4g, tilt %.1f deg, error %.2f px, ambiguity %.2f%s%s\n",
+                    p->pose.tvec[0], p->pose.tvec[1], p->pose.tvec[2], a.distance, a.tilt_deg, p->pose.error_px,
+                    p->ambiguity, p->ambiguity >= 0.3 ? (p->chosen_by_previous ? " (ambiguous: the previous frame chose)"
+                                                                               : " (ambiguous: see the alternative)")
+                                                      : "",
+                    p->assumed_camera ? " [assumed camera: no --calib]" : "");
+      }
     }
   }
   std::fflush(stdout);
@@ -161,6 +224,13 @@ int cmd_detect(int argc, char** argv) {
                     "aspect ratio): each marker's corners are also given with the lens distortion removed "
                     "(corners_undistorted)")
       ->type_name("FILE");
+  cl.app.add_option("--marker-size", out.marker_size,
+                    "the markers' side on their outer black edge, in the unit the pose's position is wanted in (50 "
+                    "for mm, 0.05 for m): each marker gains its pose (both solutions of a view's ambiguity, their "
+                    "errors, the ambiguity ratio); without --calib through a default camera of 60 degrees across, "
+                    "marked assumed")
+      ->type_name("L")
+      ->check(real_number(0.0001, 100000));
   cl.app.add_option("--threads", threads, "threads for the detector")->type_name("N")->check(whole_number(1, 64));
   cl.app.add_flag("--json", out.json,
                   "one line per frame: {\"source\",\"frame\",\"width\",\"height\",\"ms\",\"markers\":[...]}");
