@@ -37,7 +37,7 @@ namespace arwb::ui {
 
 // The panels, in the order of the View menu. Their titles are the window names ImGui saves the layout under.
 enum class Panel { live_view, pipeline, candidates, inspector, parameters, timings, dictionary, peers, source, tour,
-                   why, log, scene, script, console, calibrate, calibration_views, count };
+                   why, log, scene, script, console, calibrate, calibration_views, pose, count };
 constexpr int kPanelCount = static_cast<int>(Panel::count);
 const char* panel_title(Panel p);
 const char* panel_key(Panel p);   // "live_view", "pipeline"... (for --at N:open=KEY and the saved layout)
@@ -154,11 +154,22 @@ struct DirListing {
   uint64_t version = 0;   // counts listings, so the browser sees a new one
 };
 
+// One frame's pose of a track, for the Pose panel's plots.
+struct PoseSample {
+  float time_s = 0;
+  float distance = 0;       // in the unit of the marker side
+  float ambiguity = 0;
+  float error_px = 0;
+  float alternative_error_px = 0;
+  float tilt_deg = 0;
+};
+
 // Read-only facts about the application that panels show.
 struct Status {
   double ui_fps = 0;
   double detect_fps = 0;                          // frames the worker finished per second
   std::deque<std::array<float, kStageCount + 1>> history;  // per finished frame: ms per stage, then total
+  std::map<uint64_t, std::deque<PoseSample>> pose_history;  // per track id with a pose: the last 300 frames
   const std::vector<LogEntry>* log = nullptr;
   SweepStatus sweep;
   std::vector<int> cameras;                       // /dev/videoN found
@@ -216,6 +227,13 @@ struct View {
   bool show_truth = false;       // synthetic source: the exact corners
   bool show_peer_opencv = true;  // when the peer ran
   bool show_peer_apriltag = true;
+  // 3D over each tracked marker with a pose, drawn through the pose's camera (lens distortion included): its axes
+  // (x red, y green, z blue, one marker side long), the paper's cube standing on it, and the other solution of
+  // the planar ambiguity's cube beside the one used, each with its error.
+  bool show_axes = false;
+  bool show_cube = false;
+  bool show_alternative = false;
+  int pose_drawn = 0;            // poses the live view drew over (axes or cube) at its last draw, for --stats
   bool label_ids = true;         // marker labels say the id...
   bool label_dict = true;        // ...and the dictionary (neither: no labels)
   LabelReport labels;            // written by the live view

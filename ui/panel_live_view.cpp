@@ -2,12 +2,14 @@
 // their id; rejected candidates in the colour of the stage that dropped them; the ledger's hovered row in
 // yellow. Left-click selects a candidate for the inspector; with the region tool on, a left-drag marks the
 // rectangle for "Why not detected?". With a scene loaded and "Media" on, the frame is the workbench's composite
-// (the scene's media drawn on it); a click on a web card opens its URL in the system's browser.
+// (the scene's media drawn on it); a click on a web card opens its URL in the system's browser. With "3D..."
+// each tracked marker's pose is drawn: its axes, the paper's cube and the other solution of the ambiguity.
 //
 // Labels ("12 ARUCO_ORIGINAL") are placed by ui/label_layout.hpp: off each other, the markers' corners and the
 // media, with a leader line when they had to move; those that find no room are counted in the view's corner.
 // Projected media stay on top of labels and outlines: after the overlays, the composite is drawn again over each
 // media quad (the same pixels, so nothing else changes), as a projector would cover whatever is under it.
+#include "pose/marker_pose.hpp"
 #include "ui/label_layout.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
@@ -235,6 +237,78 @@ void overlay_truth(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   }
 }
 
+// Lines between projected points; a segment whose ends project far outside the image (a point behind the camera,
+// or the lens model past its range) is left out rather than drawn across the view.
+void draw_segments(const ImageMapping& m, ImDrawList* dl, const std::vector<cv::Point2d>& p,
+                   std::initializer_list<std::pair<int, int>> edges, ImU32 colour, float thickness, cv::Size size) {
+  const auto sane = [&](const cv::Point2d& q) {
+    return std::isfinite(q.x) && std::isfinite(q.y) && std::abs(q.x) < 4.0 * size.width + 1000 &&
+           std::abs(q.y) < 4.0 * size.height + 1000;
+  };
+  for (const auto& [a, b] : edges) {
+    const cv::Point2d& pa = p[static_cast<size_t>(a)];
+    const cv::Point2d& pb = p[static_cast<size_t>(b)];
+    if (!sane(pa) || !sane(pb)) continue;
+    dl->AddLine(m.to_screen(cv::Point2f(pa)), m.to_screen(cv::Point2f(pb)), colour, thickness);
+  }
+}
+
+// Each tracked marker's pose as 3D: the axes, the paper's cube standing on the marker (its base the marker, its
+// top one side towards the camera) and, when asked, the other solution's cube, each labelled with its error. All
+// are projected through the camera the poses were computed with, lens distortion included, so they sit on the
+// marker where the image is bent. "assumed camera" is said on the view when there was no calibration.
+void overlay_pose(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+  View& v = ctx.view;
+  v.pose_drawn = 0;
+  if (!v.show_axes && !v.show_cube && !v.show_alternative) return;
+  const Frame& f = *ctx.frame;
+  const double L = f.pose_marker_side, h = L / 2;
+  const std::vector<cv::Point3d> cube{{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0},
+                                      {-h, h, L}, {h, h, L}, {h, -h, L}, {-h, -h, L}};
+  const std::vector<cv::Point3d> axes{{0, 0, 0}, {L, 0, 0}, {0, L, 0}, {0, 0, L}};
+  const auto edges = {std::pair{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4},
+                      {0, 4},          {1, 5}, {2, 6}, {3, 7}};
+  const float t = 2.0f * ctx.scale;
+  const cv::Size size = f.image.size();
+  bool any = false;
+  for (const TrackedMarker& tm : f.tracks) {
+    if (!tm.pose) continue;
+    const MarkerPose& p = *tm.pose;
+    any = true;
+    ++v.pose_drawn;
+    const auto label = [&](const PoseSolution& s, ImU32 colour, const char* what) {
+      const std::vector<cv::Point2d> top = project_marker_points({{0, 0, L}}, s, f.pose_camera);
+      if (top.empty() || !std::isfinite(top[0].x) || !std::isfinite(top[0].y)) return;
+      char text[64];
+      std::snprintf(text, sizeof text, "%s %.2f px", what, s.error_px);
+      dl->AddText(m.to_screen(cv::Point2f(top[0])), colour, text);
+    };
+    if (v.show_alternative) {
+      const ImU32 alt = IM_COL32(255, 150, 40, 200);
+      draw_segments(m, dl, project_marker_points(cube, p.alternative, f.pose_camera), edges, alt, 1.5f * ctx.scale, size);
+      label(p.alternative, alt, "other");
+    }
+    if (v.show_cube) {
+      // Amber when the view is ambiguous (the other solution explains the corners almost as well).
+      const ImU32 col = p.ambiguity >= 0.3 ? IM_COL32(255, 220, 60, 255) : IM_COL32(80, 220, 255, 255);
+      draw_segments(m, dl, project_marker_points(cube, p.pose, f.pose_camera), edges, col, t, size);
+      label(p.pose, col, p.chosen_by_previous ? "kept" : "used");
+    }
+    if (v.show_axes) {
+      const std::vector<cv::Point2d> a = project_marker_points(axes, p.pose, f.pose_camera);
+      draw_segments(m, dl, a, {{0, 1}}, IM_COL32(255, 60, 60, 255), t, size);
+      draw_segments(m, dl, a, {{0, 2}}, IM_COL32(60, 255, 60, 255), t, size);
+      draw_segments(m, dl, a, {{0, 3}}, IM_COL32(80, 120, 255, 255), t, size);
+    }
+  }
+  if (any && f.pose_camera.assumed) {
+    const char* text = "poses with an assumed camera (no calibration loaded)";
+    dl->AddRectFilled({m.min.x + 4, m.max.y - 10 - ImGui::GetTextLineHeight()},
+                      {m.min.x + 10 + ImGui::CalcTextSize(text).x, m.max.y - 4}, IM_COL32(0, 0, 0, 170), 3);
+    dl->AddText({m.min.x + 7, m.max.y - 7 - ImGui::GetTextLineHeight()}, IM_COL32(255, 220, 60, 255), text);
+  }
+}
+
 // The calibration board as the worker found it on this frame: its corners joined in their order (the line runs
 // row by row, so a board found turned shows at once), the first corner marked, the outline of a full board, all
 // green when the frame was kept as a view and orange otherwise, with the reason above the board.
@@ -343,6 +417,18 @@ void toolbar(Context& ctx) {
     ImGui::Checkbox("Truth (synthetic source)", &v.show_truth);
     ImGui::Checkbox("Peer: OpenCV aruco", &v.show_peer_opencv);
     ImGui::Checkbox("Peer: AprilTag", &v.show_peer_apriltag);
+    ImGui::EndPopup();
+  }
+  flow(button_width("3D..."));
+  if (ImGui::Button("3D...")) ImGui::OpenPopup("pose3d");
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Each marker's pose drawn in 3D: axes, the paper's cube, the other solution.");
+  if (ImGui::BeginPopup("pose3d")) {
+    // Also --actions pose=axes,cube,alternative / all / none.
+    ImGui::Checkbox("Axes (x red, y green, z blue)", &v.show_axes);
+    ImGui::Checkbox("Cube (the paper's, on the marker)", &v.show_cube);
+    ImGui::Checkbox("The other solution's cube, with both errors", &v.show_alternative);
+    ImGui::TextDisabled("A marker seen nearly from the front fits two poses;\nthe Pose panel shows how close they are.");
+    if (ImGui::Button("Pose panel")) v.show(Panel::pose);
     ImGui::EndPopup();
   }
   flow(checkbox_width("Truth"));
@@ -460,6 +546,7 @@ void draw_live_view(Context& ctx) {
   if (ctx.view.show_truth) overlay_truth(ctx, m, dl);
   overlay_labels(ctx, m, dl, st);
   cover_with_media(ctx, m, dl);
+  overlay_pose(ctx, m, dl);
   const FrameTrace& t = f.trace;
   for (int idx : {ctx.view.selected_candidate, ctx.view.hovered_candidate}) {
     if (idx < 0 || idx >= static_cast<int>(t.candidates.size())) continue;

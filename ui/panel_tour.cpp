@@ -98,6 +98,13 @@ void draw_tour(Context& ctx) {
   }
   ImGui::Spacing();
   stage_figures(ctx, step);
+  if (step.key == "pose") {
+    // The step is about what the live view can draw: both cubes, and the Pose panel's numbers.
+    if (ImGui::Button("Show both cubes and the Pose panel")) {
+      v.show_cube = v.show_alternative = true;
+      v.show(Panel::pose);
+    }
+  }
   if (!step.params.empty()) {
     ImGui::Spacing();
     ImGui::TextDisabled("Try:");

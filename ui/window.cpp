@@ -7,6 +7,7 @@
 
 #include "ui/app.hpp"
 #include "base/decimals.hpp"
+#include "pose/marker_pose.hpp"
 #include "render/gl_driver.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
@@ -131,6 +132,25 @@ void App::run_action(const Action& a) {
     requests.push_back({ui::RequestKind::load_scene, a.arg, 0, {}, {}});
   } else if (a.verb == "media") {
     view.show_media = a.arg != "off";
+  } else if (a.verb == "pose") {
+    // pose=axes,cube,alternative (those drawn, the others not), pose=all, pose=none.
+    bool axes = false, cube = false, alternative = false;
+    for (size_t at = 0; at <= a.arg.size();) {
+      const size_t comma = std::min(a.arg.find(',', at), a.arg.size());
+      const std::string kind = a.arg.substr(at, comma - at);
+      at = comma + 1;
+      if (kind == "all") axes = cube = alternative = true;
+      else if (kind == "axes") axes = true;
+      else if (kind == "cube") cube = true;
+      else if (kind == "alternative") alternative = true;
+      else if (kind != "none" && !kind.empty()) {
+        warn("--actions pose=" + a.arg + ": no kind '" + kind + "' (axes, cube, alternative, all, none)");
+        return;
+      }
+    }
+    view.show_axes = axes;
+    view.show_cube = cube;
+    view.show_alternative = alternative;
   } else if (a.verb == "labels") {
     // labels=ids,dict,rejected,truth,peers (those shown, the others hidden), labels=all, labels=none.
     bool ids = false, dict = false, rejected = false, truth = false, peers = false;
@@ -353,6 +373,19 @@ void App::record_stats() {
   }
   status.history.push_back(row);
   while (status.history.size() > 300) status.history.pop_front();
+  // Each track's pose over the last frames (the Pose panel's plots); tracks gone are forgotten.
+  std::map<uint64_t, std::deque<ui::PoseSample>> poses;
+  for (const TrackedMarker& t : frame->tracks) {
+    if (!t.pose) continue;
+    auto& h = poses[t.track_id];
+    if (auto it = status.pose_history.find(t.track_id); it != status.pose_history.end()) h = std::move(it->second);
+    const PoseAngles a = pose_angles(t.pose->pose);
+    h.push_back({static_cast<float>(frame->time_s), static_cast<float>(a.distance),
+                 static_cast<float>(t.pose->ambiguity), static_cast<float>(t.pose->pose.error_px),
+                 static_cast<float>(t.pose->alternative.error_px), static_cast<float>(a.tilt_deg)});
+    while (h.size() > 300) h.pop_front();
+  }
+  status.pose_history = std::move(poses);
 }
 
 // [SECTION] Frame loop
@@ -773,6 +806,22 @@ int run_workbench(const WorkbenchOptions& options) {
                   {"draw_calls", std::llround(per(app.draw_calls, ui_frames))},
                   {"vertices", std::llround(per(app.vertices, ui_frames))}};
     s["markers"] = app.frame ? app.frame->trace.markers.size() : 0;
+    // Each track's pose on the last frame, the camera it came from, and how many the live view drew in 3D.
+    s["poses"] = Json::array();
+    if (app.frame)
+      for (const TrackedMarker& t : app.frame->tracks)
+        if (t.pose)
+          s["poses"].push_back({{"id", t.id},
+                                {"instance", t.instance},
+                                {"distance", round_decimals(pose_angles(t.pose->pose).distance, 4)},
+                                {"tvec", {round_decimals(t.pose->pose.tvec[0], 4), round_decimals(t.pose->pose.tvec[1], 4),
+                                          round_decimals(t.pose->pose.tvec[2], 4)}},
+                                {"error_px", round_decimals(t.pose->pose.error_px, 3)},
+                                {"alternative_error_px", round_decimals(t.pose->alternative.error_px, 3)},
+                                {"ambiguity", round_decimals(t.pose->ambiguity, 3)},
+                                {"chosen_by_previous", t.pose->chosen_by_previous}});
+    s["pose_camera"] = app.frame ? (app.frame->pose_camera.assumed ? "assumed" : app.frame->pose_camera.source) : "";
+    s["pose_drawn"] = app.view.pose_drawn;
     const ui::LabelReport& lr = app.view.labels;
     s["labels"] = {{"drawn", lr.drawn},         {"hidden", lr.hidden},         {"leaders", lr.leaders},
                    {"shortened", lr.shortened}, {"overlaps", lr.overlaps},     {"on_corners", lr.on_corners},

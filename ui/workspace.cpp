@@ -72,14 +72,16 @@ std::vector<Workspace> shipped_workspaces() {
                       tabs({P::parameters, P::source, P::timings, P::log})))),
       // Someone writing a scene: the augmented view, the editor, what the scene did and printed.
       ws("Script",
-         columns(0.48f, rows(0.6f, tabs({P::live_view}), tabs({P::scene})),
+         columns(0.48f, rows(0.6f, tabs({P::live_view}), tabs({P::scene, P::pose})),
                  rows(0.66f, tabs({P::script}), tabs({P::console, P::log}))),
-         columns(0.58f, rows(0.68f, tabs({P::live_view}), tabs({P::scene, P::console, P::log})), tabs({P::script}))),
+         columns(0.58f, rows(0.68f, tabs({P::live_view}), tabs({P::scene, P::console, P::pose, P::log})),
+                 tabs({P::script}))),
       // A teacher: the frame and the stage being explained, large, and the tour beside them; in front of a class
       // the two pictures side by side (4:3 pictures use a wide screen better so) and the tour's text under them.
       ws("Teach",
-         columns(0.7f, rows(0.6f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector, P::candidates})),
-         rows(0.62f, columns(0.5f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector}))),
+         columns(0.7f, rows(0.6f, tabs({P::live_view}), tabs({P::pipeline})),
+                 tabs({P::tour, P::inspector, P::candidates, P::pose})),
+         rows(0.62f, columns(0.5f, tabs({P::live_view}), tabs({P::pipeline})), tabs({P::tour, P::inspector, P::pose}))),
       // Someone calibrating a camera: the board as found, the coach (checklist, coverage, the camera and its
       // uncertainty) beside it, the views and where the result can be trusted under it; in front of a class the
       // live view large and the coach beside it.

@@ -27,9 +27,10 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "splitter=I,RATIO, calib_board=chessboard|charuco[,COLS,ROWS[,SQUARE_MM[,MARKER_MM]]], "
                  "calib_capture=on|off, calib_drop=N (the N-th view kept), calib_reset, calib_save=PATH, "
                  "calib_wait[=N] (waits until N views are kept and solved), "
-                 "undistort=on|off.\n"
+                 "undistort=on|off, pose=KINDS (3D over each marker's pose: a comma list of axes, cube, alternative, "
+                 "or all or none).\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
-                 "log scene script console calibrate calibration_views.\n"
+                 "log scene script console calibrate calibration_views pose.\n"
                  "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3/4 workspaces Inspect/Script/Teach/Calibrate, Ctrl+Z undo, Ctrl+Shift+Z "
                  "redo, Ctrl+Q quit; none of them while typing in a text field. Help > Keyboard shortcuts lists them "
                  "all. Drop a scene (.lua, .xml), preset (.yml), image, video or folder on the window to open it.");

@@ -30,6 +30,7 @@ const std::vector<std::string>& step_keys() {
   static const std::vector<std::string> keys = [] {
     std::vector<std::string> k{"overview"};
     for (int i = 0; i < kStageCount; ++i) k.emplace_back(stage_name(static_cast<Stage>(i)));
+    k.emplace_back("pose");
     k.emplace_back("summary");
     return k;
   }();
@@ -109,7 +110,7 @@ bool load_tour(const std::string& path, std::vector<TourStep>* steps, std::vecto
       const std::string key(trim(line.substr(1, line.size() - 2)));
       Stage stage = Stage::accepted;
       const bool is_stage = stage_from_name(key, &stage) && stage != Stage::accepted;
-      if (!is_stage && key != "overview" && key != "summary") {
+      if (!is_stage && key != "overview" && key != "pose" && key != "summary") {
         report(n, "unknown stage '" + key + "'" + suggestion(key, step_keys()) + "; the step is skipped");
         skipping = true;
         continue;

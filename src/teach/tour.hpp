@@ -1,6 +1,6 @@
 // The guided teaching tour: steps a teacher can edit or translate in a plain text file
 // (assets/teaching/tour.txt, whose first lines document the format). One step per pipeline stage, plus an
-// [overview] before them and a [summary] after them.
+// [overview] before them, [pose] (what a marker's corners say in 3D) after them and a [summary] at the end.
 #pragma once
 
 #include "detect/trace.hpp"
@@ -11,7 +11,7 @@
 namespace arwb {
 
 struct TourStep {
-  std::string key;                  // a stage name (stage_name()), "overview" or "summary"
+  std::string key;                  // a stage name (stage_name()), "overview", "pose" or "summary"
   bool is_stage = false;
   Stage stage = Stage::accepted;    // the stage when is_stage; Stage::accepted (no stage) otherwise
   std::string title;

@@ -6,9 +6,12 @@
 #pragma once
 
 #include "detect/trace.hpp"
+#include "pose/marker_pose.hpp"
 
 #include <opencv2/core.hpp>
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +27,10 @@ struct TrackedMarker {
   double last_seen_s = 0;      // when it was last detected
   double visible_s = 0;        // seconds since it entered
   bool detected = false;       // detected on this frame (false while held)
+  uint64_t track_id = 0;       // unique for the tracker's life, never reused
+  int instance = 0;            // among the tracks of the same id now: 0, 1, ... in order of first appearance
+  Quad raw_corners{};          // as detected on this frame (corners is the filtered version)
+  std::optional<MarkerPose> pose;   // with the tracker's camera and marker side
 };
 
 struct TrackEvent {

@@ -60,6 +60,10 @@ struct Frame {
   double detect_ms = 0;       // Detector::detect, trace included
   // The scene (Lua or XML database): markers over time, the media it places on this frame and its state.
   std::vector<TrackedMarker> tracks;
+  // The camera the tracks' poses were computed with (the loaded calibration, or default_calibration's assumed
+  // values for this frame's size) and the marker side they are in units of.
+  Calibration pose_camera;
+  double pose_marker_side = 1;
   std::vector<Overlay> overlays;
   SceneStatus scene;
   // Calibration. The session's state while the Calibrate workspace is shown (null otherwise: no board is looked

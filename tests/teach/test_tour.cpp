@@ -61,9 +61,12 @@ TEST(Tour, ShippedTourHasOneStepPerStageInPipelineOrder) {
   std::vector<TourStep> steps;
   std::vector<std::string> errors;
   ASSERT_TRUE(load_tour(kShipped, &steps, &errors)) << joined(errors);
-  ASSERT_EQ(steps.size(), size_t(kStageCount) + 2);
+  ASSERT_EQ(steps.size(), size_t(kStageCount) + 3);
   EXPECT_EQ(steps.front().key, "overview");
   EXPECT_FALSE(steps.front().is_stage);
+  // After the detector's stages, what the corners say in 3D (the pose and its ambiguity), then the summary.
+  EXPECT_EQ(steps[steps.size() - 2].key, "pose");
+  EXPECT_FALSE(steps[steps.size() - 2].is_stage);
   EXPECT_EQ(steps.back().key, "summary");
   EXPECT_FALSE(steps.back().is_stage);
   for (int i = 0; i < kStageCount; ++i) {
