@@ -7,7 +7,7 @@
 namespace arwb {
 
 struct PoseBenchOptions {
-  int frames = 400;   // single frames; the sequence has its own fixed length
+  int frames = 400;   // single frames; the sequences have their own fixed length
   int seed = 1;
   bool json = false;
 };
