@@ -284,8 +284,8 @@ int run_pose_bench(const PoseBenchOptions& options) {
   std::printf("arwb's ambiguity: %d of %d poses ambiguous (ratio >= %.1f); of its %d flips %d were flagged so, and in "
               "%d the alternative solution was the right one\n",
               a.ambiguous, a.detected, kAmbiguous, a.flips, a.flips_ambiguous, a.flips_alternative_right);
-  std::printf("\nsequences: %d of %d frames, each along a smooth path through %d poses nearly facing the camera (tilted "
-              "up to %.0f deg) at %.2f to %.2f m; arwb found the marker in %d frames (%d ambiguous)\n",
+  std::printf("\nsequences: %d of %d frames, each along a smooth path through %d poses nearly facing the camera "
+              "(tilted up to %.0f deg) at %.2f to %.2f m; arwb found the marker in %d frames (%d ambiguous)\n",
               kSequences, kSequenceFrames, kSequenceKeys, kSeqTilt, kSeqNear, kFar, seq.detected, seq.ambiguous);
   std::printf("flips per 100 frames: each frame alone %.1f, resolve_with_previous %.1f (it chose the other solution "
               "%d times)\n",

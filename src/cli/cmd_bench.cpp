@@ -85,10 +85,23 @@ int cmd_bench(int argc, char** argv) {
   bool pose_mode = false;
   cl.app.add_flag("--pose", pose_mode,
                   "instead: the pose of a rendered 50 mm marker of known pose by arwb and by OpenCV (detectMarkers, "
-                  "default and ArUco3 mode, + solvePnP IPPE_SQUARE), and a sequence with and without "
+                  "default and ArUco3 mode, + solvePnP IPPE_SQUARE), and sequences with and without "
                   "resolve_with_previous");
-  cl.app.add_option("--frames", pose.frames, "--pose: frames rendered")->type_name("N")->check(whole_number(1, 100000));
+  cl.app.add_option("--frames", pose.frames, "--pose: frames rendered")
+      ->type_name("N")
+      ->check(whole_number(1, 100000));
   if (const auto status = cl.parse(argc, argv)) return *status;
+  // --pose renders its own frames: the detection set's options would be silently ignored.
+  if (pose_mode)
+    for (const char* other : {"DIR", "--dict", "--params", "--count", "--reps"})
+      if (cl.app.count(other)) {
+        print_problem("arwb bench: --pose: %s does not apply (see arwb bench --help)\n", other);
+        return 2;
+      }
+  if (!pose_mode && cl.app.count("--frames")) {
+    print_problem("arwb bench: --frames: only with --pose (see arwb bench --help)\n");
+    return 2;
+  }
   if (pose_mode) {
     pose.seed = seed;
     pose.json = as_json;

@@ -110,14 +110,19 @@ TEST(BenchPose, TheTableNamesEveryDetectorAndTheSameSeedGivesTheSameFigures) {
   for (const char* s : {"arwb ", "opencv ", "opencv_aruco3 ", "rot_med", "flips per 100 frames", "one thread"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s << "\n" << r.out;
   const auto q = run_arwb("bench --pose --frames 4 --seed 4");
-  auto figures = [](const std::string& out) { return out.substr(0, out.rfind(" s, one thread")); };
-  EXPECT_EQ(figures(r.out).substr(0, figures(r.out).rfind('\n')), figures(q.out).substr(0, figures(q.out).rfind('\n')));
+  auto figures = [](const std::string& out) {
+    const std::string upto_time = out.substr(0, out.rfind(" s, one thread"));
+    return upto_time.substr(0, upto_time.rfind('\n'));
+  };
+  EXPECT_EQ(figures(r.out), figures(q.out));
 }
 
 TEST(BenchPose, BadOptionsAreOneLineNamingTheOption) {
   for (const auto& [args, names] : {std::pair{"bench --pose --frames 0", "--frames"},
                                     std::pair{"bench --pose --frames many", "--frames"},
-                                    std::pair{"bench --pose --seed -1", "--seed"}}) {
+                                    std::pair{"bench --pose --seed -1", "--seed"},
+                                    std::pair{"bench --pose --reps 2", "--pose"},
+                                    std::pair{"bench --frames 9", "--frames"}}) {
     const auto r = run_arwb(args);
     EXPECT_EQ(r.status, 2) << args;
     EXPECT_NE(r.err.find(names), std::string::npos) << args << ": " << r.err;
