@@ -1,5 +1,6 @@
 // arwb bench: arwb against OpenCV 4.6 aruco (default parameters) and AprilTag 3 (AprilTag families), one thread,
 // the same frames: median ms per frame by resolution, recall, false positives, corner error, and the ratios.
+#include "cli/bench_pose.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "detect/match.hpp"
@@ -80,7 +81,32 @@ int cmd_bench(int argc, char** argv) {
       ->type_name("R")
       ->check(whole_number(1, 100));
   cl.app.add_flag("--json", as_json, "one JSON object instead of the table");
+  PoseBenchOptions pose;
+  bool pose_mode = false;
+  cl.app.add_flag("--pose", pose_mode,
+                  "instead: the pose of a rendered 50 mm marker of known pose by arwb and by OpenCV (detectMarkers, "
+                  "default and ArUco3 mode, + solvePnP IPPE_SQUARE), and sequences with and without "
+                  "resolve_with_previous");
+  cl.app.add_option("--frames", pose.frames, "--pose: frames rendered")
+      ->type_name("N")
+      ->check(whole_number(1, 100000));
   if (const auto status = cl.parse(argc, argv)) return *status;
+  // --pose renders its own frames: the detection set's options would be silently ignored.
+  if (pose_mode)
+    for (const char* other : {"DIR", "--dict", "--params", "--count", "--reps"})
+      if (cl.app.count(other)) {
+        print_problem("arwb bench: --pose: %s does not apply (see arwb bench --help)\n", other);
+        return 2;
+      }
+  if (!pose_mode && cl.app.count("--frames")) {
+    print_problem("arwb bench: --frames: only with --pose (see arwb bench --help)\n");
+    return 2;
+  }
+  if (pose_mode) {
+    pose.seed = seed;
+    pose.json = as_json;
+    return run_pose_bench(pose);
+  }
   const std::vector<std::string> pos = cl.app.count("DIR") ? std::vector<std::string>{dir} : std::vector<std::string>{};
   DetectorParams params;
   if (!load_params_option(params_path, "arwb bench", params)) return 2;

@@ -30,11 +30,12 @@ struct OpenCvArucoPeer::Impl {
   cv::Ptr<cv::aruco::DetectorParameters> params = cv::aruco::DetectorParameters::create();
 };
 
-OpenCvArucoPeer::OpenCvArucoPeer(const std::string& dict_name) : impl_(std::make_shared<Impl>()) {
+OpenCvArucoPeer::OpenCvArucoPeer(const std::string& dict_name, bool aruco3) : impl_(std::make_shared<Impl>()) {
   std::string err;
   auto d = dictionary_by_name(dict_name, &err);
   if (!d) throw std::runtime_error(err);
   impl_->name = d->name();
+  impl_->params->useAruco3Detection = aruco3;
   // OpenCV's predefined tables, by the same names (ARUCO_ORIGINAL is OpenCV's own copy of the paper's).
   static const std::pair<const char*, cv::aruco::PREDEFINED_DICTIONARY_NAME> names[] = {
       {"ARUCO_ORIGINAL", cv::aruco::DICT_ARUCO_ORIGINAL}, {"4X4_50", cv::aruco::DICT_4X4_50},

@@ -18,7 +18,9 @@ struct PeerResult {
 
 class OpenCvArucoPeer {
  public:
-  explicit OpenCvArucoPeer(const std::string& dict_name);  // arwb's names; throws on unknown
+  // arwb's names; throws on unknown. `aruco3` turns on OpenCV's ArUco3 mode (useAruco3Detection), its other
+  // parameters left at their defaults.
+  explicit OpenCvArucoPeer(const std::string& dict_name, bool aruco3 = false);
   PeerResult detect(const cv::Mat& bgr) const;
 
  private:
