@@ -1,5 +1,6 @@
 // arwb bench: arwb against OpenCV 4.6 aruco (default parameters) and AprilTag 3 (AprilTag families), one thread,
 // the same frames: median ms per frame by resolution, recall, false positives, corner error, and the ratios.
+#include "cli/bench_tracking.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "detect/match.hpp"
@@ -80,10 +81,15 @@ int cmd_bench(int argc, char** argv) {
       ->type_name("R")
       ->check(whole_number(1, 100));
   cl.app.add_flag("--json", as_json, "one JSON object instead of the table");
+  bool tracking = false;
+  cl.app.add_flag("--tracking", tracking,
+                  "instead: the tracker's jitter on a still marker and lag on a moving one, filtered and raw "
+                  "(--count frames per sequence, --params for the tracking_* values)");
   if (const auto status = cl.parse(argc, argv)) return *status;
   const std::vector<std::string> pos = cl.app.count("DIR") ? std::vector<std::string>{dir} : std::vector<std::string>{};
   DetectorParams params;
   if (!load_params_option(params_path, "arwb bench", params)) return 2;
+  if (tracking) return bench_tracking({count, unsigned(seed), 6, 120, params}, as_json);
   const auto dicts = dictionaries_option(dict_arg, "arwb bench");
   if (!dicts) return 2;
   cv::setNumThreads(1);  // every detector on one thread
