@@ -242,7 +242,9 @@ void markers_table(Context& ctx) {
   for (const TrackedMarker& t : f.tracks) {
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
-    ImGui::Text("%d", t.id);
+    // A second print of an id is its own track: "5 #2" (m.instance 1 in Lua).
+    if (t.instance > 0) ImGui::Text("%d #%d", t.id, t.instance + 1);
+    else ImGui::Text("%d", t.id);
     ImGui::TableNextColumn();
     ImGui::TextDisabled("%s", t.dict.c_str());
     ImGui::TableNextColumn();

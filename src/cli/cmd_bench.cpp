@@ -1,6 +1,7 @@
 // arwb bench: arwb against OpenCV 4.6 aruco (default parameters) and AprilTag 3 (AprilTag families), one thread,
 // the same frames: median ms per frame by resolution, recall, false positives, corner error, and the ratios.
 #include "cli/bench_pose.hpp"
+#include "cli/bench_tracking.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "detect/match.hpp"
@@ -90,8 +91,13 @@ int cmd_bench(int argc, char** argv) {
   cl.app.add_option("--frames", pose.frames, "--pose: frames rendered")
       ->type_name("N")
       ->check(whole_number(1, 100000));
+  bool tracking = false;
+  cl.app.add_flag("--tracking", tracking,
+                  "instead: the tracker's jitter on a still marker and lag on a moving one, filtered and raw "
+                  "(--count frames per sequence, --params for the tracking_* values)");
   if (const auto status = cl.parse(argc, argv)) return *status;
   // --pose renders its own frames: the detection set's options would be silently ignored.
+  if (pose_mode && tracking) return cl.usage_error("--pose and --tracking are two benchmarks: give one");
   if (pose_mode)
     for (const char* other : {"DIR", "--dict", "--params", "--count", "--reps"})
       if (cl.app.count(other)) {
@@ -110,6 +116,7 @@ int cmd_bench(int argc, char** argv) {
   const std::vector<std::string> pos = cl.app.count("DIR") ? std::vector<std::string>{dir} : std::vector<std::string>{};
   DetectorParams params;
   if (!load_params_option(params_path, "arwb bench", params)) return 2;
+  if (tracking) return bench_tracking({count, unsigned(seed), 6, 120, params}, as_json);
   const auto dicts = dictionaries_option(dict_arg, "arwb bench");
   if (!dicts) return 2;
   cv::setNumThreads(1);  // every detector on one thread

@@ -242,6 +242,7 @@ int cmd_render(int argc, char** argv) {
     Frame f;
     f.index = uint64_t(frames) + 1;
     f.time_s = t;
+    f.params = params;   // the tracker's smoothing rows are in the preset too
     auto t0 = Clock::now();
     detector.detect(raw, &f.trace, TraceLevel::full, 1, &f.image);   // acquisition's resize is its first stage
     if (f.image.channels() == 1) cv::cvtColor(f.image, f.image, cv::COLOR_GRAY2BGR);

@@ -508,7 +508,10 @@ SweepResult sweep_region(const cv::Mat& image, const Detector& detector, cv::Rec
 
   const auto table = param_table();
   std::vector<ParamValues> values;
-  for (const auto& info : table) values.push_back(values_for(info, base));
+  for (const auto& info : table) {
+    values.push_back(values_for(info, base));
+    if (!is_detector_param(info)) values.back().down.clear(), values.back().up.clear();   // no effect on detection
+  }
   auto cost = [&](int i, double v) {
     const ParamInfo& info = *values[size_t(i)].info;
     return std::fabs(v - values[size_t(i)].cur) / (info.max_value - info.min_value);

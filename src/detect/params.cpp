@@ -2,6 +2,7 @@
 
 #include "base/decimals.hpp"
 #include "base/files.hpp"
+#include "detect/trace.hpp"
 #include "detect/yaml_file.hpp"
 
 #include <opencv2/core.hpp>
@@ -59,6 +60,16 @@ const ParamInfo kTable[] = {
              "Share of border cells allowed to be white. Higher tolerates occlusion and glare, and more clutter."),
     ARWB_DBL(error_correction_rate, "identification", "rate", 0.6, 0, 1,
              "Share of the dictionary's correction budget used: bits that may be wrong = rate x max correction."),
+    ARWB_INT(tracking_smoothing, kTrackingStage, "", 1, 0, 1,
+             "1 smooths each tracked marker's corners over time (One Euro filter); 0 shows them as detected."),
+    ARWB_DBL(tracking_min_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,
+             "Cutoff of a still marker's corners. Lower holds a still marker steadier, and it lags more when it "
+             "starts to move."),
+    ARWB_DBL(tracking_beta, kTrackingStage, "s/px", 0.5, 0, 2,
+             "How fast the cutoff rises with a corner's speed. Higher follows a moving marker more closely, and "
+             "lets more jitter through while it moves."),
+    ARWB_DBL(tracking_d_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,
+             "Cutoff of the corner speed that the cutoff follows. Higher reacts sooner to a start, and to noise."),
 };
 
 #undef ARWB_INT
@@ -77,6 +88,13 @@ DetectorParams::DetectorParams() {
 }
 
 std::span<const ParamInfo> param_table() { return kTable; }
+
+bool param_stage_known(std::string_view stage) {
+  Stage s;
+  return stage == kTrackingStage || stage_from_name(stage, &s);
+}
+
+bool is_detector_param(const ParamInfo& info) { return std::string_view(info.stage) != kTrackingStage; }
 
 const ParamInfo* find_param(const std::string& name) {
   for (const auto& info : kTable)

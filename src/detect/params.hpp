@@ -5,6 +5,7 @@
 
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace arwb {
@@ -38,6 +39,11 @@ struct DetectorParams {
   double border_max_error_rate = 0;
   // identification
   double error_correction_rate = 0;
+  // tracking (after detection: the tracker's One Euro filter on each track's corners, track/tracker.hpp)
+  int tracking_smoothing = 0;        // 0 off, 1 on
+  double tracking_min_cutoff_hz = 0;
+  double tracking_beta = 0;
+  double tracking_d_cutoff_hz = 0;
 
   DetectorParams();  // every field at its table default
   bool operator==(const DetectorParams&) const = default;
@@ -45,7 +51,7 @@ struct DetectorParams {
 
 struct ParamInfo {
   const char* name;
-  const char* stage;   // the pipeline stage it belongs to (same names as the trace)
+  const char* stage;   // the pipeline stage it belongs to (same names as the trace, or kTrackingStage)
   const char* unit;    // "px", "rate", "" ...
   double default_value;
   double min_value;
@@ -55,6 +61,14 @@ struct ParamInfo {
   int DetectorParams::*int_field;
   double DetectorParams::*double_field;
 };
+
+// The stage after detection whose parameters are in the table too: the tracker's (track/tracker.hpp). It is
+// not a detector stage (no trace record, no stage picture), so the detector's search (diagnose) leaves it alone.
+inline constexpr const char* kTrackingStage = "tracking";
+// A detector stage's name (detect/trace.hpp's stage_name) or kTrackingStage: the names a table row may use.
+bool param_stage_known(std::string_view stage);
+// The row is one of the detector's (it changes what is detected), not the tracker's.
+bool is_detector_param(const ParamInfo& info);
 
 // The table, in pipeline order.
 std::span<const ParamInfo> param_table();

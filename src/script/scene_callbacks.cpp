@@ -9,9 +9,13 @@ namespace arwb::script {
 namespace {
 
 void push_marker(lua_State* L, const TrackedMarker& t, const std::string& dict, bool held) {
-  lua_createtable(L, 0, 8);
+  lua_createtable(L, 0, 10);
   lua_pushinteger(L, t.id);
   lua_setfield(L, -2, "id");
+  lua_pushinteger(L, t.instance);
+  lua_setfield(L, -2, "instance");
+  lua_pushinteger(L, static_cast<lua_Integer>(t.track_id));
+  lua_setfield(L, -2, "track");
   lua_pushlstring(L, dict.data(), dict.size());
   lua_setfield(L, -2, "dict");
   lua_createtable(L, 4, 0);
@@ -57,7 +61,7 @@ bool SceneRuntime::Impl::call(Program& p, int mi, int fn, const TrackedMarker& t
   if (fn == LUA_NOREF || p.disabled.count(fn)) return false;
   // Enter and leave happen once and always run; what runs every frame waits once the frame's time is used.
   if ((what == "on_update" || what == "text") && frame_ms >= limits.frame_ms) {
-    if (!skipped && what == "on_update") resume_id = t.id;
+    if (!skipped && what == "on_update") resume = {t.id, t.track_id};
     skipped = true;
     return false;
   }
@@ -204,33 +208,47 @@ void SceneRuntime::Impl::run_callback(Program& p, int mi, int fn, const TrackedM
     apply_return(p, fn, inst, std::string(what) + " of marker " + std::to_string(t.id));
 }
 
+Instance& SceneRuntime::Impl::instance_of(Program& p, int mi, const TrackedMarker& t) {
+  const auto it = p.inside.find(t.track_id);
+  return p.instances[{mi, t.id, it == p.inside.end() ? 0 : it->second}];
+}
+
 void SceneRuntime::Impl::enter(Program& p, const TrackedMarker& t) {
-  p.inside.insert(t.id);
-  p.last[t.id] = t;
+  // The lowest slot no other track of this id in view holds.
+  std::set<int> taken;
+  for (const auto& [track, slot] : p.inside)
+    if (auto it = p.last.find(track); it != p.last.end() && it->second.id == t.id) taken.insert(slot);
+  int slot = 0;
+  while (taken.count(slot)) ++slot;
+  p.inside[t.track_id] = slot;
+  p.last[t.track_id] = t;
   for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
     const Mapping& m = p.def.mappings[mi];
     if (!m.skipped.empty() || !m.ids.contains(t.id)) continue;
-    Instance& inst = p.instances[{static_cast<int>(mi), t.id}];
+    Instance& inst = instance_of(p, static_cast<int>(mi), t);
     inst.inside = true;
     inst.fresh = true;
     run_callback(p, static_cast<int>(mi), m.on_enter, t, !t.detected, nullptr, "on_enter", inst);
   }
 }
 
-void SceneRuntime::Impl::leave(Program& p, int id) {
-  TrackedMarker t;
-  t.id = id;
-  if (auto it = p.last.find(id); it != p.last.end()) t = it->second;
-  p.inside.erase(id);
+void SceneRuntime::Impl::leave(Program& p, uint64_t track_id) {
+  const auto last = p.last.find(track_id);
+  if (last == p.last.end()) {
+    p.inside.erase(track_id);
+    return;
+  }
+  const TrackedMarker t = last->second;
   for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
     const Mapping& m = p.def.mappings[mi];
-    if (!m.skipped.empty() || !m.ids.contains(id)) continue;
-    Instance& inst = p.instances[{static_cast<int>(mi), id}];
+    if (!m.skipped.empty() || !m.ids.contains(t.id)) continue;
+    Instance& inst = instance_of(p, static_cast<int>(mi), t);
     inst.inside = false;
     if (inst.video) inst.video->set_clock(inst.position, false);   // paused where it stopped
     run_callback(p, static_cast<int>(mi), m.on_leave, t, false, nullptr, "on_leave", inst);
   }
-  p.last.erase(id);
+  p.inside.erase(track_id);
+  p.last.erase(track_id);
 }
 
 }  // namespace arwb::script

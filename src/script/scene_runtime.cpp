@@ -64,54 +64,65 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   const auto& tracks = in.tracks ? *in.tracks : kNoTracks;
   const auto& events = in.events ? *in.events : kNoEvents;
 
-  // The markers this scene sees: all, or those of its dictionary when it named one.
-  std::map<int, const TrackedMarker*> seen;
+  // The markers this scene sees: all, or those of its dictionary when it named one; one entry per track, in id
+  // order (then instance).
+  std::vector<const TrackedMarker*> seen;
+  std::map<uint64_t, const TrackedMarker*> by_track;
   const std::string want = upper_dict(p.def.dict_name);
   for (const TrackedMarker& t : tracks) {
     if (!p.def.dictionary.empty() && !t.dict.empty() && upper_dict(t.dict) != want) continue;
-    seen.emplace(t.id, &t);
+    seen.push_back(&t);
+    by_track.emplace(t.track_id, &t);
   }
   for (auto& [key, inst] : p.instances) inst.error.clear();
 
   // Enter and leave: the tracker's events, then whatever they missed (markers in view when the scene loaded).
   for (const TrackEvent& e : events) {
     if (e.kind == TrackEvent::Kind::enter) {
-      if (auto it = seen.find(e.id); it != seen.end() && !p.inside.count(e.id)) enter(p, *it->second);
-    } else if (p.inside.count(e.id)) {
-      leave(p, e.id);
+      if (auto it = by_track.find(e.track_id); it != by_track.end() && !p.inside.count(e.track_id))
+        enter(p, *it->second);
+    } else if (p.inside.count(e.track_id)) {
+      leave(p, e.track_id);
     }
   }
-  for (const auto& [id, t] : seen)
-    if (!p.inside.count(id)) enter(p, *t);
-  for (const int id : std::vector<int>(p.inside.begin(), p.inside.end()))
-    if (!seen.count(id)) leave(p, id);
+  for (const TrackedMarker* t : seen)
+    if (!p.inside.count(t->track_id)) enter(p, *t);
+  std::vector<uint64_t> gone;
+  for (const auto& [track, slot] : p.inside)
+    if (!by_track.count(track)) gone.push_back(track);
+  for (const uint64_t track : gone) leave(p, track);
 
   // on_update, and the play position. When the frame's time ran out last frame, this one starts with the marker
   // that waited, so every marker gets its turn.
-  std::vector<std::pair<int, const TrackedMarker*>> order(seen.begin(), seen.end());
-  const auto first = std::find_if(order.begin(), order.end(), [&](const auto& e) { return e.first >= resume_id; });
+  std::vector<const TrackedMarker*> order = seen;
+  const auto first = std::find_if(order.begin(), order.end(), [&](const TrackedMarker* t) {
+    return std::pair<int, uint64_t>(t->id, t->track_id) >= resume;
+  });
   std::rotate(order.begin(), first, order.end());
-  resume_id = -1;
-  for (const auto& [id, t] : order) {
-    p.last[id] = *t;
+  resume = {-1, 0};
+  for (const TrackedMarker* t : order) {
+    const int id = t->id;
+    p.last[t->track_id] = *t;
     for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
       const Mapping& m = p.def.mappings[mi];
       if (!m.skipped.empty() || !m.ids.contains(id)) continue;
-      Instance& inst = p.instances[{static_cast<int>(mi), id}];
+      Instance& inst = instance_of(p, static_cast<int>(mi), *t);
       if (!inst.fresh) inst.position += std::max(0.0, in.dt_s);
       inst.fresh = false;
       run_callback(p, static_cast<int>(mi), m.on_update, *t, !t->detected, &in.dt_s, "on_update", inst);
     }
   }
 
-  // Overlays: each mapping in declaration order (later ones drawn over earlier ones), its markers in id order.
+  // Overlays: each mapping in declaration order (later ones drawn over earlier ones), its markers in id order,
+  // each print of an id with its own.
   std::array<std::shared_ptr<MediaContent>, kStageCount> stages{};
   for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
     const Mapping& m = p.def.mappings[mi];
     if (!m.skipped.empty()) continue;
-    for (const auto& [id, t] : seen) {
+    for (const TrackedMarker* t : seen) {
+      const int id = t->id;
       if (!m.ids.contains(id)) continue;
-      Instance& inst = p.instances[{static_cast<int>(mi), id}];
+      Instance& inst = instance_of(p, static_cast<int>(mi), *t);
       MediaSpec spec = inst.media_set ? inst.media : m.media;
       if (spec.kind == MediaKind::none) {
         content_for(p, m, inst, spec, in, stages);   // pauses a video the media was before
@@ -183,7 +194,7 @@ void SceneRuntime::Impl::report_suppressed(Program& p) {
   p.lua->begin_frame();
 }
 
-void SceneRuntime::Impl::fill_rows(const std::map<int, const TrackedMarker*>* seen) {
+void SceneRuntime::Impl::fill_rows(const std::vector<const TrackedMarker*>* seen) {
   status.mappings.clear();
   if (!prog) return;
   Program& p = *prog;
@@ -212,16 +223,15 @@ void SceneRuntime::Impl::fill_rows(const std::map<int, const TrackedMarker*>* se
     double longest = 0;
     std::string error;
     if (seen)
-      for (const auto& [id, t] : *seen) {
-        if (!m.ids.contains(id)) continue;
+      for (const TrackedMarker* t : *seen) {
+        if (!m.ids.contains(t->id)) continue;
         if (t->detected) {
           ++visible;
           longest = std::max(longest, t->visible_s);
         } else {
           ++held;
         }
-        if (auto it = p.instances.find({static_cast<int>(mi), id}); error.empty() && it != p.instances.end())
-          error = it->second.error;
+        if (error.empty()) error = instance_of(p, static_cast<int>(mi), *t).error;
       }
     if (mi < p.mapping_error.size() && !p.mapping_error[mi].empty()) fault(MappingHealth::disabled, p.mapping_error[mi]);
     else if (!error.empty()) fault(MappingHealth::error, error);

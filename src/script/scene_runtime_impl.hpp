@@ -15,12 +15,15 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 namespace arwb::script {
 
-// One (mapping, marker id): what its callbacks changed and what it shows.
+// One (mapping, marker id, slot): what its callbacks changed and what it shows. Each track of an id in view holds
+// a slot (the lowest free one when it entered), so two prints of one id have their own media, and a marker that
+// leaves and comes back alone finds its video where it stopped.
 struct Instance {
   bool media_set = false;      // a callback's return replaced the media
   MediaSpec media;
@@ -41,7 +44,7 @@ struct Program {
   std::unique_ptr<LuaState> lua;   // null for an XML database
   SceneDef def;
   std::string path, display;
-  std::map<std::pair<int, int>, Instance> instances;   // (mapping, id)
+  std::map<std::tuple<int, int, int>, Instance> instances;   // (mapping, id, slot)
   std::set<int> disabled;                              // functions stopped by a limit or repeated failures
   struct Streak {                                      // a function's failures with no success between
     std::string message;
@@ -50,8 +53,8 @@ struct Program {
   };
   std::map<std::pair<int, int>, Streak> streaks;       // (function, marker id)
   std::vector<std::string> mapping_error;              // per mapping: why part of it is disabled
-  std::set<int> inside;                                // ids entered and not left
-  std::map<int, TrackedMarker> last;                   // their last tracks (for on_leave)
+  std::map<uint64_t, int> inside;                      // tracks entered and not left -> their slot
+  std::map<uint64_t, TrackedMarker> last;              // their last state (for on_leave)
   bool stage_note = false;                             // "no stage pictures" was said
 };
 
@@ -84,7 +87,8 @@ struct SceneRuntime::Impl : Reporter {
   std::set<std::string> logged_errors;
   static constexpr size_t kMaxLoggedErrors = 50;
   std::vector<std::string> take_errors();
-  int resume_id = -1;       // the first marker whose on_update waited: the next frame starts there
+  // The first track whose on_update waited (id, track_id): the next frame starts there.
+  std::pair<int, uint64_t> resume{-1, 0};
   // Reports print and warn lines that were over the frame's allowance.
   void report_suppressed(Program& p);
 
@@ -112,7 +116,9 @@ struct SceneRuntime::Impl : Reporter {
   void run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt,
                     const char* what, Instance& inst);
   void enter(Program& p, const TrackedMarker& t);
-  void leave(Program& p, int id);
+  void leave(Program& p, uint64_t track_id);
+  // The instance of mapping `mi` for a track in view.
+  Instance& instance_of(Program& p, int mi, const TrackedMarker& t);
 
   // [SECTION] Media content (scene_content.cpp)
   // The pixels for a media of an instance; null (reported) when there are none.
@@ -122,7 +128,7 @@ struct SceneRuntime::Impl : Reporter {
 
   // [SECTION] One frame (scene_runtime.cpp)
   std::vector<Overlay> update(const SceneInput& in);
-  void fill_rows(const std::map<int, const TrackedMarker*>* seen);
+  void fill_rows(const std::vector<const TrackedMarker*>* seen);
 };
 
 }  // namespace arwb::script

@@ -35,6 +35,16 @@ void SceneStage::run(Frame& f, double t_s, double poll_s) {
     last_poll_ = t_s;
     if (runtime_->reload_if_changed()) tracker_.clear();
   }
+  // The tracker follows the frame's parameters (its One Euro filter) and camera: the loaded calibration, or the
+  // paper's default values for the frame's size (marked assumed). The marker's side is 1: tvec in marker sides.
+  SmoothingSettings sm;
+  sm.on = f.params.tracking_smoothing != 0;
+  sm.min_cutoff_hz = f.params.tracking_min_cutoff_hz;
+  sm.beta = f.params.tracking_beta;
+  sm.d_cutoff_hz = f.params.tracking_d_cutoff_hz;
+  tracker_.set_smoothing(sm);
+  if (f.loaded_calibration) tracker_.set_camera(*f.loaded_calibration);
+  else if (f.image.cols > 0 && f.image.rows > 0) tracker_.set_camera(default_calibration(f.image.size()));
   const std::vector<TrackEvent> events = tracker_.update(f.trace.markers, t_s);
   const double dt = last_t_ < 0 ? 0.0 : std::clamp(t_s - last_t_, 0.0, 1.0);
   last_t_ = t_s;

@@ -172,8 +172,7 @@ TEST(Params, TableDrivesDefaultsRangesAndYaml) {
     EXPECT_LE(info.min_value, info.default_value) << info.name;
     EXPECT_GE(info.max_value, info.default_value) << info.name;
     EXPECT_STRNE(info.help, "") << info.name;
-    Stage s;
-    EXPECT_TRUE(stage_from_name(info.stage, &s)) << info.name << " names stage " << info.stage;
+    EXPECT_TRUE(param_stage_known(info.stage)) << info.name << " names stage " << info.stage;
   }
   DetectorParams q;
   std::string err;

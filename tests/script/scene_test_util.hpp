@@ -21,11 +21,16 @@ namespace arwb::script::test {
 using arwb::test::TempDir;
 using arwb::test::write_file;
 
+// The track_id of the hand-made track of an id (one print per id unless a test makes more).
+inline uint64_t track_of(int id, int instance = 0) { return 1000u * (static_cast<uint64_t>(instance) + 1) + id; }
+
 // A square marker of `side` pixels centred at (cx, cy), corners clockwise from the top-left.
 inline TrackedMarker track(int id, double cx, double cy, double side = 60, bool detected = true,
-                           double visible_s = 0) {
+                           double visible_s = 0, int instance = 0) {
   TrackedMarker t;
   t.id = id;
+  t.instance = instance;
+  t.track_id = track_of(id, instance);
   const float h = static_cast<float>(side / 2), x = static_cast<float>(cx), y = static_cast<float>(cy);
   t.corners = {cv::Point2f(x - h, y - h), cv::Point2f(x + h, y - h), cv::Point2f(x + h, y + h),
                cv::Point2f(x - h, y + h)};
@@ -38,8 +43,12 @@ inline TrackedMarker track(int id, double cx, double cy, double side = 60, bool 
 
 inline std::vector<TrackEvent> enters(std::initializer_list<int> ids) {
   std::vector<TrackEvent> e;
-  for (int id : ids) e.push_back({TrackEvent::Kind::enter, id});
+  for (int id : ids) e.push_back({TrackEvent::Kind::enter, id, track_of(id)});
   return e;
+}
+
+inline TrackEvent leave_event(int id, int instance = 0) {
+  return {TrackEvent::Kind::leave, id, track_of(id, instance)};
 }
 
 inline void make_png(const std::filesystem::path& p, int w = 64, int h = 48) {

@@ -89,7 +89,7 @@ TEST(SceneLua, ApiExampleGivesTheOverlays) {
 
   // 30 leaves: on_leave; the others are still tracked.
   s.update({track(7, 100, 100), track(8, 300, 100), track(20, 100, 300), track(150, 300, 300)},
-           {{TrackEvent::Kind::leave, 30}});
+           {leave_event(30)});
   EXPECT_TRUE(s.has("leave\t30")) << s.console();
   const auto& rows = s.runtime.status().mappings;
   EXPECT_EQ(rows[4].state, "waiting");
@@ -170,7 +170,7 @@ marker({1, 2}, {
   EXPECT_EQ(find_overlay(ov, 2)->media.text, "start");
 
   // Still after leaving and coming back (overrides belong to the id until the scene reloads).
-  s.update({track(2, 400, 200)}, {{TrackEvent::Kind::leave, 1}});
+  s.update({track(2, 400, 200)}, {leave_event(1)});
   ov = s.update({track(1, 200, 200), track(2, 400, 200)}, enters({1}));
   EXPECT_EQ(find_overlay(ov, 1)->media.text, "entered");   // on_enter ran again
 
@@ -205,8 +205,8 @@ marker(2, { on_enter = log("B enter"), on_leave = log("B leave"), on_update = lo
 )");
   ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
   s.update({track(1, 100, 100), track(2, 300, 100)}, enters({1, 2}));
-  s.update({track(2, 300, 100)}, {{TrackEvent::Kind::leave, 1}});
-  s.update({}, {{TrackEvent::Kind::leave, 2}});
+  s.update({track(2, 300, 100)}, {leave_event(1)});
+  s.update({}, {leave_event(2)});
   const std::vector<std::string> want = {"A enter\t1", "A enter\t2", "B enter\t2", "B update\t2",
                                          "A leave\t1", "B update\t2", "A leave\t2", "B leave\t2"};
   EXPECT_EQ(s.printed(), want) << s.console();
@@ -546,9 +546,41 @@ TEST(SceneLua, EachMarkerHasItsOwnVideoPlayerKeptWhileAway) {
   ASSERT_EQ(ov.size(), 2u) << s.console();
   const auto player1 = find_overlay(ov, 1)->content;
   EXPECT_NE(player1, find_overlay(ov, 2)->content);
-  s.update({track(2, 300, 100)}, {{TrackEvent::Kind::leave, 1}});
+  s.update({track(2, 300, 100)}, {leave_event(1)});
   ov = s.update({track(1, 100, 100), track(2, 300, 100)}, enters({1}));
   EXPECT_EQ(find_overlay(ov, 1)->content, player1);   // the same player resumes
+}
+
+TEST(SceneLua, TwoPrintsOfOneIdEachHaveTheirOverlayAndCallbacks) {
+  SceneFixture s;
+  make_avi(s.dir.path() / "clip.avi");
+  const auto p = s.write("scene.lua", R"(
+marker(5, { media = video("clip.avi", { loop = true }),
+  on_enter = function(m) print("enter", m.id, m.instance) end,
+  on_leave = function(m) print("leave", m.id, m.instance) end })
+)");
+  ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error << s.console();
+  const TrackedMarker a = track(5, 100, 100, 60, true, 0, 0), b = track(5, 400, 300, 60, true, 0, 1);
+  auto ov = s.update({a, b}, {{TrackEvent::Kind::enter, 5, a.track_id}, {TrackEvent::Kind::enter, 5, b.track_id}});
+  ASSERT_EQ(count_overlays(ov, 5), 2) << s.console();
+  // Each drawn on its own print, each with its own player.
+  auto mid_x = [](const Overlay& o) {
+    double x = 0;
+    for (const auto& c : o.quad.corners) x += c.x / 4;
+    return x;
+  };
+  EXPECT_NEAR(mid_x(ov[0]), 100, 1) << "the first print's media";
+  EXPECT_NEAR(mid_x(ov[1]), 400, 1) << "the second print's media";
+  EXPECT_NE(ov[0].content, ov[1].content);
+  EXPECT_EQ(s.runtime.status().mappings[0].state, "visible 0.0 s (2 markers)");
+  // The first leaves: only its on_leave runs, the other keeps its media.
+  TrackedMarker b0 = b;
+  b0.instance = 0;
+  ov = s.update({b0}, {leave_event(5, 0)});
+  ASSERT_EQ(count_overlays(ov, 5), 1);
+  EXPECT_NEAR(mid_x(ov[0]), 400, 1);
+  const std::vector<std::string> want = {"enter\t5\t0", "enter\t5\t1", "leave\t5\t0"};
+  EXPECT_EQ(s.printed(), want) << s.console();
 }
 
 TEST(SceneLua, PrintIsTabSeparatedAndNamesAreShown) {

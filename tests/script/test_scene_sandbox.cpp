@@ -210,7 +210,7 @@ marker(30, {
   EXPECT_EQ(s.count_printed("seven runs"), 2);
 
   // Its other callbacks still run.
-  s.update({track(7, 100, 100)}, {{TrackEvent::Kind::leave, 30}});
+  s.update({track(7, 100, 100)}, {leave_event(30)});
   s.update({track(7, 100, 100), track(30, 300, 100)}, enters({30}));
   EXPECT_EQ(s.lines("enter\t30").size(), 2u) << s.console();
 
