@@ -54,8 +54,9 @@ void draw_pose(Context& ctx) {
   } else {
     ImGui::TextWrapped("Camera: %s", f.pose_camera.source.c_str());
   }
-  ImGui::TextDisabled("Positions in marker sides%s; x right, y down, z away from the camera.",
-                      f.pose_marker_side != 1 ? " times the marker size given" : "");
+  text_disabled_wrapped(f.pose_marker_side != 1 ? "Positions in the unit of the marker size given; x right, y down, z "
+                                                  "away from the camera."
+                                                : "Positions in marker sides; x right, y down, z away from the camera.");
   std::vector<const TrackedMarker*> with;
   for (const TrackedMarker& t : f.tracks)
     if (t.pose) with.push_back(&t);
@@ -109,9 +110,9 @@ void draw_pose(Context& ctx) {
   const MarkerPose& p = *sel->pose;
   const PoseAngles a = pose_angles(p.pose);
   ImGui::Separator();
+  ImGui::PushTextWrapPos(0.0f);
   ImGui::Text("Marker %s: distance %.3g, tilt %.1f, yaw %.1f, pitch %.1f, roll %.1f degrees", track_name(*sel).c_str(),
               a.distance, a.tilt_deg, a.yaw_deg, a.pitch_deg, a.roll_deg);
-  ImGui::PushTextWrapPos(0.0f);
   if (p.ambiguity >= 0.3)
     ImGui::TextColored(ImVec4(1, 0.86f, 0.24f, 1),
                        "Ambiguous: the other pose (tilted the other way) explains the corners almost as well "

@@ -525,7 +525,12 @@ void Engine::State::run() {
         cv::resize(in, out, cv::Size(std::max(1, int(in.cols * s)), std::max(1, int(in.rows * s))), 0, 0,
                    cv::INTER_AREA);
       };
-      if (w.stage && w.stage->loaded()) {
+      // The tracker runs on every frame (its tracks carry the poses the Pose panel and the 3D overlays show); the
+      // scene, when there is one, runs on its tracks.
+      if (!w.stage) w.stage = std::make_unique<SceneStage>(media::StoreMode::live);
+      if (!w.stage->loaded()) {
+        w.stage->run(*f, now);
+      } else {
         const uint64_t before = w.stage->status().generation;
         const std::string before_error = w.stage->status().error;
         w.stage->run(*f, now);

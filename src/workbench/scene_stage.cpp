@@ -30,8 +30,7 @@ const SceneStatus& SceneStage::status() const { return runtime_->status(); }
 std::vector<std::string> SceneStage::take_errors() { return runtime_->take_errors(); }
 
 void SceneStage::run(Frame& f, double t_s, double poll_s) {
-  if (file_.empty()) return;
-  if (last_poll_ < 0 || t_s - last_poll_ >= poll_s || t_s < last_poll_) {
+  if (!file_.empty() && (last_poll_ < 0 || t_s - last_poll_ >= poll_s || t_s < last_poll_)) {
     last_poll_ = t_s;
     if (runtime_->reload_if_changed()) tracker_.clear();
   }
@@ -43,9 +42,15 @@ void SceneStage::run(Frame& f, double t_s, double poll_s) {
   sm.beta = f.params.tracking_beta;
   sm.d_cutoff_hz = f.params.tracking_d_cutoff_hz;
   tracker_.set_smoothing(sm);
-  if (f.loaded_calibration) tracker_.set_camera(*f.loaded_calibration);
-  else if (f.image.cols > 0 && f.image.rows > 0) tracker_.set_camera(default_calibration(f.image.size()));
+  if (f.loaded_calibration) f.pose_camera = *f.loaded_calibration;
+  else if (f.image.cols > 0 && f.image.rows > 0) f.pose_camera = default_calibration(f.image.size());
+  f.pose_marker_side = 1;
+  tracker_.set_camera(f.pose_camera, f.pose_marker_side);
   const std::vector<TrackEvent> events = tracker_.update(f.trace.markers, t_s);
+  if (file_.empty()) {   // no scene: the tracks alone (with their poses)
+    f.tracks = tracker_.tracks();
+    return;
+  }
   const double dt = last_t_ < 0 ? 0.0 : std::clamp(t_s - last_t_, 0.0, 1.0);
   last_t_ = t_s;
   script::SceneInput in;

@@ -26,7 +26,8 @@ class SceneStage {
   // The dictionary the scene declared ("" if none).
   std::string dictionary() const;
 
-  // Follows f.trace's markers at time t_s and fills f.tracks, f.overlays and f.scene. Looks for changes to the
+  // Follows f.trace's markers at time t_s and fills f.tracks (with their poses, through f.pose_camera: the loaded
+  // calibration or the default camera), and with a scene loaded f.overlays and f.scene. Looks for changes to the
   // scene file first (at most every `poll_s` seconds of t_s) and reloads it when it changed on disk.
   void run(Frame& f, double t_s, double poll_s = 0.25);
   const SceneStatus& status() const;

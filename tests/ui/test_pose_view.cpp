@@ -84,8 +84,8 @@ TEST(PoseView, TheMarkersPoseIsShownWithTheAssumedCameraAndItsCubeDrawn) {
   const cv::Mat a = cv::imread(with), b = cv::imread(without);
   ASSERT_FALSE(a.empty());
   ASSERT_FALSE(b.empty());
-  EXPECT_GT(cube_pixels(a), 100) << "the cube's edges are not on the screenshot";
-  EXPECT_LT(cube_pixels(b), 20);
+  // The window has a few pixels of that colour elsewhere (widgets): the cube's edges add many.
+  EXPECT_GT(cube_pixels(a), cube_pixels(b) + 150) << "the cube's edges are not on the screenshot";
 }
 
 TEST(PoseView, ThePosePanelFitsInEveryWorkspaceItIsIn) {
