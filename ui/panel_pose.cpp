@@ -36,7 +36,9 @@ void plot(const char* label, const std::deque<PoseSample>& h, float PoseSample::
   for (const PoseSample& s : h) v.push_back(s.*field);
   char overlay[64];
   std::snprintf(overlay, sizeof overlay, "%s %.3g", label, v.empty() ? 0.0 : static_cast<double>(v.back()));
-  ImGui::PlotLines(label, v.data(), static_cast<int>(v.size()), 0, overlay, lo, hi, ImVec2(-FLT_MIN, height));
+  const std::string id = std::string("##") + label;
+  ImGui::PlotLines(id.c_str(), v.data(), static_cast<int>(v.size()), 0, overlay, lo, hi,
+                   ImVec2(ImGui::GetContentRegionAvail().x, height));
 }
 
 }  // namespace
