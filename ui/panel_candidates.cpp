@@ -287,6 +287,14 @@ void controls(Context& ctx, LedgerState& st) {
   }
 }
 
+// The widest name in the parameter table: scrolling may bring a row with any of them into view, and a column
+// fitted to the rows shown would be a frame too narrow for it (the clipping audit saw 28 px cut).
+float widest_param_name() {
+  float w = 0;
+  for (const ParamInfo& info : param_table()) w = std::max(w, ImGui::CalcTextSize(info.name).x);
+  return w;
+}
+
 void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
   const ImGuiTableFlags flags = ImGuiTableFlags_Sortable | ImGuiTableFlags_SortMulti | ImGuiTableFlags_Resizable |
                                 ImGuiTableFlags_Reorderable | ImGuiTableFlags_Hideable | ImGuiTableFlags_RowBg |
@@ -303,7 +311,7 @@ void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
   ImGui::TableSetupColumn("perimeter", ImGuiTableColumnFlags_PreferSortDescending, 0, col_perimeter);
   ImGui::TableSetupColumn("fate", 0, 0, col_fate);
   ImGui::TableSetupColumn("ID", 0, 0, col_id);
-  ImGui::TableSetupColumn("parameter", 0, 0, col_param);
+  ImGui::TableSetupColumn("parameter", ImGuiTableColumnFlags_WidthFixed, widest_param_name(), col_param);
   ImGui::TableSetupColumn("value vs limit", 0, 0, col_value);
   ImGui::TableSetupColumn("message", 0, 0, col_message);
   ImGui::TableHeadersRow();

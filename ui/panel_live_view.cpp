@@ -2,8 +2,8 @@
 // their id; rejected candidates in the colour of the stage that dropped them; the ledger's hovered row in
 // yellow. Left-click selects a candidate for the inspector; with the region tool on, a left-drag marks the
 // rectangle for "Why not detected?". With a scene loaded and "Media" on, the frame is the workbench's composite
-// (the scene's media drawn on it); a click on a web card opens its URL in the system's browser. With "3D..."
-// each tracked marker's pose is drawn: its axes, the paper's cube and the other solution of the ambiguity.
+// (the scene's media drawn on it); a click on a web card opens its URL in the system's browser. From "Labels..."
+// each tracked marker's pose can be drawn: its axes, the paper's cube and the other solution of the ambiguity.
 //
 // Labels ("12 ARUCO_ORIGINAL") are placed by ui/label_layout.hpp: off each other, the markers' corners and the
 // media, with a leader line when they had to move; those that find no room are counted in the view's corner.
@@ -417,13 +417,10 @@ void toolbar(Context& ctx) {
     ImGui::Checkbox("Truth (synthetic source)", &v.show_truth);
     ImGui::Checkbox("Peer: OpenCV aruco", &v.show_peer_opencv);
     ImGui::Checkbox("Peer: AprilTag", &v.show_peer_apriltag);
-    ImGui::EndPopup();
-  }
-  flow(button_width("3D..."));
-  if (ImGui::Button("3D...")) ImGui::OpenPopup("pose3d");
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Each marker's pose drawn in 3D: axes, the paper's cube, the other solution.");
-  if (ImGui::BeginPopup("pose3d")) {
-    // Also --actions pose=axes,cube,alternative / all / none.
+    // Each marker's pose in 3D (also --actions pose=axes,cube,alternative / all / none). In this popup rather than
+    // a button of its own, so the toolbar keeps its width and the image its room.
+    ImGui::Separator();
+    ImGui::TextUnformatted("Pose in 3D");
     ImGui::Checkbox("Axes (x red, y green, z blue)", &v.show_axes);
     ImGui::Checkbox("Cube (the paper's, on the marker)", &v.show_cube);
     ImGui::Checkbox("The other solution's cube, with both errors", &v.show_alternative);

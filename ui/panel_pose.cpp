@@ -3,7 +3,7 @@
 // marker side, its angles, the error of the solution used and of the other one, and the ambiguity ratio as a bar
 // that fills towards "cannot tell"; the selected marker's distance, ambiguity and both errors as plots of the
 // last frames. A marker seen nearly from the front fits two poses: the panel shows how close they are and when
-// the previous frame chose between them. The live view's "3D..." draws both cubes.
+// the previous frame chose between them. The live view's "Labels..." menu draws both cubes.
 #include "pose/marker_pose.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"

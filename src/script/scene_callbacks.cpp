@@ -40,6 +40,21 @@ void push_marker(lua_State* L, const TrackedMarker& t, const std::string& dict, 
   lua_setfield(L, -2, "seconds");
   lua_pushboolean(L, held);
   lua_setfield(L, -2, "held");
+  if (!t.pose) return;
+  // Its pose (pose/marker_pose.hpp) through the loaded calibration or the default camera, in marker sides.
+  const PoseAngles a = pose_angles(t.pose->pose);
+  lua_createtable(L, 0, 10);
+  const std::pair<const char*, double> fields[] = {
+      {"x", t.pose->pose.tvec[0]}, {"y", t.pose->pose.tvec[1]},   {"z", t.pose->pose.tvec[2]},
+      {"distance", a.distance},    {"tilt", a.tilt_deg},          {"yaw", a.yaw_deg},
+      {"pitch", a.pitch_deg},      {"roll", a.roll_deg},          {"ambiguity", t.pose->ambiguity}};
+  for (const auto& [name, value] : fields) {
+    lua_pushnumber(L, value);
+    lua_setfield(L, -2, name);
+  }
+  lua_pushboolean(L, t.pose->assumed_camera);
+  lua_setfield(L, -2, "assumed");
+  lua_setfield(L, -2, "pose");
 }
 
 }  // namespace

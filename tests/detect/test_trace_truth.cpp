@@ -77,10 +77,17 @@ TEST(TraceTruth, StagesAreRecordedInTheOrderTheyRun) {
     EXPECT_EQ(stage_name(t.stages[size_t(s)].stage), expected[size_t(s)]);
     EXPECT_EQ(stage_name(static_cast<Stage>(s)), expected[size_t(s)]);
   }
-  // The parameter table follows the same order.
+  // The parameter table follows the same order: the detector's stages, then the tracker's (after the detector
+  // in the data flow, and not a stage of the detector's trace).
   int last = -1;
+  bool tracking = false;
   for (const ParamInfo& info : param_table()) {
     Stage s;
+    if (std::string_view(info.stage) == kTrackingStage) {
+      tracking = true;
+      continue;
+    }
+    EXPECT_FALSE(tracking) << info.name << " (a detector stage's) comes after the tracking rows";
     ASSERT_TRUE(stage_from_name(info.stage, &s)) << info.name;
     EXPECT_GE(int(s), last) << info.name << " is out of stage order";
     last = int(s);

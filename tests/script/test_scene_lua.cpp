@@ -621,5 +621,28 @@ TEST(SceneLua, UnloadDropsTheScene) {
   EXPECT_FALSE(s.runtime.reload_if_changed());
 }
 
+
+// A marker's pose reaches the callbacks: "show the label when closer than 30 cm" needs m.pose.distance.
+TEST(SceneLua, CallbacksSeeTheMarkersPoseWhenItHasOne) {
+  SceneFixture s;
+  const auto p = s.write("scene.lua", R"(
+marker(1, { on_update = function(m)
+  if m.pose then print(string.format("%.2f %.1f %.2f %s", m.pose.distance, m.pose.tilt, m.pose.z, tostring(m.pose.assumed)))
+  else print("no pose") end
+end })
+)");
+  ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
+  TrackedMarker with = track(1, 100, 100);
+  MarkerPose pose;
+  pose.pose.rvec = cv::Vec3d(CV_PI, 0, 0);   // facing the camera, upright
+  pose.pose.tvec = cv::Vec3d(0, 3, 4);
+  pose.assumed_camera = true;
+  with.pose = pose;
+  s.update({with}, enters({1}));
+  s.update({track(1, 100, 100)}, {});
+  const std::vector<std::string> want = {"5.00 36.9 4.00 true", "no pose"};
+  EXPECT_EQ(s.printed(), want) << s.console();
+}
+
 }  // namespace
 }  // namespace arwb::script::test
