@@ -141,7 +141,8 @@ int run_pose_bench(const PoseBenchOptions& options) {
   };
   auto peer_estimate = [&](const OpenCvArucoPeer& peer) {
     return [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
-      const Marker* m = right_marker(peer.detect(img).markers, t);
+      const auto found = peer.detect(img);   // kept: right_marker points into its markers
+      const Marker* m = right_marker(found.markers, t);
       if (!m) return std::nullopt;
       const auto p = opencv_pose(m->corners, calib);
       if (!p) return std::nullopt;
