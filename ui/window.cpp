@@ -132,48 +132,37 @@ void App::run_action(const Action& a) {
     requests.push_back({ui::RequestKind::load_scene, a.arg, 0, {}, {}});
   } else if (a.verb == "media") {
     view.show_media = a.arg != "off";
-  } else if (a.verb == "pose") {
-    // pose=axes,cube,alternative (those drawn, the others not), pose=all, pose=none.
-    bool axes = false, cube = false, alternative = false;
+  } else if (a.verb == "pose" || a.verb == "labels") {
+    // pose=axes,cube,alternative and labels=ids,dict,rejected,truth,peers: those drawn, the others not; all; none.
+    const bool pose = a.verb == "pose";
+    const std::vector<std::string> names = pose ? std::vector<std::string>{"axes", "cube", "alternative"}
+                                                : std::vector<std::string>{"ids", "dict", "rejected", "truth", "peers"};
+    std::vector<bool> on(names.size(), false);
     for (size_t at = 0; at <= a.arg.size();) {
       const size_t comma = std::min(a.arg.find(',', at), a.arg.size());
       const std::string kind = a.arg.substr(at, comma - at);
       at = comma + 1;
-      if (kind == "all") axes = cube = alternative = true;
-      else if (kind == "axes") axes = true;
-      else if (kind == "cube") cube = true;
-      else if (kind == "alternative") alternative = true;
+      const auto it = std::find(names.begin(), names.end(), kind);
+      if (kind == "all") on.assign(names.size(), true);
+      else if (it != names.end()) on[static_cast<size_t>(it - names.begin())] = true;
       else if (kind != "none" && !kind.empty()) {
-        warn("--actions pose=" + a.arg + ": no kind '" + kind + "' (axes, cube, alternative, all, none)");
+        std::string known;
+        for (const std::string& n : names) known += n + ", ";
+        warn("--actions " + a.verb + "=" + a.arg + ": no kind '" + kind + "' (" + known + "all, none)");
         return;
       }
     }
-    view.show_axes = axes;
-    view.show_cube = cube;
-    view.show_alternative = alternative;
-  } else if (a.verb == "labels") {
-    // labels=ids,dict,rejected,truth,peers (those shown, the others hidden), labels=all, labels=none.
-    bool ids = false, dict = false, rejected = false, truth = false, peers = false;
-    for (size_t at = 0; at <= a.arg.size();) {
-      const size_t comma = std::min(a.arg.find(',', at), a.arg.size());
-      const std::string kind = a.arg.substr(at, comma - at);
-      at = comma + 1;
-      if (kind == "all") ids = dict = rejected = truth = peers = true;
-      else if (kind == "ids") ids = true;
-      else if (kind == "dict") dict = true;
-      else if (kind == "rejected") rejected = true;
-      else if (kind == "truth") truth = true;
-      else if (kind == "peers") peers = true;
-      else if (kind != "none" && !kind.empty()) {
-        warn("--actions labels=" + a.arg + ": no kind '" + kind + "' (ids, dict, rejected, truth, peers, all, none)");
-        return;
-      }
+    if (pose) {
+      view.show_axes = on[0];
+      view.show_cube = on[1];
+      view.show_alternative = on[2];
+    } else {
+      view.label_ids = on[0];
+      view.label_dict = on[1];
+      view.show_rejected = on[2];
+      view.show_truth = on[3];
+      view.show_peer_opencv = view.show_peer_apriltag = on[4];
     }
-    view.label_ids = ids;
-    view.label_dict = dict;
-    view.show_rejected = rejected;
-    view.show_truth = truth;
-    view.show_peer_opencv = view.show_peer_apriltag = peers;
   } else if (a.verb == "click") {
     // A click on the live view at image pixel X,Y: what a user's click on a web card does.
     double x = 0, y = 0;
