@@ -1,5 +1,7 @@
 #include "render/compositor.hpp"
 
+#include "render/gl_program.hpp"
+
 #define GL_GLEXT_PROTOTYPES
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -38,22 +40,6 @@ void main() {
   colour = vec4(c.rgb, c.a * opacity);
 })";
 
-unsigned compile(GLenum type, const char* text, std::string* error) {
-  const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &text, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[1024] = {};
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    *error = std::string("compositor shader: ") + log;
-    glDeleteShader(s);
-    return 0;
-  }
-  return s;
-}
-
 }  // namespace
 
 Compositor::Compositor(int samples) : samples_requested_(samples) {}
@@ -67,27 +53,8 @@ Compositor::~Compositor() {
 
 bool Compositor::ensure_program() {
   if (program_) return true;
-  const unsigned vs = compile(GL_VERTEX_SHADER, kVertex, &error_);
-  if (!vs) return false;
-  const unsigned fs = compile(GL_FRAGMENT_SHADER, kFragment, &error_);
-  if (!fs) {
-    glDeleteShader(vs);
-    return false;
-  }
-  program_ = glCreateProgram();
-  glAttachShader(program_, vs);
-  glAttachShader(program_, fs);
-  glLinkProgram(program_);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint ok = 0;
-  glGetProgramiv(program_, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    error_ = "compositor shader: link failed";
-    glDeleteProgram(program_);
-    program_ = 0;
-    return false;
-  }
+  program_ = link_program(kVertex, kFragment, "compositor", &error_);
+  if (!program_) return false;
   loc_image_to_uv_ = glGetUniformLocation(program_, "image_to_uv");
   loc_uv_min_ = glGetUniformLocation(program_, "uv_min");
   loc_uv_max_ = glGetUniformLocation(program_, "uv_max");
@@ -109,7 +76,9 @@ void Compositor::release_targets() {
   if (ms_rbo_) glDeleteRenderbuffers(1, &ms_rbo_);
   if (resolved_fbo_) glDeleteFramebuffers(1, &resolved_fbo_);
   if (resolved_tex_) glDeleteTextures(1, &resolved_tex_);
-  ms_fbo_ = ms_rbo_ = resolved_fbo_ = resolved_tex_ = 0;
+  if (ms_depth_) glDeleteRenderbuffers(1, &ms_depth_);
+  if (resolved_depth_) glDeleteRenderbuffers(1, &resolved_depth_);
+  ms_fbo_ = ms_rbo_ = resolved_fbo_ = resolved_tex_ = ms_depth_ = resolved_depth_ = 0;
   size_ = {};
 }
 
@@ -129,6 +98,11 @@ bool Compositor::ensure_targets(cv::Size s) {
   glGenFramebuffers(1, &resolved_fbo_);
   glBindFramebuffer(GL_FRAMEBUFFER, resolved_fbo_);
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, resolved_tex_, 0);
+  // Depth for 3D media, used when there is no multisampled target to draw into.
+  glGenRenderbuffers(1, &resolved_depth_);
+  glBindRenderbuffer(GL_RENDERBUFFER, resolved_depth_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, s.width, s.height);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, resolved_depth_);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     error_ = "compositor: the result framebuffer is incomplete";
     release_targets();
@@ -141,11 +115,16 @@ bool Compositor::ensure_targets(cv::Size s) {
     glGenFramebuffers(1, &ms_fbo_);
     glBindFramebuffer(GL_FRAMEBUFFER, ms_fbo_);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, ms_rbo_);
+    glGenRenderbuffers(1, &ms_depth_);
+    glBindRenderbuffer(GL_RENDERBUFFER, ms_depth_);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT24, s.width, s.height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, ms_depth_);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       // No MSAA then, rather than no picture.
       glDeleteFramebuffers(1, &ms_fbo_);
       glDeleteRenderbuffers(1, &ms_rbo_);
-      ms_fbo_ = ms_rbo_ = 0;
+      glDeleteRenderbuffers(1, &ms_depth_);
+      ms_fbo_ = ms_rbo_ = ms_depth_ = 0;
       samples_ = 0;
     }
   } else {
@@ -190,6 +169,21 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
     uint64_t op = 0;
     std::memcpy(&op, &o.quad.opacity, sizeof op);
     sig ^= op;
+    if (o.solid) {
+      // A 3D media moves with its pose (its corners' quad may stay put when only the marker's tilt changes).
+      sig ^= reinterpret_cast<uintptr_t>(o.solid->mesh.get());
+      for (int k = 0; k < 3; ++k) {
+        uint64_t bits[2];
+        std::memcpy(&bits[0], &o.solid->rvec[k], sizeof bits[0]);
+        std::memcpy(&bits[1], &o.solid->tvec[k], sizeof bits[1]);
+        sig = (sig ^ bits[0] ^ (bits[1] << 1)) * 0x100000001B3ull;
+      }
+      for (const MeshPart& part : o.solid->mesh ? o.solid->mesh->parts : std::vector<MeshPart>{}) {
+        uint64_t pv = 0;
+        if (part.texture) part.texture->current(&pv);
+        sig = (sig ^ pv) * 0x100000001B3ull;
+      }
+    }
   }
   sig ^= overlays.size();
   if (resolved_fbo_ && size_ == frame.size() && have_sig_ && sig == last_sig_) return true;
@@ -235,7 +229,9 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glClearColor(0, 0, 0, 1);
-  glClear(GL_COLOR_BUFFER_BIT);
+  glClearDepth(1.0);
+  glDepthMask(GL_TRUE);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUseProgram(program_);
   glBindVertexArray(vao_);
   glUniform2f(loc_size_, float(W), float(H));
@@ -248,6 +244,15 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
   glEnable(GL_BLEND);
   glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   for (const Overlay& o : overlays) {
+    if (o.solid) {
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      if (!meshes_.draw(o, size_, media_)) error_ = meshes_.error();
+      glDisable(GL_DEPTH_TEST);
+      glUseProgram(program_);
+      glBindVertexArray(vao_);
+      continue;
+    }
     if (!o.content) continue;
     uint64_t version = 0;
     const std::shared_ptr<const cv::Mat> pixels = o.content->current(&version);
@@ -261,6 +266,7 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
     draw_quad(t.id(), inv, o.quad.corners, o.quad.uv_min, o.quad.uv_max, o.quad.opacity);
   }
   media_.end_frame(240);
+  meshes_.end_frame(240);
 
   if (ms_fbo_) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, ms_fbo_);

@@ -8,6 +8,9 @@
 // bend along the diagonal (interpolating texture coordinates per triangle would bend straight lines there).
 // MSAA (4 samples where the driver has them) smooths the quad's edges.
 //
+// Overlays with a solid (3D media, and flat media when a calibration is loaded) are drawn by MeshRenderer
+// through the lens model with a depth buffer; the others as quads, without depth, in order.
+//
 // Needs a current OpenGL 3.3 core context (the window's, or OffscreenContext's); everything is called on the
 // thread that owns it. Textures: the frame by its version; images by path, so markers showing the same picture
 // share one texture; videos and cards by content, uploaded only when their version changes. Unused textures are
@@ -15,6 +18,7 @@
 #pragma once
 
 #include "track/overlay.hpp"
+#include "render/mesh_renderer.hpp"
 #include "render/texture.hpp"
 
 #include <opencv2/core.hpp>
@@ -55,9 +59,10 @@ class Compositor {
   cv::Size size_{};
   unsigned program_ = 0, vao_ = 0, vbo_ = 0;
   int loc_image_to_uv_ = -1, loc_uv_min_ = -1, loc_uv_max_ = -1, loc_opacity_ = -1, loc_size_ = -1;
-  unsigned ms_fbo_ = 0, ms_rbo_ = 0, resolved_fbo_ = 0, resolved_tex_ = 0;
+  unsigned ms_fbo_ = 0, ms_rbo_ = 0, ms_depth_ = 0, resolved_fbo_ = 0, resolved_tex_ = 0, resolved_depth_ = 0;
   Texture frame_tex_;
   TextureCache media_;
+  MeshRenderer meshes_;
   uint64_t last_sig_ = 0;   // the frame version and content versions of the last composite
   bool have_sig_ = false;
   std::string error_;

@@ -1,6 +1,10 @@
 #include "track/media_spec.hpp"
 
+#include <cstdio>
+
 namespace arwb {
+
+bool is_solid(MediaKind k) { return k == MediaKind::cube || k == MediaKind::axes || k == MediaKind::model; }
 
 std::string MediaSpec::describe() const {
   switch (kind) {
@@ -9,6 +13,25 @@ std::string MediaSpec::describe() const {
     case MediaKind::video: return "video " + source + (loop ? " (loop)" : "");
     case MediaKind::web: return "web " + url;
     case MediaKind::stage: return "stage " + stage;
+    case MediaKind::cube:
+    case MediaKind::axes:
+    case MediaKind::model: {
+      std::string d = kind == MediaKind::cube ? "cube" : kind == MediaKind::axes ? "axes" : "model " + source;
+      char b[96];
+      if (size != 1.0) {
+        std::snprintf(b, sizeof b, " size %g", size);
+        d += b;
+      }
+      if (offset != cv::Vec3d(0, 0, 0)) {
+        std::snprintf(b, sizeof b, " offset %g,%g,%g", offset[0], offset[1], offset[2]);
+        d += b;
+      }
+      if (rotate_deg != cv::Vec3d(0, 0, 0)) {
+        std::snprintf(b, sizeof b, " rotate %g,%g,%g", rotate_deg[0], rotate_deg[1], rotate_deg[2]);
+        d += b;
+      }
+      return d;
+    }
     case MediaKind::text: {
       // One line, short enough for a table cell.
       std::string t = text;

@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -12,7 +13,9 @@
 namespace arwb {
 
 // stage: the current frame's picture of one pipeline stage (trace_view.hpp), by its stage name.
-enum class MediaKind { none, image, video, web, text, stage };
+// cube, axes, model: 3D media (mesh.hpp), drawn in the marker's frame through its pose.
+enum class MediaKind { none, image, video, web, text, stage, cube, axes, model };
+bool is_solid(MediaKind k);   // cube, axes, model
 
 struct MediaSpec {
   MediaKind kind = MediaKind::none;
@@ -26,8 +29,22 @@ struct MediaSpec {
   double font_px = 32;       // text: glyph height in the card's own pixels (the card is scaled with its placement)
   cv::Scalar colour{255, 255, 255, 255};       // text: BGRA
   cv::Scalar background{40, 40, 40, 200};      // text: BGRA card behind the text (alpha 0: none)
+  // cube, axes, model: the size in marker sides (a cube's edge, the axes' length, a model's largest extent),
+  // where its base's centre stands in the marker's frame (marker sides: x right, y up, z out of the marker) and
+  // its rotation (degrees about x, then y, then z); lit by the lamp or flat colour.
+  double size = 1.0;
+  cv::Vec3d offset{0, 0, 0};
+  cv::Vec3d rotate_deg{0, 0, 0};
+  bool lit = true;
+  double thickness = 0.04;                     // axes: the bars' thickness in marker sides
+  // cube: per face (mesh.hpp's CubeFace order: right left back front top bottom) a BGRA colour, or an image
+  // (the resolved path; the colour then tints it). face_source is what the author wrote.
+  std::array<cv::Scalar, 6> face_colour{{{235, 180, 70, 255}, {235, 180, 70, 255}, {235, 180, 70, 255},
+                                         {235, 180, 70, 255}, {235, 180, 70, 255}, {235, 180, 70, 255}}};
+  std::array<std::string, 6> face_image{};
+  std::array<std::string, 6> face_source{};
   // One line for tables and logs: "image media/painting.png", "video media/clip.mp4 (loop)", "web https://...",
-  // "text \"ID 7\"".
+  // "text \"ID 7\"", "cube size 1", "axes", "model models/house.obj size 1.5".
   std::string describe() const;
 };
 

@@ -63,8 +63,8 @@ struct CubeLook {
 
 // A cube of side 1 standing on the marker: x and y in [-0.5, 0.5], z in [0, 1]. Each face is a grid of
 // `subdivisions` x `subdivisions` squares, so that through a distorting lens its edges bend as the image does.
-// A face's texture is upright when the face is seen from outside with the marker's top (+y) up; the top face's
-// up is +y, the bottom's -y.
+// A face's texture is upright when the face is seen from outside: a side face with +z (away from the marker) up,
+// the top face with the marker's top (+y) up, the bottom face (seen from below) with -y up.
 std::shared_ptr<Mesh> make_cube(const CubeLook& look, int subdivisions = 8);
 
 // Three bars from the origin along x (red), y (green) and z (blue), of length 1 and the given thickness,

@@ -4,14 +4,26 @@
 #pragma once
 
 #include "track/media_spec.hpp"
+#include "track/mesh.hpp"
 #include "track/placement.hpp"
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace arwb {
+
+// A mesh drawn in the marker's 3D frame through the camera's lens model: a 3D media (cube, axes, model), or a
+// flat media (on_marker, beside) drawn on a grid so that it bends with the image where the lens distorts.
+struct SolidDraw {
+  std::shared_ptr<const Mesh> mesh;
+  cv::Matx44d mesh_to_marker = cv::Matx44d::eye();   // mesh units to the marker frame (marker sides)
+  cv::Vec3d rvec{0, 0, 0}, tvec{0, 0, 0};            // the marker's pose: marker frame to camera, tvec in sides
+  cv::Matx33d camera_matrix = cv::Matx33d::eye();
+  std::vector<double> distortion;                    // OpenCV's order, up to 8 used (k1 k2 p1 p2 k3 k4 k5 k6)
+};
 
 struct Overlay {
   int marker_id = -1;          // -1 for a screen placement not tied to a marker
@@ -20,6 +32,9 @@ struct Overlay {
   PlaceSpec place;
   MediaQuad quad;
   std::shared_ptr<MediaContent> content;   // the pixels; null when the media failed to load (reported)
+  // Set: drawn as this mesh with a depth buffer (3D media; flat media when a calibration is loaded), `quad` then
+  // bounds it on screen for clicks. Unset: `quad` is drawn through its homography.
+  std::optional<SolidDraw> solid;
 };
 
 // Whether a mapping does what it says. Anything but ok keeps its row, with the reason, so a fault never looks

@@ -278,6 +278,8 @@ std::optional<MediaQuad> place(const PlaceSpec& spec, const Quad& corners, doubl
     }
   }
   q.H = H_plane * uv_map;
+  q.uv_to_marker = uv_map;
+  q.in_marker_plane = in_marker_plane;
   const cv::Point2d uv[4] = {q.uv_min, {q.uv_max.x, q.uv_min.y}, q.uv_max, {q.uv_min.x, q.uv_max.y}};
   if (in_marker_plane) {
     // The plane's points in front of the camera all have w of the marker centre's sign; a media crossing the

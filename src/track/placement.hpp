@@ -68,6 +68,10 @@ struct MediaQuad {
   cv::Matx33d H = cv::Matx33d::eye();
   cv::Point2d uv_min{0, 0}, uv_max{1, 1};
   double opacity = 1.0;
+  // on_marker and beside: texture coordinates to the marker's own frame (above), an affine map. What a flat
+  // media drawn through the pose and the lens model (Overlay::solid) is laid on.
+  cv::Matx33d uv_to_marker = cv::Matx33d::eye();
+  bool in_marker_plane = false;
   // Whether an image point lies inside the drawn quad (for clicks on web cards).
   bool contains(cv::Point2d p) const;
 };
