@@ -498,8 +498,19 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
       const std::string uri = item["uri"].get<std::string>();
       if (uri.starts_with("data:")) continue;
       const ResolvedFile file = resolve_scene_file(ctx.scene_dir, percent_decoded(uri), ctx.folder);
-      if (file.ok()) continue;
-      const std::string message = ctx.name + ": " + what + " " + std::to_string(i) + ": " + file.error;
+      const std::string prefix = ctx.name + ": " + what + " " + std::to_string(i) + ": ";
+      if (file.ok()) {
+        // tinygltf wants a buffer's file exactly as long as its byteLength; say so in our words first.
+        std::error_code ec;
+        const auto size = fs::file_size(file.path, ec);
+        const auto it_length = item.find("byteLength");
+        if (std::string_view(what) == "buffer" && !ec && it_length != item.end() && it_length->is_number_unsigned() &&
+            it_length->get<uint64_t>() != size)
+          return fail(prefix + shown_name(uri) + ": " + size_text(size) + ", its byteLength says " +
+                      std::to_string(it_length->get<uint64_t>()));
+        continue;
+      }
+      const std::string message = prefix + file.error;
       // A missing image leaves its material's colour; a missing buffer leaves nothing to draw.
       if (std::string_view(what) == "image" && file.error.ends_with(": no such file")) ctx.warnings.push_back(message);
       else return fail(message);
@@ -762,7 +773,12 @@ Result<std::shared_ptr<Mesh>> load_gltf(Context& ctx, const Bytes& bytes, bool b
     return fail(ctx.name + ": cannot be read as glTF");
   }
   if (!files.error.empty()) return fail(ctx.name + ": " + files.error);
-  if (!ok) return fail(ctx.name + ": " + (err.empty() ? std::string("cannot be read as glTF") : first_line(err)));
+  if (!ok) {
+    // tinygltf names files as it asked for them, with our marker in front.
+    for (size_t at; (at = err.find(std::string(kBaseMarker) + "/")) != std::string::npos;)
+      err.erase(at, kBaseMarker.size() + 1);
+    return fail(ctx.name + ": " + (err.empty() ? std::string("cannot be read as glTF") : first_line(err)));
+  }
 
   // Which nodes to draw: the default scene's, else every root (a node no other node names as a child).
   std::vector<int> roots;
