@@ -417,7 +417,6 @@ constexpr std::string_view kBaseMarker = "\x01model-folder\x01";
 
 struct GltfFiles {
   Context* ctx = nullptr;
-  std::string error;   // the first refusal, in our words
 };
 
 std::optional<std::string> requested_uri(const std::string& path) {
@@ -443,9 +442,10 @@ bool gltf_read_file(std::vector<unsigned char>* out, std::string* err, const std
     if (err) *err = file.error;
     return false;
   }
+  // A buffer beyond the limit was refused by precheck_gltf_json; an image beyond it is a warning there, and this
+  // refusal leaves its material's colour.
   Result<Bytes> bytes = read_limited(file.path, shown_name(*uri), files->ctx->limits.file_bytes);
   if (!bytes) {
-    if (files->error.empty()) files->error = bytes.error();
     if (err) *err = bytes.error();
     return false;
   }
@@ -499,20 +499,30 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
       if (uri.starts_with("data:")) continue;
       const ResolvedFile file = resolve_scene_file(ctx.scene_dir, percent_decoded(uri), ctx.folder);
       const std::string prefix = ctx.name + ": " + what + " " + std::to_string(i) + ": ";
+      const bool buffer = std::string_view(what) == "buffer";
       if (file.ok()) {
-        // tinygltf wants a buffer's file exactly as long as its byteLength; say so in our words first.
         std::error_code ec;
         const auto size = fs::file_size(file.path, ec);
-        const auto it_length = item.find("byteLength");
-        if (std::string_view(what) == "buffer" && !ec && it_length != item.end() && it_length->is_number_unsigned() &&
-            it_length->get<uint64_t>() != size)
+        if (ec) continue;  // gone since: tinygltf's read will say so
+        if (size > ctx.limits.file_bytes) {
+          const std::string message = prefix + shown_name(uri) + ": " + size_text(size) +
+                                      ", more than the limit of " + size_text(ctx.limits.file_bytes);
+          if (!buffer) {
+            ctx.warnings.push_back(message);
+            continue;
+          }
+          return fail(message);
+        }
+        // tinygltf wants a buffer's file exactly as long as its byteLength; say so in our words first.
+        const auto length = item.find("byteLength");
+        if (buffer && length != item.end() && length->is_number_unsigned() && length->get<uint64_t>() != size)
           return fail(prefix + shown_name(uri) + ": " + size_text(size) + ", its byteLength says " +
-                      std::to_string(it_length->get<uint64_t>()));
+                      std::to_string(length->get<uint64_t>()));
         continue;
       }
       const std::string message = prefix + file.error;
       // A missing image leaves its material's colour; a missing buffer leaves nothing to draw.
-      if (std::string_view(what) == "image" && file.error.ends_with(": no such file")) ctx.warnings.push_back(message);
+      if (!buffer && file.error.ends_with(": no such file")) ctx.warnings.push_back(message);
       else return fail(message);
     }
     return {};
@@ -753,7 +763,7 @@ Result<std::shared_ptr<Mesh>> load_gltf(Context& ctx, const Bytes& bytes, bool b
   if (Status s = precheck_gltf_json(ctx, json_text); !s) return fail(s.error());
 
   tinygltf::TinyGLTF loader;
-  GltfFiles files{&ctx, {}};
+  GltfFiles files{&ctx};
   GltfImages images{&ctx, {}};
   loader.SetFsCallbacks(tinygltf::FsCallbacks{&gltf_file_exists, &gltf_expand_path, &gltf_read_file,
                                               &gltf_write_file, &files});
@@ -772,7 +782,6 @@ Result<std::shared_ptr<Mesh>> load_gltf(Context& ctx, const Bytes& bytes, bool b
   } catch (const std::exception&) {  // the JSON was checked above; this is the library's own surprise
     return fail(ctx.name + ": cannot be read as glTF");
   }
-  if (!files.error.empty()) return fail(ctx.name + ": " + files.error);
   if (!ok) {
     // tinygltf names files as it asked for them, with our marker in front.
     for (size_t at; (at = err.find(std::string(kBaseMarker) + "/")) != std::string::npos;)

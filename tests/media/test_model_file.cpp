@@ -482,6 +482,40 @@ TEST_F(ModelFile, GltfDataUriBufferAndExternalImage) {
   EXPECT_EQ(load("models/inline.gltf").error(), "models/inline.gltf: image 0: tex.png: leaves the scene's folder");
 }
 
+TEST_F(ModelFile, GltfFilesBeyondTheLimit) {
+  Gltf g;
+  g.mesh(kSquare, kSquareIndices, {}, kSquareUvs, 0);
+  g.doc["images"] = json::array({{{"uri", "noise.png"}}});
+  g.doc["textures"] = json::array({{{"source", 0}}});
+  g.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+  cv::Mat noise(64, 64, CV_8UC3);
+  cv::randu(noise, 0, 256);
+  ASSERT_TRUE(cv::imwrite((scene / "models/noise.png").string(), noise));
+  const auto noise_bytes = fs::file_size(scene / "models/noise.png");
+  ASSERT_GT(noise_bytes, 2000u);
+  ModelLimits limits;
+  limits.file_bytes = 2000;
+
+  // An image too large: a warning, the model kept with its colour.
+  g.finish("square.bin");
+  write("models/square.bin", g.bin);
+  write("models/square.gltf", g.doc.dump());
+  const auto mesh = load("models/square.gltf", limits);
+  ASSERT_TRUE(mesh.ok()) << mesh.error();
+  EXPECT_EQ(warning, "models/square.gltf: image 0: noise.png: " + std::to_string(noise_bytes) +
+                         " bytes, more than the limit of 2000 bytes");
+  EXPECT_FALSE((*mesh)->parts[0].texture);
+
+  // A buffer too large: refused.
+  g.view(std::string(3000, 'x'));
+  g.finish("square.bin");
+  write("models/square.bin", g.bin);
+  write("models/square.gltf", g.doc.dump());
+  EXPECT_EQ(load("models/square.gltf", limits).error(),
+            "models/square.gltf: buffer 0: square.bin: " + std::to_string(g.bin.size()) +
+                " bytes, more than the limit of 2000 bytes");
+}
+
 TEST_F(ModelFile, GltfRefusesBrokenFiles) {
   write("models/garbage.gltf", "{ \"asset\": {\"version\": \"2.0\"}, nonsense ]");
   EXPECT_EQ(load("models/garbage.gltf").error(), "models/garbage.gltf: invalid JSON at byte 33");
