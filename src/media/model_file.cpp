@@ -23,6 +23,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <span>
 #include <sstream>
@@ -304,10 +305,10 @@ Result<std::shared_ptr<Mesh>> load_obj(Context& ctx, const Bytes& bytes) {
           return fail(where + "face index " + std::to_string(static_cast<long long>(c.vertex_index) + 1) +
                       " out of range (" + std::to_string(nv) + " vertices)");
         if (c.normal_index >= 0 && static_cast<size_t>(c.normal_index) >= nn)
-          return fail(where + "normal index " + std::to_string(c.normal_index + 1) + " out of range (" +
+          return fail(where + "normal index " + std::to_string(static_cast<long long>(c.normal_index) + 1) + " out of range (" +
                       std::to_string(nn) + " normals)");
         if (c.texcoord_index >= 0 && static_cast<size_t>(c.texcoord_index) >= nt)
-          return fail(where + "texture coordinate index " + std::to_string(c.texcoord_index + 1) +
+          return fail(where + "texture coordinate index " + std::to_string(static_cast<long long>(c.texcoord_index) + 1) +
                       " out of range (" + std::to_string(nt) + " texture coordinates)");
       }
       if (n < 3) continue;
@@ -528,6 +529,37 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
     return {};
   };
   if (Status s = uris("buffers", "buffer"); !s) return s;
+  // tinygltf hands an image's buffer view to the image loader without checking that the view lies inside its
+  // buffer (tinygltf 2.7, LoadFromString): checked here against the buffers' declared lengths, which tinygltf
+  // does hold the data to (a file or data URI of exactly that length; a GLB chunk at least that long).
+  if (const auto images = doc.find("images"); images != doc.end() && images->is_array()) {
+    const auto unsigned_at = [](const nlohmann::json& o, const char* key, uint64_t fallback) -> std::optional<uint64_t> {
+      const auto it = o.find(key);
+      if (it == o.end()) return fallback;
+      if (!it->is_number_unsigned()) return std::nullopt;
+      return it->get<uint64_t>();
+    };
+    const nlohmann::json* views = doc.contains("bufferViews") && doc["bufferViews"].is_array() ? &doc["bufferViews"] : nullptr;
+    const nlohmann::json* buffers = doc.contains("buffers") && doc["buffers"].is_array() ? &doc["buffers"] : nullptr;
+    for (size_t i = 0; i < images->size(); ++i) {
+      const nlohmann::json& image = (*images)[i];
+      if (!image.is_object() || !image.contains("bufferView")) continue;
+      const std::string where = ctx.name + ": image " + std::to_string(i) + ": ";
+      const std::optional<uint64_t> v = unsigned_at(image, "bufferView", 0);
+      if (!v || !views || *v >= views->size() || !(*views)[*v].is_object())
+        return fail(where + "its buffer view does not exist");
+      const nlohmann::json& view = (*views)[*v];
+      const std::optional<uint64_t> b = unsigned_at(view, "buffer", std::numeric_limits<uint64_t>::max());
+      const std::optional<uint64_t> offset = unsigned_at(view, "byteOffset", 0);
+      const std::optional<uint64_t> length = unsigned_at(view, "byteLength", 0);
+      if (!b || !buffers || *b >= buffers->size() || !(*buffers)[*b].is_object())
+        return fail(where + "buffer view " + std::to_string(*v) + " names no buffer");
+      const std::optional<uint64_t> buffer_length = unsigned_at((*buffers)[*b], "byteLength", 0);
+      if (!offset || !length || !buffer_length || *length == 0 || *offset > *buffer_length ||
+          *length > *buffer_length - *offset)
+        return fail(where + "buffer view " + std::to_string(*v) + " reaches past the end of its buffer");
+    }
+  }
   if (Status s = uris("images", "image"); !s) return s;
   if (const auto it = doc.find("images"); it != doc.end() && it->is_array() &&
                                            it->size() > static_cast<size_t>(ctx.limits.textures))

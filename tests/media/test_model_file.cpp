@@ -539,6 +539,16 @@ TEST_F(ModelFile, GltfRefusesBrokenFiles) {
   write("models/stub.glb", glb.substr(0, 10));
   EXPECT_EQ(load("models/stub.glb").error(), "models/stub.glb: truncated GLB (10 bytes)");
 
+  // An image in a buffer view that reaches past its buffer (tinygltf itself would read past the end).
+  Gltf img;
+  const int view = img.view(png_bytes(4, 4));
+  img.doc["bufferViews"][view]["byteLength"] = 100000;
+  img.doc["images"] = json::array({{{"bufferView", view}, {"mimeType", "image/png"}}});
+  img.mesh(kSquare, kSquareIndices);
+  write("models/image_view.glb", img.glb());
+  EXPECT_EQ(load("models/image_view.glb").error(),
+            "models/image_view.glb: image 0: buffer view 0 reaches past the end of its buffer");
+
   // An accessor claiming more elements than its buffer view holds.
   Gltf far;
   far.mesh(kSquare, kSquareIndices);
