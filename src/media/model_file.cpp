@@ -488,6 +488,12 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
     doc = nlohmann::json::parse(json_text);
   } catch (const nlohmann::json::parse_error& e) {
     return fail(ctx.name + ": invalid JSON at byte " + std::to_string(e.byte));
+  } catch (const nlohmann::json::exception& e) {
+    // Valid syntax the parser still refuses: a number beyond a double ("1e999"), found by fuzz/model_file.
+    std::string reason = e.what();
+    if (const size_t end = reason.find("] "); reason.starts_with('[') && end != std::string::npos)
+      reason = reason.substr(end + 2);
+    return fail(ctx.name + ": invalid JSON (" + shown_name(reason) + ")");
   }
   if (!doc.is_object() || !doc.contains("asset")) return fail(ctx.name + ": not a 3D model (OBJ, glTF or GLB)");
   const auto uris = [&](const char* array, const char* what) -> Status {

@@ -521,6 +521,9 @@ TEST_F(ModelFile, GltfRefusesBrokenFiles) {
   EXPECT_EQ(load("models/garbage.gltf").error(), "models/garbage.gltf: invalid JSON at byte 33");
   write("models/garbage.glb", "glTF" + std::string("\x02\0\0\0\x1c\0\0\0\x08\0\0\0JSON{{{{[[[[", 24));
   EXPECT_EQ(load("models/garbage.glb").error(), "models/garbage.glb: invalid JSON at byte 2");
+  // Valid syntax, but a number beyond a double: nlohmann's parser throws another exception than for syntax.
+  write("models/huge.gltf", R"({"asset": {"version": "2.0"}, "nodes": [{"scale": [1e999, 1, 1]}]})");
+  EXPECT_EQ(load("models/huge.gltf").error(), "models/huge.gltf: invalid JSON (number overflow parsing '1e999')");
   write("models/no_asset.gltf", R"({"meshes": []})");
   EXPECT_EQ(load("models/no_asset.gltf").error(), "models/no_asset.gltf: not a 3D model (OBJ, glTF or GLB)");
 
