@@ -610,13 +610,22 @@ TEST(ModelExamples, HouseAndMarkerPostLoad) {
   const auto house = load_model(models, "house.obj", {}, &warned);
   ASSERT_TRUE(house.ok()) << house.error();
   EXPECT_EQ(warned, "");
-  EXPECT_EQ((*house)->parts.size(), 2u);
-  EXPECT_GE((*house)->triangle_count(), 12u);
+  ASSERT_EQ((*house)->parts.size(), 2u);
+  EXPECT_EQ((*house)->parts[0].name, "walls");
+  EXPECT_EQ((*house)->parts[1].name, "roof");
+  EXPECT_EQ((*house)->triangle_count(), 16u);
+  expect_vec((*house)->min, {-0.5f, 0, -0.5f});
+  expect_vec((*house)->max, {0.5f, 1.6f, 0.5f});
+
+  // Three nodes under a root that halves them: the base plate, the pole on it, the cap turned 45 degrees on top.
   const auto post = load_model(models, "marker_post.gltf", {}, &warned);
   ASSERT_TRUE(post.ok()) << post.error();
   EXPECT_EQ(warned, "");
-  EXPECT_GE((*post)->parts.size(), 2u);
-  EXPECT_GT((*post)->max[1], (*post)->min[1]);
+  ASSERT_EQ((*post)->parts.size(), 3u);
+  EXPECT_EQ((*post)->parts[2].name, "cap");
+  EXPECT_EQ((*post)->triangle_count(), 12u + 12u + 6u);
+  expect_vec((*post)->min, {-0.2f, 0, -0.2f});
+  expect_vec((*post)->max, {0.2f, 0.95f, 0.2f});
 }
 
 }  // namespace
