@@ -94,9 +94,9 @@ std::string join(const std::vector<std::string>& lines) {
 // What every loader shares: where the model is, what it may use, and what went wrong so far.
 struct Context {
   fs::path scene_dir;
-  std::string relative;      // the model as the scene wrote it
-  std::string name;          // the same, fit for a message
-  fs::path folder;           // the model's folder as the scene wrote it ("models" for "models/x.obj")
+  std::string relative;  // the model as the scene wrote it
+  std::string name;      // the same, fit for a message
+  fs::path folder;       // the model's folder as the scene wrote it ("models" for "models/x.obj")
   ModelLimits limits;
   std::vector<std::string> warnings;
   // Textures decoded so far, by canonical path (OBJ) or image index (glTF), so parts share them.
@@ -170,8 +170,8 @@ void drop_texture_without_uvs(Context& ctx, MeshPart& part) {
 enum class Format { obj, gltf, glb, unknown };
 
 bool is_obj_statement(std::string_view word) {
-  static const std::set<std::string_view> kStatements = {"v", "vt", "vn", "vp", "f", "l", "p", "o", "g", "s",
-                                                         "usemtl", "mtllib", "#"};
+  static const std::set<std::string_view> kStatements = {"v", "vt", "vn", "vp",     "f",      "l", "p",
+                                                         "o", "g",  "s",  "usemtl", "mtllib", "#"};
   if (word.starts_with('#')) return true;
   return kStatements.contains(word);
 }
@@ -205,8 +205,10 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
     if (!error.empty()) return false;
     const ResolvedFile file = resolve_scene_file(ctx_.scene_dir, written, ctx_.folder);
     if (!file.ok()) {
-      if (file.error.ends_with(": no such file")) ctx_.warnings.push_back(ctx_.name + ": mtllib " + file.error);
-      else error = ctx_.name + ": mtllib " + file.error;
+      if (file.error.ends_with(": no such file"))
+        ctx_.warnings.push_back(ctx_.name + ": mtllib " + file.error);
+      else
+        error = ctx_.name + ": mtllib " + file.error;
       return false;
     }
     Result<Bytes> bytes = read_limited(file.path, shown_name(written), ctx_.limits.file_bytes);
@@ -305,11 +307,12 @@ Result<std::shared_ptr<Mesh>> load_obj(Context& ctx, const Bytes& bytes) {
           return fail(where + "face index " + std::to_string(static_cast<long long>(c.vertex_index) + 1) +
                       " out of range (" + std::to_string(nv) + " vertices)");
         if (c.normal_index >= 0 && static_cast<size_t>(c.normal_index) >= nn)
-          return fail(where + "normal index " + std::to_string(static_cast<long long>(c.normal_index) + 1) + " out of range (" +
-                      std::to_string(nn) + " normals)");
+          return fail(where + "normal index " + std::to_string(static_cast<long long>(c.normal_index) + 1) +
+                      " out of range (" + std::to_string(nn) + " normals)");
         if (c.texcoord_index >= 0 && static_cast<size_t>(c.texcoord_index) >= nt)
-          return fail(where + "texture coordinate index " + std::to_string(static_cast<long long>(c.texcoord_index) + 1) +
-                      " out of range (" + std::to_string(nt) + " texture coordinates)");
+          return fail(where + "texture coordinate index " +
+                      std::to_string(static_cast<long long>(c.texcoord_index) + 1) + " out of range (" +
+                      std::to_string(nt) + " texture coordinates)");
       }
       if (n < 3) continue;
 
@@ -337,7 +340,8 @@ Result<std::shared_ptr<Mesh>> load_obj(Context& ctx, const Bytes& bytes) {
           if (++vertices > ctx.limits.vertices)
             return fail(ctx.name + ": more than the limit of " + std::to_string(ctx.limits.vertices) + " vertices");
           const auto v = static_cast<size_t>(c.vertex_index) * 3;
-          part.positions.emplace_back(static_cast<float>(attrib.vertices[v]), static_cast<float>(attrib.vertices[v + 1]),
+          part.positions.emplace_back(static_cast<float>(attrib.vertices[v]),
+                                      static_cast<float>(attrib.vertices[v + 1]),
                                       static_cast<float>(attrib.vertices[v + 2]));
           if (c.normal_index >= 0) {
             const auto i = static_cast<size_t>(c.normal_index) * 3;
@@ -512,8 +516,8 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
         const auto size = fs::file_size(file.path, ec);
         if (ec) continue;  // gone since: tinygltf's read will say so
         if (size > ctx.limits.file_bytes) {
-          const std::string message = prefix + shown_name(uri) + ": " + size_text(size) +
-                                      ", more than the limit of " + size_text(ctx.limits.file_bytes);
+          const std::string message = prefix + shown_name(uri) + ": " + size_text(size) + ", more than the limit of " +
+                                      size_text(ctx.limits.file_bytes);
           if (!buffer) {
             ctx.warnings.push_back(message);
             continue;
@@ -529,8 +533,10 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
       }
       const std::string message = prefix + file.error;
       // A missing image leaves its material's colour; a missing buffer leaves nothing to draw.
-      if (!buffer && file.error.ends_with(": no such file")) ctx.warnings.push_back(message);
-      else return fail(message);
+      if (!buffer && file.error.ends_with(": no such file"))
+        ctx.warnings.push_back(message);
+      else
+        return fail(message);
     }
     return {};
   };
@@ -539,13 +545,15 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
   // buffer (tinygltf 2.7, LoadFromString): checked here against the buffers' declared lengths, which tinygltf
   // does hold the data to (a file or data URI of exactly that length; a GLB chunk at least that long).
   if (const auto images = doc.find("images"); images != doc.end() && images->is_array()) {
-    const auto unsigned_at = [](const nlohmann::json& o, const char* key, uint64_t fallback) -> std::optional<uint64_t> {
+    const auto unsigned_at = [](const nlohmann::json& o, const char* key,
+                                uint64_t fallback) -> std::optional<uint64_t> {
       const auto it = o.find(key);
       if (it == o.end()) return fallback;
       if (!it->is_number_unsigned()) return std::nullopt;
       return it->get<uint64_t>();
     };
-    const nlohmann::json* views = doc.contains("bufferViews") && doc["bufferViews"].is_array() ? &doc["bufferViews"] : nullptr;
+    const nlohmann::json* views =
+        doc.contains("bufferViews") && doc["bufferViews"].is_array() ? &doc["bufferViews"] : nullptr;
     const nlohmann::json* buffers = doc.contains("buffers") && doc["buffers"].is_array() ? &doc["buffers"] : nullptr;
     for (size_t i = 0; i < images->size(); ++i) {
       const nlohmann::json& image = (*images)[i];
@@ -567,8 +575,8 @@ Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
     }
   }
   if (Status s = uris("images", "image"); !s) return s;
-  if (const auto it = doc.find("images"); it != doc.end() && it->is_array() &&
-                                           it->size() > static_cast<size_t>(ctx.limits.textures))
+  if (const auto it = doc.find("images");
+      it != doc.end() && it->is_array() && it->size() > static_cast<size_t>(ctx.limits.textures))
     return fail(ctx.name + ": " + std::to_string(it->size()) + " images, more than the limit of " +
                 std::to_string(ctx.limits.textures) + " textures");
   return {};
@@ -636,14 +644,47 @@ Status read_accessor(const Context& ctx, const tinygltf::Model& model, int index
       const uint8_t* p = base + i * stride + k * static_cast<size_t>(csize);
       double v = 0;
       switch (a.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); v = f; break; }
-        case TINYGLTF_COMPONENT_TYPE_BYTE: { int8_t x; std::memcpy(&x, p, 1); v = a.normalized ? std::max(x / 127.0, -1.0) : x; break; }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = a.normalized ? *p / 255.0 : *p; break;
-        case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t x; std::memcpy(&x, p, 2); v = a.normalized ? std::max(x / 32767.0, -1.0) : x; break; }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t x; std::memcpy(&x, p, 2); v = a.normalized ? x / 65535.0 : x; break; }
-        case TINYGLTF_COMPONENT_TYPE_INT: { int32_t x; std::memcpy(&x, p, 4); v = x; break; }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t x; std::memcpy(&x, p, 4); v = x; break; }
-        default: break;
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+          float f;
+          std::memcpy(&f, p, 4);
+          v = f;
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+          int8_t x;
+          std::memcpy(&x, p, 1);
+          v = a.normalized ? std::max(x / 127.0, -1.0) : x;
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          v = a.normalized ? *p / 255.0 : *p;
+          break;
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+          int16_t x;
+          std::memcpy(&x, p, 2);
+          v = a.normalized ? std::max(x / 32767.0, -1.0) : x;
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+          uint16_t x;
+          std::memcpy(&x, p, 2);
+          v = a.normalized ? x / 65535.0 : x;
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_INT: {
+          int32_t x;
+          std::memcpy(&x, p, 4);
+          v = x;
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+          uint32_t x;
+          std::memcpy(&x, p, 4);
+          v = x;
+          break;
+        }
+        default:
+          break;
       }
       (*out)[i * width + k] = v;
     }
@@ -666,10 +707,9 @@ cv::Matx44d node_transform(const tinygltf::Node& node) {
     const double len = std::sqrt(x * x + y * y + z * z + w * w);
     if (std::isfinite(len) && len > 0) {
       x /= len, y /= len, z /= len, w /= len;
-      r = cv::Matx44d(1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), 0,
-                      2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w), 0,
-                      2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y), 0,
-                      0, 0, 0, 1);
+      r = cv::Matx44d(1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), 0, 2 * (x * y + z * w),
+                      1 - 2 * (x * x + z * z), 2 * (y * z - x * w), 0, 2 * (x * z - y * w), 2 * (y * z + x * w),
+                      1 - 2 * (x * x + y * y), 0, 0, 0, 0, 1);
     }
   }
   if (node.scale.size() == 3)
@@ -698,7 +738,8 @@ Status add_primitive(Context& ctx, const tinygltf::Model& model, const tinygltf:
   // The limits are checked on the accessors' counts, before anything is copied.
   const auto declared = [&](int accessor) -> size_t {
     return accessor >= 0 && static_cast<size_t>(accessor) < model.accessors.size()
-               ? model.accessors[static_cast<size_t>(accessor)].count : 0;
+               ? model.accessors[static_cast<size_t>(accessor)].count
+               : 0;
   };
   if (declared(position->second) > ctx.limits.vertices - std::min(ctx.limits.vertices, build.vertices))
     return fail(ctx.name + ": " + std::to_string(build.vertices + declared(position->second)) +
@@ -709,24 +750,30 @@ Status add_primitive(Context& ctx, const tinygltf::Model& model, const tinygltf:
     return fail(ctx.name + ": " + std::to_string(build.triangles + corners / 3) +
                 " triangles, more than the limit of " + std::to_string(ctx.limits.triangles));
   if (Status s = read_accessor(ctx, model, position->second, TINYGLTF_TYPE_VEC3, ctx.limits.vertices,
-                               what + " POSITION", &pos, &count); !s)
+                               what + " POSITION", &pos, &count);
+      !s)
     return s;
   bool has_normals = false, has_uvs = false;
   if (const auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
     if (Status s = read_accessor(ctx, model, it->second, TINYGLTF_TYPE_VEC3, count, what + " NORMAL", &nrm, &n); !s)
       return s;
-    if (n != count) return fail(ctx.name + ": " + what + ": NORMAL has " + std::to_string(n) + " elements, POSITION " + std::to_string(count));
+    if (n != count)
+      return fail(ctx.name + ": " + what + ": NORMAL has " + std::to_string(n) + " elements, POSITION " +
+                  std::to_string(count));
     has_normals = true;
   }
   if (const auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
     if (Status s = read_accessor(ctx, model, it->second, TINYGLTF_TYPE_VEC2, count, what + " TEXCOORD_0", &uv, &n); !s)
       return s;
-    if (n != count) return fail(ctx.name + ": " + what + ": TEXCOORD_0 has " + std::to_string(n) + " elements, POSITION " + std::to_string(count));
+    if (n != count)
+      return fail(ctx.name + ": " + what + ": TEXCOORD_0 has " + std::to_string(n) + " elements, POSITION " +
+                  std::to_string(count));
     has_uvs = true;
   }
   if (prim.indices >= 0) {
     if (Status s = read_accessor(ctx, model, prim.indices, TINYGLTF_TYPE_SCALAR, triangle_room * 3 + 2,
-                                 what + " indices", &idx, &n); !s)
+                                 what + " indices", &idx, &n);
+        !s)
       return s;
     const int ct = model.accessors[static_cast<size_t>(prim.indices)].componentType;
     if (ct == TINYGLTF_COMPONENT_TYPE_FLOAT) return fail(ctx.name + ": " + what + ": indices are not integers");
@@ -744,7 +791,8 @@ Status add_primitive(Context& ctx, const tinygltf::Model& model, const tinygltf:
       return fail(ctx.name + ": " + what + ": index " + std::to_string(static_cast<long long>(i)) + " out of range (" +
                   std::to_string(count) + " vertices)");
 
-  const int material = prim.material >= 0 && static_cast<size_t>(prim.material) < model.materials.size() ? prim.material : -1;
+  const int material =
+      prim.material >= 0 && static_cast<size_t>(prim.material) < model.materials.size() ? prim.material : -1;
   auto [it, added] = build.part_of_material.try_emplace(material, mesh.parts.size());
   if (added) {
     MeshPart part;
@@ -779,7 +827,8 @@ Status add_primitive(Context& ctx, const tinygltf::Model& model, const tinygltf:
                                   : cv::Vec2f(0.f, 0.f));
   }
   for (size_t t = 0; t < idx.size(); t += 3) {
-    const auto a = static_cast<uint32_t>(idx[t]), b = static_cast<uint32_t>(idx[t + 1]), c = static_cast<uint32_t>(idx[t + 2]);
+    const auto a = static_cast<uint32_t>(idx[t]), b = static_cast<uint32_t>(idx[t + 1]),
+               c = static_cast<uint32_t>(idx[t + 2]);
     part.indices.push_back(base + a);
     part.indices.push_back(base + (det < 0 ? c : b));
     part.indices.push_back(base + (det < 0 ? b : c));
@@ -803,8 +852,8 @@ Result<std::shared_ptr<Mesh>> load_gltf(Context& ctx, const Bytes& bytes, bool b
   tinygltf::TinyGLTF loader;
   GltfFiles files{&ctx};
   GltfImages images{&ctx, {}};
-  loader.SetFsCallbacks(tinygltf::FsCallbacks{&gltf_file_exists, &gltf_expand_path, &gltf_read_file,
-                                              &gltf_write_file, &files});
+  loader.SetFsCallbacks(
+      tinygltf::FsCallbacks{&gltf_file_exists, &gltf_expand_path, &gltf_read_file, &gltf_write_file, &files});
   loader.SetImageLoader(&gltf_load_image, &images);
   tinygltf::Model model;
   std::string err, warn;
@@ -877,13 +926,13 @@ Result<std::shared_ptr<Mesh>> load_gltf(Context& ctx, const Bytes& bytes, bool b
     const tinygltf::PbrMetallicRoughness& pbr = model.materials[static_cast<size_t>(material)].pbrMetallicRoughness;
     // baseColorFactor is linear RGBA; kept as it is, in 0..255 BGRA.
     if (pbr.baseColorFactor.size() == 4)
-      part.colour = bgra(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+      part.colour =
+          bgra(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
     const int texture = pbr.baseColorTexture.index;
     if (texture < 0) continue;
     if (pbr.baseColorTexture.texCoord != 0) {
-      ctx.warnings.push_back(ctx.name + ": material '" + shown_name(part.name) +
-                             "': its texture uses TEXCOORD_" + std::to_string(pbr.baseColorTexture.texCoord) +
-                             ", only TEXCOORD_0 is read");
+      ctx.warnings.push_back(ctx.name + ": material '" + shown_name(part.name) + "': its texture uses TEXCOORD_" +
+                             std::to_string(pbr.baseColorTexture.texCoord) + ", only TEXCOORD_0 is read");
       continue;
     }
     if (static_cast<size_t>(texture) >= model.textures.size()) continue;
@@ -914,9 +963,15 @@ Result<std::shared_ptr<Mesh>> load_model(const fs::path& scene_dir, const std::s
 
   Result<std::shared_ptr<Mesh>> mesh = fail("");
   switch (recognise(*bytes)) {
-    case Format::obj: mesh = load_obj(ctx, *bytes); break;
-    case Format::gltf: mesh = load_gltf(ctx, *bytes, false); break;
-    case Format::glb: mesh = load_gltf(ctx, *bytes, true); break;
+    case Format::obj:
+      mesh = load_obj(ctx, *bytes);
+      break;
+    case Format::gltf:
+      mesh = load_gltf(ctx, *bytes, false);
+      break;
+    case Format::glb:
+      mesh = load_gltf(ctx, *bytes, true);
+      break;
     case Format::unknown:
       if (bytes->empty()) return fail(ctx.name + ": empty file (0 bytes)");
       return fail(ctx.name + ": not a 3D model (OBJ, glTF or GLB)");

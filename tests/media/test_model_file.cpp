@@ -300,8 +300,7 @@ TEST_F(ModelFile, RefusesWhatIsTooLarge) {
                 " bytes, more than the limit of 100 bytes");
   ModelLimits few_triangles;
   few_triangles.triangles = 2;
-  EXPECT_EQ(load("models/house.obj", few_triangles).error(),
-            "models/house.obj: 3 triangles, more than the limit of 2");
+  EXPECT_EQ(load("models/house.obj", few_triangles).error(), "models/house.obj: 3 triangles, more than the limit of 2");
   ModelLimits few_vertices;
   few_vertices.vertices = 6;
   EXPECT_EQ(load("models/house.obj", few_vertices).error(), "models/house.obj: more than the limit of 6 vertices");
@@ -311,10 +310,12 @@ TEST_F(ModelFile, RefusesWhatIsTooLarge) {
   write("models/square.glb", g.glb());
   ModelLimits three_vertices;
   three_vertices.vertices = 3;
-  EXPECT_EQ(load("models/square.glb", three_vertices).error(), "models/square.glb: 4 vertices, more than the limit of 3");
+  EXPECT_EQ(load("models/square.glb", three_vertices).error(),
+            "models/square.glb: 4 vertices, more than the limit of 3");
   ModelLimits one_triangle;
   one_triangle.triangles = 1;
-  EXPECT_EQ(load("models/square.glb", one_triangle).error(), "models/square.glb: 2 triangles, more than the limit of 1");
+  EXPECT_EQ(load("models/square.glb", one_triangle).error(),
+            "models/square.glb: 2 triangles, more than the limit of 1");
   small.file_bytes = 64;
   EXPECT_THAT(load("models/square.glb", small).error(), HasSubstr(" bytes, more than the limit of 64 bytes"));
 }
@@ -352,7 +353,8 @@ TEST_F(ModelFile, RefusesMaterialLibrariesAndTexturesOutsideTheFolder) {
             "models/tex.obj: material 'wall' map_Kd: ../../outside.png: leaves the scene's folder");
   fs::create_symlink(tmp.path() / "outside.png", scene / "models/link.png");
   write("models/tex.mtl", "newmtl wall\nmap_Kd link.png\n");
-  EXPECT_EQ(load("models/tex.obj").error(), "models/tex.obj: material 'wall' map_Kd: link.png: leaves the scene's folder");
+  EXPECT_EQ(load("models/tex.obj").error(),
+            "models/tex.obj: material 'wall' map_Kd: link.png: leaves the scene's folder");
 
   // A reference is relative to the model's folder: "house.mtl" beside the model, not beside the scene.
   write("house.mtl", "newmtl wall\nKd 0 1 0\n");
@@ -386,7 +388,8 @@ TEST_F(ModelFile, RefusesBuffersOutsideTheFolderOrMissing) {
 
 TEST_F(ModelFile, GltfWithItsBufferBesideIt) {
   Gltf g;
-  g.doc["materials"] = json::array({{{"name", "paint"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 0.5, 0.0, 1.0}}}}}});
+  g.doc["materials"] =
+      json::array({{{"name", "paint"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 0.5, 0.0, 1.0}}}}}});
   g.mesh(kSquare, kSquareIndices, kSquareNormals, kSquareUvs, 0);
   g.doc["nodes"] = json::array({{{"mesh", 0}}});
   g.doc["scenes"] = json::array({{{"nodes", {0}}}});
@@ -530,15 +533,16 @@ TEST_F(ModelFile, GltfRefusesBrokenFiles) {
   Gltf g;
   g.mesh(kSquare, {0, 1, 2, 0, 2, 7});
   write("models/index.glb", g.glb());
-  EXPECT_EQ(load("models/index.glb").error(), "models/index.glb: mesh 0 primitive 0: index 7 out of range (4 vertices)");
+  EXPECT_EQ(load("models/index.glb").error(),
+            "models/index.glb: mesh 0 primitive 0: index 7 out of range (4 vertices)");
 
   Gltf whole;
   whole.mesh(kSquare, kSquareIndices);
   const std::string glb = whole.glb();
   write("models/truncated.glb", glb.substr(0, glb.size() - 20));
-  EXPECT_EQ(load("models/truncated.glb").error(),
-            "models/truncated.glb: truncated GLB (the header says " + std::to_string(glb.size()) +
-                " bytes, the file has " + std::to_string(glb.size() - 20) + ")");
+  EXPECT_EQ(load("models/truncated.glb").error(), "models/truncated.glb: truncated GLB (the header says " +
+                                                      std::to_string(glb.size()) + " bytes, the file has " +
+                                                      std::to_string(glb.size() - 20) + ")");
   write("models/stub.glb", glb.substr(0, 10));
   EXPECT_EQ(load("models/stub.glb").error(), "models/stub.glb: truncated GLB (10 bytes)");
 
@@ -596,7 +600,7 @@ TEST_F(ModelFile, StoreSharesAModelWhileHeldAndNamesFailures) {
   EXPECT_EQ(warned, "models/house.obj: material 'wall' map_Kd: wall.png: no such file");
   warned.clear();
   const auto b = store.model(scene, "./models/house.obj", &error, &warned);
-  EXPECT_EQ(a.get(), b.get());  // one file, one mesh
+  EXPECT_EQ(a.get(), b.get());                                                            // one file, one mesh
   EXPECT_EQ(warned, "models/house.obj: material 'wall' map_Kd: wall.png: no such file");  // said again
 
   const auto none = store.model(scene, "models/none.obj", &error, &warned);
