@@ -14,12 +14,7 @@ namespace fs = std::filesystem;
 
 namespace arwb::media {
 
-namespace {
-
-constexpr size_t kMaxUrlLength = 2048;
-
-// What the author wrote, fit for one line of a message: control characters shown as '?', long text cut.
-std::string shown(std::string_view s) {
+std::string shown_name(std::string_view s) {
   constexpr size_t kMaxShown = 120;
   std::string out;
   size_t n = std::min(s.size(), kMaxShown);
@@ -31,6 +26,10 @@ std::string shown(std::string_view s) {
   if (s.size() > kMaxShown) out += "\u2026";
   return out;
 }
+
+namespace {
+
+constexpr size_t kMaxUrlLength = 2048;
 
 // True when `inner` is `outer` or lies under it. Both must be canonical; compares whole components, so
 // "/scenes/a2" is not inside "/scenes/a".
@@ -83,12 +82,11 @@ std::string_view authority_of(std::string_view url, std::string* scheme) {
 
 }  // namespace
 
-CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relative) {
-  CheckedPath out;
-  const std::string name = shown(relative);
+ResolvedFile resolve_scene_file(const fs::path& scene_dir, const std::string& relative, const fs::path& from_folder) {
+  ResolvedFile out;
   const auto fail = [&](const std::string& reason) {
     out.path.clear();
-    out.error = name + ": " + reason;
+    out.error = shown_name(relative) + ": " + reason;
     return out;
   };
 
@@ -103,8 +101,9 @@ CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relat
   std::error_code ec;
   const fs::path base = fs::canonical(scene_dir, ec);
   if (ec) return fail("the scene's folder " + scene_dir.string() + " cannot be resolved (" + ec.message() + ")");
-  // Symbolic links are resolved, so one inside the folder that leads out is caught by the containment test.
-  const fs::path resolved = fs::weakly_canonical(base / rel, ec);
+  // Symbolic links are resolved, so one inside the folder that leads out is caught by the containment test
+  // (and so is a `from_folder` that is itself a link leading out).
+  const fs::path resolved = fs::weakly_canonical(base / from_folder / rel, ec);
   if (ec) return fail("cannot resolve (" + ec.message() + ")");
   if (!is_inside(resolved, base)) return fail("leaves the scene's folder");
 
@@ -113,10 +112,27 @@ CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relat
     if (errno == ENOENT || errno == ENOTDIR) return fail("no such file");
     return fail(std::string("cannot access (") + std::generic_category().message(errno) + ")");
   }
-  // A FIFO or device would block or never end when read; a folder is not media.
+  // A FIFO or device would block or never end when read; a folder is not a file.
   if (!S_ISREG(st.st_mode)) return fail(std::string("not a regular file (") + file_type_name(st.st_mode) + ")");
-
   out.path = resolved.string();
+  return out;
+}
+
+CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relative) {
+  CheckedPath out;
+  const std::string name = shown_name(relative);
+  const auto fail = [&](const std::string& reason) {
+    out.path.clear();
+    out.error = name + ": " + reason;
+    return out;
+  };
+
+  const ResolvedFile file = resolve_scene_file(scene_dir, relative);
+  if (!file.ok()) {
+    out.error = file.error;
+    return out;
+  }
+  out.path = file.path;
   switch (classify_path(out.path)) {
     case PathKind::image: {
       std::string reason;
@@ -151,7 +167,7 @@ CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relat
 }
 
 std::string check_url(const std::string& url) {
-  const std::string name = shown(url);
+  const std::string name = shown_name(url);
   if (url.empty()) return "(empty link): only http and https links are opened";
   if (url.size() > kMaxUrlLength)
     return name + ": longer than " + std::to_string(kMaxUrlLength) + " characters";

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace arwb::media {
 
@@ -25,7 +26,28 @@ struct CheckedPath {
   bool ok() const { return error.empty(); }
 };
 
-// Resolves `relative` (as written in the scene) against `scene_dir`. Absolute paths and any ".." component are
+// A file a scene names, resolved and checked by the rules every such file obeys, whatever it is (an image, a
+// video, a 3D model, a model's material library, buffer or texture).
+struct ResolvedFile {
+  std::string path;    // absolute, canonical; empty on failure
+  std::string error;   // empty when usable; else "<what the author wrote>: <reason>"
+  bool ok() const { return error.empty(); }
+};
+
+// Resolves `relative` against `scene_dir`, or against `from_folder` inside it (a model's own references are
+// relative to the model's folder; `from_folder` is then the model's folder as the scene wrote it, itself
+// already checked). Absolute paths and any ".." component of `relative` are refused from the text alone, before
+// the file system is asked; then the path is resolved (symbolic links followed) and must still lie inside the
+// canonical scene folder, and name a regular file. Nothing is read. Errors name `relative` (control characters
+// shown as '?'): "../x.png: leaves the scene's folder" (also for a link leading out), "/dev/zero: absolute paths
+// are not allowed", "x.png: no such file", "fifo: not a regular file (FIFO)", "(folder)", ...
+ResolvedFile resolve_scene_file(const std::filesystem::path& scene_dir, const std::string& relative,
+                                const std::filesystem::path& from_folder = {});
+
+// What the author wrote, fit for one line of a message: control characters shown as '?', long text cut with "…".
+std::string shown_name(std::string_view written);
+
+// Resolves `relative` (as written in the scene) against `scene_dir` by resolve_scene_file's rules. Absolute paths and any ".." component are
 // refused from the text alone, before the file system is asked; then the path is resolved (symbolic links
 // followed) and must still lie inside the canonical scene folder. Only the first bytes and the image header are
 // read, and only from a regular file. Errors name what the author wrote (control characters shown as '?'):
