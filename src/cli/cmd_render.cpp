@@ -1,6 +1,7 @@
 // arwb render: the paper's player and export, offline. Every input frame goes through the same steps as in the
 // workbench (detection, tracker, the scene, placement, the OpenGL compositor), then into a video or PNG frames.
 // Runs without a display (EGL), so a demo can be rendered on a server and shared.
+#include "calibration/calibration_file.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "base/text.hpp"
@@ -111,7 +112,7 @@ int cmd_render(int argc, char** argv) {
                  "(.mp4: H.264 where FFmpeg has it, else MPEG-4 part 2; .avi: MJPG) or PNG frames frame_000000.png "
                  "upward into DIR. Needs no display.",
                  "Scene errors are printed as file:line: message; the render goes on with the rest of the scene.");
-  std::string scene_file, input, out, size_text, dict_opt, params_file;
+  std::string scene_file, input, out, size_text, dict_opt, params_file, calib_file;
   int max_frames = 0, samples = 4;
   double fps_opt = 0;
   bool force = false;
@@ -138,6 +139,10 @@ int cmd_render(int argc, char** argv) {
                                         "ARUCO_ORIGINAL)")
       ->type_name("NAME[,NAME...]");
   cl.app.add_option("--params", params_file, "a YAML preset of detector parameters")->type_name("FILE.yml");
+  cl.app.add_option("--calib", calib_file,
+                    "the camera's calibration (XML or YAML, as arwb calibrate writes): poses, 3D media and media on "
+                    "markers follow its lens model; without it, the paper's default values")
+      ->type_name("FILE");
   cl.app.add_option("--samples", samples, "MSAA samples for the media's edges; 1 turns it off")
       ->type_name("N")
       ->check(whole_number(1, 16));
@@ -171,6 +176,17 @@ int cmd_render(int argc, char** argv) {
       }
     }
   }
+
+  std::shared_ptr<const Calibration> calib;   // as read; fitted to the frames' size at the first frame
+  if (!calib_file.empty()) {
+    Result<Calibration> c = read_calibration(calib_file);
+    if (!c) {
+      print_problem("arwb render: --calib %s\n", c.error().c_str());
+      return 2;
+    }
+    calib = std::make_shared<const Calibration>(std::move(*c));
+  }
+  cv::Size calib_size;   // the frame size `calib` was fitted to
 
   SceneWatchdog watchdog;
   SceneStage stage(media::StoreMode::offline);
@@ -247,6 +263,16 @@ int cmd_render(int argc, char** argv) {
     detector.detect(raw, &f.trace, TraceLevel::full, 1, &f.image);   // acquisition's resize is its first stage
     if (f.image.channels() == 1) cv::cvtColor(f.image, f.image, cv::COLOR_GRAY2BGR);
     render_stage_views(f.image, f.trace, f.views);
+    if (calib && calib_size != f.image.size()) {
+      Result<Calibration> c = calibration_for_size(*calib, f.image.size());
+      if (!c) {
+        print_problem("arwb render: --calib %s\n", c.error().c_str());
+        return 2;
+      }
+      calib = std::make_shared<const Calibration>(std::move(*c));
+      calib_size = f.image.size();
+    }
+    f.loaded_calibration = calib;
     detect_ms += ms_since(t0);
     t0 = Clock::now();
     watchdog.begin("the scene on frame " + std::to_string(frames));

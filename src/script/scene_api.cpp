@@ -1,5 +1,5 @@
 // The scene API's globals (docs/scene-api.md): dictionary, marker, ids, the media constructors (image, video,
-// web, text, stage) and the placements (on_marker, beside, billboard, screen).
+// web, text, stage, and the 3D cube, axes and model) and the placements (on_marker, beside, billboard, screen).
 //
 // Every C function here is a small w_ function whose body runs in guarded() (lua_host.hpp): C++ exceptions
 // become Lua errors, tables are read with raw access, and Lua errors are raised only once the body's C++
@@ -11,6 +11,7 @@
 #include "detect/trace.hpp"
 #include "media/media_path.hpp"
 #include "script/scene_model.hpp"
+#include "track/mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -163,6 +164,35 @@ class Options {
     else fail(std::string(key) + " must be a string, got " + describe_value(L_, -1));
     lua_pop(L_, 1);
     return ok;
+  }
+  // {x, y, z} or {x = .., y = .., z = ..}: three finite numbers.
+  bool vec3(const char* key, cv::Vec3d* out) {
+    if (!get(key)) return false;
+    bool ok = lua_type(L_, -1) == LUA_TTABLE;
+    cv::Vec3d v;
+    for (int i = 0; ok && i < 3; ++i) {
+      lua_rawgeti(L_, -1, i + 1);
+      if (lua_isnil(L_, -1)) {
+        lua_pop(L_, 1);
+        lua_pushstring(L_, i == 0 ? "x" : i == 1 ? "y" : "z");
+        lua_rawget(L_, -2);
+      }
+      ok = lua_type(L_, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L_, -1));
+      if (ok) v[i] = lua_tonumber(L_, -1);
+      lua_pop(L_, 1);
+    }
+    if (ok) *out = v;
+    else fail(std::string(key) + " must be three finite numbers {x, y, z}, got " + describe_value(L_, -1));
+    lua_pop(L_, 1);
+    return ok;
+  }
+  // Pushes the table at `key` and returns true; false (nothing pushed) when absent or not a table (reported).
+  bool table(const char* key) {
+    if (!get(key)) return false;
+    if (lua_type(L_, -1) == LUA_TTABLE) return true;
+    fail(std::string(key) + " must be a table, got " + describe_value(L_, -1));
+    lua_pop(L_, 1);
+    return false;
   }
   void finish(const std::vector<std::string_view>& known) {
     if (present_) warn_unknown_fields(L_, idx_, known, where_, what_ + ": ");
@@ -348,6 +378,129 @@ int w_stage(lua_State* L) {
   });
 }
 
+// ---- 3D media ----------------------------------------------------------------------------------------------
+
+// What cube, axes and model share: size, offset, rotate, lit. Checks the size's range.
+void read_solid_options(Options& opt, MediaSpec* spec, const char* size_key) {
+  opt.number(size_key, &spec->size);
+  opt.vec3("offset", &spec->offset);
+  opt.vec3("rotate", &spec->rotate_deg);
+  opt.boolean("lit", &spec->lit);
+  if (!std::isfinite(spec->size) || spec->size <= 0 || spec->size > 100) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%g", spec->size);
+    opt.fail(std::string(size_key) + " must be a number of marker sides in (0, 100] (got " + b + ")");
+  }
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(spec->offset[i]) > 1000) opt.fail("offset must stay within 1000 marker sides of the marker");
+}
+
+// A face's look: "#rrggbb[aa]" is a colour, anything else an image path inside the scene's folder.
+std::string read_face(lua_State* L, const std::string& value, int face, MediaSpec* spec) {
+  const size_t f = static_cast<size_t>(face);
+  if (!value.empty() && value[0] == '#') {
+    if (!parse_colour(value, &spec->face_colour[f]))
+      return "colour must be \"#rrggbb\" or \"#rrggbbaa\", got '" + shorten(value) + "'";
+    return {};
+  }
+  const media::CheckedPath cp = media::check_media_path(host_of(L).dir, value);
+  if (!cp.ok()) return cp.error;
+  if (cp.kind != media::MediaFileKind::image) return value + ": a video, not an image (a cube's faces show images)";
+  spec->face_image[f] = cp.path;
+  spec->face_source[f] = value;
+  spec->face_colour[f] = cv::Scalar(255, 255, 255, spec->face_colour[f][3]);
+  return {};
+}
+
+int w_cube(lua_State* L) {
+  return guarded(L, [&] {
+    const Where w = where(L);
+    lua_settop(L, 1);
+    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);   // index 2
+    v->where = w.prefix;
+    v->spec.kind = MediaKind::cube;
+    v->spec.source = "cube";
+    Options opt(L, 1, "cube", w);
+    read_solid_options(opt, &v->spec, "size");
+    std::string c;
+    if (opt.string("colour", &c) || opt.string("color", &c)) {
+      cv::Scalar col;
+      if (!parse_colour(c, &col)) opt.fail("colour must be \"#rrggbb\" or \"#rrggbbaa\", got '" + shorten(c) + "'");
+      else v->spec.face_colour.fill(col);
+    }
+    if (opt.table("faces")) {   // pushed at the top
+      std::vector<std::string_view> names;
+      for (int f = 0; f < kCubeFaces; ++f) {
+        const char* name = cube_face_name(static_cast<CubeFace>(f));
+        names.push_back(name);
+        lua_pushstring(L, name);
+        lua_rawget(L, -2);
+        if (lua_type(L, -1) == LUA_TSTRING) {
+          if (std::string e = read_face(L, lua_tostring(L, -1), f, &v->spec); !e.empty())
+            opt.fail(std::string("faces.") + name + ": " + e);
+        } else if (!lua_isnil(L, -1)) {
+          opt.fail(std::string("faces.") + name + " must be a colour \"#rrggbb\" or an image path, got " +
+                   describe_value(L, -1));
+        }
+        lua_pop(L, 1);
+      }
+      warn_unknown_fields(L, -1, names, w, "cube: faces: ");
+      lua_pop(L, 1);
+    }
+    opt.finish({"size", "colour", "color", "faces", "offset", "rotate", "lit"});
+    if (!opt.error().empty()) v->error = opt.error();
+    return 1;
+  });
+}
+
+int w_axes(lua_State* L) {
+  return guarded(L, [&] {
+    const Where w = where(L);
+    lua_settop(L, 1);
+    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);
+    v->where = w.prefix;
+    v->spec.kind = MediaKind::axes;
+    v->spec.source = "axes";
+    v->spec.lit = false;
+    Options opt(L, 1, "axes", w);
+    read_solid_options(opt, &v->spec, "length");
+    opt.number("thickness", &v->spec.thickness);
+    if (!std::isfinite(v->spec.thickness) || v->spec.thickness <= 0 || v->spec.thickness > v->spec.size)
+      opt.fail("thickness must be a number of marker sides in (0, length]");
+    opt.finish({"length", "thickness", "offset", "rotate", "lit"});
+    if (!opt.error().empty()) v->error = opt.error();
+    return 1;
+  });
+}
+
+int w_model(lua_State* L) {
+  return guarded(L, [&] {
+    const Where w = where(L);
+    lua_settop(L, 2);
+    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);
+    v->where = w.prefix;
+    v->spec.kind = MediaKind::model;
+    Options opt(L, 2, "model", w);
+    read_solid_options(opt, &v->spec, "size");
+    opt.finish({"size", "offset", "rotate", "lit"});
+    if (lua_type(L, 1) != LUA_TSTRING) {
+      v->error = "model: expected a path to an OBJ or glTF file (string), got " + describe_value(L, 1);
+      return 1;
+    }
+    v->spec.source = lua_tostring(L, 1);
+    if (!opt.error().empty()) {
+      v->error = opt.error();
+      return 1;
+    }
+    // The path's rules now (a missing file or one leading out skips the marker() call with its line); the
+    // model itself is read when a marker first shows it (media_store.hpp), where a broken file is reported.
+    const media::ResolvedFile f = media::resolve_scene_file(host_of(L).dir, v->spec.source);
+    if (!f.ok()) v->error = "model: " + f.error;
+    else v->spec.path = f.path;
+    return 1;
+  });
+}
+
 // ---- placements ------------------------------------------------------------------------------------------------
 
 int make_place(lua_State* L, PlaceKind kind) {
@@ -525,7 +678,7 @@ int w_marker(lua_State* L) {
     if (!lua_isnil(L, 3)) {
       const MediaValue* mv = test_media(L, 3);
       if (!mv)
-        return skip(label + ": media must be a media value (image, video, web, text or stage), got " +
+        return skip(label + ": media must be a media value (image, video, web, text, stage, cube, axes or model), got " +
                     describe_value(L, 3));
       if (!mv->error.empty()) {
         const std::string msg = (mv->where.empty() ? w.prefix : mv->where) + mv->error + "; " + label + " skipped";
@@ -554,6 +707,10 @@ int w_marker(lua_State* L) {
       }
       m.place = pv->spec;
     }
+    if (is_solid(m.media.kind) && m.place.kind != PlaceKind::on_marker && m.place.kind != PlaceKind::beside)
+      return skip(label + ": a " + (m.media.kind == MediaKind::model ? std::string("model") : m.media.describe()) +
+                  " stands in the marker's 3D frame: place it on_marker or beside, not " +
+                  std::string(place_kind_name(m.place.kind)));
     // callbacks
     for (int i = 5; i <= 7; ++i)
       if (!lua_isnil(L, i) && lua_type(L, i) != LUA_TFUNCTION)
@@ -634,6 +791,7 @@ const luaL_Reg kGlobals[] = {
     {"image", w_image},           {"video", w_video},         {"web", w_web},
     {"text", w_text},             {"stage", w_stage},         {"on_marker", w_on_marker},
     {"beside", w_beside},         {"billboard", w_billboard}, {"screen", w_screen},
+    {"cube", w_cube},             {"axes", w_axes},           {"model", w_model},
     {nullptr, nullptr},
 };
 

@@ -32,7 +32,10 @@ std::shared_ptr<MediaContent> SceneRuntime::Impl::content_for(
   }
   std::string err;
   switch (spec.kind) {
-    case MediaKind::none: return nullptr;
+    case MediaKind::none:
+    case MediaKind::cube:
+    case MediaKind::axes:
+    case MediaKind::model: return nullptr;   // 3D media have meshes (scene_solid.cpp), not pictures
     case MediaKind::image: {
       const std::string key = "image\n" + spec.path;
       if (inst.content_key != key) {

@@ -145,6 +145,17 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
         lua_pop(L, 1);
       }
       const PlaceSpec& place = inst.place_set ? inst.place : m.place;
+      if (is_solid(spec.kind)) {
+        content_for(p, m, inst, spec, in, stages);   // pauses a video the media was before
+        Overlay o;
+        o.marker_id = id;
+        o.mapping = static_cast<int>(mi);
+        o.place = place;
+        if (!solid_overlay(p, m, inst, spec, place, *t, in, &o)) continue;
+        o.media = std::move(spec);
+        overlays.push_back(std::move(o));
+        continue;
+      }
       std::shared_ptr<MediaContent> content = content_for(p, m, inst, spec, in, stages);
       if (!content) continue;
       const cv::Size size = content->size();
@@ -166,6 +177,7 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
       o.place = place;
       o.quad = *quad;
       o.content = std::move(content);
+      through_lens(*t, in, &o);
       overlays.push_back(std::move(o));
     }
   }

@@ -52,6 +52,10 @@ struct SceneInput {
   // The frame's stage pictures (trace_view.hpp), for stage media; null when the trace is not full.
   const std::array<cv::Mat, kStageCount>* views = nullptr;
   uint64_t frame_index = 0;
+  // The camera the tracks' poses were made with (the loaded calibration, or the default values marked assumed),
+  // and the marker side their tvec is measured in. Null: 3D media cannot be drawn.
+  const Calibration* camera = nullptr;
+  double marker_side = 1.0;
 };
 
 class SceneRuntime {

@@ -3,6 +3,7 @@
 //   scene_load.cpp      loading and reloading a file (Lua or XML), and the console
 //   scene_callbacks.cpp calling the scene's Lua functions and applying what they return
 //   scene_content.cpp   the pixels behind a media: images, cards, video players, stage pictures
+//   scene_solid.cpp     3D media (cube, axes, model) and flat media drawn through the pose and the lens model
 #pragma once
 
 #include "script/scene_runtime.hpp"
@@ -34,6 +35,8 @@ struct Instance {
   std::shared_ptr<MediaContent> content;
   std::string video_key;       // this instance's own video player
   std::shared_ptr<media::VideoContent> video;
+  std::string mesh_key;        // a 3D media's mesh, made or loaded once per key
+  std::shared_ptr<const Mesh> mesh;
   double position = 0;         // seconds into the video: grows while the marker is tracked
   bool inside = false;
   bool fresh = false;          // entered on this frame (no dt to add yet)
@@ -125,6 +128,16 @@ struct SceneRuntime::Impl : Reporter {
   std::shared_ptr<MediaContent> content_for(Program& p, const Mapping& m, Instance& inst, const MediaSpec& spec,
                                             const SceneInput& in,
                                             std::array<std::shared_ptr<MediaContent>, kStageCount>& stages);
+
+  // [SECTION] 3D (scene_solid.cpp)
+  // A 3D media's overlay for track t: its mesh in the marker's frame through t's pose. False (reported, with
+  // inst.error set) when it cannot be drawn: no pose, a model that cannot be loaded, a placement that is not in
+  // the marker's frame.
+  bool solid_overlay(Program& p, const Mapping& m, Instance& inst, const MediaSpec& spec, const PlaceSpec& place,
+                     const TrackedMarker& t, const SceneInput& in, Overlay* o);
+  // With a calibration (not the assumed default values) and a pose, a flat media placed in the marker's plane
+  // is drawn as a grid through the pose and the lens model, so it bends as the image does.
+  static void through_lens(const TrackedMarker& t, const SceneInput& in, Overlay* o);
 
   // [SECTION] One frame (scene_runtime.cpp)
   std::vector<Overlay> update(const SceneInput& in);

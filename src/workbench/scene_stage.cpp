@@ -61,6 +61,8 @@ void SceneStage::run(Frame& f, double t_s, double poll_s) {
   in.frame = f.image.size();
   in.views = f.views[0].empty() && f.views[1].empty() ? nullptr : &f.views;
   in.frame_index = f.index;
+  in.camera = &f.pose_camera;
+  in.marker_side = f.pose_marker_side;
   f.overlays = runtime_->update(in);
   f.tracks = tracker_.tracks();
   f.scene = runtime_->status();

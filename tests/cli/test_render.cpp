@@ -202,3 +202,59 @@ TEST(Render, UsageErrorsAreOneLine) {
 
 }  // namespace
 }  // namespace arwb
+
+namespace arwb {
+namespace {
+
+bool reddish(const cv::Vec3b& p) { return p[2] > 100 && p[1] < p[2] / 3 && p[0] < p[2] / 3; }
+
+// The paper's cube on a marker of the sample, through its pose: with the default values and with a calibration
+// file; a calibration that cannot be read is one line naming it.
+TEST(Render, CubeStandsOnItsMarkerWithOrWithoutACalibration) {
+  TempDir d;
+  write_file(d.str("scene.lua"), "marker(843, { media = cube { colour = \"#ff0000\" } })\n");
+  write_file(d.str("cam.yml"),
+             "%YAML:1.0\n---\n"
+             "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+             "   data: [ 560., 0., 319.5, 0., 560., 239.5, 0., 0., 1. ]\n"
+             "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
+             "   data: [ -0.15, 0.02, 0., 0., 0. ]\n"
+             "image_width: 640\nimage_height: 480\n");
+  const cv::Mat sample = cv::imread(kSample);
+  const Quad q = sample_markers().at(843);
+  const cv::Point centre = map(plane(q), 0.5, 0.5);
+  cv::Mat frames[2];
+  for (int with_calib = 0; with_calib < 2; ++with_calib) {
+    const std::string out = d.str(with_calib ? "calibrated" : "default");
+    const auto r = run_arwb("render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " + out +
+                            (with_calib ? " --calib " + d.str("cam.yml") : ""));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const cv::Mat img = cv::imread(out + "/frame_000000.png");
+    ASSERT_FALSE(img.empty());
+    // The cube stands on the marker: its centre is covered in red, lit.
+    EXPECT_TRUE(reddish(img.at<cv::Vec3b>(centre))) << img.at<cv::Vec3b>(centre);
+    // It is drawn in 3D: it covers more than the marker's own quad (its sides and top rise from it).
+    cv::Mat red(img.size(), CV_8U, cv::Scalar(0));
+    for (int y = 0; y < img.rows; ++y)
+      for (int x = 0; x < img.cols; ++x) red.at<uchar>(y, x) = reddish(img.at<cv::Vec3b>(y, x)) ? 255 : 0;
+    const double marker_area = std::abs(cv::contourArea(std::vector<cv::Point2f>(q.begin(), q.end())));
+    EXPECT_GT(cv::countNonZero(red), 1.2 * marker_area);
+    // Nothing else changed: the other marker's centre is as in the input.
+    const cv::Point other = map(plane(sample_markers().at(950)), 0.5, 0.5);
+    EXPECT_EQ(img.at<cv::Vec3b>(other), sample.at<cv::Vec3b>(other));
+    frames[with_calib] = red;
+  }
+  // The lens model changes the pose, and so the cube's pixels.
+  cv::Mat diff;
+  cv::bitwise_xor(frames[0], frames[1], diff);
+  EXPECT_GT(cv::countNonZero(diff), 50);
+
+  const auto bad = run_arwb("render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " +
+                            d.str("bad") + " --calib " + d.str("missing.yml"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--calib"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("missing.yml"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace arwb

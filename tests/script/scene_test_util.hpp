@@ -89,6 +89,7 @@ struct SceneFixture {
     in.frame = frame;
     in.views = views;
     in.frame_index = ++frame_index;
+    in.camera = camera;
     return runtime.update(in);
   }
 
@@ -128,6 +129,7 @@ struct SceneFixture {
   cv::Size frame{640, 480};
   const std::array<cv::Mat, kStageCount>* views = nullptr;
   uint64_t frame_index = 0;
+  const Calibration* camera = nullptr;   // the tracks' poses' camera (3D media need it)
 
  private:
   std::vector<TrackedMarker> tracks_;
