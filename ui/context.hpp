@@ -62,6 +62,9 @@ struct Settings {
   bool peer_opencv = false;
   bool peer_apriltag = false;
   CalibrationSettings calibration;
+  // The printed marker's side in the user's unit (mm, cm, m): poses, distances and Lua's m.pose in that unit.
+  // 0: in marker sides.
+  double marker_size = 0;
 };
 
 enum class RequestKind {

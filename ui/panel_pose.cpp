@@ -9,6 +9,7 @@
 #include "ui/widgets.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -56,7 +57,17 @@ void draw_pose(Context& ctx) {
   } else {
     ImGui::TextWrapped("Camera: %s", f.pose_camera.source.c_str());
   }
-  text_disabled_wrapped(f.pose_marker_side != 1 ? "Positions in the unit of the marker size given; x right, y down, z "
+  // The printed size: positions in its unit. Sent to the worker when it changes (window.cpp); 0 goes back to
+  // marker sides.
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 7);
+  double size = ctx.settings.marker_size;
+  if (ImGui::InputDouble("marker side", &size, 0, 0, "%.4g", ImGuiInputTextFlags_EnterReturnsTrue) &&
+      std::isfinite(size))
+    ctx.settings.marker_size = std::clamp(size, 0.0, 1e6);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("The printed marker's side measured on its outer black edge, in the unit you want positions\n"
+                      "in (mm, cm, m); Enter applies it. 0: positions in marker sides. Lua's m.pose follows it.");
+  text_disabled_wrapped(f.pose_marker_side != 1 ? "Positions in the unit of the marker side above; x right, y down, z "
                                                   "away from the camera."
                                                 : "Positions in marker sides; x right, y down, z away from the camera.");
   std::vector<const TrackedMarker*> with;

@@ -223,6 +223,13 @@ void App::run_action(const Action& a) {
       std::sscanf(a.arg.c_str() + kind.size(), ",%d,%d,%lf,%lf", &b.cols, &b.rows, &b.square_mm, &b.marker_mm);
     if (const std::string why = b.problem(); !why.empty()) return warn("--actions calib_board=" + a.arg + ": " + why);
     settings.calibration.board = b;
+  } else if (a.verb == "marker_size") {
+    // marker_size=L: the printed marker's side (poses in its unit); 0: in marker sides.
+    char* end = nullptr;
+    const double v = std::strtod(a.arg.c_str(), &end);
+    if (a.arg.empty() || *end != '\0' || !std::isfinite(v) || v < 0 || v > 1e6)
+      return warn("--actions marker_size: a size from 0 (marker sides) to 1000000, not '" + a.arg + "'");
+    settings.marker_size = v;
   } else if (a.verb == "calib_capture" || a.verb == "undistort") {
     if (a.arg != "on" && a.arg != "off") return warn("--actions " + a.verb + ": on or off, not '" + a.arg + "'");
     (a.verb == "undistort" ? settings.calibration.undistort : settings.calibration.capture) = a.arg == "on";
@@ -326,6 +333,7 @@ void App::forward_settings() {
   }
   if (settings.calibration.capture != sent.calibration.capture) engine->set_calibration_capture(settings.calibration.capture);
   if (settings.calibration.undistort != sent.calibration.undistort) engine->set_undistort(settings.calibration.undistort);
+  if (settings.marker_size != sent.marker_size) engine->set_marker_size(settings.marker_size);
   // The board is looked for only while a Calibrate panel is on screen.
   if (calibrating != calibrating_sent) engine->set_calibrating(calibrating_sent = calibrating);
   sent = settings;
@@ -601,6 +609,7 @@ int run_workbench(const WorkbenchOptions& options) {
   app.settings.params = options.engine.params;
   app.settings.dictionaries = options.engine.dictionaries;
   app.settings.acquisition = options.engine.acquisition;
+  app.settings.marker_size = options.engine.marker_size;
   app.sent = app.settings;
   app.committed = {app.settings.params, app.settings.dictionaries};
   app.engine = std::make_unique<Engine>(options.engine, [&app](int level, const std::string& m) {
@@ -810,6 +819,7 @@ int run_workbench(const WorkbenchOptions& options) {
                                 {"ambiguity", round_decimals(t.pose->ambiguity, 3)},
                                 {"chosen_by_previous", t.pose->chosen_by_previous}});
     s["pose_camera"] = app.frame ? (app.frame->pose_camera.assumed ? "assumed" : app.frame->pose_camera.source) : "";
+    s["pose_marker_side"] = app.frame ? app.frame->pose_marker_side : 1.0;
     s["pose_drawn"] = app.view.pose_drawn;
     const ui::LabelReport& lr = app.view.labels;
     s["labels"] = {{"drawn", lr.drawn},         {"hidden", lr.hidden},         {"leaders", lr.leaders},

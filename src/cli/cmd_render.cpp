@@ -114,7 +114,7 @@ int cmd_render(int argc, char** argv) {
                  "Scene errors are printed as file:line: message; the render goes on with the rest of the scene.");
   std::string scene_file, input, out, size_text, dict_opt, params_file, calib_file;
   int max_frames = 0, samples = 4;
-  double fps_opt = 0;
+  double fps_opt = 0, marker_size = 0;
   bool force = false;
   cl.app.add_option("--scene", scene_file, "a Lua scene or the paper's XML database (docs/scene-api.md)")
       ->type_name("FILE.lua|FILE.xml")
@@ -143,6 +143,10 @@ int cmd_render(int argc, char** argv) {
                     "the camera's calibration (XML or YAML, as arwb calibrate writes): poses, 3D media and media on "
                     "markers follow its lens model; without it, the paper's default values")
       ->type_name("FILE");
+  cl.app.add_option("--marker-size", marker_size,
+                    "the printed marker's side, in the unit poses should be in (Lua's m.pose); default: marker sides")
+      ->type_name("L")
+      ->check(CLI::Range(0.0, 1e6));
   cl.app.add_option("--samples", samples, "MSAA samples for the media's edges; 1 turns it off")
       ->type_name("N")
       ->check(whole_number(1, 16));
@@ -273,6 +277,7 @@ int cmd_render(int argc, char** argv) {
       calib_size = f.image.size();
     }
     f.loaded_calibration = calib;
+    f.pose_marker_side = marker_size > 0 ? marker_size : 1.0;
     detect_ms += ms_since(t0);
     t0 = Clock::now();
     watchdog.begin("the scene on frame " + std::to_string(frames));

@@ -28,7 +28,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "calib_capture=on|off, calib_drop=N (the N-th view kept), calib_reset, calib_save=PATH, "
                  "calib_wait[=N] (waits until N views are kept and solved), "
                  "undistort=on|off, pose=KINDS (3D over each marker's pose: a comma list of axes, cube, alternative, "
-                 "or all or none).\n"
+                 "or all or none), marker_size=L (the printed marker's side: poses in its unit; 0: marker sides).\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console calibrate calibration_views pose.\n"
                  "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3/4 workspaces Inspect/Script/Teach/Calibrate, Ctrl+Z undo, Ctrl+Shift+Z "
@@ -73,6 +73,11 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                     "a camera calibration (OpenCV's, its interactive app's, the paper's or ROS's file) for the "
                     "undistorted view; a bad one is reported and the workbench runs without it")
       ->type_name("FILE.xml|FILE.yml");
+  cl.app.add_option("--marker-size", o.engine.marker_size,
+                    "the printed marker's side, in the unit poses should be in (mm, cm, m); default: poses in "
+                    "marker sides")
+      ->type_name("L")
+      ->check(CLI::Range(0.0, 1e6));
   cl.app.add_option("--actions", actions, "scripted steps 'N:verb[=arg];...', see below")->type_name("STEPS");
   if (const auto status = cl.parse(argc, argv)) return *status;
 

@@ -34,7 +34,8 @@ bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* o
                                      "scene", "click", "media", "labels", "add_dictionary", "drop", "focus", "type",
                                      "undo", "redo", "set", "quit", "answer", "browse", "sheet", "help", "save_preset",
                                      "workspace", "save_workspace", "move", "splitter", "calib_board", "calib_capture",
-                                     "calib_drop", "calib_reset", "calib_save", "calib_wait", "undistort", "pose"};
+                                     "calib_drop", "calib_reset", "calib_save", "calib_wait", "undistort", "pose",
+                                     "marker_size"};
       if (std::none_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; })) {
         *error = "--actions '" + item + "': unknown verb '" + a.verb + "'";
         return false;

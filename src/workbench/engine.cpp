@@ -65,10 +65,11 @@ struct Engine::Pending {
   std::vector<std::string> calibration_drops;
   bool calibration_reset = false;
   std::optional<std::string> calibration_file;
+  std::optional<double> marker_size;
   bool any() const {
     return source || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
            next_frame || peers || scene_file || calibrating || calibration_capture || undistort || calibration_board ||
-           !calibration_drops.empty() || calibration_reset || calibration_file;
+           !calibration_drops.empty() || calibration_reset || calibration_file || marker_size;
   }
 };
 
@@ -101,6 +102,7 @@ struct Engine::Worker {
   // read, and as fitted to the frames' size) and the undistortion maps of the calibration last used.
   bool calibrating = false;
   bool undistort = false;
+  double marker_size = 0;   // EngineConfig::marker_size, then set_marker_size
   std::string calibration_name;   // the name the last frame was offered under
   bool calibration_searched = false;   // the frame shown was taken by the board search (not skipped as it was busy)
   std::unique_ptr<CalibrationSession> session;
@@ -120,6 +122,9 @@ struct Engine::State {
   void run();
   void publish(std::shared_ptr<Frame> f);
   void calibrate(Worker& w, Frame& f, bool fresh, double sx, double sy);
+  // The frame's camera for poses, before the tracker runs: the loaded calibration made for its size (null
+  // without one) and the marker's side.
+  void camera(Worker& w, Frame& f);
 
   LogFn log_;
   mutable std::mutex mutex_;
@@ -142,6 +147,7 @@ Engine::Engine(EngineConfig config, LogFn log) : s_(std::make_shared<State>()) {
   if (!s_->worker_->config.scene_file.empty()) s_->pending_->scene_file = s_->worker_->config.scene_file;
   s_->source_in_use_ = s_->worker_->config.source;
   if (!s_->worker_->config.calibration_file.empty()) s_->pending_->calibration_file = s_->worker_->config.calibration_file;
+  if (s_->worker_->config.marker_size > 0) s_->pending_->marker_size = s_->worker_->config.marker_size;
 }
 
 Engine::~Engine() { stop(); }
@@ -222,6 +228,7 @@ void Engine::set_calibration_capture(bool on) { ARWB_SET(calibration_capture, on
 void Engine::reset_calibration() { ARWB_SET(calibration_reset, true); }
 void Engine::load_calibration(const std::string& path) { ARWB_SET(calibration_file, path); }
 void Engine::set_undistort(bool on) { ARWB_SET(undistort, on); }
+void Engine::set_marker_size(double side) { ARWB_SET(marker_size, side); }
 #undef ARWB_SET
 void Engine::drop_calibration_view(const std::string& name) {
   std::lock_guard lock(s_->mutex_);
@@ -245,6 +252,21 @@ void Engine::State::publish(std::shared_ptr<Frame> f) {
 
 // The frame's calibration: the session fed with a new frame while calibrating, the loaded calibration fitted to
 // the frame's size, the synthetic camera's truth and the undistorted image.
+void Engine::State::camera(Worker& w, Frame& f) {
+  if (w.loaded_raw && f.image.size() != w.loaded_for) {
+    w.loaded_for = f.image.size();
+    if (Result<Calibration> c = calibration_for_size(*w.loaded_raw, f.image.size())) {
+      w.loaded = std::make_shared<const Calibration>(std::move(*c));
+    } else {
+      w.loaded.reset();
+      log_(2, c.error());
+    }
+  }
+  if (!w.loaded_raw) w.loaded.reset();
+  f.loaded_calibration = w.loaded;
+  f.pose_marker_side = w.marker_size > 0 && std::isfinite(w.marker_size) ? w.marker_size : 1.0;
+}
+
 void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double sy) {
   if (w.calibrating) {
     CalibrationSession& session = w.calibration();
@@ -267,17 +289,6 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
     f.calibration_name = w.calibration_name;
     f.calibration = session.snapshot();
   }
-  if (w.loaded_raw && f.image.size() != w.loaded_for) {
-    w.loaded_for = f.image.size();
-    if (Result<Calibration> c = calibration_for_size(*w.loaded_raw, f.image.size())) {
-      w.loaded = std::make_shared<const Calibration>(std::move(*c));
-    } else {
-      w.loaded.reset();
-      log_(2, c.error());
-    }
-  }
-  if (!w.loaded_raw) w.loaded.reset();
-  f.loaded_calibration = w.loaded;
   if (const auto* syn = dynamic_cast<const SyntheticSource*>(w.source.get())) {
     if (const SynthCamera* cam = syn->board_camera()) {
       Calibration t;
@@ -447,6 +458,7 @@ void Engine::State::run() {
       }
     }
     if (p.undistort) w.undistort = *p.undistort;
+    if (p.marker_size) w.marker_size = *p.marker_size;
     if (p.calibration_file) {
       if (p.calibration_file->empty()) {
         w.loaded_raw.reset();
@@ -461,7 +473,7 @@ void Engine::State::run() {
     }
     // Show at once what changed the calibration (a view dropped, a solve finished), even when no new frame comes.
     if (p.calibrating || p.calibration_board || p.calibration_capture || p.calibration_reset ||
-        !p.calibration_drops.empty() || p.undistort || p.calibration_file) {
+        !p.calibration_drops.empty() || p.undistort || p.calibration_file || p.marker_size) {
       w.redetect = true;
     }
     if (w.calibrating && w.session && w.session->poll()) w.redetect = true;
@@ -527,6 +539,7 @@ void Engine::State::run() {
       };
       // The tracker runs on every frame (its tracks carry the poses the Pose panel and the 3D overlays show); the
       // scene, when there is one, runs on its tracks.
+      camera(w, *f);
       if (!w.stage) w.stage = std::make_unique<SceneStage>(media::StoreMode::live);
       if (!w.stage->loaded()) {
         w.stage->run(*f, now);

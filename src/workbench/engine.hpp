@@ -38,6 +38,8 @@ struct EngineConfig {
   int threads = 1;   // detector threads (the UI has the other core)
   std::string scene_file;   // a Lua scene or XML database to load at start ("" none)
   std::string calibration_file;   // a calibration to load at start (--calib; "" none)
+  // The printed marker's side (--marker-size, any unit: mm, cm, m): poses in that unit. 0: in marker sides.
+  double marker_size = 0;
 };
 
 class Engine {
@@ -88,6 +90,8 @@ class Engine {
   void load_calibration(const std::string& path);
   // Each frame also undistorted (Frame::undistorted) with the newest calibration.
   void set_undistort(bool on);
+  // The printed marker's side for poses (Frame::pose_marker_side); 0 or less: poses in marker sides.
+  void set_marker_size(double side);
 
   double detect_fps() const;                 // finished frames per second over the last second or so
   uint64_t frames_done() const;

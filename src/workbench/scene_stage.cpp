@@ -35,7 +35,8 @@ void SceneStage::run(Frame& f, double t_s, double poll_s) {
     if (runtime_->reload_if_changed()) tracker_.clear();
   }
   // The tracker follows the frame's parameters (its One Euro filter) and camera: the loaded calibration, or the
-  // paper's default values for the frame's size (marked assumed). The marker's side is 1: tvec in marker sides.
+  // paper's default values for the frame's size (marked assumed). The marker's side is the frame's
+  // pose_marker_side (the printed size the user gave, else 1: tvec in marker sides).
   SmoothingSettings sm;
   sm.on = f.params.tracking_smoothing != 0;
   sm.min_cutoff_hz = f.params.tracking_min_cutoff_hz;
@@ -44,7 +45,7 @@ void SceneStage::run(Frame& f, double t_s, double poll_s) {
   tracker_.set_smoothing(sm);
   if (f.loaded_calibration) f.pose_camera = *f.loaded_calibration;
   else if (f.image.cols > 0 && f.image.rows > 0) f.pose_camera = default_calibration(f.image.size());
-  f.pose_marker_side = 1;
+  if (!(f.pose_marker_side > 0)) f.pose_marker_side = 1;
   tracker_.set_camera(f.pose_camera, f.pose_marker_side);
   const std::vector<TrackEvent> events = tracker_.update(f.trace.markers, t_s);
   if (file_.empty()) {   // no scene: the tracks alone (with their poses)

@@ -7,6 +7,8 @@
 
 #define GL_GLEXT_PROTOTYPES
 #include <GL/gl.h>
+#include "still_media.hpp"
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -17,18 +19,7 @@
 namespace arwb {
 namespace {
 
-class StillContent : public MediaContent {
- public:
-  explicit StillContent(cv::Mat m) : m_(std::make_shared<const cv::Mat>(std::move(m))) {}
-  cv::Size size() const override { return m_->size(); }
-  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
-    *version = 1;
-    return m_;
-  }
-
- private:
-  std::shared_ptr<const cv::Mat> m_;
-};
+using StillMedia = test::StillMedia;
 
 // A strongly tilted marker (a trapezoid): perspective is obvious on it.
 const Quad kTilted{{{200, 120}, {440, 120}, {560, 400}, {80, 400}}};
@@ -41,7 +32,7 @@ Overlay overlay_for(const cv::Mat& media, const Quad& marker, PlaceSpec spec = {
   auto q = place(spec, marker, double(media.cols) / media.rows, {640, 480});
   EXPECT_TRUE(q);
   o.quad = *q;
-  o.content = std::make_shared<StillContent>(media);
+  o.content = std::make_shared<StillMedia>(media);
   return o;
 }
 

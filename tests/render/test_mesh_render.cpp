@@ -6,6 +6,8 @@
 #include "render/offscreen.hpp"
 #include "track/mesh.hpp"
 
+#include "still_media.hpp"
+
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,18 +18,7 @@
 namespace arwb {
 namespace {
 
-class Still : public MediaContent {
- public:
-  explicit Still(cv::Mat m) : m_(std::make_shared<const cv::Mat>(std::move(m))) {}
-  cv::Size size() const override { return m_->size(); }
-  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
-    *version = 7;
-    return m_;
-  }
-
- private:
-  std::shared_ptr<const cv::Mat> m_;
-};
+using StillMedia = test::StillMedia;
 
 const cv::Size kFrame(640, 480);
 const cv::Matx33d kK(600, 0, 319.5, 0, 600, 239.5, 0, 0, 1);
@@ -218,7 +209,7 @@ TEST(MeshRender, FlatMediaThroughTheLensFollowsTheDistortedMarker) {
   o.marker_id = 1;
   o.media.kind = MediaKind::text;
   o.quad.opacity = 1;
-  o.content = std::make_shared<Still>(cv::Mat(64, 64, CV_8UC3, cv::Scalar(0, 0, 255)));
+  o.content = std::make_shared<StillMedia>(cv::Mat(64, 64, CV_8UC3, cv::Scalar(0, 0, 255)));
   SolidDraw d;
   d.mesh = flat_media_mesh();
   // The grid's [0,1]^2 onto the marker: x right, y down from corner 0 at (-0.5, 0.5).

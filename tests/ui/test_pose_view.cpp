@@ -107,5 +107,53 @@ TEST(PoseView, ThePosePanelFitsInEveryWorkspaceItIsIn) {
   }
 }
 
+// The printed size puts positions in its unit: --marker-size 50 (mm) at start, and marker_size= while running
+// (as the Pose panel's field does), both scale tvec by it; 0 goes back to marker sides.
+TEST(PoseView, TheMarkerSizeGivesPositionsInItsUnit) {
+  TempDir tmp;
+  cv::Vec3d truth;
+  const std::string image = marker_image(tmp, &truth);
+  const RunResult mm = test::run_arwb_window(
+      window_args(tmp, "--source '" + image + "' --frames 30 --stats --marker-size 50"));
+  ASSERT_EQ(mm.status, 0) << mm.err;
+  nlohmann::json s = stats(mm);
+  ASSERT_EQ(s["poses"].size(), 1u) << mm.out;
+  EXPECT_EQ(s["pose_marker_side"], 50.0);
+  EXPECT_NEAR(s["poses"][0]["tvec"][2].get<double>(), truth[2] * 50, 5);
+  EXPECT_NEAR(s["poses"][0]["distance"].get<double>(), cv::norm(truth) * 50, 5);
+  const RunResult back = test::run_arwb_window(window_args(
+      tmp, "--source '" + image + "' --frames 30 --stats --marker-size 50 --actions '5:marker_size=0'"));
+  ASSERT_EQ(back.status, 0) << back.err;
+  s = stats(back);
+  ASSERT_EQ(s["poses"].size(), 1u) << back.out;
+  EXPECT_EQ(s["pose_marker_side"], 1.0);
+  EXPECT_NEAR(s["poses"][0]["tvec"][2].get<double>(), truth[2], 0.1);
+  const RunResult bad = test::run_arwb_window(
+      window_args(tmp, "--source '" + image + "' --frames 5 --actions '0:marker_size=big'"));
+  EXPECT_NE(bad.err.find("marker_size: a size from 0"), std::string::npos) << bad.err;
+}
+
+// A calibration given with --calib is the camera poses are made with from the first frame (it was once attached
+// to the frame only after the tracker had run, so poses stayed on the assumed camera).
+TEST(PoseView, ALoadedCalibrationIsThePosesCamera) {
+  TempDir tmp;
+  cv::Vec3d truth;
+  const std::string image = marker_image(tmp, &truth);
+  const Calibration cam = default_calibration({640, 480});
+  test::write_file(tmp.str("cam.yml"),
+                   "%YAML:1.0\n---\ncamera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " +
+                       std::to_string(cam.camera_matrix(0, 0)) + ", 0., 319.5, 0., " +
+                       std::to_string(cam.camera_matrix(1, 1)) + ", 239.5, 0., 0., 1. ]\n"
+                       "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
+                       "   data: [ 0., 0., 0., 0., 0. ]\nimage_width: 640\nimage_height: 480\n");
+  const RunResult r = test::run_arwb_window(
+      window_args(tmp, "--source '" + image + "' --frames 30 --stats --calib '" + tmp.str("cam.yml") + "'"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json s = stats(r);
+  ASSERT_EQ(s["poses"].size(), 1u) << r.out;
+  EXPECT_NE(s["pose_camera"].get<std::string>().find("cam.yml"), std::string::npos) << s["pose_camera"];
+  EXPECT_NEAR(s["poses"][0]["tvec"][2].get<double>(), truth[2], 0.1);
+}
+
 }  // namespace
 }  // namespace arwb
