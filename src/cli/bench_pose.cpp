@@ -5,6 +5,7 @@
 #include "detect/peers.hpp"
 #include "pose/marker_pose.hpp"
 #include "synth/marker_view.hpp"
+#include "track/tracker.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
@@ -98,6 +99,8 @@ struct PoseTally {
 
 struct SequenceTally {
   int frames = 0, detected = 0, ambiguous = 0, flips_alone = 0, flips_tracked = 0, chosen_by_previous = 0;
+  int flips_filtered = 0;                                       // through the Tracker
+  std::vector<double> rot_alone, rot_resolved, rot_filtered;   // rotation errors, degrees
 };
 
 // Rotation from a to b by the fraction u along the shortest way; translation along the straight line.
@@ -131,13 +134,20 @@ int run_pose_bench(const PoseBenchOptions& options) {
 
   const Detector arwb_det({*dictionary_by_name("ARUCO_ORIGINAL")});
   const OpenCvArucoPeer ocv("ARUCO_ORIGINAL"), ocv3("ARUCO_ORIGINAL", true);
-  auto arwb_estimate = [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
+  auto arwb_find = [&](const cv::Mat& img, const Truth& t) -> std::optional<Marker> {
     const auto found = arwb_det.detect(img);
     const Marker* m = right_marker(found, t);
     if (!m) return std::nullopt;
-    auto p = estimate_marker_pose(m->corners, kSide, calib);
+    return *m;
+  };
+  auto arwb_estimate_from = [&](const Marker& m) -> std::optional<Estimate> {
+    auto p = estimate_marker_pose(m.corners, kSide, calib);
     if (!p) return std::nullopt;
     return Estimate{p->pose, p};
+  };
+  auto arwb_estimate = [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
+    const auto m = arwb_find(img, t);
+    return m ? arwb_estimate_from(*m) : std::nullopt;
   };
   auto peer_estimate = [&](const OpenCvArucoPeer& peer) {
     return [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
@@ -196,28 +206,43 @@ int run_pose_bench(const PoseBenchOptions& options) {
     }
   }
 
-  // The sequence: a smooth path through a few poses; arwb choosing each frame alone, and choosing by the
-  // previous frame's pose (resolve_with_previous) where the corners leave it open.
+  // The sequence: one marker along a smooth path through a few poses, 20 frames a second; arwb choosing each
+  // frame alone, choosing by the previous frame's pose (resolve_with_previous) where the corners leave it open,
+  // and the workbench's Tracker (One Euro-filtered corners, then the same choice by the track's previous pose).
   SequenceTally seq;
   for (int j = 0; j < kSequences; ++j) {
     const auto keys =
         marker_poses(camera, kSide, kSequenceKeys, kSeqNear, kFar, kSeqTilt, seed + 104729u * unsigned(j + 1));
     std::optional<cv::Vec3d> previous;
+    Tracker tracker;
+    tracker.set_camera(calib, kSide);
     for (int i = 0; i < kSequenceFrames && keys.size() >= 2; ++i) {
       const double s = double(i) * double(keys.size() - 1) / (kSequenceFrames - 1);
       const size_t k = std::min(keys.size() - 2, size_t(s));
       const auto [img, truth] =
-          render(i + j, interpolate(keys[k], keys[k + 1], s - double(k)), seed * 31u + unsigned(j * 1000 + i));
+          render(j, interpolate(keys[k], keys[k + 1], s - double(k)), seed * 31u + unsigned(j * 1000 + i));
       ++seq.frames;
-      const auto e = arwb_estimate(img, truth);
+      const auto m = arwb_find(img, truth);
+      tracker.update(m ? std::vector<Marker>{*m} : std::vector<Marker>{}, i / 20.0);
+      const auto e = m ? arwb_estimate_from(*m) : std::nullopt;
       if (!e) continue;   // the previous pose is kept: a frame lost is not a reason to forget
       ++seq.detected;
       seq.ambiguous += e->both->ambiguity >= kAmbiguous;
       const MarkerPose tracked = previous ? resolve_with_previous(*e->both, *previous, kAmbiguous) : *e->both;
       seq.chosen_by_previous += tracked.chosen_by_previous;
-      seq.flips_alone += rotation_difference_deg(e->pose.rvec, truth.rvec) > kFlipDeg;
-      seq.flips_tracked += rotation_difference_deg(tracked.pose.rvec, truth.rvec) > kFlipDeg;
+      const double alone = rotation_difference_deg(e->pose.rvec, truth.rvec);
+      const double resolved = rotation_difference_deg(tracked.pose.rvec, truth.rvec);
+      seq.flips_alone += alone > kFlipDeg;
+      seq.flips_tracked += resolved > kFlipDeg;
+      seq.rot_alone.push_back(alone);
+      seq.rot_resolved.push_back(resolved);
       previous = tracked.pose.rvec;
+      for (const TrackedMarker& t : tracker.tracks())
+        if (t.detected && t.pose) {
+          const double filtered = rotation_difference_deg(t.pose->pose.rvec, truth.rvec);
+          seq.flips_filtered += filtered > kFlipDeg;
+          seq.rot_filtered.push_back(filtered);
+        }
     }
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -264,7 +289,12 @@ int run_pose_bench(const PoseBenchOptions& options) {
                        {"flips_tracked", seq.flips_tracked},
                        {"chosen_by_previous", seq.chosen_by_previous},
                        {"flips_per_100_alone", round_decimals(100 * share(seq.flips_alone, seq.frames), 3)},
-                       {"flips_per_100_tracked", round_decimals(100 * share(seq.flips_tracked, seq.frames), 3)}};
+                       {"flips_per_100_tracked", round_decimals(100 * share(seq.flips_tracked, seq.frames), 3)},
+                       {"flips_filtered", seq.flips_filtered},
+                       {"flips_per_100_filtered", round_decimals(100 * share(seq.flips_filtered, seq.frames), 3)},
+                       {"rot_median_deg_alone", round_decimals(quantile(seq.rot_alone, 0.5), 3)},
+                       {"rot_median_deg_resolved", round_decimals(quantile(seq.rot_resolved, 0.5), 3)},
+                       {"rot_median_deg_filtered", round_decimals(quantile(seq.rot_filtered, 0.5), 3)}};
     out["seconds"] = round_decimals(seconds, 2);
     std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
     return 0;
@@ -289,9 +319,11 @@ int run_pose_bench(const PoseBenchOptions& options) {
               "(tilted up to %.0f deg) at %.2f to %.2f m; arwb found the marker in %d frames (%d ambiguous)\n",
               kSequences, kSequenceFrames, kSequenceKeys, kSeqTilt, kSeqNear, kFar, seq.detected, seq.ambiguous);
   std::printf("flips per 100 frames: each frame alone %.1f, resolve_with_previous %.1f (it chose the other solution "
-              "%d times)\n",
+              "%d times), the Tracker (filtered corners) %.1f\n",
               100 * share(seq.flips_alone, seq.frames), 100 * share(seq.flips_tracked, seq.frames),
-              seq.chosen_by_previous);
+              seq.chosen_by_previous, 100 * share(seq.flips_filtered, seq.frames));
+  std::printf("median rotation error: alone %.2f deg, resolve_with_previous %.2f deg, the Tracker %.2f deg\n",
+              quantile(seq.rot_alone, 0.5), quantile(seq.rot_resolved, 0.5), quantile(seq.rot_filtered, 0.5));
   std::printf("\n%.1f s, one thread\n", seconds);
   return 0;
 }

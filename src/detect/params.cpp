@@ -65,7 +65,7 @@ const ParamInfo kTable[] = {
     ARWB_DBL(tracking_min_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,
              "Cutoff of a still marker's corners. Lower holds a still marker steadier, and it lags more when it "
              "starts to move."),
-    ARWB_DBL(tracking_beta, kTrackingStage, "s/px", 0.5, 0, 2,
+    ARWB_DBL(tracking_beta, kTrackingStage, "s/px", 1, 0, 10,
              "How fast the cutoff rises with a corner's speed. Higher follows a moving marker more closely, and "
              "lets more jitter through while it moves."),
     ARWB_DBL(tracking_d_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,

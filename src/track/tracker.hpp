@@ -50,7 +50,7 @@ struct TrackEvent {
 struct SmoothingSettings {
   bool on = true;
   double min_cutoff_hz = 1.0;   // cutoff of a still corner: lower is steadier, and lags more when it starts moving
-  double beta = 0.5;            // how much the cutoff rises with speed (per px/s): higher lags less when moving
+  double beta = 1.0;            // how much the cutoff rises with speed (per px/s): higher lags less when moving
   double d_cutoff_hz = 1.0;     // cutoff of the speed estimate the cutoff follows
 };
 
