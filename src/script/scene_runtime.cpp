@@ -149,6 +149,7 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
         content_for(p, m, inst, spec, in, stages);   // pauses a video the media was before
         Overlay o;
         o.marker_id = id;
+        o.track_id = t->track_id;
         o.mapping = static_cast<int>(mi);
         o.place = place;
         if (!solid_overlay(p, m, inst, spec, place, *t, in, &o)) continue;
@@ -172,6 +173,7 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
       }
       Overlay o;
       o.marker_id = id;
+      o.track_id = t->track_id;
       o.mapping = static_cast<int>(mi);
       o.media = std::move(spec);
       o.place = place;

@@ -27,6 +27,7 @@ struct SolidDraw {
 
 struct Overlay {
   int marker_id = -1;          // -1 for a screen placement not tied to a marker
+  uint64_t track_id = 0;       // the print of that id it belongs to (TrackedMarker::track_id); 0 for none
   int mapping = -1;            // index into SceneStatus::mappings
   MediaSpec media;
   PlaceSpec place;

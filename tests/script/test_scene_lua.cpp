@@ -572,6 +572,9 @@ marker(5, { media = video("clip.avi", { loop = true }),
   EXPECT_NEAR(mid_x(ov[0]), 100, 1) << "the first print's media";
   EXPECT_NEAR(mid_x(ov[1]), 400, 1) << "the second print's media";
   EXPECT_NE(ov[0].content, ov[1].content);
+  // Each overlay says which print it belongs to.
+  EXPECT_EQ(ov[0].track_id, a.track_id);
+  EXPECT_EQ(ov[1].track_id, b.track_id);
   EXPECT_EQ(s.runtime.status().mappings[0].state, "visible 0.0 s (2 markers)");
   // The first leaves: only its on_leave runs, the other keeps its media.
   TrackedMarker b0 = b;
