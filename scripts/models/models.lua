@@ -17,7 +17,8 @@ marker(2, { name = "post", media = model("marker_post.gltf", { size = 1 }), plac
 marker(2, {
   name = "distance",
   media = text(function(m)
-    if m.pose then return string.format("%.1f sides away", m.pose.distance) end
+    -- In marker sides, or in the unit of --marker-size (the Pose panel's "marker side") when one is given.
+    if m.pose then return string.format("distance %.1f", m.pose.distance) end
     return "no pose"
   end, { size = 28 }),
   place = beside { side = "bottom", gap = 0.1, size = 0.4 },
