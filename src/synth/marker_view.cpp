@@ -13,7 +13,13 @@
 namespace arwb {
 
 MarkerRenderer::MarkerRenderer(SynthCamera camera, SynthMarker marker)
-    : camera_(std::move(camera)), marker_(std::move(marker)), rays_(sample_rays(camera_)) {
+    : camera_(std::move(camera)), rays_(sample_rays(camera_)) {
+  set_marker(marker);
+}
+
+void MarkerRenderer::set_marker(const SynthMarker& marker) {
+  marker_ = marker;
+  cells_.release();
   const std::optional<Dictionary> dict = dictionary_by_name(marker_.dictionary);
   if (!dict || marker_.id < 0 || marker_.id >= dict->size()) return;   // an unknown marker renders as paper
   const int n = dict->marker_size();
@@ -23,6 +29,20 @@ MarkerRenderer::MarkerRenderer(SynthCamera camera, SynthMarker marker)
 
 MarkerView MarkerRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px, double noise,
                                   unsigned seed) const {
+  MarkerView v;
+  cv::Mat1f acc = render_levels(rvec, tvec, &v);
+  if (blur_px > 0) cv::GaussianBlur(acc, acc, cv::Size(), blur_px);
+  if (noise > 0) {
+    cv::Mat1f nz(acc.size());
+    cv::RNG rng(seed);
+    rng.fill(nz, cv::RNG::NORMAL, 0, noise);
+    acc += nz;
+  }
+  acc.convertTo(v.image, CV_8U);
+  return v;
+}
+
+cv::Mat1f MarkerRenderer::render_levels(const cv::Vec3d& rvec, const cv::Vec3d& tvec, MarkerView* truth) const {
   const int w = camera_.size.width, h = camera_.size.height;
   cv::Matx33d R;
   cv::Rodrigues(rvec, R);
@@ -55,15 +75,7 @@ MarkerView MarkerRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, 
     }
   }
   acc *= 1.0 / (kRaySamples * kRaySamples);
-  if (blur_px > 0) cv::GaussianBlur(acc, acc, cv::Size(), blur_px);
-  if (noise > 0) {
-    cv::Mat1f nz(acc.size());
-    cv::RNG rng(seed);
-    rng.fill(nz, cv::RNG::NORMAL, 0, noise);
-    acc += nz;
-  }
-  MarkerView v;
-  acc.convertTo(v.image, CV_8U);
+  MarkerView& v = *truth;
   const std::vector<cv::Point3d> obj{{-half, half, 0}, {half, half, 0}, {half, -half, 0}, {-half, -half, 0},
                                      {-paper, paper, 0}, {paper, paper, 0}, {paper, -paper, 0}, {-paper, -paper, 0}};
   std::vector<cv::Point2d> img;
@@ -76,7 +88,7 @@ MarkerView MarkerRenderer::render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, 
     const cv::Vec3d q = R * cv::Vec3d(obj[size_t(i)].x, obj[size_t(i)].y, 0) + tvec;
     if (q[2] <= 0) v.all_inside = false;
   }
-  return v;
+  return acc;
 }
 
 std::vector<std::pair<cv::Vec3d, cv::Vec3d>> marker_poses(const SynthCamera& camera, double side_m, int count,

@@ -36,6 +36,12 @@ class MarkerRenderer {
   // Gaussian blur, noise a Gaussian noise of that standard deviation (grey levels), seeded.
   MarkerView render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, double blur_px = 0, double noise = 0,
                     unsigned seed = 1) const;
+  // The same picture before blur and noise, as grey levels in floats (paper 220, ink 30, the background 90 to
+  // 150), with the corners and all_inside in *truth (its image left empty): what a sensor model exposes
+  // (lab/sensor.hpp).
+  cv::Mat1f render_levels(const cv::Vec3d& rvec, const cv::Vec3d& tvec, MarkerView* truth) const;
+  // Another marker (id, size) with the same camera: the rays are kept, only the marker's cells change.
+  void set_marker(const SynthMarker& marker);
   const SynthCamera& camera() const { return camera_; }
   const SynthMarker& marker() const { return marker_; }
 

@@ -1,0 +1,31 @@
+// What a lab run measures: the axes of the experiment and how many frames each cell gets. The paper's plan
+// (section 5.1) by default: 25 random ARUCO_ORIGINAL markers printed at 250, 150 and 100 pixels of 0.26 mm (65,
+// 39 and 26 mm), seen at 2, 1 and 0.5 m under about 1000, 850 and 500 lux, turned in plane over 360 degrees and
+// tilted about x and y.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace arwb::lab {
+
+struct Cell {
+  double size_mm = 0, distance_m = 0, lux = 0;
+};
+
+struct LabPlan {
+  std::string name = "paper";
+  std::string dictionary = "ARUCO_ORIGINAL";
+  int markers = 25;                                  // distinct random ids, drawn with the seed
+  std::vector<double> sizes_mm{65, 39, 26};
+  std::vector<double> distances_m{2, 1, 0.5};
+  std::vector<double> lux{1000, 850, 500};
+  double max_tilt_deg = 40;                          // about x and about y, each uniform in +-this
+  int frames_per_cell = 40;
+  // Every combination, sizes outermost, then distances, then light (the paper's table's order).
+  std::vector<Cell> cells() const;
+};
+
+LabPlan paper_plan();
+
+}  // namespace arwb::lab

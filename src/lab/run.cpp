@@ -1,0 +1,291 @@
+#include "lab/run.hpp"
+
+#include "lab/stats.hpp"
+#include "base/decimals.hpp"
+#include "detect/detector.hpp"
+#include "detect/dictionary.hpp"
+#include "detect/peers.hpp"
+#include "synth/marker_view.hpp"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <set>
+
+namespace arwb::lab {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// One detector behind one call: its markers on a BGR frame.
+using DetectFn = std::function<std::vector<Marker>(const cv::Mat&)>;
+
+Result<DetectFn> make_detector(const std::string& name, const std::string& dict, const DetectorParams& params) {
+  if (name == "arwb") {
+    auto d = dictionary_by_name(dict);
+    if (!d) return fail("unknown dictionary " + dict);
+    auto det = std::make_shared<Detector>(std::vector<Dictionary>{*d}, params);
+    return DetectFn([det](const cv::Mat& img) { return det->detect(img); });
+  }
+  if (name == "opencv" || name == "opencv-aruco3") {
+    try {
+      auto peer = std::make_shared<OpenCvArucoPeer>(dict, name == "opencv-aruco3");
+      return DetectFn([peer](const cv::Mat& img) { return peer->detect(img).markers; });
+    } catch (const std::exception& e) {
+      return fail(name + ": " + e.what());
+    }
+  }
+  if (name == "apriltag") {
+    if (!AprilTagPeer::supports(dict)) return fail("apriltag reads the AprilTag families, not " + dict);
+    auto peer = std::make_shared<AprilTagPeer>(dict);
+    return DetectFn([peer](const cv::Mat& img) { return peer->detect(img).markers; });
+  }
+  std::string known;
+  for (const auto& k : kLabDetectors) known += (known.empty() ? "" : ", ") + k;
+  return fail("unknown detector '" + name + "' (" + known + ")");
+}
+
+// A line of `length` pixels at `angle` radians, normalised: the streak a turning camera draws.
+cv::Mat motion_kernel(double length, double angle) {
+  const int n = std::max(1, int(std::ceil(length)) | 1);
+  cv::Mat1f k(n, n, 0.f);
+  const cv::Point2d c((n - 1) / 2.0, (n - 1) / 2.0), d(std::cos(angle), std::sin(angle));
+  const int steps = 4 * n;
+  for (int i = 0; i <= steps; ++i) {
+    const cv::Point2d p = c + d * (length * (double(i) / steps - 0.5));
+    const int x = std::clamp(int(std::lround(p.x)), 0, n - 1), y = std::clamp(int(std::lround(p.y)), 0, n - 1);
+    k(y, x) += 1.f;
+  }
+  cv::Mat out;
+  k.convertTo(out, CV_32F, 1.0 / cv::sum(k)[0]);
+  return out;
+}
+
+double quad_error(const Quad& a, const Quad& b) {
+  double e = 0;
+  for (size_t i = 0; i < 4; ++i) e += cv::norm(a[i] - b[i]);
+  return e / 4;
+}
+
+}  // namespace
+
+double DetectorTally::median_ms() const {
+  if (ms.empty()) return 0;
+  std::vector<double> v = ms;
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
+                           const std::function<void(int, int)>& progress) {
+  const auto t0 = Clock::now();
+  const auto dict = dictionary_by_name(plan.dictionary);
+  if (!dict) return fail("the plan's dictionary '" + plan.dictionary + "' is unknown");
+  std::vector<DetectFn> detectors;
+  for (const std::string& name : options.detectors) {
+    auto d = make_detector(name, plan.dictionary, options.params);
+    if (!d) return fail(d.error());
+    detectors.push_back(std::move(*d));
+  }
+  LabResults out;
+  out.plan = plan;
+  out.options = options;
+  // The markers: distinct random ids of the dictionary.
+  {
+    std::mt19937 rng(options.seed);
+    std::uniform_int_distribution<int> pick(0, dict->size() - 1);
+    std::set<int> chosen;
+    while (int(chosen.size()) < std::min(plan.markers, dict->size())) chosen.insert(pick(rng));
+    out.ids.assign(chosen.begin(), chosen.end());
+    std::shuffle(out.ids.begin(), out.ids.end(), rng);
+  }
+  const SynthCamera& cam = options.camera;
+  const double f = cam.camera_matrix(0, 0);
+  MarkerRenderer renderer(cam, SynthMarker{plan.dictionary, out.ids.empty() ? 0 : out.ids[0], 1.0, 1.5});
+  const std::vector<Cell> cells = plan.cells();
+  const int total = int(cells.size()) * plan.frames_per_cell;
+  int done = 0;
+  for (size_t ci = 0; ci < cells.size(); ++ci) {
+    const Cell& cell = cells[ci];
+    CellResult cr;
+    cr.cell = cell;
+    cr.side_px = marker_side_px(cell.size_mm, cell.distance_m, f);
+    const Exposure ex = auto_exposure(options.sensor, cell.lux);
+    cr.exposure_ms = ex.exposure_s * 1000;
+    cr.gain = ex.gain;
+    cr.snr_black_white = snr(options.sensor, cell.lux, 0.12);
+    const double defocus = defocus_sigma_px(options.sensor, cell.distance_m, f);
+    const double shake = shake_length_px(options.sensor, ex.exposure_s, f);
+    cr.blur_px = std::hypot(defocus, shake / 2);
+    cr.detectors.resize(detectors.size());
+    const double L = cell.size_mm / 1000;
+    for (int k = 0; k < plan.frames_per_cell; ++k, ++done) {
+      // Each frame's draws come from its own seed: a frame is the same whatever ran before it.
+      std::mt19937 rng(options.seed * 2654435761u + unsigned(ci) * 7919u + unsigned(k) * 104729u);
+      std::uniform_real_distribution<double> u(0, 1);
+      const int id = out.ids[size_t(int(ci) * plan.frames_per_cell + k) % out.ids.size()];
+      renderer.set_marker(SynthMarker{plan.dictionary, id, 1.0, 1.5});
+      // The pose: facing the camera, tilted about x and y, turned in plane; the centre somewhere in the middle
+      // of the picture, at the cell's distance. Geometry is scale-free: a marker of side L at t is one of side 1
+      // at t / L.
+      MarkerView truth;
+      cv::Mat1f levels;
+      bool visible = false;
+      for (int tries = 0; tries < 20 && !visible; ++tries) {
+        const double roll = u(rng) * 2 * CV_PI;
+        const double tx = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
+        const double ty = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
+        const double px = cam.size.width * (0.2 + 0.6 * u(rng)), py = cam.size.height * (0.2 + 0.6 * u(rng));
+        cv::Matx33d Rt, Rr;
+        cv::Rodrigues(cv::Vec3d(tx, ty, 0), Rt);
+        cv::Rodrigues(cv::Vec3d(0, 0, roll), Rr);
+        cv::Vec3d rvec;
+        cv::Rodrigues(cv::Matx33d(1, 0, 0, 0, -1, 0, 0, 0, -1) * Rt * Rr, rvec);
+        std::vector<cv::Point2d> ray_in{{px, py}}, ray;
+        cv::undistortPoints(ray_in, ray, cv::Mat(cam.camera_matrix), cam.distortion);
+        cv::Vec3d dir(ray[0].x, ray[0].y, 1);
+        dir *= cell.distance_m / cv::norm(dir);
+        levels = renderer.render_levels(rvec, dir * (1.0 / L), &truth);
+        visible = truth.all_inside;
+      }
+      if (!visible) {
+        if (progress) progress(done + 1, total);
+        continue;   // the marker could not be placed wholly in view: not a frame of the experiment
+      }
+      // Optics before the sensor: defocus, then the hand's motion during the exposure.
+      if (defocus > 0.05) cv::GaussianBlur(levels, levels, cv::Size(), defocus);
+      if (shake > 0.3) {
+        std::normal_distribution<double> speed(0, 1);
+        const double length = std::abs(speed(rng)) * shake;
+        if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, u(rng) * CV_PI));
+      }
+      const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
+      cv::Mat bgr;
+      cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+      for (size_t d = 0; d < detectors.size(); ++d) {
+        DetectorTally& t = cr.detectors[d];
+        ++t.frames;
+        const auto s0 = Clock::now();
+        const std::vector<Marker> found = detectors[d](bgr);
+        t.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s0).count());
+        bool right = false, wrong = false;
+        for (const Marker& m : found) {
+          if (m.id == id && quad_error(m.corners, truth.corners) < std::max(3.0, 0.2 * cr.side_px)) right = true;
+          else if (m.id != id) wrong = true;
+        }
+        t.detected += right;
+        t.wrong_id += wrong;
+      }
+      if (progress) progress(done + 1, total);
+    }
+    out.cells.push_back(std::move(cr));
+  }
+  out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
+}
+
+std::string lab_table_text(const LabResults& r) {
+  std::string s;
+  char b[256];
+  for (size_t d = 0; d < r.options.detectors.size(); ++d) {
+    std::snprintf(b, sizeof b, "%s: P_Rec %% [95%% interval]\n%-20s", r.options.detectors[d].c_str(), "size, distance");
+    s += b;
+    for (double l : r.plan.lux) {
+      std::snprintf(b, sizeof b, "  %14.0f lx", l);
+      s += b;
+    }
+    s += "\n";
+    for (size_t i = 0; i < r.cells.size(); i += r.plan.lux.size()) {
+      const CellResult& c0 = r.cells[i];
+      std::snprintf(b, sizeof b, "%3.0f mm %4.1f m %4.0f px", c0.cell.size_mm, c0.cell.distance_m, c0.side_px);
+      s += b;
+      for (size_t j = i; j < i + r.plan.lux.size() && j < r.cells.size(); ++j) {
+        const DetectorTally& t = r.cells[j].detectors[d];
+        const auto [lo, hi] = wilson_interval(t.detected, t.frames);
+        std::snprintf(b, sizeof b, "  %5.1f [%4.0f-%3.0f]", t.p_rec(), 100 * lo, 100 * hi);
+        s += b;
+      }
+      s += "\n";
+    }
+    s += "\n";
+  }
+  return s;
+}
+
+std::string lab_table_csv(const LabResults& r) {
+  std::string s =
+      "detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,wrong_id_rate,median_ms\n";
+  char b[320];
+  for (size_t d = 0; d < r.options.detectors.size(); ++d)
+    for (const CellResult& c : r.cells) {
+      const DetectorTally& t = c.detectors[d];
+      const auto [lo, hi] = wilson_interval(t.detected, t.frames);
+      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%.3f\n", r.options.detectors[d].c_str(),
+                    c.cell.size_mm, c.cell.distance_m, c.cell.lux, c.side_px, t.frames, t.detected, t.p_rec(),
+                    100 * lo, 100 * hi, t.frames ? double(t.wrong_id) / t.frames : 0.0, t.median_ms());
+      s += b;
+    }
+  return s;
+}
+
+std::string lab_results_json(const LabResults& r) {
+  using Json = nlohmann::ordered_json;
+  const SensorModel& m = r.options.sensor;
+  Json j;
+  j["plan"] = {{"name", r.plan.name},
+               {"dictionary", r.plan.dictionary},
+               {"markers", r.plan.markers},
+               {"sizes_mm", r.plan.sizes_mm},
+               {"distances_m", r.plan.distances_m},
+               {"lux", r.plan.lux},
+               {"max_tilt_deg", r.plan.max_tilt_deg},
+               {"frames_per_cell", r.plan.frames_per_cell}};
+  j["seed"] = r.options.seed;
+  j["ids"] = r.ids;
+  j["camera"] = {{"name", r.options.camera_name},
+                 {"width", r.options.camera.size.width},
+                 {"height", r.options.camera.size.height},
+                 {"fx", r.options.camera.camera_matrix(0, 0)},
+                 {"distortion", r.options.camera.distortion}};
+  j["sensor"] = {{"sensitivity_e_per_lux_s", m.sensitivity}, {"full_well_e", m.full_well},
+                 {"read_noise_e", m.read_noise},          {"target_level", m.target_level},
+                 {"max_exposure_s", m.max_exposure_s},    {"max_gain", m.max_gain},
+                 {"focal_length_mm", m.focal_length_mm},  {"f_number", m.f_number},
+                 {"focus_m", m.focus_m},                  {"shake_deg_s", m.shake_deg_s}};
+  j["detectors"] = r.options.detectors;
+  Json cells = Json::array();
+  for (const CellResult& c : r.cells) {
+    Json per = Json::object();
+    for (size_t d = 0; d < r.options.detectors.size(); ++d) {
+      const DetectorTally& t = c.detectors[d];
+      const auto [lo, hi] = wilson_interval(t.detected, t.frames);
+      per[r.options.detectors[d]] = {{"frames", t.frames},
+                                     {"detected", t.detected},
+                                     {"p_rec", round_decimals(t.p_rec(), 2)},
+                                     {"ci95", {round_decimals(100 * lo, 2), round_decimals(100 * hi, 2)}},
+                                     {"wrong_id", t.wrong_id},
+                                     {"median_ms", round_decimals(t.median_ms(), 3)}};
+    }
+    cells.push_back({{"size_mm", c.cell.size_mm},
+                     {"distance_m", c.cell.distance_m},
+                     {"lux", c.cell.lux},
+                     {"side_px", round_decimals(c.side_px, 1)},
+                     {"exposure_ms", round_decimals(c.exposure_ms, 2)},
+                     {"gain", round_decimals(c.gain, 2)},
+                     {"snr_ink", round_decimals(c.snr_black_white, 1)},
+                     {"blur_px", round_decimals(c.blur_px, 2)},
+                     {"results", per}});
+  }
+  j["cells"] = cells;
+  j["seconds"] = round_decimals(r.seconds, 1);
+  return j.dump(2) + "\n";
+}
+
+}  // namespace arwb::lab

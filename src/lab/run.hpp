@@ -1,0 +1,69 @@
+// Running a plan: for every cell its frames are rendered once through the camera and sensor model (sensor.hpp)
+// and handed to every detector; a frame counts for a detector when it reports the marker's id with corners on
+// the marker's (P_Rec = detected frames / frames in which the marker is visible x 100, the paper's measure).
+// The same seed gives the same frames, and so the same table.
+#pragma once
+
+#include "lab/plan.hpp"
+#include "lab/sensor.hpp"
+#include "detect/params.hpp"
+#include "base/result.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace arwb::lab {
+
+// The detectors a lab compares: "arwb" (with `params`), "opencv" (OpenCV 4.6's aruco, default parameters),
+// "opencv-aruco3" (its ArUco3 mode), "apriltag" (AprilTag 3, AprilTag families only).
+inline const std::vector<std::string> kLabDetectors{"arwb", "opencv", "opencv-aruco3", "apriltag"};
+
+struct LabOptions {
+  std::vector<std::string> detectors{"arwb", "opencv", "opencv-aruco3"};
+  unsigned seed = 1;
+  SynthCamera camera = default_lab_camera();
+  std::string camera_name = "the default webcam (640x480, 60 degrees across)";
+  SensorModel sensor;
+  DetectorParams params;
+};
+
+struct DetectorTally {
+  int frames = 0;        // frames in which the marker was visible
+  int detected = 0;      // ... and this detector reported it, right id, on the marker
+  int wrong_id = 0;      // frames where it reported another id
+  std::vector<double> ms;
+  double p_rec() const { return frames ? 100.0 * detected / frames : 0; }
+  double median_ms() const;
+};
+
+struct CellResult {
+  Cell cell;
+  double side_px = 0;          // the marker's side at the image centre, facing the camera
+  double exposure_ms = 0, gain = 1, snr_black_white = 0, blur_px = 0;
+  std::vector<DetectorTally> detectors;   // in LabOptions::detectors' order
+};
+
+struct LabResults {
+  LabPlan plan;
+  LabOptions options;
+  std::vector<int> ids;
+  std::vector<CellResult> cells;
+  double seconds = 0;
+};
+
+// Runs the plan; `progress(done, total)` after each frame. An error for an unknown detector or dictionary, or a
+// detector that cannot read the plan's dictionary ("apriltag reads the AprilTag families, not ARUCO_ORIGINAL").
+Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
+                           const std::function<void(int, int)>& progress = {});
+
+// The paper's table as text: per detector, a row per size and distance, a column per light level, each cell
+// "P_Rec% [low-high]".
+std::string lab_table_text(const LabResults& r);
+// One row per cell and detector: detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,
+// wrong_id_rate,median_ms.
+std::string lab_table_csv(const LabResults& r);
+// Everything above, with the plan, the camera, the sensor model and each cell's exposure, as JSON text.
+std::string lab_results_json(const LabResults& r);
+
+}  // namespace arwb::lab

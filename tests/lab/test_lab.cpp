@@ -1,0 +1,145 @@
+// The lab's physics on its own (a marker's size in pixels, light to signal-to-noise), its statistics, and runs
+// of the paper's plan: extreme cells behave, and the same seed gives the same table.
+#include "lab/plan.hpp"
+#include "lab/run.hpp"
+#include "lab/sensor.hpp"
+#include "lab/stats.hpp"
+#include "synth/marker_view.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/calib3d.hpp>
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+namespace arwb::lab {
+namespace {
+
+TEST(LabPhysics, A65mmMarkerAtHalfAMetreSpansWhatThePinholeSays) {
+  const SynthCamera cam = default_lab_camera();
+  const double f = cam.camera_matrix(0, 0);
+  EXPECT_NEAR(f, 554.26, 0.01);   // 320 / tan(30 degrees)
+  EXPECT_NEAR(marker_side_px(65, 0.5, f), 72.05, 0.01);
+  EXPECT_NEAR(marker_side_px(26, 2.0, f), 7.2, 0.01);
+  // Rendered facing the camera at the centre: its corners are that far apart.
+  MarkerRenderer r(cam, SynthMarker{"ARUCO_ORIGINAL", 7, 0.065, 1.5});
+  cv::Vec3d rvec;
+  cv::Rodrigues(cv::Matx33d(1, 0, 0, 0, -1, 0, 0, 0, -1), rvec);
+  MarkerView v;
+  r.render_levels(rvec, {0, 0, 0.5}, &v);
+  EXPECT_NEAR(cv::norm(v.corners[1] - v.corners[0]), 72.05, 0.1);
+  EXPECT_TRUE(v.all_inside);
+}
+
+TEST(LabPhysics, DarkerLightGivesLowerSignalToNoise) {
+  const SensorModel s;
+  // Auto-exposure holds the picture's level until the exposure and then the gain run out; past the exposure,
+  // fewer electrons mean more relative noise.
+  const Exposure bright = auto_exposure(s, 1000), dim = auto_exposure(s, 500);
+  EXPECT_LE(bright.exposure_s, s.max_exposure_s);
+  EXPECT_GT(dim.gain, bright.gain);
+  for (double r : {0.12, 0.86}) {
+    EXPECT_GT(snr(s, 1000, r), snr(s, 850, r));
+    EXPECT_GT(snr(s, 850, r), snr(s, 500, r));
+    EXPECT_GT(snr(s, 500, r), snr(s, 50, r));
+  }
+  // The exposed picture's noise is the model's: a flat grey card's measured mean over deviation.
+  for (double lux : {1000.0, 200.0}) {
+    std::mt19937 rng(3);
+    const cv::Mat img = expose(cv::Mat1f(200, 200, 0.5f * 255), s, lux, rng);
+    cv::Scalar mean, dev;
+    cv::meanStdDev(img, mean, dev);
+    EXPECT_NEAR(mean[0] / dev[0], snr(s, lux, 0.5), 0.15 * snr(s, lux, 0.5)) << lux << " lx";
+  }
+}
+
+TEST(LabPhysics, DefocusAndShakeGrowAsTheyShould) {
+  const SensorModel s;
+  const double f = default_lab_camera().camera_matrix(0, 0);
+  EXPECT_NEAR(defocus_sigma_px(s, s.focus_m, f), 0, 1e-12);   // in focus
+  EXPECT_GT(defocus_sigma_px(s, 0.3, f), defocus_sigma_px(s, 0.5, f));
+  EXPECT_GT(shake_length_px(s, 0.05, f), shake_length_px(s, 0.01, f));
+  EXPECT_NEAR(shake_length_px(s, 0.05, f), f * std::tan(s.shake_deg_s * CV_PI / 180 * 0.05), 1e-9);
+}
+
+TEST(LabStats, WilsonIntervalsAtTheEdgesAndInTheMiddle) {
+  auto [lo0, hi0] = wilson_interval(0, 10);
+  EXPECT_DOUBLE_EQ(lo0, 0);
+  EXPECT_NEAR(hi0, 0.2775, 1e-3);
+  auto [lo1, hi1] = wilson_interval(10, 10);
+  EXPECT_NEAR(lo1, 0.7225, 1e-3);
+  EXPECT_DOUBLE_EQ(hi1, 1);
+  auto [lo, hi] = wilson_interval(5, 10);
+  EXPECT_NEAR(lo, 0.2366, 1e-3);
+  EXPECT_NEAR(hi, 0.7634, 1e-3);
+  auto [n0, n1] = wilson_interval(0, 0);
+  EXPECT_EQ(n0, 0);
+  EXPECT_EQ(n1, 1);
+}
+
+LabPlan two_cells(int frames) {
+  LabPlan p;
+  p.sizes_mm = {65};
+  p.distances_m = {0.5};
+  p.lux = {1000};
+  p.frames_per_cell = frames;
+  return p;
+}
+
+TEST(LabRun, ExtremeCellsBehaveForEveryDetector) {
+  LabOptions o;
+  LabPlan near = two_cells(20);
+  Result<LabResults> r = run_lab(near, o);
+  ASSERT_TRUE(r) << r.error();
+  ASSERT_EQ(r->cells.size(), 1u);
+  for (size_t d = 0; d < o.detectors.size(); ++d) {
+    EXPECT_EQ(r->cells[0].detectors[d].frames, 20) << o.detectors[d];
+    EXPECT_GE(r->cells[0].detectors[d].p_rec(), 80) << o.detectors[d] << ": 65 mm at 0.5 m";
+  }
+  LabPlan far = near;
+  far.sizes_mm = {26};
+  far.distances_m = {2};
+  r = run_lab(far, o);
+  ASSERT_TRUE(r) << r.error();
+  for (size_t d = 0; d < o.detectors.size(); ++d)
+    EXPECT_LE(r->cells[0].detectors[d].p_rec(), 10) << o.detectors[d] << ": 26 mm at 2 m";
+}
+
+TEST(LabRun, TheSameSeedGivesTheSameTableAndAnotherSeedAnother) {
+  LabPlan p = two_cells(6);
+  p.distances_m = {1, 2};
+  LabOptions o;
+  o.detectors = {"arwb", "opencv"};
+  const auto a = run_lab(p, o), b = run_lab(p, o);
+  ASSERT_TRUE(a && b);
+  // Times differ run to run; everything before the median time does not.
+  auto strip = [](const std::string& csv) {
+    std::string out;
+    std::stringstream in(csv);
+    for (std::string line; std::getline(in, line);) out += line.substr(0, line.rfind(',')) + "\n";
+    return out;
+  };
+  EXPECT_EQ(strip(lab_table_csv(*a)), strip(lab_table_csv(*b)));
+  EXPECT_EQ(a->ids, b->ids);
+  o.seed = 2;
+  const auto c = run_lab(p, o);
+  ASSERT_TRUE(c);
+  EXPECT_NE(a->ids, c->ids);
+}
+
+TEST(LabRun, DetectorsThatCannotRunAreNamed) {
+  LabOptions o;
+  o.detectors = {"arwb", "yolo"};
+  auto r = run_lab(two_cells(1), o);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("unknown detector 'yolo' (arwb, opencv, opencv-aruco3, apriltag)"), std::string::npos)
+      << r.error();
+  o.detectors = {"apriltag"};
+  r = run_lab(two_cells(1), o);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error(), "apriltag reads the AprilTag families, not ARUCO_ORIGINAL");
+}
+
+}  // namespace
+}  // namespace arwb::lab
