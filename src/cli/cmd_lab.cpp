@@ -8,7 +8,9 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -25,8 +27,8 @@ int cmd_lab(int argc, char** argv) {
                  "interval.",
                  "The same seed gives the same frames and the same table.");
   std::string detectors_opt = "arwb,opencv,opencv-aruco3", out, calib_file, params_file;
-  int frames = 40, seed = 1;
-  bool json = false;
+  int frames = 40, seed = 1, threads = 1;
+  bool json = false, restart = false;
   cl.app.add_option("--detectors", detectors_opt, "a comma list of arwb, opencv, opencv-aruco3, apriltag")
       ->type_name("LIST");
   cl.app.add_option("--frames-per-cell", frames, "frames rendered for each cell")->type_name("N")->check(whole_number(1, 100000));
@@ -35,7 +37,14 @@ int cmd_lab(int argc, char** argv) {
                                            "60 degrees across at 640x480")
       ->type_name("FILE");
   cl.app.add_option("--params", params_file, "a YAML preset of arwb's parameters")->type_name("FILE.yml");
-  cl.app.add_option("--out", out, "a folder for table.txt, table.csv and results.json")->type_name("DIR");
+  cl.app.add_option("--threads", threads, "frames rendered and detected at once; the table is the same for any "
+                                          "number (times are not)")
+      ->type_name("N")
+      ->check(whole_number(1, 64));
+  cl.app.add_option("--out", out, "a folder for table.txt, table.csv and results.json; each finished cell is saved "
+                                  "in cells.jsonl there, and a run interrupted is resumed from it")
+      ->type_name("DIR");
+  cl.app.add_flag("--restart", restart, "with --out: forget the cells saved by an earlier run");
   cl.app.add_flag("--json", json, "print results.json instead of the table");
   if (const auto status = cl.parse(argc, argv)) return *status;
 
@@ -59,6 +68,49 @@ int cmd_lab(int argc, char** argv) {
     options.camera_name = calib_file;
   }
   if (!load_params_option(params_file, "arwb lab", options.params)) return 2;
+  options.threads = threads;
+
+  // Resuming: the cells an earlier run with the same plan and options saved; the others are run and saved as
+  // they finish, one line each, so an interruption loses at most the cell it was in.
+  std::FILE* saved = nullptr;
+  const std::string key = lab::lab_run_key(plan, options);
+  if (!out.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    const std::string cells_path = (std::filesystem::path(out) / "cells.jsonl").string();
+    if (restart) std::filesystem::remove(cells_path, ec);
+    options.finished.resize(plan.cells().size());
+    int resumed = 0;
+    if (std::FILE* in = std::fopen(cells_path.c_str(), "r")) {
+      std::string line;
+      for (int ch; (ch = std::fgetc(in)) != EOF;) {
+        if (ch != '\n') {
+          line += char(ch);
+          continue;
+        }
+        if (auto c = lab::cell_from_line(key, line, options.detectors.size());
+            c && c->first < options.finished.size() && !options.finished[c->first]) {
+          options.finished[c->first] = std::make_shared<const lab::CellResult>(std::move(c->second));
+          ++resumed;
+        }
+        line.clear();
+      }
+      std::fclose(in);
+    }
+    if (resumed > 0)
+      std::fprintf(stderr, "arwb lab: resuming: %d of %zu cells from %s (--restart runs them again)\n", resumed,
+                   plan.cells().size(), cells_path.c_str());
+    saved = std::fopen(cells_path.c_str(), "a");
+    if (!saved) {
+      print_problem("arwb lab: %s: cannot write (%s)\n", cells_path.c_str(), std::strerror(errno));
+      return 1;
+    }
+    options.on_cell = [&](size_t index, const lab::CellResult& c) {
+      const std::string line = lab::cell_to_line(key, index, c);
+      std::fwrite(line.data(), 1, line.size(), saved);
+      std::fflush(saved);
+    };
+  }
 
   const bool bar = ::isatty(2);
   int last_shown = -1;
@@ -70,11 +122,10 @@ int cmd_lab(int argc, char** argv) {
     std::fprintf(stderr, "\rarwb lab: %3d%% (%d of %d frames)", percent, done, total);
     if (done == total) std::fputc('\n', stderr);
   });
+  if (saved) std::fclose(saved);
   if (!r) return cl.usage_error(r.error());
   const std::string text = lab::lab_table_text(*r), csv = lab::lab_table_csv(*r), js = lab::lab_results_json(*r);
   if (!out.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
     for (const auto& [name, content] : {std::pair{"table.txt", &text}, {"table.csv", &csv}, {"results.json", &js}}) {
       const std::string path = (std::filesystem::path(out) / name).string();
       if (std::string e; !write_file_atomically(path, *content, &e)) {

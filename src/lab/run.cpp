@@ -12,12 +12,15 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <mutex>
 #include <set>
+#include <thread>
 
 namespace arwb::lab {
 namespace {
@@ -83,16 +86,104 @@ double DetectorTally::median_ms() const {
   return v[v.size() / 2];
 }
 
+namespace {
+
+// One frame's outcome for every detector, kept by frame so that tallies do not depend on which thread ran it.
+struct FrameOutcome {
+  bool visible = false;
+  std::vector<char> right, wrong;
+  std::vector<double> ms;
+};
+
+// A thread's own renderer and detectors (AprilTag's detector and the renderer's buffers are not shared).
+struct Worker {
+  MarkerRenderer renderer;
+  std::vector<DetectFn> detectors;
+};
+
+FrameOutcome run_frame(Worker& w, const LabPlan& plan, const LabOptions& options, const std::vector<int>& ids,
+                       size_t ci, const Cell& cell, int k) {
+  FrameOutcome fo;
+  const SynthCamera& cam = options.camera;
+  const double f = cam.camera_matrix(0, 0);
+  // Each frame's draws come from its own seed: a frame is the same whatever ran before it, on any thread.
+  std::mt19937 rng(options.seed * 2654435761u + unsigned(ci) * 7919u + unsigned(k) * 104729u);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int id = ids[size_t(int(ci) * plan.frames_per_cell + k) % ids.size()];
+  w.renderer.set_marker(SynthMarker{plan.dictionary, id, 1.0, 1.5});
+  // The pose: facing the camera, tilted about x and y, turned in plane; the centre somewhere in the middle of the
+  // picture, at the cell's distance. Geometry is scale-free: a marker of side L at t is one of side 1 at t / L.
+  const double L = cell.size_mm / 1000;
+  MarkerView truth;
+  cv::Mat1f levels;
+  for (int tries = 0; tries < 20 && !fo.visible; ++tries) {
+    const double roll = u(rng) * 2 * CV_PI;
+    const double tx = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
+    const double ty = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
+    const double px = cam.size.width * (0.2 + 0.6 * u(rng));
+    const double py = cam.size.height * (0.2 + 0.6 * u(rng));
+    cv::Matx33d Rt, Rr;
+    cv::Rodrigues(cv::Vec3d(tx, ty, 0), Rt);
+    cv::Rodrigues(cv::Vec3d(0, 0, roll), Rr);
+    cv::Vec3d rvec;
+    cv::Rodrigues(cv::Matx33d(1, 0, 0, 0, -1, 0, 0, 0, -1) * Rt * Rr, rvec);
+    std::vector<cv::Point2d> ray_in{{px, py}}, ray;
+    cv::undistortPoints(ray_in, ray, cv::Mat(cam.camera_matrix), cam.distortion);
+    cv::Vec3d dir(ray[0].x, ray[0].y, 1);
+    dir *= cell.distance_m / cv::norm(dir);
+    levels = w.renderer.render_levels(rvec, dir * (1.0 / L), &truth);
+    fo.visible = truth.all_inside;
+  }
+  if (!fo.visible) return fo;   // the marker could not be placed wholly in view: not a frame of the experiment
+  // Optics before the sensor: defocus, then the hand's motion during the exposure.
+  const Exposure ex = auto_exposure(options.sensor, cell.lux);
+  const double defocus = defocus_sigma_px(options.sensor, cell.distance_m, f);
+  const double shake = shake_length_px(options.sensor, ex.exposure_s, f);
+  if (defocus > 0.05) cv::GaussianBlur(levels, levels, cv::Size(), defocus);
+  if (shake > 0.3) {
+    std::normal_distribution<double> speed(0, 1);
+    const double length = std::abs(speed(rng)) * shake;
+    const double angle = u(rng) * CV_PI;
+    if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, angle));
+  }
+  const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
+  cv::Mat bgr;
+  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  const double side = marker_side_px(cell.size_mm, cell.distance_m, f);
+  for (const DetectFn& detect : w.detectors) {
+    const auto s0 = Clock::now();
+    const std::vector<Marker> found = detect(bgr);
+    fo.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s0).count());
+    bool right = false, wrong = false;
+    for (const Marker& m : found) {
+      if (m.id == id && quad_error(m.corners, truth.corners) < std::max(3.0, 0.2 * side)) right = true;
+      else if (m.id != id) wrong = true;
+    }
+    fo.right.push_back(right);
+    fo.wrong.push_back(wrong);
+  }
+  return fo;
+}
+
+}  // namespace
+
 Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
                            const std::function<void(int, int)>& progress) {
   const auto t0 = Clock::now();
   const auto dict = dictionary_by_name(plan.dictionary);
   if (!dict) return fail("the plan's dictionary '" + plan.dictionary + "' is unknown");
-  std::vector<DetectFn> detectors;
-  for (const std::string& name : options.detectors) {
-    auto d = make_detector(name, plan.dictionary, options.params);
-    if (!d) return fail(d.error());
-    detectors.push_back(std::move(*d));
+  if (plan.frames_per_cell < 1) return fail("a plan needs at least one frame per cell");
+  const int threads = std::clamp(options.threads, 1, 64);
+  std::vector<std::unique_ptr<Worker>> workers;
+  for (int i = 0; i < threads; ++i) {
+    auto w = std::make_unique<Worker>(Worker{MarkerRenderer(options.camera, SynthMarker{plan.dictionary, 0, 1.0, 1.5}),
+                                             {}});
+    for (const std::string& name : options.detectors) {
+      auto d = make_detector(name, plan.dictionary, options.params);
+      if (!d) return fail(d.error());
+      w->detectors.push_back(std::move(*d));
+    }
+    workers.push_back(std::move(w));
   }
   LabResults out;
   out.plan = plan;
@@ -106,14 +197,25 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     out.ids.assign(chosen.begin(), chosen.end());
     std::shuffle(out.ids.begin(), out.ids.end(), rng);
   }
-  const SynthCamera& cam = options.camera;
-  const double f = cam.camera_matrix(0, 0);
-  MarkerRenderer renderer(cam, SynthMarker{plan.dictionary, out.ids.empty() ? 0 : out.ids[0], 1.0, 1.5});
+  const double f = options.camera.camera_matrix(0, 0);
   const std::vector<Cell> cells = plan.cells();
   const int total = int(cells.size()) * plan.frames_per_cell;
-  int done = 0;
+  std::atomic<int> done{0};
+  std::mutex progress_mutex;
+  auto report = [&] {
+    const int d = ++done;
+    if (!progress) return;
+    std::lock_guard lock(progress_mutex);
+    progress(d, total);
+  };
   for (size_t ci = 0; ci < cells.size(); ++ci) {
     const Cell& cell = cells[ci];
+    // A cell finished by an earlier run (resume): taken as it was.
+    if (ci < options.finished.size() && options.finished[ci]) {
+      out.cells.push_back(*options.finished[ci]);
+      for (int k = 0; k < plan.frames_per_cell; ++k) report();
+      continue;
+    }
     CellResult cr;
     cr.cell = cell;
     cr.side_px = marker_side_px(cell.size_mm, cell.distance_m, f);
@@ -121,74 +223,99 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     cr.exposure_ms = ex.exposure_s * 1000;
     cr.gain = ex.gain;
     cr.snr_black_white = snr(options.sensor, cell.lux, 0.12);
-    const double defocus = defocus_sigma_px(options.sensor, cell.distance_m, f);
-    const double shake = shake_length_px(options.sensor, ex.exposure_s, f);
-    cr.blur_px = std::hypot(defocus, shake / 2);
-    cr.detectors.resize(detectors.size());
-    const double L = cell.size_mm / 1000;
-    for (int k = 0; k < plan.frames_per_cell; ++k, ++done) {
-      // Each frame's draws come from its own seed: a frame is the same whatever ran before it.
-      std::mt19937 rng(options.seed * 2654435761u + unsigned(ci) * 7919u + unsigned(k) * 104729u);
-      std::uniform_real_distribution<double> u(0, 1);
-      const int id = out.ids[size_t(int(ci) * plan.frames_per_cell + k) % out.ids.size()];
-      renderer.set_marker(SynthMarker{plan.dictionary, id, 1.0, 1.5});
-      // The pose: facing the camera, tilted about x and y, turned in plane; the centre somewhere in the middle
-      // of the picture, at the cell's distance. Geometry is scale-free: a marker of side L at t is one of side 1
-      // at t / L.
-      MarkerView truth;
-      cv::Mat1f levels;
-      bool visible = false;
-      for (int tries = 0; tries < 20 && !visible; ++tries) {
-        const double roll = u(rng) * 2 * CV_PI;
-        const double tx = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
-        const double ty = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
-        const double px = cam.size.width * (0.2 + 0.6 * u(rng)), py = cam.size.height * (0.2 + 0.6 * u(rng));
-        cv::Matx33d Rt, Rr;
-        cv::Rodrigues(cv::Vec3d(tx, ty, 0), Rt);
-        cv::Rodrigues(cv::Vec3d(0, 0, roll), Rr);
-        cv::Vec3d rvec;
-        cv::Rodrigues(cv::Matx33d(1, 0, 0, 0, -1, 0, 0, 0, -1) * Rt * Rr, rvec);
-        std::vector<cv::Point2d> ray_in{{px, py}}, ray;
-        cv::undistortPoints(ray_in, ray, cv::Mat(cam.camera_matrix), cam.distortion);
-        cv::Vec3d dir(ray[0].x, ray[0].y, 1);
-        dir *= cell.distance_m / cv::norm(dir);
-        levels = renderer.render_levels(rvec, dir * (1.0 / L), &truth);
-        visible = truth.all_inside;
+    cr.blur_px = std::hypot(defocus_sigma_px(options.sensor, cell.distance_m, f),
+                            shake_length_px(options.sensor, ex.exposure_s, f) / 2);
+    cr.detectors.resize(options.detectors.size());
+    std::vector<FrameOutcome> frames(size_t(plan.frames_per_cell));
+    std::atomic<int> next{0};
+    auto work = [&](Worker& w) {
+      for (int k = next++; k < plan.frames_per_cell; k = next++) {
+        frames[size_t(k)] = run_frame(w, plan, options, out.ids, ci, cell, k);
+        report();
       }
-      if (!visible) {
-        if (progress) progress(done + 1, total);
-        continue;   // the marker could not be placed wholly in view: not a frame of the experiment
-      }
-      // Optics before the sensor: defocus, then the hand's motion during the exposure.
-      if (defocus > 0.05) cv::GaussianBlur(levels, levels, cv::Size(), defocus);
-      if (shake > 0.3) {
-        std::normal_distribution<double> speed(0, 1);
-        const double length = std::abs(speed(rng)) * shake;
-        if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, u(rng) * CV_PI));
-      }
-      const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
-      cv::Mat bgr;
-      cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
-      for (size_t d = 0; d < detectors.size(); ++d) {
+    };
+    std::vector<std::thread> pool;
+    for (int i = 1; i < threads; ++i) pool.emplace_back(work, std::ref(*workers[size_t(i)]));
+    work(*workers[0]);
+    for (std::thread& t : pool) t.join();
+    for (const FrameOutcome& fo : frames) {
+      if (!fo.visible) continue;
+      for (size_t d = 0; d < cr.detectors.size(); ++d) {
         DetectorTally& t = cr.detectors[d];
         ++t.frames;
-        const auto s0 = Clock::now();
-        const std::vector<Marker> found = detectors[d](bgr);
-        t.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s0).count());
-        bool right = false, wrong = false;
-        for (const Marker& m : found) {
-          if (m.id == id && quad_error(m.corners, truth.corners) < std::max(3.0, 0.2 * cr.side_px)) right = true;
-          else if (m.id != id) wrong = true;
-        }
-        t.detected += right;
-        t.wrong_id += wrong;
+        t.detected += fo.right[d];
+        t.wrong_id += fo.wrong[d];
+        t.ms.push_back(fo.ms[d]);
       }
-      if (progress) progress(done + 1, total);
     }
+    if (options.on_cell) options.on_cell(ci, cr);
     out.cells.push_back(std::move(cr));
   }
   out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return out;
+}
+
+std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
+  nlohmann::ordered_json j;
+  j["plan"] = {plan.name,    plan.dictionary, plan.markers,      plan.sizes_mm,
+               plan.distances_m, plan.lux,    plan.max_tilt_deg, plan.frames_per_cell};
+  j["seed"] = options.seed;
+  j["detectors"] = options.detectors;
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+  for (const ParamInfo& info : param_table()) params[info.name] = get_param(options.params, info);
+  j["params"] = params;
+  const SynthCamera& c = options.camera;
+  j["camera"] = {c.size.width, c.size.height, std::vector<double>(c.camera_matrix.val, c.camera_matrix.val + 9),
+                 c.distortion};
+  const SensorModel& m = options.sensor;
+  j["sensor"] = {m.sensitivity, m.full_well,    m.read_noise, m.target_level, m.max_exposure_s,
+                 m.max_gain,    m.focal_length_mm, m.f_number, m.focus_m,  m.shake_deg_s};
+  return j.dump();
+}
+
+std::string cell_to_line(const std::string& key, size_t index, const CellResult& c) {
+  nlohmann::json j;
+  j["key"] = key;
+  j["index"] = index;
+  j["cell"] = {c.cell.size_mm, c.cell.distance_m, c.cell.lux};
+  j["side_px"] = c.side_px;
+  j["exposure_ms"] = c.exposure_ms;
+  j["gain"] = c.gain;
+  j["snr"] = c.snr_black_white;
+  j["blur_px"] = c.blur_px;
+  nlohmann::json ds = nlohmann::json::array();
+  for (const DetectorTally& t : c.detectors) ds.push_back({t.frames, t.detected, t.wrong_id, t.ms});
+  j["detectors"] = ds;
+  return j.dump() + "\n";
+}
+
+std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& key, const std::string& line,
+                                                            size_t detectors) {
+  const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+  try {
+    if (!j.is_object() || j.value("key", std::string()) != key) return std::nullopt;
+    CellResult c;
+    const auto& cell = j.at("cell");
+    c.cell = {cell.at(0).get<double>(), cell.at(1).get<double>(), cell.at(2).get<double>()};
+    c.side_px = j.at("side_px").get<double>();
+    c.exposure_ms = j.at("exposure_ms").get<double>();
+    c.gain = j.at("gain").get<double>();
+    c.snr_black_white = j.at("snr").get<double>();
+    c.blur_px = j.at("blur_px").get<double>();
+    const auto& ds = j.at("detectors");
+    if (!ds.is_array() || ds.size() != detectors) return std::nullopt;
+    for (const auto& d : ds) {
+      DetectorTally t;
+      t.frames = d.at(0).get<int>();
+      t.detected = d.at(1).get<int>();
+      t.wrong_id = d.at(2).get<int>();
+      t.ms = d.at(3).get<std::vector<double>>();
+      c.detectors.push_back(std::move(t));
+    }
+    return std::pair{j.at("index").get<size_t>(), std::move(c)};
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;   // a line cut short by the interruption, or one edited by hand
+  }
 }
 
 std::string lab_table_text(const LabResults& r) {

@@ -10,6 +10,9 @@
 #include "base/result.hpp"
 
 #include <functional>
+#include <memory>
+#include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -19,13 +22,21 @@ namespace arwb::lab {
 // "opencv-aruco3" (its ArUco3 mode), "apriltag" (AprilTag 3, AprilTag families only).
 inline const std::vector<std::string> kLabDetectors{"arwb", "opencv", "opencv-aruco3", "apriltag"};
 
+struct CellResult;
+
 struct LabOptions {
   std::vector<std::string> detectors{"arwb", "opencv", "opencv-aruco3"};
   unsigned seed = 1;
+  // Frames of a cell are spread over this many threads; the table does not depend on it (times aside).
+  int threads = 1;
   SynthCamera camera = default_lab_camera();
   std::string camera_name = "the default webcam (640x480, 60 degrees across)";
   SensorModel sensor;
   DetectorParams params;
+  // Resuming: cells an earlier run of the same plan and options finished, by index in plan.cells() (empty or a
+  // null entry: run it). on_cell is called with each cell run here once it is finished, to save it.
+  std::vector<std::shared_ptr<const CellResult>> finished;
+  std::function<void(size_t, const CellResult&)> on_cell;
 };
 
 struct DetectorTally {
@@ -56,6 +67,14 @@ struct LabResults {
 // detector that cannot read the plan's dictionary ("apriltag reads the AprilTag families, not ARUCO_ORIGINAL").
 Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
                            const std::function<void(int, int)>& progress = {});
+
+// Resuming an interrupted run. The key names everything the frames and tallies depend on (the plan, seed,
+// detectors and their parameters, camera, sensor): a saved cell is taken only under the same key. A cell as one
+// line of JSON, and back (nullopt for a line that is not one, or of another key).
+std::string lab_run_key(const LabPlan& plan, const LabOptions& options);
+std::string cell_to_line(const std::string& key, size_t index, const CellResult& c);
+std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& key, const std::string& line,
+                                                            size_t detectors);
 
 // The paper's table as text: per detector, a row per size and distance, a column per light level, each cell
 // "P_Rec% [low-high]".

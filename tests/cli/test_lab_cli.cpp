@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -51,6 +52,30 @@ TEST(LabCli, BadDetectorsAndCalibrationsAreOneLine) {
   r = run_arwb("lab --frames-per-cell 0");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--frames-per-cell"), std::string::npos) << r.err;
+}
+
+// Interrupted (the saved cells cut after ten, the last line half written): the run resumes from the ten and
+// prints the same table.
+TEST(LabCli, AnInterruptedRunIsResumed) {
+  TempDir d;
+  const std::string args = "lab --frames-per-cell 2 --detectors arwb --threads 2 --out " + d.str("out");
+  const auto full = run_arwb(args);
+  ASSERT_EQ(full.status, 0) << full.err;
+  const std::string table = slurp(d.str("out/table.txt"));
+  const std::string saved = slurp(d.str("out/cells.jsonl"));
+  ASSERT_EQ(std::count(saved.begin(), saved.end(), '\n'), 27);
+  size_t cut = 0;
+  for (int i = 0; i < 10; ++i) cut = saved.find('\n', cut) + 1;
+  test::write_file(d.str("out/cells.jsonl"), saved.substr(0, cut) + saved.substr(cut, 40));
+  std::remove(d.str("out/table.txt").c_str());
+  const auto resumed = run_arwb(args);
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_NE(resumed.err.find("resuming: 10 of 27 cells"), std::string::npos) << resumed.err;
+  EXPECT_EQ(slurp(d.str("out/table.txt")), table);
+  // --restart forgets them.
+  const auto again = run_arwb(args + " --restart");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(again.err.find("resuming"), std::string::npos) << again.err;
 }
 
 }  // namespace

@@ -128,6 +128,53 @@ TEST(LabRun, TheSameSeedGivesTheSameTableAndAnotherSeedAnother) {
   EXPECT_NE(a->ids, c->ids);
 }
 
+TEST(LabRun, AnyThreadCountAndAResumedRunGiveTheSameTable) {
+  LabPlan p = two_cells(8);
+  p.distances_m = {1, 2};
+  p.lux = {1000, 500};
+  LabOptions o;
+  o.detectors = {"arwb", "opencv"};
+  auto strip = [](const std::string& csv) {   // everything but the times
+    std::string out;
+    std::stringstream in(csv);
+    for (std::string line; std::getline(in, line);) out += line.substr(0, line.rfind(',')) + "\n";
+    return out;
+  };
+  std::vector<std::string> lines;
+  const std::string key = lab_run_key(p, o);
+  o.on_cell = [&](size_t i, const CellResult& c) { lines.push_back(cell_to_line(key, i, c)); };
+  const auto one = run_lab(p, o);
+  ASSERT_TRUE(one) << one.error();
+  ASSERT_EQ(lines.size(), 4u);
+  o.threads = 2;
+  o.on_cell = {};
+  const auto two = run_lab(p, o);
+  ASSERT_TRUE(two);
+  EXPECT_EQ(strip(lab_table_csv(*one)), strip(lab_table_csv(*two)));
+  // Interrupted after two cells: those are read back and the other two run again; the table is the same, with
+  // the saved cells' times as they were.
+  o.threads = 1;
+  o.finished.resize(4);
+  for (size_t i = 0; i < 2; ++i) {
+    auto c = cell_from_line(key, lines[i], o.detectors.size());
+    ASSERT_TRUE(c);
+    o.finished[c->first] = std::make_shared<const CellResult>(c->second);
+  }
+  int calls = 0;
+  o.on_cell = [&](size_t, const CellResult&) { ++calls; };
+  const auto resumed = run_lab(p, o);
+  ASSERT_TRUE(resumed);
+  EXPECT_EQ(calls, 2);
+  EXPECT_EQ(strip(lab_table_csv(*one)), strip(lab_table_csv(*resumed)));
+  EXPECT_EQ(resumed->cells[0].detectors[0].ms, one->cells[0].detectors[0].ms);
+  // A saved cell of another plan or seed, or a line cut short, is not taken.
+  LabOptions other = o;
+  other.seed = 9;
+  EXPECT_FALSE(cell_from_line(lab_run_key(p, other), lines[0], o.detectors.size()));
+  EXPECT_FALSE(cell_from_line(key, lines[0].substr(0, lines[0].size() / 2), o.detectors.size()));
+  EXPECT_FALSE(cell_from_line(key, lines[0], 3));
+}
+
 TEST(LabRun, DetectorsThatCannotRunAreNamed) {
   LabOptions o;
   o.detectors = {"arwb", "yolo"};
