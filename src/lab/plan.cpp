@@ -1,5 +1,8 @@
 #include "lab/plan.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace arwb::lab {
 
 std::vector<Cell> LabPlan::cells() const {
@@ -8,6 +11,10 @@ std::vector<Cell> LabPlan::cells() const {
     for (double d : distances_m)
       for (double l : lux) out.push_back({s, d, l});
   return out;
+}
+
+int LabPlan::empty_frames_per_cell() const {
+  return std::max(1, int(std::ceil(frames_per_cell * std::max(0.0, empty_share))));
 }
 
 LabPlan paper_plan() { return LabPlan{}; }

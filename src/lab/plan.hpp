@@ -22,6 +22,9 @@ struct LabPlan {
   std::vector<double> lux{1000, 850, 500};
   double max_tilt_deg = 40;                          // about x and about y, each uniform in +-this
   int frames_per_cell = 40;
+  // Frames without a marker per cell, for false positives: this share of frames_per_cell (at least one).
+  double empty_share = 0.25;
+  int empty_frames_per_cell() const;
   // Every combination, sizes outermost, then distances, then light (the paper's table's order).
   std::vector<Cell> cells() const;
 };

@@ -6,6 +6,7 @@
 #include "detect/dictionary.hpp"
 #include "detect/peers.hpp"
 #include "synth/marker_view.hpp"
+#include "synth/synth.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
@@ -91,7 +92,9 @@ namespace {
 // One frame's outcome for every detector, kept by frame so that tallies do not depend on which thread ran it.
 struct FrameOutcome {
   bool visible = false;
+  bool empty = false;            // a frame without a marker: `found` counts false positives
   std::vector<char> right, wrong;
+  std::vector<int> found;
   std::vector<double> ms;
 };
 
@@ -100,6 +103,54 @@ struct Worker {
   MarkerRenderer renderer;
   std::vector<DetectFn> detectors;
 };
+
+// Optics and sensor, the same for every frame of a cell: defocus, the hand's motion during the exposure, then
+// light to electrons, noise and grey levels.
+cv::Mat camera_picture(cv::Mat1f levels, const LabOptions& options, const Cell& cell, std::mt19937& rng) {
+  const double f = options.camera.camera_matrix(0, 0);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Exposure ex = auto_exposure(options.sensor, cell.lux);
+  const double defocus = defocus_sigma_px(options.sensor, cell.distance_m, f);
+  const double shake = shake_length_px(options.sensor, ex.exposure_s, f);
+  if (defocus > 0.05) cv::GaussianBlur(levels, levels, cv::Size(), defocus);
+  if (shake > 0.3) {
+    std::normal_distribution<double> speed(0, 1);
+    const double length = std::abs(speed(rng)) * shake;
+    const double angle = u(rng) * CV_PI;
+    if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, angle));
+  }
+  const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
+  cv::Mat bgr;
+  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  return bgr;
+}
+
+// A frame without a marker: one of the benchmark's cluttered photographs with no marker in it (rectangles,
+// checkerboard patches, text, and decoys with a black border whose bits decode to nothing), through the cell's
+// optics and sensor. Every marker a detector reports on it is a false positive.
+FrameOutcome run_empty_frame(Worker& w, const LabPlan& plan, const LabOptions& options, size_t ci, const Cell& cell,
+                             int k) {
+  FrameOutcome fo;
+  fo.visible = fo.empty = true;
+  std::mt19937 rng(options.seed * 2246822519u + unsigned(ci) * 3266489917u + unsigned(k) * 668265263u);
+  SynthOptions so;
+  so.size = options.camera.size;
+  so.dictionaries = {*dictionary_by_name(plan.dictionary)};
+  so.empty_fraction = 1.0;
+  const SynthImage photo = synth_photo(so, options.seed + 1000003ull * (ci + 1), k);
+  cv::Mat grey;
+  cv::cvtColor(photo.image, grey, cv::COLOR_BGR2GRAY);
+  cv::Mat1f levels;
+  grey.convertTo(levels, CV_32F);
+  const cv::Mat bgr = camera_picture(levels, options, cell, rng);
+  for (const DetectFn& detect : w.detectors) {
+    const auto s0 = Clock::now();
+    fo.found.push_back(int(detect(bgr).size()));
+    fo.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s0).count());
+  }
+  return fo;
+}
+
 
 FrameOutcome run_frame(Worker& w, const LabPlan& plan, const LabOptions& options, const std::vector<int>& ids,
                        size_t ci, const Cell& cell, int k) {
@@ -135,20 +186,7 @@ FrameOutcome run_frame(Worker& w, const LabPlan& plan, const LabOptions& options
     fo.visible = truth.all_inside;
   }
   if (!fo.visible) return fo;   // the marker could not be placed wholly in view: not a frame of the experiment
-  // Optics before the sensor: defocus, then the hand's motion during the exposure.
-  const Exposure ex = auto_exposure(options.sensor, cell.lux);
-  const double defocus = defocus_sigma_px(options.sensor, cell.distance_m, f);
-  const double shake = shake_length_px(options.sensor, ex.exposure_s, f);
-  if (defocus > 0.05) cv::GaussianBlur(levels, levels, cv::Size(), defocus);
-  if (shake > 0.3) {
-    std::normal_distribution<double> speed(0, 1);
-    const double length = std::abs(speed(rng)) * shake;
-    const double angle = u(rng) * CV_PI;
-    if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, angle));
-  }
-  const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
-  cv::Mat bgr;
-  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  const cv::Mat bgr = camera_picture(levels, options, cell, rng);
   const double side = marker_side_px(cell.size_mm, cell.distance_m, f);
   for (const DetectFn& detect : w.detectors) {
     const auto s0 = Clock::now();
@@ -199,7 +237,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
   }
   const double f = options.camera.camera_matrix(0, 0);
   const std::vector<Cell> cells = plan.cells();
-  const int total = int(cells.size()) * plan.frames_per_cell;
+  const int total = int(cells.size()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
   std::atomic<int> done{0};
   std::mutex progress_mutex;
   auto report = [&] {
@@ -213,7 +251,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     // A cell finished by an earlier run (resume): taken as it was.
     if (ci < options.finished.size() && options.finished[ci]) {
       out.cells.push_back(*options.finished[ci]);
-      for (int k = 0; k < plan.frames_per_cell; ++k) report();
+      for (int k = 0; k < plan.frames_per_cell + plan.empty_frames_per_cell(); ++k) report();
       continue;
     }
     CellResult cr;
@@ -226,11 +264,14 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     cr.blur_px = std::hypot(defocus_sigma_px(options.sensor, cell.distance_m, f),
                             shake_length_px(options.sensor, ex.exposure_s, f) / 2);
     cr.detectors.resize(options.detectors.size());
-    std::vector<FrameOutcome> frames(size_t(plan.frames_per_cell));
+    const int empty = plan.empty_frames_per_cell(), n = plan.frames_per_cell + empty;
+    std::vector<FrameOutcome> frames(static_cast<size_t>(n));
     std::atomic<int> next{0};
     auto work = [&](Worker& w) {
-      for (int k = next++; k < plan.frames_per_cell; k = next++) {
-        frames[size_t(k)] = run_frame(w, plan, options, out.ids, ci, cell, k);
+      for (int k = next++; k < n; k = next++) {
+        frames[size_t(k)] = k < plan.frames_per_cell
+                                ? run_frame(w, plan, options, out.ids, ci, cell, k)
+                                : run_empty_frame(w, plan, options, ci, cell, k - plan.frames_per_cell);
         report();
       }
     };
@@ -239,6 +280,13 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     work(*workers[0]);
     for (std::thread& t : pool) t.join();
     for (const FrameOutcome& fo : frames) {
+      if (fo.empty) {
+        for (size_t d = 0; d < cr.detectors.size(); ++d) {
+          ++cr.detectors[d].empty_frames;
+          cr.detectors[d].false_positives += fo.found[d];
+        }
+        continue;
+      }
       if (!fo.visible) continue;
       for (size_t d = 0; d < cr.detectors.size(); ++d) {
         DetectorTally& t = cr.detectors[d];
@@ -257,8 +305,8 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
 
 std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
   nlohmann::ordered_json j;
-  j["plan"] = {plan.name,    plan.dictionary, plan.markers,      plan.sizes_mm,
-               plan.distances_m, plan.lux,    plan.max_tilt_deg, plan.frames_per_cell};
+  j["plan"] = {plan.name,        plan.dictionary,   plan.markers,         plan.sizes_mm, plan.distances_m,
+               plan.lux,         plan.max_tilt_deg, plan.frames_per_cell, plan.empty_share};
   j["seed"] = options.seed;
   j["detectors"] = options.detectors;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();
@@ -284,7 +332,8 @@ std::string cell_to_line(const std::string& key, size_t index, const CellResult&
   j["snr"] = c.snr_black_white;
   j["blur_px"] = c.blur_px;
   nlohmann::json ds = nlohmann::json::array();
-  for (const DetectorTally& t : c.detectors) ds.push_back({t.frames, t.detected, t.wrong_id, t.ms});
+  for (const DetectorTally& t : c.detectors)
+    ds.push_back({t.frames, t.detected, t.wrong_id, t.ms, t.empty_frames, t.false_positives});
   j["detectors"] = ds;
   return j.dump() + "\n";
 }
@@ -310,6 +359,8 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
       t.detected = d.at(1).get<int>();
       t.wrong_id = d.at(2).get<int>();
       t.ms = d.at(3).get<std::vector<double>>();
+      t.empty_frames = d.at(4).get<int>();
+      t.false_positives = d.at(5).get<int>();
       c.detectors.push_back(std::move(t));
     }
     return std::pair{j.at("index").get<size_t>(), std::move(c)};
@@ -341,22 +392,31 @@ std::string lab_table_text(const LabResults& r) {
       }
       s += "\n";
     }
-    s += "\n";
+    int empty = 0, fps = 0;
+    for (const CellResult& c : r.cells) {
+      empty += c.detectors[d].empty_frames;
+      fps += c.detectors[d].false_positives;
+    }
+    std::snprintf(b, sizeof b, "false positives: %d on %d frames without a marker (%.3f per frame)\n\n", fps, empty,
+                  empty ? double(fps) / empty : 0.0);
+    s += b;
   }
   return s;
 }
 
 std::string lab_table_csv(const LabResults& r) {
   std::string s =
-      "detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,wrong_id_rate,median_ms\n";
+      "detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,wrong_id_rate,empty_frames,"
+      "false_positives,median_ms\n";
   char b[320];
   for (size_t d = 0; d < r.options.detectors.size(); ++d)
     for (const CellResult& c : r.cells) {
       const DetectorTally& t = c.detectors[d];
       const auto [lo, hi] = wilson_interval(t.detected, t.frames);
-      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%.3f\n", r.options.detectors[d].c_str(),
-                    c.cell.size_mm, c.cell.distance_m, c.cell.lux, c.side_px, t.frames, t.detected, t.p_rec(),
-                    100 * lo, 100 * hi, t.frames ? double(t.wrong_id) / t.frames : 0.0, t.median_ms());
+      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%d,%d,%.3f\n",
+                    r.options.detectors[d].c_str(), c.cell.size_mm, c.cell.distance_m, c.cell.lux, c.side_px, t.frames,
+                    t.detected, t.p_rec(), 100 * lo, 100 * hi, t.frames ? double(t.wrong_id) / t.frames : 0.0,
+                    t.empty_frames, t.false_positives, t.median_ms());
       s += b;
     }
   return s;
@@ -373,7 +433,8 @@ std::string lab_results_json(const LabResults& r) {
                {"distances_m", r.plan.distances_m},
                {"lux", r.plan.lux},
                {"max_tilt_deg", r.plan.max_tilt_deg},
-               {"frames_per_cell", r.plan.frames_per_cell}};
+               {"frames_per_cell", r.plan.frames_per_cell},
+               {"empty_frames_per_cell", r.plan.empty_frames_per_cell()}};
   j["seed"] = r.options.seed;
   j["ids"] = r.ids;
   j["camera"] = {{"name", r.options.camera_name},
@@ -398,6 +459,8 @@ std::string lab_results_json(const LabResults& r) {
                                      {"p_rec", round_decimals(t.p_rec(), 2)},
                                      {"ci95", {round_decimals(100 * lo, 2), round_decimals(100 * hi, 2)}},
                                      {"wrong_id", t.wrong_id},
+                                     {"empty_frames", t.empty_frames},
+                                     {"false_positives", t.false_positives},
                                      {"median_ms", round_decimals(t.median_ms(), 3)}};
     }
     cells.push_back({{"size_mm", c.cell.size_mm},

@@ -43,6 +43,9 @@ struct DetectorTally {
   int frames = 0;        // frames in which the marker was visible
   int detected = 0;      // ... and this detector reported it, right id, on the marker
   int wrong_id = 0;      // frames where it reported another id
+  int empty_frames = 0;      // frames without a marker (cluttered, decoys included)
+  int false_positives = 0;   // markers it reported on them
+  double fp_per_frame() const { return empty_frames ? double(false_positives) / empty_frames : 0; }
   std::vector<double> ms;
   double p_rec() const { return frames ? 100.0 * detected / frames : 0; }
   double median_ms() const;
@@ -77,10 +80,10 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
                                                             size_t detectors);
 
 // The paper's table as text: per detector, a row per size and distance, a column per light level, each cell
-// "P_Rec% [low-high]".
+// "P_Rec% [low-high]", then its false positives on the frames without a marker.
 std::string lab_table_text(const LabResults& r);
 // One row per cell and detector: detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,
-// wrong_id_rate,median_ms.
+// wrong_id_rate,empty_frames,false_positives,median_ms.
 std::string lab_table_csv(const LabResults& r);
 // Everything above, with the plan, the camera, the sensor model and each cell's exposure, as JSON text.
 std::string lab_results_json(const LabResults& r);

@@ -95,6 +95,9 @@ TEST(LabRun, ExtremeCellsBehaveForEveryDetector) {
   ASSERT_EQ(r->cells.size(), 1u);
   for (size_t d = 0; d < o.detectors.size(); ++d) {
     EXPECT_EQ(r->cells[0].detectors[d].frames, 20) << o.detectors[d];
+    // A quarter as many frames without a marker (cluttered, decoys included), for false positives.
+    EXPECT_EQ(r->cells[0].detectors[d].empty_frames, 5) << o.detectors[d];
+    EXPECT_LE(r->cells[0].detectors[d].fp_per_frame(), 1.0) << o.detectors[d];
     EXPECT_GE(r->cells[0].detectors[d].p_rec(), 80) << o.detectors[d] << ": 65 mm at 0.5 m";
   }
   LabPlan far = near;
