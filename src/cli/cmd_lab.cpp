@@ -26,12 +26,18 @@ int cmd_lab(int argc, char** argv) {
                  "P_Rec = detected frames / frames with the marker in view x 100 per cell, with its 95 % Wilson "
                  "interval.",
                  "The same seed gives the same frames and the same table.");
-  std::string detectors_opt = "arwb,opencv,opencv-aruco3", out, calib_file, params_file;
-  int frames = 40, seed = 1, threads = 1;
+  std::string detectors_opt = "arwb,opencv,opencv-aruco3", out, calib_file, params_file, plan_opt = "paper";
+  int frames = 0, seed = 1, threads = 1;
   bool json = false, restart = false;
   cl.app.add_option("--detectors", detectors_opt, "a comma list of arwb, opencv, opencv-aruco3, apriltag")
       ->type_name("LIST");
-  cl.app.add_option("--frames-per-cell", frames, "frames rendered for each cell")->type_name("N")->check(whole_number(1, 100000));
+  cl.app.add_option("--plan", plan_opt, "the paper's plan, or a plan file (docs/lab.md: sizes_mm, distances_m, lux, "
+                                        "max_tilt_deg, frames_per_cell, markers, dictionary, empty_share)")
+      ->type_name("paper|FILE.yml");
+  cl.app.add_option("--frames-per-cell", frames, "frames rendered for each cell (default: the plan's, 40 in the "
+                                                 "paper's)")
+      ->type_name("N")
+      ->check(whole_number(1, 100000));
   cl.app.add_option("--seed", seed, "the markers, poses and noise")->type_name("S")->check(whole_number(0, 2147483647));
   cl.app.add_option("--calib", calib_file, "the camera to render through (a calibration file); default: a webcam of "
                                            "60 degrees across at 640x480")
@@ -49,7 +55,12 @@ int cmd_lab(int argc, char** argv) {
   if (const auto status = cl.parse(argc, argv)) return *status;
 
   lab::LabPlan plan = lab::paper_plan();
-  plan.frames_per_cell = frames;
+  if (plan_opt != "paper") {
+    Result<lab::LabPlan> p = lab::read_plan(plan_opt);
+    if (!p) return cl.usage_error("--plan " + p.error());
+    plan = std::move(*p);
+  }
+  if (frames > 0) plan.frames_per_cell = frames;
   lab::LabOptions options;
   options.seed = unsigned(seed);
   options.detectors.clear();
@@ -138,8 +149,10 @@ int cmd_lab(int argc, char** argv) {
     std::fputs(js.c_str(), stdout);
     return 0;
   }
-  std::printf("The paper's plan: %zu cells x %d frames, markers %s, camera %s, seed %d\n\n", plan.cells().size(),
-              plan.frames_per_cell, plan.dictionary.c_str(), r->options.camera_name.c_str(), seed);
+  std::printf("%s: %zu cells x %d frames (and %d without a marker), markers %s, camera %s, seed %d\n\n",
+              plan_opt == "paper" ? "The paper's plan" : ("Plan " + plan.name).c_str(), plan.cells().size(),
+              plan.frames_per_cell, plan.empty_frames_per_cell(), plan.dictionary.c_str(),
+              r->options.camera_name.c_str(), seed);
   std::fputs(text.c_str(), stdout);
   std::printf("%.1f s%s%s\n", r->seconds, out.empty() ? "" : "; wrote table.txt, table.csv and results.json to ",
               out.c_str());

@@ -1,7 +1,14 @@
 #include "lab/plan.hpp"
 
+#include "base/text.hpp"
+#include "detect/dictionary.hpp"
+#include "detect/yaml_file.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string_view>
 
 namespace arwb::lab {
 
@@ -18,5 +25,99 @@ int LabPlan::empty_frames_per_cell() const {
 }
 
 LabPlan paper_plan() { return LabPlan{}; }
+
+namespace {
+
+constexpr FileLimit kPlanFile{"a lab plan", 1u << 20};
+
+// A list of numbers (a single number is a list of one), each in [lo, hi].
+std::string read_list(const cv::FileNode& n, const char* key, double lo, double hi, const char* what,
+                      std::vector<double>* out) {
+  std::vector<double> v;
+  auto take = [&](const cv::FileNode& x, size_t i) -> std::string {
+    if (!x.isReal() && !x.isInt()) return std::string(key) + ": value " + std::to_string(i + 1) + " is not a number";
+    const double d = double(x);
+    if (!std::isfinite(d) || d < lo || d > hi) {
+      char b[200];
+      std::snprintf(b, sizeof b, "%s: value %zu (%g) must be %s from %g to %g", key, i + 1, d, what, lo, hi);
+      return b;
+    }
+    v.push_back(d);
+    return {};
+  };
+  if (n.isSeq()) {
+    if (n.size() == 0 || n.size() > 50) return std::string(key) + ": give 1 to 50 values";
+    for (size_t i = 0; i < n.size(); ++i)
+      if (std::string e = take(n[int(i)], i); !e.empty()) return e;
+  } else if (std::string e = take(n, 0); !e.empty()) {
+    return e;
+  }
+  *out = std::move(v);
+  return {};
+}
+
+std::string read_number(const cv::FileNode& n, const char* key, double lo, double hi, double* out) {
+  if (!n.isReal() && !n.isInt()) return std::string(key) + ": not a number";
+  const double d = double(n);
+  if (!std::isfinite(d) || d < lo || d > hi) {
+    char b[160];
+    std::snprintf(b, sizeof b, "%s: %g must be from %g to %g", key, d, lo, hi);
+    return b;
+  }
+  *out = d;
+  return {};
+}
+
+}  // namespace
+
+Result<LabPlan> read_plan(const std::string& path) {
+  cv::FileStorage fs;
+  if (Status s = open_yaml_file(path, kPlanFile, &fs); !s) return fail(s.error());
+  LabPlan p;
+  p.name = std::filesystem::path(path).stem().string();
+  const cv::FileNode root = fs.root();
+  if (!root.isMap()) return fail(path + ": a plan is a map of fields (sizes_mm: [65, 39, 26], ...)");
+  static const std::vector<std::string_view> kKnown = {"name", "dictionary", "markers", "sizes_mm", "distances_m",
+                                                       "lux", "max_tilt_deg", "frames_per_cell", "empty_share"};
+  for (const cv::FileNode& n : root) {
+    const std::string key = n.name();
+    if (std::find(kKnown.begin(), kKnown.end(), key) != kKnown.end()) continue;
+    const std::string best = nearest_name(key, kKnown);
+    return fail(path + ": unknown field '" + key + "'" + (best.empty() ? "" : " (did you mean '" + best + "'?)"));
+  }
+  auto at = [&](const char* key) { return root[key]; };
+  std::string e;
+  if (!at("name").empty()) {
+    if (!at("name").isString()) return fail(path + ": name: not a text");
+    p.name = std::string(at("name"));
+  }
+  if (!at("dictionary").empty()) {
+    const std::string d = at("dictionary").isString() ? std::string(at("dictionary")) : std::string();
+    if (!dictionary_by_name(d)) return fail(path + ": dictionary: unknown '" + d + "'");
+    p.dictionary = d;
+  }
+  if (!at("sizes_mm").empty()) e = read_list(at("sizes_mm"), "sizes_mm", 1, 2000, "a size in mm", &p.sizes_mm);
+  if (e.empty() && !at("distances_m").empty())
+    e = read_list(at("distances_m"), "distances_m", 0.05, 100, "a distance in m", &p.distances_m);
+  if (e.empty() && !at("lux").empty()) e = read_list(at("lux"), "lux", 0.1, 200000, "an illuminance in lux", &p.lux);
+  double v = 0;
+  if (e.empty() && !at("max_tilt_deg").empty() && (e = read_number(at("max_tilt_deg"), "max_tilt_deg", 0, 80, &v)).empty())
+    p.max_tilt_deg = v;
+  if (e.empty() && !at("frames_per_cell").empty() &&
+      (e = read_number(at("frames_per_cell"), "frames_per_cell", 1, 100000, &v)).empty())
+    p.frames_per_cell = int(v);
+  if (e.empty() && !at("empty_share").empty() && (e = read_number(at("empty_share"), "empty_share", 0, 10, &v)).empty())
+    p.empty_share = v;
+  if (e.empty() && !at("markers").empty() && (e = read_number(at("markers"), "markers", 1, 100000, &v)).empty())
+    p.markers = int(v);
+  if (!e.empty()) return fail(path + ": " + e);
+  const int dict_size = dictionary_by_name(p.dictionary)->size();
+  if (p.markers > dict_size)
+    return fail(path + ": markers: " + std::to_string(p.markers) + " distinct ids, but " + p.dictionary + " has " +
+                std::to_string(dict_size));
+  const size_t cells = p.sizes_mm.size() * p.distances_m.size() * p.lux.size();
+  if (cells > 10000) return fail(path + ": " + std::to_string(cells) + " cells, more than 10000");
+  return p;
+}
 
 }  // namespace arwb::lab

@@ -4,6 +4,8 @@
 // tilted about x and y.
 #pragma once
 
+#include "base/result.hpp"
+
 #include <string>
 #include <vector>
 
@@ -30,5 +32,11 @@ struct LabPlan {
 };
 
 LabPlan paper_plan();
+
+// A plan file (YAML): any of the fields above by name, the others the paper's; the file's name (without .yml)
+// names the plan unless it says `name`. Every problem is one line naming the file and the field:
+// "p.yml: sizes_mm: value 2 (-5) must be a size in mm from 1 to 2000", "p.yml: dictionary: unknown 'X'",
+// "p.yml: unknown field 'size_mm' (did you mean 'sizes_mm'?)", "p.yml: 12000 cells, more than 10000".
+Result<LabPlan> read_plan(const std::string& path);
 
 }  // namespace arwb::lab

@@ -78,5 +78,32 @@ TEST(LabCli, AnInterruptedRunIsResumed) {
   EXPECT_EQ(again.err.find("resuming"), std::string::npos) << again.err;
 }
 
+// A plan file changes the axes (here another dictionary, which AprilTag reads); a bad one is named with its field.
+TEST(LabCli, PlanFilesAndTheirMistakes) {
+  TempDir d;
+  test::write_file(d.str("tags.yml"), "sizes_mm: [50]\ndistances_m: [0.5, 3]\nlux: 800\nframes_per_cell: 3\n"
+                                      "dictionary: APRILTAG_36h11\nmarkers: 5\n");
+  auto r = run_arwb("lab --plan " + d.str("tags.yml") + " --detectors arwb,apriltag");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("Plan tags: 2 cells x 3 frames (and 1 without a marker), markers APRILTAG_36h11"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("apriltag: P_Rec"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" 50 mm  0.5 m   55 px"), std::string::npos) << r.out;
+  const std::pair<const char*, const char*> bad[] = {
+      {"sizes_mm: [65, -5]\n", "bad.yml: sizes_mm: value 2 (-5) must be a size in mm from 1 to 2000"},
+      {"size_mm: [65]\n", "bad.yml: unknown field 'size_mm' (did you mean 'sizes_mm'?)"},
+      {"dictionary: NOPE\n", "bad.yml: dictionary: unknown 'NOPE'"},
+      {"lux: [a, 2]\n", "bad.yml: lux: value 1 is not a number"},
+      {"frames_per_cell: 0\n", "bad.yml: frames_per_cell: 0 must be from 1 to 100000"},
+      {"markers: 60\ndictionary: \"4X4_50\"\n", "bad.yml: markers: 60 distinct ids, but 4X4_50 has 50"},
+  };
+  for (const auto& [text, message] : bad) {
+    test::write_file(d.str("bad.yml"), text);
+    r = run_arwb("lab --plan " + d.str("bad.yml"));
+    EXPECT_EQ(r.status, 2) << text;
+    EXPECT_NE(r.err.find(message), std::string::npos) << text << "\n" << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace arwb
