@@ -2,13 +2,15 @@
 
 #include "base/text.hpp"
 
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <system_error>
 
 namespace arwb {
 
@@ -44,6 +46,69 @@ Status check_stat(const std::string& path, const struct stat& st, const FileLimi
 std::string system_reason(int err) { return std::string("cannot be read (") + std::strerror(err) + ")"; }
 
 }  // namespace
+
+std::string shown_name(std::string_view s) {
+  constexpr size_t kMaxShown = 120;
+  std::string out;
+  size_t n = std::min(s.size(), kMaxShown);
+  while (n < s.size() && n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // whole characters
+  for (const char c : s.substr(0, n)) {
+    const auto u = static_cast<unsigned char>(c);
+    out += (u < 0x20 || u == 0x7f) ? '?' : c;
+  }
+  if (s.size() > kMaxShown) out += "\u2026";
+  return out;
+}
+
+namespace {
+
+bool is_inside(const std::filesystem::path& inner, const std::filesystem::path& outer) {
+  auto i = inner.begin();
+  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+    if (o->empty()) continue;  // a trailing separator yields an empty last component
+    if (i == inner.end() || *i != *o) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+ResolvedPath resolve_inside(const std::filesystem::path& folder, const std::string& relative,
+                            const std::filesystem::path& from, const std::string& folder_name) {
+  namespace fs = std::filesystem;
+  ResolvedPath out;
+  const auto fail = [&](const std::string& reason) {
+    out.path.clear();
+    out.error = shown_name(relative) + ": " + reason;
+    return out;
+  };
+  // Everything that can be decided from the text is decided before the file system is asked anything.
+  if (relative.empty()) return fail("empty path");
+  if (relative.find('\0') != std::string::npos) return fail("contains a NUL character");
+  const fs::path rel(relative);
+  if (rel.is_absolute() || rel.has_root_path()) return fail("absolute paths are not allowed");
+  for (const fs::path& part : rel)
+    if (part == "..") return fail("leaves " + folder_name);
+
+  std::error_code ec;
+  const fs::path base = fs::canonical(folder, ec);
+  if (ec) return fail(folder_name + " " + folder.string() + " cannot be resolved (" + ec.message() + ")");
+  // Symbolic links are resolved, so one inside the folder that leads out is caught by the containment test
+  // (and so is a `from` that is itself a link leading out).
+  const fs::path resolved = fs::weakly_canonical(base / from / rel, ec);
+  if (ec) return fail("cannot resolve (" + ec.message() + ")");
+  if (!is_inside(resolved, base)) return fail("leaves " + folder_name);
+
+  struct stat st {};
+  if (::stat(resolved.c_str(), &st) != 0) {
+    if (errno == ENOENT || errno == ENOTDIR) return fail("no such file");
+    return fail(std::string("cannot access (") + std::generic_category().message(errno) + ")");
+  }
+  // A FIFO or device would block or never end when read; a folder is not a file. ("a FIFO" without its article.)
+  if (!S_ISREG(st.st_mode)) return fail(std::string("not a regular file (") + (type_name(st.st_mode) + 2) + ")");
+  out.path = resolved.string();
+  return out;
+}
 
 Status check_input_file(const std::string& path, const FileLimit& limit) {
   struct stat st {};

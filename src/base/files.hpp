@@ -6,7 +6,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace arwb {
 
@@ -24,6 +26,24 @@ struct FileLimit {
 // /dev/zero or /dev/urandom would never end. On failure the message is "<path>: <reason>", the path as given.
 // Every reader of a user's path goes through this (or through open_input_file / read_text_file, which call it).
 Status check_input_file(const std::string& path, const FileLimit& limit);
+
+// What an author wrote, fit for one line of a message: control characters shown as '?', long text cut with "…".
+std::string shown_name(std::string_view written);
+
+// A file named inside a shared folder (a scene's media, a model's textures, a lab's clips), resolved and checked:
+// `relative` against `folder`, or against `from` inside it (a model's own references are relative to the
+// model's folder; `from` is then checked already). Absolute paths and any ".." component are refused from the
+// text alone, before the file system is asked; then the path is resolved (symbolic links followed) and must still
+// lie inside the canonical folder, and name a regular file. Nothing is read. Errors name `relative` and call the
+// folder `folder_name`: "../x.png: leaves the scene's folder" (also for a link leading out), "/dev/zero: absolute
+// paths are not allowed", "x.png: no such file", "fifo: not a regular file (FIFO)", "(folder)", ...
+struct ResolvedPath {
+  std::string path;    // absolute, canonical; empty on failure
+  std::string error;   // empty when usable
+  bool ok() const { return error.empty(); }
+};
+ResolvedPath resolve_inside(const std::filesystem::path& folder, const std::string& relative,
+                            const std::filesystem::path& from, const std::string& folder_name);
 
 // A regular file open for reading: a descriptor that is closed with the object.
 class InputFile {

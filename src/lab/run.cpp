@@ -1,5 +1,6 @@
 #include "lab/run.hpp"
 
+#include "lab/detectors.hpp"
 #include "lab/stats.hpp"
 #include "base/decimals.hpp"
 #include "detect/detector.hpp"
@@ -28,8 +29,29 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// One detector behind one call: its markers on a BGR frame.
-using DetectFn = std::function<std::vector<Marker>(const cv::Mat&)>;
+// A line of `length` pixels at `angle` radians, normalised: the streak a turning camera draws.
+cv::Mat motion_kernel(double length, double angle) {
+  const int n = std::max(1, int(std::ceil(length)) | 1);
+  cv::Mat1f k(n, n, 0.f);
+  const cv::Point2d c((n - 1) / 2.0, (n - 1) / 2.0), d(std::cos(angle), std::sin(angle));
+  const int steps = 4 * n;
+  for (int i = 0; i <= steps; ++i) {
+    const cv::Point2d p = c + d * (length * (double(i) / steps - 0.5));
+    const int x = std::clamp(int(std::lround(p.x)), 0, n - 1), y = std::clamp(int(std::lround(p.y)), 0, n - 1);
+    k(y, x) += 1.f;
+  }
+  cv::Mat out;
+  k.convertTo(out, CV_32F, 1.0 / cv::sum(k)[0]);
+  return out;
+}
+
+double quad_error(const Quad& a, const Quad& b) {
+  double e = 0;
+  for (size_t i = 0; i < 4; ++i) e += cv::norm(a[i] - b[i]);
+  return e / 4;
+}
+
+}  // namespace
 
 Result<DetectFn> make_detector(const std::string& name, const std::string& dict, const DetectorParams& params) {
   if (name == "arwb") {
@@ -55,30 +77,6 @@ Result<DetectFn> make_detector(const std::string& name, const std::string& dict,
   for (const auto& k : kLabDetectors) known += (known.empty() ? "" : ", ") + k;
   return fail("unknown detector '" + name + "' (" + known + ")");
 }
-
-// A line of `length` pixels at `angle` radians, normalised: the streak a turning camera draws.
-cv::Mat motion_kernel(double length, double angle) {
-  const int n = std::max(1, int(std::ceil(length)) | 1);
-  cv::Mat1f k(n, n, 0.f);
-  const cv::Point2d c((n - 1) / 2.0, (n - 1) / 2.0), d(std::cos(angle), std::sin(angle));
-  const int steps = 4 * n;
-  for (int i = 0; i <= steps; ++i) {
-    const cv::Point2d p = c + d * (length * (double(i) / steps - 0.5));
-    const int x = std::clamp(int(std::lround(p.x)), 0, n - 1), y = std::clamp(int(std::lround(p.y)), 0, n - 1);
-    k(y, x) += 1.f;
-  }
-  cv::Mat out;
-  k.convertTo(out, CV_32F, 1.0 / cv::sum(k)[0]);
-  return out;
-}
-
-double quad_error(const Quad& a, const Quad& b) {
-  double e = 0;
-  for (size_t i = 0; i < 4; ++i) e += cv::norm(a[i] - b[i]);
-  return e / 4;
-}
-
-}  // namespace
 
 double DetectorTally::median_ms() const {
   if (ms.empty()) return 0;

@@ -14,42 +14,9 @@ namespace fs = std::filesystem;
 
 namespace arwb::media {
 
-std::string shown_name(std::string_view s) {
-  constexpr size_t kMaxShown = 120;
-  std::string out;
-  size_t n = std::min(s.size(), kMaxShown);
-  while (n < s.size() && n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // whole characters
-  for (const char c : s.substr(0, n)) {
-    const auto u = static_cast<unsigned char>(c);
-    out += (u < 0x20 || u == 0x7f) ? '?' : c;
-  }
-  if (s.size() > kMaxShown) out += "\u2026";
-  return out;
-}
-
 namespace {
 
 constexpr size_t kMaxUrlLength = 2048;
-
-// True when `inner` is `outer` or lies under it. Both must be canonical; compares whole components, so
-// "/scenes/a2" is not inside "/scenes/a".
-bool is_inside(const fs::path& inner, const fs::path& outer) {
-  auto i = inner.begin();
-  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
-    if (o->empty()) continue;  // a trailing separator yields an empty last component
-    if (i == inner.end() || *i != *o) return false;
-  }
-  return true;
-}
-
-const char* file_type_name(mode_t mode) {
-  if (S_ISDIR(mode)) return "folder";
-  if (S_ISFIFO(mode)) return "FIFO";
-  if (S_ISCHR(mode)) return "character device";
-  if (S_ISBLK(mode)) return "block device";
-  if (S_ISSOCK(mode)) return "socket";
-  return "special file";
-}
 
 // The video container's name from read_image_header's documented refusal, "not an image (video: MP4/MOV)".
 std::string video_format(const std::string& path) {
@@ -83,39 +50,7 @@ std::string_view authority_of(std::string_view url, std::string* scheme) {
 }  // namespace
 
 ResolvedFile resolve_scene_file(const fs::path& scene_dir, const std::string& relative, const fs::path& from_folder) {
-  ResolvedFile out;
-  const auto fail = [&](const std::string& reason) {
-    out.path.clear();
-    out.error = shown_name(relative) + ": " + reason;
-    return out;
-  };
-
-  // Everything that can be decided from the text is decided before the file system is asked anything.
-  if (relative.empty()) return fail("empty path");
-  if (relative.find('\0') != std::string::npos) return fail("contains a NUL character");
-  const fs::path rel(relative);
-  if (rel.is_absolute() || rel.has_root_path()) return fail("absolute paths are not allowed");
-  for (const fs::path& part : rel)
-    if (part == "..") return fail("leaves the scene's folder");
-
-  std::error_code ec;
-  const fs::path base = fs::canonical(scene_dir, ec);
-  if (ec) return fail("the scene's folder " + scene_dir.string() + " cannot be resolved (" + ec.message() + ")");
-  // Symbolic links are resolved, so one inside the folder that leads out is caught by the containment test
-  // (and so is a `from_folder` that is itself a link leading out).
-  const fs::path resolved = fs::weakly_canonical(base / from_folder / rel, ec);
-  if (ec) return fail("cannot resolve (" + ec.message() + ")");
-  if (!is_inside(resolved, base)) return fail("leaves the scene's folder");
-
-  struct stat st {};
-  if (::stat(resolved.c_str(), &st) != 0) {
-    if (errno == ENOENT || errno == ENOTDIR) return fail("no such file");
-    return fail(std::string("cannot access (") + std::generic_category().message(errno) + ")");
-  }
-  // A FIFO or device would block or never end when read; a folder is not a file.
-  if (!S_ISREG(st.st_mode)) return fail(std::string("not a regular file (") + file_type_name(st.st_mode) + ")");
-  out.path = resolved.string();
-  return out;
+  return resolve_inside(scene_dir, relative, from_folder, "the scene's folder");
 }
 
 CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relative) {

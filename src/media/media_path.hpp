@@ -4,6 +4,8 @@
 // dimensions checked from the header before any decoding. URLs must be http or https.
 #pragma once
 
+#include "base/files.hpp"
+
 #include <opencv2/core.hpp>
 
 #include <filesystem>
@@ -26,26 +28,12 @@ struct CheckedPath {
   bool ok() const { return error.empty(); }
 };
 
-// A file a scene names, resolved and checked by the rules every such file obeys, whatever it is (an image, a
-// video, a 3D model, a model's material library, buffer or texture).
-struct ResolvedFile {
-  std::string path;    // absolute, canonical; empty on failure
-  std::string error;   // empty when usable; else "<what the author wrote>: <reason>"
-  bool ok() const { return error.empty(); }
-};
-
-// Resolves `relative` against `scene_dir`, or against `from_folder` inside it (a model's own references are
-// relative to the model's folder; `from_folder` is then the model's folder as the scene wrote it, itself
-// already checked). Absolute paths and any ".." component of `relative` are refused from the text alone, before
-// the file system is asked; then the path is resolved (symbolic links followed) and must still lie inside the
-// canonical scene folder, and name a regular file. Nothing is read. Errors name `relative` (control characters
-// shown as '?'): "../x.png: leaves the scene's folder" (also for a link leading out), "/dev/zero: absolute paths
-// are not allowed", "x.png: no such file", "fifo: not a regular file (FIFO)", "(folder)", ...
+// A file a scene names (an image, a video, a 3D model, a model's material library, buffer or texture), resolved
+// inside the scene's folder by base/files.hpp's resolve_inside, or against `from_folder` inside it (a model's own
+// references are relative to the model's folder): "../x.png: leaves the scene's folder", "x.png: no such file".
+using ResolvedFile = ResolvedPath;
 ResolvedFile resolve_scene_file(const std::filesystem::path& scene_dir, const std::string& relative,
                                 const std::filesystem::path& from_folder = {});
-
-// What the author wrote, fit for one line of a message: control characters shown as '?', long text cut with "…".
-std::string shown_name(std::string_view written);
 
 // Resolves `relative` (as written in the scene) against `scene_dir` by resolve_scene_file's rules. Absolute paths and any ".." component are
 // refused from the text alone, before the file system is asked; then the path is resolved (symbolic links
