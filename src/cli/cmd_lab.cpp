@@ -3,6 +3,7 @@
 #include "calibration/calibration_file.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "lab/report.hpp"
 #include "lab/run.hpp"
 #include "base/files.hpp"
 
@@ -35,7 +36,8 @@ int cmd_lab(int argc, char** argv) {
                                            "60 degrees across at 640x480")
       ->type_name("FILE");
   cl.app.add_option("--params", params_file, "a YAML preset of arwb's parameters")->type_name("FILE.yml");
-  cl.app.add_option("--out", out, "a folder for table.txt, table.csv and results.json")->type_name("DIR");
+  cl.app.add_option("--out", out, "a folder for table.txt, table.csv, results.json, report.pdf and PNG plots")
+      ->type_name("DIR");
   cl.app.add_flag("--json", json, "print results.json instead of the table");
   if (const auto status = cl.parse(argc, argv)) return *status;
 
@@ -82,6 +84,10 @@ int cmd_lab(int argc, char** argv) {
         return 1;
       }
     }
+    if (const Status s = lab::write_lab_report(*r, out); !s) {
+      print_problem("arwb lab: %s\n", s.error().c_str());
+      return 1;
+    }
   }
   if (json) {
     std::fputs(js.c_str(), stdout);
@@ -90,8 +96,11 @@ int cmd_lab(int argc, char** argv) {
   std::printf("The paper's plan: %zu cells x %d frames, markers %s, camera %s, seed %d\n\n", plan.cells().size(),
               plan.frames_per_cell, plan.dictionary.c_str(), r->options.camera_name.c_str(), seed);
   std::fputs(text.c_str(), stdout);
-  std::printf("%.1f s%s%s\n", r->seconds, out.empty() ? "" : "; wrote table.txt, table.csv and results.json to ",
-              out.c_str());
+  if (out.empty())
+    std::printf("%.1f s\n", r->seconds);
+  else
+    std::printf("%.1f s; wrote table.txt, table.csv, results.json, report.pdf and %zu PNG plots to %s\n", r->seconds,
+                lab::lab_report_png_names(*r).size(), out.c_str());
   return 0;
 }
 

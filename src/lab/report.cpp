@@ -245,16 +245,18 @@ void draw_heatmap(const LabResults& r, size_t d) {
              std::vector<PLFLT>{y0, y0, y0 + 1, y0 + 1, y0}.data());
     }
   }
-  // The colour scale, 0 to 100 %, right of the grid.
+  // The colour scale, 0 to 100 %, right of the grid: 100 shades of one percent each (not a gradient: the cairo
+  // driver of PLplot 5.15 leaks each gradient's cairo pattern, which the sanitizer tree reports).
   PLFLT width = 0, height = 0;
   const char* labels[] = {"P#dRec#u (%)"};
   const PLINT label_opts[] = {PL_COLORBAR_LABEL_RIGHT};
   const char* axis_opts[] = {"bcvtm"};
   const PLFLT ticks[] = {20};
-  const PLINT sub_ticks[] = {2}, n_values[] = {2};
-  const PLFLT scale[] = {0, 100};
-  const PLFLT* values[] = {scale};
-  plcolorbar(&width, &height, PL_COLORBAR_GRADIENT,
+  std::vector<PLFLT> scale;
+  for (int v = 0; v <= 100; ++v) scale.push_back(v);
+  const PLINT sub_ticks[] = {2}, n_values[] = {PLINT(scale.size())};
+  const PLFLT* values[] = {scale.data()};
+  plcolorbar(&width, &height, PL_COLORBAR_SHADE,
              PL_POSITION_RIGHT | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, 0.04, 0, 0.04, 1.0, 0, kInk, 1, 0, 0, 0, 0,
              1, label_opts, labels, 1, axis_opts, ticks, sub_ticks, n_values, values);
 }
@@ -393,7 +395,8 @@ Status check_devices() {
 // Draws one file: under a temporary name in its folder, renamed over `path` when PLplot has finished it.
 template <typename Draw>
 Status draw_file(const fs::path& path, const char* device, int width, int height, Draw draw) {
-  const fs::path part = fs::path(path).concat(".part");
+  // The suffix write_file_atomically uses for the same purpose.
+  const fs::path part = fs::path(path).concat(".arwb-saving");
   std::FILE* file = std::fopen(part.c_str(), "wb");
   if (!file) return fail("lab report: cannot write " + part.string() + ": " + std::strerror(errno));
   {

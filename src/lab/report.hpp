@@ -20,7 +20,7 @@ inline constexpr int kReportPageWidthPt = 842, kReportPageHeightPt = 595;
 //   recall_by_light.png  P_Rec against lux (pooled over sizes and distances), a line per detector;
 //   heatmap_<detector>.png  size (rows) x distance (columns), colour and number = P_Rec pooled over light;
 //   report.pdf           a title page (plan, camera, sensor, seed, time), then the plots above, one per page.
-// Each file is drawn under a temporary name and renamed when complete. An error names the folder or file that
+// Each file is drawn under a temporary name (".arwb-saving") and renamed when complete. An error names the folder or file that
 // could not be written, or the PLplot device that is missing; results without cells or detectors are an error.
 Status write_lab_report(const LabResults& r, const std::string& dir);
 

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <regex>
 #include <set>
+#include <sys/wait.h>
 #include <thread>
 
 namespace arwb::lab {
@@ -120,11 +121,11 @@ TEST(LabReport, WritesEveryPlotAndAPdfWithATitlePage) {
   ASSERT_GE(pdf.size(), 5u);
   EXPECT_EQ(pdf.substr(0, 5), "%PDF-");
   EXPECT_EQ(pdf_pages(pdf), int(pngs.size()) + 1);
-  // Nothing but the report's files is left in the folder (no temporary ".part" files).
+  // Nothing but the report's files is left in the folder (no temporary ".arwb-saving" files).
   int files = 0;
   for (const auto& e : fs::directory_iterator(out)) {
     ++files;
-    EXPECT_EQ(e.path().extension() == ".part", false) << e.path();
+    EXPECT_EQ(e.path().extension() == ".arwb-saving", false) << e.path();
   }
   EXPECT_EQ(files, int(pngs.size()) + 1);
 }
@@ -158,7 +159,7 @@ TEST(LabReport, AFileThatCannotBeReplacedIsAnErrorNamingIt) {
   ASSERT_FALSE(s);
   EXPECT_NE(s.error().find(dir.str("report.pdf")), std::string::npos) << s.error();
   EXPECT_TRUE(fs::is_regular_file(dir.path() / "recall_by_side.png"));
-  EXPECT_FALSE(fs::exists(dir.path() / "report.pdf.part"));
+  EXPECT_FALSE(fs::exists(dir.path() / "report.pdf.arwb-saving"));
 }
 
 TEST(LabReport, ResultsWithoutCellsOrDetectorsAreAnError) {
@@ -170,6 +171,29 @@ TEST(LabReport, ResultsWithoutCellsOrDetectorsAreAnError) {
   r.options.detectors.clear();
   EXPECT_FALSE(write_lab_report(r, dir.str()));
   EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(LabReport, AMissingCairoDriverIsAnErrorNamingIt) {
+  // PLplot's other drivers (libplplot17's) without plplot-driver-cairo's, through PLplot's own variable for the
+  // drivers' folder; in a child process, as PLplot reads its driver table once per process.
+  const fs::path drivers = "/usr/lib/x86_64-linux-gnu/plplot5.15.0/drivers";
+  if (!fs::is_directory(drivers)) GTEST_SKIP() << drivers << " is not there (not Debian's PLplot 5.15)";
+  test::TempDir dir;
+  fs::create_directories(dir.path() / "drivers");
+  for (const auto& e : fs::directory_iterator(drivers))
+    if (e.path().stem() != "cairo") fs::copy(e.path(), dir.path() / "drivers" / e.path().filename());
+  const std::string out = dir.str("out");
+  const std::string cmd = "PLPLOT_DRV_DIR='" + dir.str("drivers") + "' '" + ARWB_BINARY +
+                          "' lab --frames-per-cell 1 --detectors arwb --out '" + out + "' </dev/null >/dev/null 2>'" +
+                          dir.str("err.txt") + "'";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string err = test::read_file(dir.str("err.txt"));
+  EXPECT_NE(err.find("PLplot has no pngcairo device"), std::string::npos) << err;
+  EXPECT_NE(err.find("plplot-driver-cairo"), std::string::npos) << err;
+  EXPECT_TRUE(fs::exists(out + "/table.csv"));   // the tables are written before the plots
+  EXPECT_FALSE(fs::exists(out + "/recall_by_side.png"));
 }
 
 TEST(LabReport, TwoThreadsDrawTheSamePlotsAsOne) {
