@@ -426,7 +426,13 @@ Status draw_file(const fs::path& path, const char* device, int width, int height
 
 std::vector<std::string> lab_report_png_names(const LabResults& r) {
   std::vector<std::string> names{"recall_by_side.png", "recall_by_light.png"};
-  for (const std::string& d : r.options.detectors) names.push_back("heatmap_" + file_safe(d) + ".png");
+  for (const std::string& d : r.options.detectors) {
+    // Two detectors whose names read alike in a file name ("a b", "a_b", or one named twice) get a number each.
+    std::string name = "heatmap_" + file_safe(d);
+    for (int k = 2; std::find(names.begin(), names.end(), name + ".png") != names.end(); ++k)
+      name = "heatmap_" + file_safe(d) + "_" + std::to_string(k);
+    names.push_back(name + ".png");
+  }
   return names;
 }
 

@@ -141,6 +141,14 @@ TEST(LabReport, PdfinfoCountsThePagesToo) {
   EXPECT_NE(text.find("842 x 595 pts"), std::string::npos) << text;
 }
 
+TEST(LabReport, DetectorsWhoseNamesReadAlikeGetAHeatmapEach) {
+  LabResults r = made_up_results();
+  r.options.detectors = {"a b", "a_b", "a/b"};
+  EXPECT_EQ(lab_report_png_names(r), (std::vector<std::string>{"recall_by_side.png", "recall_by_light.png",
+                                                               "heatmap_a_b.png", "heatmap_a_b_2.png",
+                                                               "heatmap_a_b_3.png"}));
+}
+
 TEST(LabReport, AFolderThatCannotBeMadeIsAnErrorNamingIt) {
   test::TempDir dir;
   test::write_file(dir.str("a-file"), "not a folder");
