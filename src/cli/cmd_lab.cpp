@@ -3,6 +3,7 @@
 #include "calibration/calibration_file.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "lab/report.hpp"
 #include "lab/run.hpp"
 #include "base/files.hpp"
 
@@ -47,8 +48,9 @@ int cmd_lab(int argc, char** argv) {
                                           "number (times are not)")
       ->type_name("N")
       ->check(whole_number(1, 64));
-  cl.app.add_option("--out", out, "a folder for table.txt, table.csv and results.json; each finished cell is saved "
-                                  "in cells.jsonl there, and a run interrupted is resumed from it")
+  cl.app.add_option("--out", out, "a folder for table.txt, table.csv, results.json, report.pdf and PNG plots; each "
+                                  "finished cell is saved in cells.jsonl there, and a run interrupted is resumed "
+                                  "from it")
       ->type_name("DIR");
   cl.app.add_flag("--restart", restart, "with --out: forget the cells saved by an earlier run");
   cl.app.add_flag("--json", json, "print results.json instead of the table");
@@ -144,6 +146,10 @@ int cmd_lab(int argc, char** argv) {
         return 1;
       }
     }
+    if (const Status s = lab::write_lab_report(*r, out); !s) {
+      print_problem("arwb lab: %s\n", s.error().c_str());
+      return 1;
+    }
   }
   if (json) {
     std::fputs(js.c_str(), stdout);
@@ -154,8 +160,11 @@ int cmd_lab(int argc, char** argv) {
               plan.frames_per_cell, plan.empty_frames_per_cell(), plan.dictionary.c_str(),
               r->options.camera_name.c_str(), seed);
   std::fputs(text.c_str(), stdout);
-  std::printf("%.1f s%s%s\n", r->seconds, out.empty() ? "" : "; wrote table.txt, table.csv and results.json to ",
-              out.c_str());
+  if (out.empty())
+    std::printf("%.1f s\n", r->seconds);
+  else
+    std::printf("%.1f s; wrote table.txt, table.csv, results.json, report.pdf and %zu PNG plots to %s\n", r->seconds,
+                lab::lab_report_png_names(*r).size(), out.c_str());
   return 0;
 }
 

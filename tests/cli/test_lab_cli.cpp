@@ -1,4 +1,4 @@
-// arwb lab: the paper's table printed and written (text, CSV, JSON), bad detectors and calibrations named.
+// arwb lab: the paper's table printed and written (text, CSV, JSON, plots), bad detectors and calibrations named.
 #include "support.hpp"
 
 #include <gtest/gtest.h>
@@ -40,6 +40,11 @@ TEST(LabCli, PrintsAndWritesThePapersTable) {
   EXPECT_EQ(j["ids"].size(), 25u);
   EXPECT_EQ(j["plan"]["sizes_mm"], nlohmann::json({65, 39, 26}));
   EXPECT_TRUE(j["cells"][0]["results"].contains("opencv"));
+  // The plots and report.pdf beside them (tests/lab/test_lab_report.cpp looks inside).
+  EXPECT_NE(r.out.find("report.pdf and 4 PNG plots to " + d.str("out")), std::string::npos) << r.out;
+  for (const char* name : {"report.pdf", "recall_by_side.png", "recall_by_light.png", "heatmap_arwb.png",
+                           "heatmap_opencv.png"})
+    EXPECT_GT(slurp(d.str("out/") + name).size(), 1000u) << name;
 }
 
 TEST(LabCli, BadDetectorsAndCalibrationsAreOneLine) {

@@ -1,0 +1,461 @@
+#include "lab/report.hpp"
+
+#include "lab/stats.hpp"
+
+#include <plplot.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <iterator>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+namespace arwb::lab {
+namespace {
+
+namespace fs = std::filesystem;
+
+// PLplot keeps its streams, its driver table and the current stream in globals: two reports drawn at once from
+// two threads would draw into each other's pages. Every use of PLplot here holds this lock.
+std::mutex plplot_mutex;
+
+// Frames pooled over cells: P_Rec of the pool and its 95 % Wilson interval, all in percent.
+struct Pool {
+  int frames = 0, detected = 0;
+  void add(const DetectorTally& t) {
+    frames += t.frames;
+    detected += t.detected;
+  }
+  double p_rec() const { return frames ? 100.0 * detected / frames : 0; }
+  std::pair<double, double> interval() const {
+    const auto [lo, hi] = wilson_interval(detected, frames);
+    return {100 * lo, 100 * hi};
+  }
+};
+
+// One curve's points for a detector, x ascending; points without frames are left out (nothing was measured).
+struct Curve {
+  std::vector<double> x, p, lo, hi;
+};
+
+// Pools every detector's tallies by a key of the cell (its side in pixels, its light), x ascending.
+template <typename Key>
+std::vector<Curve> curves_by(const LabResults& r, Key key) {
+  std::vector<Curve> out(r.options.detectors.size());
+  for (size_t d = 0; d < out.size(); ++d) {
+    std::map<double, Pool> pools;
+    for (const CellResult& c : r.cells)
+      if (d < c.detectors.size()) pools[key(c)].add(c.detectors[d]);
+    for (const auto& [x, pool] : pools) {
+      if (pool.frames == 0) continue;
+      const auto [lo, hi] = pool.interval();
+      out[d].x.push_back(x);
+      out[d].p.push_back(pool.p_rec());
+      out[d].lo.push_back(lo);
+      out[d].hi.push_back(hi);
+    }
+  }
+  return out;
+}
+
+// PLplot reads '#' as the start of an escape sequence ("#u" superscript): a literal one is "##".
+std::string plain(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    out += ch;
+    if (ch == '#') out += '#';
+  }
+  return out;
+}
+
+std::string number(double v, int decimals = -1) {
+  char buf[64];
+  if (decimals < 0)
+    std::snprintf(buf, sizeof buf, "%g", v);
+  else
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+std::string joined(const std::vector<double>& v, const std::string& unit) {
+  std::ostringstream s;
+  for (size_t i = 0; i < v.size(); ++i) s << (i ? ", " : "") << number(v[i]);
+  s << " " << unit;
+  return s.str();
+}
+
+// A detector's name as part of a file name: anything but letters, digits, '-' and '_' becomes '_'.
+std::string file_safe(const std::string& name) {
+  std::string s = name.empty() ? "detector" : name;
+  for (char& ch : s)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
+  return s;
+}
+
+// Colour map 0: white paper, black ink, a light grey for the grid, then one colour per detector (distinct in
+// grey too, for printed reports).
+constexpr int kInk = 1, kGrid = 2, kFirstDetectorColour = 3;
+void set_colours() {
+  const PLINT r[] = {255, 0, 200, 31, 230, 44, 214, 148, 140, 23, 127};
+  const PLINT g[] = {255, 0, 200, 119, 120, 160, 39, 103, 86, 190, 127};
+  const PLINT b[] = {255, 0, 200, 180, 10, 44, 40, 189, 75, 207, 127};
+  plscmap0(r, g, b, PLINT(std::size(r)));
+  // Colour map 1 for the heatmaps: red (no recognition) through pale yellow to green (every frame); light
+  // enough everywhere for black numbers on top.
+  const PLFLT at[] = {0, 0.5, 1}, red[] = {0.96, 1.0, 0.45}, green[] = {0.43, 0.92, 0.80}, blue[] = {0.26, 0.55, 0.45};
+  plscmap1l(1, 3, at, red, green, blue, nullptr);
+}
+int detector_colour(size_t d) { return kFirstDetectorColour + int(d % 8); }
+// The points' symbol, a filled circle (UTF-8: the cairo devices draw text with the system's fonts).
+constexpr const char* kPointSymbol = "\u25cf";
+
+// A legend of detector names, lines and symbols, to the right of the viewport.
+void legend(const LabResults& r) {
+  const auto n = PLINT(r.options.detectors.size());
+  std::vector<std::string> names;
+  for (const std::string& d : r.options.detectors) names.push_back(plain(d));
+  std::vector<const char*> text, symbols;
+  std::vector<PLINT> opts, colours, styles, symbol_numbers;
+  std::vector<PLFLT> widths, symbol_scales;
+  for (PLINT i = 0; i < n; ++i) {
+    text.push_back(names[size_t(i)].c_str());
+    symbols.push_back(kPointSymbol);
+    opts.push_back(PL_LEGEND_LINE | PL_LEGEND_SYMBOL);
+    colours.push_back(detector_colour(size_t(i)));
+    styles.push_back(1);
+    symbol_numbers.push_back(1);
+    widths.push_back(2);
+    symbol_scales.push_back(0.7);
+  }
+  PLFLT width = 0, height = 0;
+  pllegend(&width, &height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
+           PL_POSITION_RIGHT | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, 0.03, 0, 0.08, 0, kInk, 1, 0, 1, n,
+           opts.data(), 1.0, 0.85, 2.0, 0, colours.data(), text.data(), nullptr, nullptr, nullptr, nullptr,
+           colours.data(), styles.data(), widths.data(), colours.data(), symbol_scales.data(),
+           symbol_numbers.data(), symbols.data());
+}
+
+// P_Rec (0..100 with room above) against `curves`' x, a line with points and error bars per detector.
+void draw_curves(const LabResults& r, const std::vector<Curve>& curves, const std::string& xlabel,
+                 const std::string& title) {
+  double xmin = INFINITY, xmax = -INFINITY;
+  for (const Curve& c : curves)
+    for (double x : c.x) xmin = std::min(xmin, x), xmax = std::max(xmax, x);
+  if (!std::isfinite(xmin)) xmin = 0, xmax = 1;   // no frames at all: empty axes, still a page
+  const double span = xmax > xmin ? xmax - xmin : std::max(1.0, std::abs(xmin) * 0.2);
+  const double pad = 0.06 * span;
+  pladv(0);
+  plvpor(0.1, 0.7, 0.13, 0.88);
+  plwind(xmin - pad, xmax + pad, 0, 105);
+  plcol0(kGrid);
+  plwidth(0.5);
+  plbox("g", 0, 0, "g", 20, 0);
+  plcol0(kInk);
+  plwidth(1);
+  plbox("bcnst", 0, 0, "bcnstv", 20, 2);
+  pllab(xlabel.c_str(), "P#dRec#u (%)", "");
+  plmtex("t", 2.2, 0.5, 0.5, title.c_str());
+  plschr(0, 0.8);
+  plmtex("t", 0.8, 0.5, 0.5, "error bars: 95 % Wilson intervals");
+  plschr(0, 1);
+  // Detectors' points sit side by side (a small offset each) so their error bars do not hide one another.
+  const double nudge = 0.008 * (xmax - xmin + 2 * pad);
+  for (size_t d = 0; d < curves.size(); ++d) {
+    const Curve& c = curves[d];
+    if (c.x.empty()) continue;
+    std::vector<double> x = c.x;
+    for (double& v : x) v += nudge * (double(d) - 0.5 * double(curves.size() - 1));
+    const auto n = PLINT(x.size());
+    plcol0(detector_colour(d));
+    plwidth(2);
+    plline(n, x.data(), c.p.data());
+    plwidth(1);
+    plerry(n, x.data(), c.lo.data(), c.hi.data());
+    plssym(0, 0.7);
+    plstring(n, x.data(), c.p.data(), kPointSymbol);
+    plssym(0, 1);
+  }
+  plcol0(kInk);
+  legend(r);
+}
+
+void draw_recall_by_side(const LabResults& r) {
+  // Cells whose marker spans the same pixels (to a hundredth) are one point, whatever their light.
+  draw_curves(r, curves_by(r, [](const CellResult& c) { return std::round(c.side_px * 100) / 100; }),
+              "marker side (pixels, facing the camera at the image centre)",
+              "Recognition against the marker's size in the image");
+}
+
+void draw_recall_by_light(const LabResults& r) {
+  draw_curves(r, curves_by(r, [](const CellResult& c) { return c.cell.lux; }), "light (lux)",
+              "Recognition against light (all sizes and distances)");
+}
+
+// Size (rows, the plan's order from the top) x distance (columns), each cell's colour and number P_Rec pooled
+// over light, with its interval and the marker's side underneath.
+void draw_heatmap(const LabResults& r, size_t d) {
+  const std::vector<double>& sizes = r.plan.sizes_mm;
+  const std::vector<double>& distances = r.plan.distances_m;
+  const auto rows = double(sizes.size()), cols = double(distances.size());
+  pladv(0);
+  plvpor(0.17, 0.8, 0.14, 0.88);
+  plwind(0, std::max(cols, 1.0), 0, std::max(rows, 1.0));
+  plcol0(kInk);
+  pllab("distance", "", ("P#dRec#u of " + plain(r.options.detectors[d]) + ", pooled over light").c_str());
+  plmtex("l", 7.5, 0.5, 0.5, "printed size");   // clear of the sizes' labels, which are wider than numbers
+  for (size_t i = 0; i < sizes.size(); ++i) {
+    const double y0 = rows - double(i) - 1;
+    plmtex("lv", 1.0, (y0 + 0.5) / rows, 1.0, (number(sizes[i]) + " mm").c_str());
+    for (size_t j = 0; j < distances.size(); ++j) {
+      const auto x0 = double(j);
+      if (i == 0) plmtex("b", 1.5, (x0 + 0.5) / cols, 0.5, (number(distances[j]) + " m").c_str());
+      Pool pool;
+      double side = 0;
+      for (const CellResult& c : r.cells)
+        if (c.cell.size_mm == sizes[i] && c.cell.distance_m == distances[j] && d < c.detectors.size()) {
+          pool.add(c.detectors[d]);
+          side = c.side_px;
+        }
+      const PLFLT xs[] = {x0, x0 + 1, x0 + 1, x0}, ys[] = {y0, y0, y0 + 1, y0 + 1};
+      plcol0(kInk);
+      if (pool.frames > 0) {
+        plcol1(pool.p_rec() / 100);
+        plfill(4, xs, ys);
+        plcol0(kInk);
+        const auto [lo, hi] = pool.interval();
+        plschr(0, 1.6);
+        plptex(x0 + 0.5, y0 + 0.55, 1, 0, 0.5, (number(pool.p_rec(), 1) + " %").c_str());
+        plschr(0, 0.85);
+        char interval[64];
+        std::snprintf(interval, sizeof interval, "[%.0f-%.0f]", lo, hi);
+        plptex(x0 + 0.5, y0 + 0.33, 1, 0, 0.5, interval);
+        plptex(x0 + 0.5, y0 + 0.17, 1, 0, 0.5, (number(side, 1) + " px").c_str());
+        plschr(0, 1);
+      } else {
+        plptex(x0 + 0.5, y0 + 0.45, 1, 0, 0.5, "no frames");
+      }
+      plline(5, std::vector<PLFLT>{x0, x0 + 1, x0 + 1, x0, x0}.data(),
+             std::vector<PLFLT>{y0, y0, y0 + 1, y0 + 1, y0}.data());
+    }
+  }
+  // The colour scale, 0 to 100 %, right of the grid: 100 shades of one percent each (not a gradient: the cairo
+  // driver of PLplot 5.15 leaks each gradient's cairo pattern, which the sanitizer tree reports).
+  PLFLT width = 0, height = 0;
+  const char* labels[] = {"P#dRec#u (%)"};
+  const PLINT label_opts[] = {PL_COLORBAR_LABEL_RIGHT};
+  const char* axis_opts[] = {"bcvtm"};
+  const PLFLT ticks[] = {20};
+  std::vector<PLFLT> scale;
+  for (int v = 0; v <= 100; ++v) scale.push_back(v);
+  const PLINT sub_ticks[] = {2}, n_values[] = {PLINT(scale.size())};
+  const PLFLT* values[] = {scale.data()};
+  plcolorbar(&width, &height, PL_COLORBAR_SHADE,
+             PL_POSITION_RIGHT | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, 0.04, 0, 0.04, 1.0, 0, kInk, 1, 0, 0, 0, 0,
+             1, label_opts, labels, 1, axis_opts, ticks, sub_ticks, n_values, values);
+}
+
+void draw_title_page(const LabResults& r) {
+  const LabPlan& p = r.plan;
+  const SensorModel& s = r.options.sensor;
+  const SynthCamera& cam = r.options.camera;
+  // Lists built with a stream (GCC 12 warns, wrongly, on `"sep" + std::string` in loops: -Wrestrict).
+  std::ostringstream detectors, distortion;
+  // The ids, 16 to a line (the paper's 25 do not fit on one).
+  std::vector<std::string> id_lines;
+  for (size_t i = 0; i < r.ids.size(); i += 16) {
+    std::ostringstream line;
+    line << (i ? "     " : "ids: ");
+    for (size_t k = i; k < std::min(r.ids.size(), i + 16); ++k) line << (k > i ? " " : "") << r.ids[k];
+    id_lines.push_back(line.str());
+  }
+  for (size_t i = 0; i < r.options.detectors.size(); ++i) detectors << (i ? ", " : "") << r.options.detectors[i];
+  for (size_t i = 0; i < cam.distortion.size(); ++i) distortion << (i ? " " : "") << number(cam.distortion[i]);
+  char when[64] = "";
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  if (gmtime_r(&now, &utc)) std::strftime(when, sizeof when, "%Y-%m-%d %H:%M UTC", &utc);
+
+  // Lines of the page from the top: a heading (empty text is a gap) and its lines.
+  std::vector<std::pair<bool, std::string>> lines{
+      {true, "Plan"},
+      {false, "'" + p.name + "': " + std::to_string(p.markers) + " random " + p.dictionary + " markers, " +
+                  std::to_string(p.cells().size()) + " cells x " + std::to_string(p.frames_per_cell) + " frames"},
+      {false, "printed " + joined(p.sizes_mm, "mm") + "; at " + joined(p.distances_m, "m") + "; under " +
+                  joined(p.lux, "lux")},
+      {false, "turned in plane over 360 deg, tilted up to " + number(p.max_tilt_deg) + " deg about x and about y"},
+  };
+  for (const std::string& l : id_lines) lines.emplace_back(false, l);
+  lines.insert(lines.end(), {
+      {true, "Camera"},
+      {false, r.options.camera_name},
+      {false, std::to_string(cam.size.width) + "x" + std::to_string(cam.size.height) + " px, fx " +
+                  number(cam.camera_matrix(0, 0), 1) + ", fy " + number(cam.camera_matrix(1, 1), 1) + ", cx " +
+                  number(cam.camera_matrix(0, 2), 1) + ", cy " + number(cam.camera_matrix(1, 2), 1) +
+                  ", distortion " + (distortion.str().empty() ? "none" : distortion.str())},
+      {true, "Sensor"},
+      {false, "sensitivity " + number(s.sensitivity) + " e-/(lux s), full well " + number(s.full_well) +
+                  " e-, read noise " + number(s.read_noise) + " e- RMS"},
+      {false, "auto-exposure: a 0.18 grey card at " + number(s.target_level) + " of full scale; exposure <= " +
+                  number(s.max_exposure_s * 1000) + " ms, then gain <= " + number(s.max_gain)},
+      {false, "lens " + number(s.focal_length_mm) + " mm f/" + number(s.f_number) + " focused at " +
+                  number(s.focus_m) + " m; hand-held shake " + number(s.shake_deg_s) + " deg/s RMS"},
+      {true, "Run"},
+      {false, "detectors: " + detectors.str()},
+      {false, "seed " + std::to_string(r.options.seed) + ", ran in " + number(r.seconds, 1) + " s, report written " +
+                  when},
+      {true, "Measure"},
+      {false, "P_Rec = frames in which a detector reported the marker's id, on the marker,"},
+      {false, "           / frames with the marker in view x 100; intervals are 95 % Wilson intervals"},
+  });
+  pladv(0);
+  plvpor(0.06, 0.96, 0.05, 0.95);
+  plwind(0, 1, 0, 1);
+  plcol0(kInk);
+  plschr(0, 1.8);
+  plptex(0, 0.96, 1, 0, 0, "ArUco Workbench: recognition lab report");
+  double y = 0.87;
+  for (const auto& [heading, text] : lines) {
+    if (heading) y -= 0.015;
+    plschr(0, heading ? 1.1 : 0.85);
+    plptex(heading ? 0 : 0.02, y, 1, 0, 0, plain(text).c_str());
+    y -= heading ? 0.047 : 0.04;
+  }
+  plschr(0, 1);
+}
+
+// The pages in their order (the title page is the PDF's alone).
+void draw_plot(const LabResults& r, size_t page) {
+  if (page == 0)
+    draw_recall_by_side(r);
+  else if (page == 1)
+    draw_recall_by_light(r);
+  else
+    draw_heatmap(r, page - 2);
+}
+
+// One PLplot stream for one output file, ended (plend1) and the caller's stream made current again whatever
+// happens; the FILE is PLplot's once plinit has run (its driver closes it at plend1).
+class Stream {
+ public:
+  explicit Stream(std::FILE* file) : file_(file) {
+    plgstrm(&previous_);
+    plmkstrm(&id_);
+  }
+  ~Stream() {
+    if (id_ >= 0) {
+      plsstrm(id_);
+      plend1();
+    }
+    if (!initialised_ && file_) std::fclose(file_);
+    plsstrm(previous_);
+  }
+  Stream(const Stream&) = delete;
+  Stream& operator=(const Stream&) = delete;
+  bool ok() const { return id_ >= 0; }
+  // Opens `device` at `width` x `height` (pixels for PNG, points for PDF) on the file.
+  void init(const char* device, int width, int height) {
+    plsdev(device);
+    plspage(0, 0, width, height, 0, 0);
+    set_colours();   // before plinit: the first page's background is painted with colour 0
+    plsfile(file_);
+    initialised_ = true;
+    plinit();
+  }
+
+ private:
+  std::FILE* file_;
+  PLINT previous_ = 0, id_ = -1;
+  bool initialised_ = false;
+};
+
+// PLplot prompts on the terminal for a device it does not know, and then exits: the devices must be there first.
+Status check_devices() {
+  std::vector<const char*> menus(256), names(256);
+  int n = int(menus.size());
+  const char** menu_list = menus.data();
+  const char** name_list = names.data();
+  plgDevs(&menu_list, &name_list, &n);
+  for (const char* wanted : {"pngcairo", "pdfcairo"}) {
+    bool found = false;
+    for (int i = 0; i < n && !found; ++i) found = name_list[i] && std::strcmp(name_list[i], wanted) == 0;
+    if (!found)
+      return fail(std::string("lab report: PLplot has no ") + wanted +
+                  " device (its cairo driver is missing: install plplot-driver-cairo)");
+  }
+  return {};
+}
+
+// Draws one file: under a temporary name in its folder, renamed over `path` when PLplot has finished it.
+template <typename Draw>
+Status draw_file(const fs::path& path, const char* device, int width, int height, Draw draw) {
+  // The suffix write_file_atomically uses for the same purpose.
+  const fs::path part = fs::path(path).concat(".arwb-saving");
+  std::FILE* file = std::fopen(part.c_str(), "wb");
+  if (!file) return fail("lab report: cannot write " + part.string() + ": " + std::strerror(errno));
+  {
+    Stream stream(file);
+    if (!stream.ok()) {
+      std::error_code ec;
+      fs::remove(part, ec);
+      return fail("lab report: PLplot has no free stream for " + path.string());
+    }
+    stream.init(device, width, height);
+    draw();
+  }
+  std::error_code ec;
+  if (fs::file_size(part, ec) == 0 || ec) {
+    fs::remove(part, ec);
+    return fail("lab report: PLplot's " + std::string(device) + " wrote nothing to " + part.string());
+  }
+  fs::rename(part, path, ec);
+  if (ec) {
+    fs::remove(part, ec);
+    return fail("lab report: cannot write " + path.string() + ": " + ec.message());
+  }
+  return {};
+}
+
+}  // namespace
+
+std::vector<std::string> lab_report_png_names(const LabResults& r) {
+  std::vector<std::string> names{"recall_by_side.png", "recall_by_light.png"};
+  for (const std::string& d : r.options.detectors) {
+    // Two detectors whose names read alike in a file name ("a b", "a_b", or one named twice) get a number each.
+    std::string name = "heatmap_" + file_safe(d);
+    for (int k = 2; std::find(names.begin(), names.end(), name + ".png") != names.end(); ++k)
+      name = "heatmap_" + file_safe(d) + "_" + std::to_string(k);
+    names.push_back(name + ".png");
+  }
+  return names;
+}
+
+Status write_lab_report(const LabResults& r, const std::string& dir) {
+  if (r.cells.empty()) return fail("lab report: the results have no cells to plot");
+  if (r.options.detectors.empty()) return fail("lab report: the results have no detectors to plot");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir, ec)) return fail("lab report: cannot create the folder " + dir +
+                                                    (ec ? ": " + ec.message() : ": a file is in the way"));
+  const std::vector<std::string> pngs = lab_report_png_names(r);
+
+  const std::lock_guard lock(plplot_mutex);
+  if (Status s = check_devices(); !s) return s;
+  for (size_t page = 0; page < pngs.size(); ++page)
+    if (Status s = draw_file(fs::path(dir) / pngs[page], "pngcairo", kPlotWidthPx, kPlotHeightPx,
+                             [&] { draw_plot(r, page); });
+        !s)
+      return s;
+  return draw_file(fs::path(dir) / "report.pdf", "pdfcairo", kReportPageWidthPt, kReportPageHeightPt, [&] {
+    draw_title_page(r);
+    for (size_t page = 0; page < pngs.size(); ++page) draw_plot(r, page);
+  });
+}
+
+}  // namespace arwb::lab
