@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "lab/report.hpp"
 #include "lab/run.hpp"
+#include "lab/videos.hpp"
 #include "base/files.hpp"
 
 #include <unistd.h>
@@ -17,6 +18,56 @@
 
 namespace arwb {
 
+namespace {
+
+// The three tables, the plots and the report into `out` (made when missing); false with the problem printed.
+bool write_outputs(const lab::LabResults& r, const std::string& out) {
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  const std::string text = lab::lab_table_text(r), csv = lab::lab_table_csv(r), js = lab::lab_results_json(r);
+  for (const auto& [name, content] : {std::pair{"table.txt", &text}, {"table.csv", &csv}, {"results.json", &js}}) {
+    const std::string path = (std::filesystem::path(out) / name).string();
+    if (std::string e; !write_file_atomically(path, *content, &e)) {
+      print_problem("arwb lab: %s\n", e.c_str());
+      return false;
+    }
+  }
+  if (const Status s = lab::write_lab_report(r, out); !s) {
+    print_problem("arwb lab: %s\n", s.error().c_str());
+    return false;
+  }
+  return true;
+}
+
+// arwb lab --videos DIR: the paper's measure on real clips.
+int run_on_videos(CommandLine& cl, const std::string& dir, const lab::LabOptions& options, const std::string& out,
+                  bool json) {
+  Result<std::vector<lab::VideoRow>> rows = lab::read_video_list(dir);
+  if (!rows) return cl.usage_error("--videos " + dir + ": " + rows.error());
+  std::vector<std::string> warnings;
+  const bool bar = ::isatty(2);
+  Result<lab::LabResults> r = lab::run_videos(dir, *rows, options, &warnings, [&](int done, int total) {
+    if (bar) std::fprintf(stderr, "\rarwb lab: clip %d of %d%s", done, total, done == total ? "\n" : "");
+  });
+  if (!r) return cl.usage_error("--videos " + dir + ": " + r.error());
+  for (const std::string& w : warnings) print_problem("arwb lab: %s\n", w.c_str());
+  if (!out.empty() && !write_outputs(*r, out)) return 1;
+  if (json) {
+    std::fputs(lab::lab_results_json(*r).c_str(), stdout);
+    return 0;
+  }
+  int frames = 0;
+  for (const lab::CellResult& c : r->cells) frames += c.detectors.empty() ? 0 : c.detectors[0].frames;
+  std::printf("Videos in %s: %zu clips, %d frames with the marker in view, %zu cells\n\n", dir.c_str(), rows->size(),
+              frames, r->cells.size());
+  std::fputs(lab::lab_table_text(*r).c_str(), stdout);
+  std::printf("%.1f s%s%s\n", r->seconds, out.empty() ? "" : "; wrote the tables, plots and report.pdf to ",
+              out.c_str());
+  return 0;
+}
+
+}  // namespace
+
 int cmd_lab(int argc, char** argv) {
   CommandLine cl("arwb lab",
                  "Runs the paper's recognition experiment (Avola et al. 2016, section 5): 25 random ARUCO_ORIGINAL "
@@ -27,7 +78,7 @@ int cmd_lab(int argc, char** argv) {
                  "P_Rec = detected frames / frames with the marker in view x 100 per cell, with its 95 % Wilson "
                  "interval.",
                  "The same seed gives the same frames and the same table.");
-  std::string detectors_opt = "arwb,opencv,opencv-aruco3", out, calib_file, params_file, plan_opt = "paper";
+  std::string detectors_opt = "arwb,opencv,opencv-aruco3", out, calib_file, params_file, plan_opt = "paper", videos;
   int frames = 0, seed = 1, threads = 1;
   bool json = false, restart = false;
   cl.app.add_option("--detectors", detectors_opt, "a comma list of arwb, opencv, opencv-aruco3, apriltag")
@@ -35,6 +86,9 @@ int cmd_lab(int argc, char** argv) {
   cl.app.add_option("--plan", plan_opt, "the paper's plan, or a plan file (docs/lab.md: sizes_mm, distances_m, lux, "
                                         "max_tilt_deg, frames_per_cell, markers, dictionary, empty_share)")
       ->type_name("paper|FILE.yml");
+  cl.app.add_option("--videos", videos, "real clips instead of rendered frames: DIR/videos.csv lists each clip with "
+                                        "its marker and conditions (docs/lab.md); the same table from them")
+      ->type_name("DIR");
   cl.app.add_option("--frames-per-cell", frames, "frames rendered for each cell (default: the plan's, 40 in the "
                                                  "paper's)")
       ->type_name("N")
@@ -82,6 +136,7 @@ int cmd_lab(int argc, char** argv) {
   }
   if (!load_params_option(params_file, "arwb lab", options.params)) return 2;
   options.threads = threads;
+  if (!videos.empty()) return run_on_videos(cl, videos, options, out, json);
 
   // Resuming: the cells an earlier run with the same plan and options saved; the others are run and saved as
   // they finish, one line each, so an interruption loses at most the cell it was in.
@@ -137,29 +192,16 @@ int cmd_lab(int argc, char** argv) {
   });
   if (saved) std::fclose(saved);
   if (!r) return cl.usage_error(r.error());
-  const std::string text = lab::lab_table_text(*r), csv = lab::lab_table_csv(*r), js = lab::lab_results_json(*r);
-  if (!out.empty()) {
-    for (const auto& [name, content] : {std::pair{"table.txt", &text}, {"table.csv", &csv}, {"results.json", &js}}) {
-      const std::string path = (std::filesystem::path(out) / name).string();
-      if (std::string e; !write_file_atomically(path, *content, &e)) {
-        print_problem("arwb lab: %s\n", e.c_str());
-        return 1;
-      }
-    }
-    if (const Status s = lab::write_lab_report(*r, out); !s) {
-      print_problem("arwb lab: %s\n", s.error().c_str());
-      return 1;
-    }
-  }
+  if (!out.empty() && !write_outputs(*r, out)) return 1;
   if (json) {
-    std::fputs(js.c_str(), stdout);
+    std::fputs(lab::lab_results_json(*r).c_str(), stdout);
     return 0;
   }
   std::printf("%s: %zu cells x %d frames (and %d without a marker), markers %s, camera %s, seed %d\n\n",
               plan_opt == "paper" ? "The paper's plan" : ("Plan " + plan.name).c_str(), plan.cells().size(),
               plan.frames_per_cell, plan.empty_frames_per_cell(), plan.dictionary.c_str(),
               r->options.camera_name.c_str(), seed);
-  std::fputs(text.c_str(), stdout);
+  std::fputs(lab::lab_table_text(*r).c_str(), stdout);
   if (out.empty())
     std::printf("%.1f s\n", r->seconds);
   else

@@ -385,7 +385,10 @@ std::string lab_table_text(const LabResults& r) {
       for (size_t j = i; j < i + r.plan.lux.size() && j < r.cells.size(); ++j) {
         const DetectorTally& t = r.cells[j].detectors[d];
         const auto [lo, hi] = wilson_interval(t.detected, t.frames);
-        std::snprintf(b, sizeof b, "  %5.1f [%4.0f-%3.0f]", t.p_rec(), 100 * lo, 100 * hi);
+        if (t.frames == 0)   // a cell no frame was taken in (videos of some conditions only)
+          std::snprintf(b, sizeof b, "  %5s %11s", "-", "");
+        else
+          std::snprintf(b, sizeof b, "  %5.1f [%4.0f-%3.0f]", t.p_rec(), 100 * lo, 100 * hi);
         s += b;
       }
       s += "\n";
@@ -395,9 +398,12 @@ std::string lab_table_text(const LabResults& r) {
       empty += c.detectors[d].empty_frames;
       fps += c.detectors[d].false_positives;
     }
-    std::snprintf(b, sizeof b, "false positives: %d on %d frames without a marker (%.3f per frame)\n\n", fps, empty,
-                  empty ? double(fps) / empty : 0.0);
-    s += b;
+    if (empty > 0) {
+      std::snprintf(b, sizeof b, "false positives: %d on %d frames without a marker (%.3f per frame)\n", fps, empty,
+                    double(fps) / empty);
+      s += b;
+    }
+    s += "\n";
   }
   return s;
 }

@@ -1,7 +1,10 @@
 // arwb lab: the paper's table printed and written (text, CSV, JSON, plots), bad detectors and calibrations named.
+#include "detect/dictionary.hpp"
+#include "synth/synth.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/videoio.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -107,6 +110,61 @@ TEST(LabCli, PlanFilesAndTheirMistakes) {
     r = run_arwb("lab --plan " + d.str("bad.yml"));
     EXPECT_EQ(r.status, 2) << text;
     EXPECT_NE(r.err.find(message), std::string::npos) << text << "\n" << r.err;
+  }
+}
+
+// Real videos: clips of one marker listed with their conditions; the visible frames are the whole clip or its span.
+// Here clip a shows marker 5 large in every frame, clip b shows marker 5 only in its first 4 of 10 frames (the span
+// says 0-3), and clip c is listed as marker 6 while it shows 5: never recognised.
+TEST(LabCli, VideosGiveThePapersMeasure) {
+  TempDir d;
+  const Dictionary dict = make_aruco_original();
+  auto clip = [&](const std::string& name, int with_marker, int frames) {
+    cv::VideoWriter w(d.str(name), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 20.0, cv::Size(320, 240));
+    ASSERT_TRUE(w.isOpened());
+    for (int i = 0; i < frames; ++i) {
+      cv::Mat img(240, 320, CV_8UC3, cv::Scalar(200, 200, 200));
+      if (i < with_marker)
+        draw_marker(img, dict, 5, Quad{{{100, 60}, {220, 60}, {220, 180}, {100, 180}}}, 1.0, 4, 20, 235);
+      w.write(img);
+    }
+  };
+  clip("a.avi", 8, 8);
+  clip("b.avi", 4, 10);
+  clip("c.avi", 6, 6);
+  test::write_file(d.str("videos.csv"),
+                   "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
+                   "# a comment\n"
+                   "a.avi,5,ARUCO_ORIGINAL,65,0.5,1000,0,7\n"
+                   "b.avi,5,ARUCO_ORIGINAL,65,1,1000,0,3\n"
+                   "c.avi,6,ARUCO_ORIGINAL,39,1,1000,0,5\n");
+  const auto r = run_arwb("lab --videos " + d.str() + " --detectors arwb,opencv --out " + d.str("out"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("3 clips, 18 frames with the marker in view, 4 cells"), std::string::npos) << r.out;
+  const std::string csv = slurp(d.str("out/table.csv"));
+  EXPECT_NE(csv.find("arwb,65,1,1000,36.0,4,4,100.00"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("arwb,65,0.5,1000,72.1,8,8,100.00"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("arwb,39,1,1000,21.6,6,0,0.00"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("opencv,65,0.5,1000,72.1,8,8,100.00"), std::string::npos) << csv;
+  // The cell no clip was filmed in (39 mm at 0.5 m) shows a dash, not 0 %.
+  EXPECT_NE(r.out.find(" 39 mm  0.5 m   43 px      -"), std::string::npos) << r.out;
+  // Mistakes in the list are one line naming it.
+  const std::pair<const char*, const char*> bad[] = {
+      {"file,id\n", "videos.csv:1: the header must be file,id,dictionary,size_mm,distance_m,lux"},
+      {"file,id,dictionary,size_mm,distance_m,lux\n../x.avi,5,ARUCO_ORIGINAL,65,1,1000\n",
+       "videos.csv:2: ../x.avi: leaves the videos' folder"},
+      {"file,id,dictionary,size_mm,distance_m,lux\na.avi,5,ARUCO_ORIGINAL,big,1,1000\n",
+       "videos.csv:2: size_mm 'big' is not a number"},
+      {"file,id,dictionary,size_mm,distance_m,lux\na.avi,2000,ARUCO_ORIGINAL,65,1,1000\n",
+       "videos.csv:2: id 2000 is not a marker of ARUCO_ORIGINAL (0 to 1023)"},
+      {"file,id,dictionary,size_mm,distance_m,lux\nmissing.avi,5,ARUCO_ORIGINAL,65,1,1000\n",
+       "videos.csv:2: missing.avi: no such file"},
+  };
+  for (const auto& [text, message] : bad) {
+    test::write_file(d.str("videos.csv"), text);
+    const auto e = run_arwb("lab --videos " + d.str());
+    EXPECT_EQ(e.status, 2) << text;
+    EXPECT_NE(e.err.find(message), std::string::npos) << text << "\n" << e.err;
   }
 }
 
