@@ -178,11 +178,12 @@ bool Compositor::draw(const cv::Mat& frame, uint64_t frame_version, const std::v
         std::memcpy(&bits[1], &o.solid->tvec[k], sizeof bits[1]);
         sig = (sig ^ bits[0] ^ (bits[1] << 1)) * 0x100000001B3ull;
       }
-      for (const MeshPart& part : o.solid->mesh ? o.solid->mesh->parts : std::vector<MeshPart>{}) {
-        uint64_t pv = 0;
-        if (part.texture) part.texture->current(&pv);
-        sig = (sig ^ pv) * 0x100000001B3ull;
-      }
+      if (o.solid->mesh)   // (a conditional expression here copied every part's vertices on every frame)
+        for (const MeshPart& part : o.solid->mesh->parts) {
+          uint64_t pv = 0;
+          if (part.texture) part.texture->current(&pv);
+          sig = (sig ^ pv) * 0x100000001B3ull;
+        }
     }
   }
   sig ^= overlays.size();

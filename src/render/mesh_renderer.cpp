@@ -239,8 +239,6 @@ bool MeshRenderer::draw(const Overlay& o, cv::Size frame, TextureCache& textures
   const double A = (kFar + kNear) / (kFar - kNear), B = -2 * kFar * kNear / (kFar - kNear);
   glUniform2f(loc_depth_, float(A), float(B));
   glUniform1i(loc_tex_, 0);
-  glUniform4f(loc_uv_window_, float(o.quad.uv_min.x), float(o.quad.uv_min.y), float(o.quad.uv_max.x),
-              float(o.quad.uv_max.y));
 
   for (size_t i = 0; i < gl.parts.size() && i < s.mesh->parts.size(); ++i) {
     const MeshPart& part = s.mesh->parts[i];
