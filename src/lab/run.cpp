@@ -51,6 +51,27 @@ double quad_error(const Quad& a, const Quad& b) {
   return e / 4;
 }
 
+// Optics and sensor, the same for every frame of a cell: defocus, the hand's motion during the exposure, then
+// light to electrons, noise and grey levels.
+cv::Mat camera_picture(cv::Mat1f levels, const LabOptions& options, const Cell& cell, std::mt19937& rng) {
+  const double f = options.camera.camera_matrix(0, 0);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Exposure ex = auto_exposure(options.sensor, cell.lux);
+  const double defocus = defocus_sigma_px(options.sensor, cell.distance_m, f);
+  const double shake = shake_length_px(options.sensor, ex.exposure_s, f);
+  if (defocus > 0.05) cv::GaussianBlur(levels, levels, cv::Size(), defocus);
+  if (shake > 0.3) {
+    std::normal_distribution<double> speed(0, 1);
+    const double length = std::abs(speed(rng)) * shake;
+    const double angle = u(rng) * CV_PI;
+    if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, angle));
+  }
+  const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
+  cv::Mat bgr;
+  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  return bgr;
+}
+
 }  // namespace
 
 Result<DetectFn> make_detector(const std::string& name, const std::string& dict, const DetectorParams& params) {
@@ -91,84 +112,100 @@ namespace {
 struct FrameOutcome {
   bool visible = false;
   bool empty = false;            // a frame without a marker: `found` counts false positives
-  std::vector<char> right, wrong;
+  std::vector<char> marks;       // per detector (namespace mark)
+  std::vector<char> other_id;    // per detector: another id reported (the wrong-id rate counts it even beside
+                                 // the right one)
   std::vector<int> found;
   std::vector<double> ms;
 };
 
 // A thread's own renderer and detectors (AprilTag's detector and the renderer's buffers are not shared).
 struct Worker {
-  MarkerRenderer renderer;
+  LabFrameRenderer renderer;
   std::vector<DetectFn> detectors;
 };
 
-// Optics and sensor, the same for every frame of a cell: defocus, the hand's motion during the exposure, then
-// light to electrons, noise and grey levels.
-cv::Mat camera_picture(cv::Mat1f levels, const LabOptions& options, const Cell& cell, std::mt19937& rng) {
-  const double f = options.camera.camera_matrix(0, 0);
-  std::uniform_real_distribution<double> u(0, 1);
-  const Exposure ex = auto_exposure(options.sensor, cell.lux);
-  const double defocus = defocus_sigma_px(options.sensor, cell.distance_m, f);
-  const double shake = shake_length_px(options.sensor, ex.exposure_s, f);
-  if (defocus > 0.05) cv::GaussianBlur(levels, levels, cv::Size(), defocus);
-  if (shake > 0.3) {
-    std::normal_distribution<double> speed(0, 1);
-    const double length = std::abs(speed(rng)) * shake;
-    const double angle = u(rng) * CV_PI;
-    if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, angle));
-  }
-  const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
-  cv::Mat bgr;
-  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
-  return bgr;
-}
-
-// A frame without a marker: one of the benchmark's cluttered photographs with no marker in it (rectangles,
-// checkerboard patches, text, and decoys with a black border whose bits decode to nothing), through the cell's
-// optics and sensor. Every marker a detector reports on it is a false positive.
-FrameOutcome run_empty_frame(Worker& w, const LabPlan& plan, const LabOptions& options, size_t ci, const Cell& cell,
-                             int k) {
+FrameOutcome run_frame(Worker& w, size_t ci, double side_px, int k) {
+  const LabFrame frame = w.renderer.render(ci, k);
   FrameOutcome fo;
-  fo.visible = fo.empty = true;
-  std::mt19937 rng(options.seed * 2246822519u + unsigned(ci) * 3266489917u + unsigned(k) * 668265263u);
-  SynthOptions so;
-  so.size = options.camera.size;
-  so.dictionaries = {*dictionary_by_name(plan.dictionary)};
-  so.empty_fraction = 1.0;
-  const SynthImage photo = synth_photo(so, options.seed + 1000003ull * (ci + 1), k);
-  cv::Mat grey;
-  cv::cvtColor(photo.image, grey, cv::COLOR_BGR2GRAY);
-  cv::Mat1f levels;
-  grey.convertTo(levels, CV_32F);
-  const cv::Mat bgr = camera_picture(levels, options, cell, rng);
+  fo.visible = frame.visible;
+  fo.empty = frame.empty;
+  if (!frame.visible) {   // the marker could not be placed wholly in view: not a frame of the experiment
+    fo.marks.assign(w.detectors.size(), mark::not_visible);
+    return fo;
+  }
   for (const DetectFn& detect : w.detectors) {
     const auto s0 = Clock::now();
-    fo.found.push_back(int(detect(bgr).size()));
+    const std::vector<Marker> found = detect(frame.image);
     fo.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s0).count());
+    bool other = false;
+    fo.found.push_back(int(found.size()));
+    fo.marks.push_back(frame_mark(frame, found, side_px, &other));
+    fo.other_id.push_back(other);
   }
   return fo;
 }
 
+}  // namespace
 
-FrameOutcome run_frame(Worker& w, const LabPlan& plan, const LabOptions& options, const std::vector<int>& ids,
-                       size_t ci, const Cell& cell, int k) {
-  FrameOutcome fo;
-  const SynthCamera& cam = options.camera;
-  const double f = cam.camera_matrix(0, 0);
+std::vector<int> lab_marker_ids(const LabPlan& plan, unsigned seed) {
+  const auto dict = dictionary_by_name(plan.dictionary);
+  if (!dict) return {};
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> pick(0, dict->size() - 1);
+  std::set<int> chosen;
+  while (int(chosen.size()) < std::min(plan.markers, dict->size())) chosen.insert(pick(rng));
+  std::vector<int> ids(chosen.begin(), chosen.end());
+  std::shuffle(ids.begin(), ids.end(), rng);
+  return ids;
+}
+
+LabFrameRenderer::LabFrameRenderer(const LabPlan& plan, const LabOptions& options, std::vector<int> ids)
+    : plan_(plan), options_(options), ids_(std::move(ids)), cells_(plan.cells()),
+      renderer_(options.camera, SynthMarker{plan.dictionary, 0, 1.0, 1.5}) {
+  options_.finished.clear();   // a renderer needs the plan's physics, not a run's bookkeeping
+  options_.on_cell = nullptr;
+  options_.stop = nullptr;
+}
+
+LabFrame LabFrameRenderer::render(size_t ci, int k) const {
+  LabFrame out;
+  if (ci >= cells_.size() || k < 0 || k >= frames_per_cell() || ids_.empty()) return out;
+  const Cell& cell = cells_[ci];
+  const SynthCamera& cam = options_.camera;
+  if (k >= plan_.frames_per_cell) {
+    // A frame without a marker: one of the benchmark's cluttered photographs with no marker in it (rectangles,
+    // checkerboard patches, text, and decoys with a black border whose bits decode to nothing), through the
+    // cell's optics and sensor. Every marker a detector reports on it is a false positive.
+    const int e = k - plan_.frames_per_cell;
+    out.empty = out.visible = true;
+    std::mt19937 rng(options_.seed * 2246822519u + unsigned(ci) * 3266489917u + unsigned(e) * 668265263u);
+    SynthOptions so;
+    so.size = cam.size;
+    so.dictionaries = {*dictionary_by_name(plan_.dictionary)};
+    so.empty_fraction = 1.0;
+    const SynthImage photo = synth_photo(so, options_.seed + 1000003ull * (ci + 1), e);
+    cv::Mat grey;
+    cv::cvtColor(photo.image, grey, cv::COLOR_BGR2GRAY);
+    cv::Mat1f levels;
+    grey.convertTo(levels, CV_32F);
+    out.image = camera_picture(levels, options_, cell, rng);
+    return out;
+  }
   // Each frame's draws come from its own seed: a frame is the same whatever ran before it, on any thread.
-  std::mt19937 rng(options.seed * 2654435761u + unsigned(ci) * 7919u + unsigned(k) * 104729u);
+  std::mt19937 rng(options_.seed * 2654435761u + unsigned(ci) * 7919u + unsigned(k) * 104729u);
   std::uniform_real_distribution<double> u(0, 1);
-  const int id = ids[size_t(int(ci) * plan.frames_per_cell + k) % ids.size()];
-  w.renderer.set_marker(SynthMarker{plan.dictionary, id, 1.0, 1.5});
+  out.id = ids_[size_t(int(ci) * plan_.frames_per_cell + k) % ids_.size()];
+  renderer_.set_marker(SynthMarker{plan_.dictionary, out.id, 1.0, 1.5});
   // The pose: facing the camera, tilted about x and y, turned in plane; the centre somewhere in the middle of the
   // picture, at the cell's distance. Geometry is scale-free: a marker of side L at t is one of side 1 at t / L.
   const double L = cell.size_mm / 1000;
   MarkerView truth;
   cv::Mat1f levels;
-  for (int tries = 0; tries < 20 && !fo.visible; ++tries) {
+  for (int tries = 0; tries < 20 && !out.visible; ++tries) {
     const double roll = u(rng) * 2 * CV_PI;
-    const double tx = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
-    const double ty = (u(rng) * 2 - 1) * plan.max_tilt_deg * CV_PI / 180;
+    const double tx = (u(rng) * 2 - 1) * plan_.max_tilt_deg * CV_PI / 180;
+    const double ty = (u(rng) * 2 - 1) * plan_.max_tilt_deg * CV_PI / 180;
     const double px = cam.size.width * (0.2 + 0.6 * u(rng));
     const double py = cam.size.height * (0.2 + 0.6 * u(rng));
     cv::Matx33d Rt, Rr;
@@ -180,28 +217,30 @@ FrameOutcome run_frame(Worker& w, const LabPlan& plan, const LabOptions& options
     cv::undistortPoints(ray_in, ray, cv::Mat(cam.camera_matrix), cam.distortion);
     cv::Vec3d dir(ray[0].x, ray[0].y, 1);
     dir *= cell.distance_m / cv::norm(dir);
-    levels = w.renderer.render_levels(rvec, dir * (1.0 / L), &truth);
-    fo.visible = truth.all_inside;
+    levels = renderer_.render_levels(rvec, dir * (1.0 / L), &truth);
+    out.visible = truth.all_inside;
+    out.roll_deg = roll * 180 / CV_PI;
+    out.tilt_x_deg = tx * 180 / CV_PI;
+    out.tilt_y_deg = ty * 180 / CV_PI;
   }
-  if (!fo.visible) return fo;   // the marker could not be placed wholly in view: not a frame of the experiment
-  const cv::Mat bgr = camera_picture(levels, options, cell, rng);
-  const double side = marker_side_px(cell.size_mm, cell.distance_m, f);
-  for (const DetectFn& detect : w.detectors) {
-    const auto s0 = Clock::now();
-    const std::vector<Marker> found = detect(bgr);
-    fo.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s0).count());
-    bool right = false, wrong = false;
-    for (const Marker& m : found) {
-      if (m.id == id && quad_error(m.corners, truth.corners) < std::max(3.0, 0.2 * side)) right = true;
-      else if (m.id != id) wrong = true;
-    }
-    fo.right.push_back(right);
-    fo.wrong.push_back(wrong);
-  }
-  return fo;
+  if (!out.visible) return out;
+  out.corners = truth.corners;
+  out.image = camera_picture(levels, options_, cell, rng);
+  return out;
 }
 
-}  // namespace
+char frame_mark(const LabFrame& frame, const std::vector<Marker>& found, double side_px, bool* other_id) {
+  bool right = false, wrong = false;
+  if (other_id) *other_id = false;
+  if (frame.empty) return found.empty() ? mark::clean : mark::false_positive;
+  if (!frame.visible) return mark::not_visible;
+  for (const Marker& m : found) {
+    if (m.id == frame.id && quad_error(m.corners, frame.corners) < std::max(3.0, 0.2 * side_px)) right = true;
+    else if (m.id != frame.id) wrong = true;
+  }
+  if (other_id) *other_id = wrong;
+  return right ? mark::detected : wrong ? mark::wrong_id : mark::missed;
+}
 
 Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
                            const std::function<void(int, int)>& progress) {
@@ -212,8 +251,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
   const int threads = std::clamp(options.threads, 1, 64);
   std::vector<std::unique_ptr<Worker>> workers;
   for (int i = 0; i < threads; ++i) {
-    auto w = std::make_unique<Worker>(Worker{MarkerRenderer(options.camera, SynthMarker{plan.dictionary, 0, 1.0, 1.5}),
-                                             {}});
+    auto w = std::make_unique<Worker>(Worker{LabFrameRenderer(plan, options, lab_marker_ids(plan, options.seed)), {}});
     for (const std::string& name : options.detectors) {
       auto d = make_detector(name, plan.dictionary, options.params);
       if (!d) return fail(d.error());
@@ -224,15 +262,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
   LabResults out;
   out.plan = plan;
   out.options = options;
-  // The markers: distinct random ids of the dictionary.
-  {
-    std::mt19937 rng(options.seed);
-    std::uniform_int_distribution<int> pick(0, dict->size() - 1);
-    std::set<int> chosen;
-    while (int(chosen.size()) < std::min(plan.markers, dict->size())) chosen.insert(pick(rng));
-    out.ids.assign(chosen.begin(), chosen.end());
-    std::shuffle(out.ids.begin(), out.ids.end(), rng);
-  }
+  out.ids = workers[0]->renderer.ids();
   const double f = options.camera.camera_matrix(0, 0);
   const std::vector<Cell> cells = plan.cells();
   const int total = int(cells.size()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
@@ -265,11 +295,10 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     const int empty = plan.empty_frames_per_cell(), n = plan.frames_per_cell + empty;
     std::vector<FrameOutcome> frames(static_cast<size_t>(n));
     std::atomic<int> next{0};
+    auto stopped = [&] { return options.stop && options.stop->load(); };
     auto work = [&](Worker& w) {
-      for (int k = next++; k < n; k = next++) {
-        frames[size_t(k)] = k < plan.frames_per_cell
-                                ? run_frame(w, plan, options, out.ids, ci, cell, k)
-                                : run_empty_frame(w, plan, options, ci, cell, k - plan.frames_per_cell);
+      for (int k = next++; k < n && !stopped(); k = next++) {
+        frames[size_t(k)] = run_frame(w, ci, cr.side_px, k);
         report();
       }
     };
@@ -277,7 +306,12 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     for (int i = 1; i < threads; ++i) pool.emplace_back(work, std::ref(*workers[size_t(i)]));
     work(*workers[0]);
     for (std::thread& t : pool) t.join();
+    if (stopped()) {
+      return fail("stopped after " + std::to_string(ci) + " of " + std::to_string(cells.size()) +
+                  " cells (those are kept)");
+    }
     for (const FrameOutcome& fo : frames) {
+      for (size_t d = 0; d < cr.detectors.size(); ++d) cr.detectors[d].marks += fo.marks[d];
       if (fo.empty) {
         for (size_t d = 0; d < cr.detectors.size(); ++d) {
           ++cr.detectors[d].empty_frames;
@@ -289,8 +323,8 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
       for (size_t d = 0; d < cr.detectors.size(); ++d) {
         DetectorTally& t = cr.detectors[d];
         ++t.frames;
-        t.detected += fo.right[d];
-        t.wrong_id += fo.wrong[d];
+        t.detected += fo.marks[d] == mark::detected;
+        t.wrong_id += fo.other_id[d];
         t.ms.push_back(fo.ms[d]);
       }
     }
@@ -331,7 +365,7 @@ std::string cell_to_line(const std::string& key, size_t index, const CellResult&
   j["blur_px"] = c.blur_px;
   nlohmann::json ds = nlohmann::json::array();
   for (const DetectorTally& t : c.detectors)
-    ds.push_back({t.frames, t.detected, t.wrong_id, t.ms, t.empty_frames, t.false_positives});
+    ds.push_back({t.frames, t.detected, t.wrong_id, t.ms, t.empty_frames, t.false_positives, t.marks});
   j["detectors"] = ds;
   return j.dump() + "\n";
 }
@@ -359,6 +393,7 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
       t.ms = d.at(3).get<std::vector<double>>();
       t.empty_frames = d.at(4).get<int>();
       t.false_positives = d.at(5).get<int>();
+      if (d.size() > 6) t.marks = d.at(6).get<std::string>();
       c.detectors.push_back(std::move(t));
     }
     return std::pair{j.at("index").get<size_t>(), std::move(c)};

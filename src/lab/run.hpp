@@ -6,9 +6,12 @@
 
 #include "lab/plan.hpp"
 #include "lab/sensor.hpp"
+#include "detect/trace.hpp"
+#include "synth/marker_view.hpp"
 #include "detect/params.hpp"
 #include "base/result.hpp"
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -37,7 +40,21 @@ struct LabOptions {
   // null entry: run it). on_cell is called with each cell run here once it is finished, to save it.
   std::vector<std::shared_ptr<const CellResult>> finished;
   std::function<void(size_t, const CellResult&)> on_cell;
+  // Set (by another thread) to stop between frames: run_lab then returns an error saying how far it got, and the
+  // cells finished before have been given to on_cell.
+  const std::atomic<bool>* stop = nullptr;
 };
+
+// What one frame of a cell was for a detector, one character per frame in frame order (DetectorTally::marks):
+// frames with a marker, then the frames without one.
+namespace mark {
+constexpr char detected = 'D';      // the right id on the marker
+constexpr char missed = 'M';        // not reported
+constexpr char wrong_id = 'W';      // not the right id on the marker, but another id reported
+constexpr char not_visible = '.';   // the marker could not be placed wholly in view: not a frame of the measure
+constexpr char clean = 'c';         // a frame without a marker, nothing reported
+constexpr char false_positive = 'F';   // a frame without a marker, something reported
+}  // namespace mark
 
 struct DetectorTally {
   int frames = 0;        // frames in which the marker was visible
@@ -47,6 +64,7 @@ struct DetectorTally {
   int false_positives = 0;   // markers it reported on them
   double fp_per_frame() const { return empty_frames ? double(false_positives) / empty_frames : 0; }
   std::vector<double> ms;
+  std::string marks;     // per frame of the cell (namespace mark), so a user can open the frames that failed
   double p_rec() const { return frames ? 100.0 * detected / frames : 0; }
   double median_ms() const;
 };
@@ -65,6 +83,40 @@ struct LabResults {
   std::vector<CellResult> cells;
   double seconds = 0;
 };
+
+// The markers a run shows: `plan.markers` distinct random ids of the plan's dictionary, drawn with the seed.
+std::vector<int> lab_marker_ids(const LabPlan& plan, unsigned seed);
+
+// One frame of a cell exactly as run_lab renders it: frames 0 .. frames_per_cell-1 show a marker, the cell's
+// empty frames follow. The same plan, options, cell and frame give the same picture, whatever ran before it.
+struct LabFrame {
+  cv::Mat image;            // BGR, the camera's size
+  bool empty = false;       // a frame without a marker (false positives are counted on it)
+  bool visible = false;     // a marker frame whose marker could be placed wholly in view
+  int id = -1;              // the marker shown
+  Quad corners{};           // its corners in the image (OpenCV's order)
+  double roll_deg = 0, tilt_x_deg = 0, tilt_y_deg = 0;
+};
+// Renders frames of any cell of one plan and options (a thread's own: it keeps the renderer's buffers).
+class LabFrameRenderer {
+ public:
+  LabFrameRenderer(const LabPlan& plan, const LabOptions& options, std::vector<int> ids);
+  LabFrame render(size_t cell_index, int frame) const;
+  const std::vector<int>& ids() const { return ids_; }
+  int frames_per_cell() const { return plan_.frames_per_cell + plan_.empty_frames_per_cell(); }
+
+ private:
+  LabPlan plan_;
+  LabOptions options_;
+  std::vector<int> ids_;
+  std::vector<Cell> cells_;
+  mutable MarkerRenderer renderer_;
+};
+
+// Whether a detector's markers count for the frame (the right id with its corners on the marker's), and whether
+// another id was reported: the one rule run_lab and the workbench's Lab workspace use.
+// `other_id`: set when another id was reported (beside the right one or instead of it).
+char frame_mark(const LabFrame& frame, const std::vector<Marker>& found, double side_px, bool* other_id = nullptr);
 
 // Runs the plan; `progress(done, total)` after each frame. An error for an unknown detector or dictionary, or a
 // detector that cannot read the plan's dictionary ("apriltag reads the AprilTag families, not ARUCO_ORIGINAL").
