@@ -352,6 +352,7 @@ std::string_view source_kind_name(SourceKind k) {
     case SourceKind::video: return "video";
     case SourceKind::image: return "image";
     case SourceKind::folder: return "folder";
+    case SourceKind::lab: return "lab";
   }
   return "unknown";
 }
@@ -435,6 +436,7 @@ std::unique_ptr<FrameSource> open_capture_source(const SourceSpec& spec, std::st
       case SourceKind::video: return open_video(spec, error);
       case SourceKind::image: return open_image(spec, error);
       case SourceKind::folder: return open_folder(spec, error);
+      case SourceKind::lab: *error = spec.text() + ": a lab cell is opened from the Lab workspace"; return nullptr;
     }
     *error = spec.text() + ": unknown source kind";
   } catch (const std::exception& e) {

@@ -15,7 +15,8 @@
 
 namespace arwb {
 
-enum class SourceKind { synthetic, camera, video, image, folder };
+// `lab`: a cell of the recognition lab's plan (lab/cell_source.hpp), opened from the Lab workspace, not by a spec.
+enum class SourceKind { synthetic, camera, video, image, folder, lab };
 std::string_view source_kind_name(SourceKind k);
 
 // What `--source` and the UI's source box accept: "synthetic", "camera:N" (V4L2 device N; "camera:N@WxH" also

@@ -20,19 +20,9 @@ namespace arwb {
 
 namespace {
 
-// The three tables, the plots and the report into `out` (made when missing); false with the problem printed.
+// The three tables, the plots and the report into `out`; false with the problem printed.
 bool write_outputs(const lab::LabResults& r, const std::string& out) {
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  const std::string text = lab::lab_table_text(r), csv = lab::lab_table_csv(r), js = lab::lab_results_json(r);
-  for (const auto& [name, content] : {std::pair{"table.txt", &text}, {"table.csv", &csv}, {"results.json", &js}}) {
-    const std::string path = (std::filesystem::path(out) / name).string();
-    if (std::string e; !write_file_atomically(path, *content, &e)) {
-      print_problem("arwb lab: %s\n", e.c_str());
-      return false;
-    }
-  }
-  if (const Status s = lab::write_lab_report(r, out); !s) {
+  if (const Status s = lab::write_lab_outputs(r, out); !s) {
     print_problem("arwb lab: %s\n", s.error().c_str());
     return false;
   }

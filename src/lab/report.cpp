@@ -1,6 +1,7 @@
 #include "lab/report.hpp"
 
 #include "lab/stats.hpp"
+#include "base/files.hpp"
 
 #include <plplot.h>
 
@@ -456,6 +457,17 @@ Status write_lab_report(const LabResults& r, const std::string& dir) {
     draw_title_page(r);
     for (size_t page = 0; page < pngs.size(); ++page) draw_plot(r, page);
   });
+}
+
+Status write_lab_outputs(const LabResults& r, const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  const std::string text = lab_table_text(r), csv = lab_table_csv(r), js = lab_results_json(r);
+  for (const auto& [name, content] : {std::pair{"table.txt", &text}, {"table.csv", &csv}, {"results.json", &js}}) {
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    if (std::string e; !write_file_atomically(path, *content, &e)) return fail(e);
+  }
+  return write_lab_report(r, dir);
 }
 
 }  // namespace arwb::lab

@@ -24,6 +24,10 @@ inline constexpr int kReportPageWidthPt = 842, kReportPageHeightPt = 595;
 // could not be written, or the PLplot device that is missing; results without cells or detectors are an error.
 Status write_lab_report(const LabResults& r, const std::string& dir);
 
+// Everything a run leaves: table.txt, table.csv and results.json (run.hpp), then write_lab_report's plots and
+// report.pdf, into `dir` (made when missing). The first file that cannot be written is the error.
+Status write_lab_outputs(const LabResults& r, const std::string& dir);
+
 // The PNG files write_lab_report writes for `r`, in the order they appear in report.pdf.
 std::vector<std::string> lab_report_png_names(const LabResults& r);
 

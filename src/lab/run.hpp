@@ -104,6 +104,7 @@ class LabFrameRenderer {
   LabFrame render(size_t cell_index, int frame) const;
   const std::vector<int>& ids() const { return ids_; }
   int frames_per_cell() const { return plan_.frames_per_cell + plan_.empty_frames_per_cell(); }
+  cv::Size camera_size() const { return options_.camera.size; }
 
  private:
   LabPlan plan_;

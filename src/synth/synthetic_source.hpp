@@ -4,6 +4,7 @@
 #pragma once
 
 #include "capture/source.hpp"
+#include "synth/truth_source.hpp"
 #include "synth/chessboard_view.hpp"
 #include "synth/synthetic_world.hpp"
 
@@ -13,14 +14,14 @@
 
 namespace arwb {
 
-class SyntheticSource : public FrameSource {
+class SyntheticSource : public TruthSource {
  public:
   SourceStatus next(double now_s, cv::Mat& out) override;
   SourceInfo info() const override;
   // The world's controls (the workbench's sliders).
   SyntheticWorld& world() { return world_; }
   // The exact markers of the frame `next` last returned, in its pixels.
-  const std::vector<TruthMarker>& truth() const { return truth_; }
+  const std::vector<TruthMarker>& truth() const override { return truth_; }
   // The camera that the board is seen through while the controls show a calibration board (controls().board not
   // empty): the truth a calibration is compared with. Null while markers are shown.
   const SynthCamera* board_camera() const;

@@ -49,6 +49,7 @@ void match_with_arwb(const std::vector<Marker>& ours, PeerDetections& pd) {
 
 struct Engine::Pending {
   std::optional<SourceSpec> source;
+  std::unique_ptr<FrameSource> made;   // open_made_source; `source` then names it
   std::optional<DetectorParams> params;
   std::optional<std::vector<std::string>> dictionaries;
   std::optional<AcquisitionSettings> acquisition;
@@ -67,7 +68,7 @@ struct Engine::Pending {
   std::optional<std::string> calibration_file;
   std::optional<double> marker_size;
   bool any() const {
-    return source || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
+    return source || made || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
            next_frame || peers || scene_file || calibrating || calibration_capture || undistort || calibration_board ||
            !calibration_drops.empty() || calibration_reset || calibration_file || marker_size;
   }
@@ -207,7 +208,16 @@ std::shared_ptr<const Frame> Engine::wait_newer(uint64_t after, double timeout_s
     s_->pending_->field = value;      \
   } while (0)
 
-void Engine::open_source(const SourceSpec& spec) { ARWB_SET(source, spec); }
+void Engine::open_source(const SourceSpec& spec) {
+  std::lock_guard lock(s_->mutex_);
+  s_->pending_->source = spec;
+  s_->pending_->made.reset();
+}
+void Engine::open_made_source(std::unique_ptr<FrameSource> source, const SourceSpec& spec) {
+  std::lock_guard lock(s_->mutex_);
+  s_->pending_->source = spec;
+  s_->pending_->made = std::move(source);
+}
 SourceSpec Engine::source() const {
   std::lock_guard lock(s_->mutex_);
   return s_->source_in_use_;
@@ -362,7 +372,10 @@ void Engine::State::run() {
     }
     if (p.source) {
       std::string err;
-      auto src = arwb::open_source(*p.source, &err);
+      std::unique_ptr<FrameSource> src;
+      // A source made by the window (a lab cell) is handed over whole: from now on only this thread touches it.
+      if (p.made) src = std::move(p.made);
+      else src = arwb::open_source(*p.source, &err);
       if (src) {
         adopt(std::move(src));
         w.config.source = *p.source;
@@ -494,8 +507,8 @@ void Engine::State::run() {
         case FrameStatus::ok:
           if (!next.empty()) {
             w.raw = std::move(next);
-            const auto* syn = dynamic_cast<const SyntheticSource*>(w.source.get());
-            w.raw_truth = syn ? syn->truth() : std::vector<TruthMarker>{};
+            const auto* known = dynamic_cast<const TruthSource*>(w.source.get());
+            w.raw_truth = known ? known->truth() : std::vector<TruthMarker>{};
             fresh = true;
           }
           break;

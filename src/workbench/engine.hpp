@@ -62,6 +62,9 @@ class Engine {
   std::shared_ptr<const Frame> wait_newer(uint64_t after, double timeout_s) const;
 
   void open_source(const SourceSpec& spec);
+  // A source made elsewhere (a lab cell: lab/cell_source.hpp), shown under `spec`'s name; it is opened like any
+  // other (playback applied, its first frame shown even when frozen). A TruthSource's markers become the truth.
+  void open_made_source(std::unique_ptr<FrameSource> source, const SourceSpec& spec);
   SourceSpec source() const;
   void set_params(const DetectorParams& p);
   void set_dictionaries(const std::vector<std::string>& names);

@@ -1,0 +1,91 @@
+#include "lab/cell_source.hpp"
+
+#include "base/decimals.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace arwb::lab {
+
+std::string cell_name(const Cell& cell) {
+  return decimals_text(cell.size_mm, 1) + " mm at " + decimals_text(cell.distance_m, 2) + " m, " + decimals_text(cell.lux, 0) +
+         " lx";
+}
+
+LabCellSource::LabCellSource(const LabPlan& plan, const LabOptions& options, std::vector<int> ids,
+                             size_t cell_index, int frame)
+    : renderer_(plan, options, std::move(ids)), dictionary_(plan.dictionary), cell_index_(cell_index),
+      position_(std::clamp(frame, 0, std::max(0, renderer_.frames_per_cell() - 1))) {
+  const std::vector<Cell> cells = plan.cells();
+  if (cell_index < cells.size()) cell_ = cells[cell_index];
+}
+
+SourceStatus LabCellSource::next(double now_s, cv::Mat& out) {
+  const int n = renderer_.frames_per_cell();
+  if (playback_.playing && n > 0) {
+    // One frame a second (times the speed), as a folder's images play.
+    const double period = 1.0 / std::clamp(playback_.speed, 0.1, 8.0);
+    if (last_advance_s_ < 0) last_advance_s_ = now_s;
+    if (now_s - last_advance_s_ >= period) {
+      last_advance_s_ = now_s;
+      if (position_ + 1 < n) ++position_;
+      else if (playback_.loop) position_ = 0;
+    }
+  }
+  if (position_ == shown_) return {FrameStatus::same, {}};
+  frame_ = renderer_.render(cell_index_, position_);
+  shown_ = position_;
+  truth_.clear();
+  if (frame_.image.empty()) {
+    // A frame whose marker could not be placed wholly in view is not one of the measure; shown as a plain grey
+    // picture so stepping through the cell keeps its numbering.
+    const cv::Size size = renderer_.camera_size();
+    frame_.image = cv::Mat(size, CV_8UC3, cv::Scalar(128, 128, 128));
+  } else if (!frame_.empty && frame_.visible) {
+    truth_.push_back(TruthMarker{frame_.id, dictionary_, frame_.corners});
+  }
+  out = frame_.image.clone();
+  return {FrameStatus::ok, {}};
+}
+
+SourceInfo LabCellSource::info() const {
+  SourceInfo i;
+  i.kind = SourceKind::lab;
+  i.name = "lab: " + cell_name(cell_);
+  i.size = renderer_.camera_size();
+  i.position = position_;
+  i.count = renderer_.frames_per_cell();
+  char b[200];
+  if (shown_ < 0) {
+    i.item.clear();
+  } else if (frame_.empty) {
+    std::snprintf(b, sizeof b, "frame %d of %d: no marker (what a detector reports here is a false positive)",
+                  shown_ + 1, i.count);
+    i.item = b;
+  } else if (!frame_.visible) {
+    std::snprintf(b, sizeof b, "frame %d of %d: the marker could not be placed in view (not counted)", shown_ + 1,
+                  i.count);
+    i.item = b;
+  } else {
+    std::snprintf(b, sizeof b, "frame %d of %d: %s id %d, turned %.0f deg, tilted %.0f deg about x and %.0f about y",
+                  shown_ + 1, i.count, dictionary_.c_str(), frame_.id, frame_.roll_deg, frame_.tilt_x_deg,
+                  frame_.tilt_y_deg);
+    i.item = b;
+  }
+  return i;
+}
+
+void LabCellSource::step(int delta) {
+  playback_.playing = false;
+  seek(position_ + delta);
+}
+
+void LabCellSource::seek(int position) {
+  const int n = renderer_.frames_per_cell();
+  position_ = n > 0 ? (playback_.loop ? ((position % n) + n) % n : std::clamp(position, 0, n - 1)) : 0;
+}
+
+}  // namespace arwb::lab
