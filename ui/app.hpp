@@ -5,6 +5,7 @@
 #pragma once
 
 #include "detect/diagnose.hpp"
+#include "lab/session.hpp"
 #include "teach/tour.hpp"
 #include "render/compositor.hpp"
 #include "render/texture.hpp"
@@ -63,6 +64,10 @@ struct App {
   std::future<SweepResult> sweep_future;
   std::atomic<double> sweep_progress{0};
   std::atomic<bool> sweep_cancel{false};
+  // The Lab workspace's run, and a report being saved (ui/lab_requests.cpp).
+  lab::LabSession lab_session;
+  std::future<Status> lab_save_future;
+  std::string lab_save_dir;
   // Dictionary distances being computed, by name; the UI polls.
   std::map<std::string, std::future<ui::DictionaryStats>> dictionary_futures;
   // The script editor's file on disk as last read (Status::script_file).
@@ -163,6 +168,9 @@ struct App {
   void poll_background();        // the sweep's and the dictionaries' results, the watched file
   void list_presets();
   void list_examples();
+  // ui/lab_requests.cpp: running a plan, opening a cell in the live view, plan files, saving the report.
+  void lab_request(const ui::Request& r);
+  void poll_lab();
   void watch_file(const std::string& path, bool reread);
   // ui/layout.cpp
   void set_presentation(bool on);

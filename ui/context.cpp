@@ -18,7 +18,7 @@ constexpr PanelName kPanels[kPanelCount] = {
     {"tour", "Tour"},             {"why", "Why not detected?"}, {"log", "Log"},
     {"scene", "Scene"},           {"script", "Script editor"},  {"console", "Console"},
     {"calibrate", "Calibrate"},   {"calibration_views", "Calibration views"},
-    {"pose", "Pose"},
+    {"pose", "Pose"},             {"lab", "Lab"},
 };
 }  // namespace
 
@@ -39,7 +39,7 @@ View::View() {
   open.fill(true);
   // The first start opens what fits the default layout side by side; the rest are one click away (View menu).
   for (Panel p : {Panel::tour, Panel::why, Panel::dictionary, Panel::peers, Panel::scene, Panel::script,
-                  Panel::console, Panel::calibrate, Panel::calibration_views, Panel::pose}) {
+                  Panel::console, Panel::calibrate, Panel::calibration_views, Panel::pose, Panel::lab}) {
     open[static_cast<size_t>(p)] = false;
   }
   show_rejected_stage.fill(true);

@@ -7,6 +7,8 @@
 
 #include "detect/board_spec.hpp"
 #include "detect/diagnose.hpp"
+#include "lab/plan.hpp"
+#include "lab/session.hpp"
 #include "workbench/frame.hpp"
 #include "detect/params.hpp"
 #include "synth/synthetic_world.hpp"
@@ -37,7 +39,7 @@ namespace arwb::ui {
 
 // The panels, in the order of the View menu. Their titles are the window names ImGui saves the layout under.
 enum class Panel { live_view, pipeline, candidates, inspector, parameters, timings, dictionary, peers, source, tour,
-                   why, log, scene, script, console, calibrate, calibration_views, pose, count };
+                   why, log, scene, script, console, calibrate, calibration_views, pose, lab, count };
 constexpr int kPanelCount = static_cast<int>(Panel::count);
 const char* panel_title(Panel p);
 const char* panel_key(Panel p);   // "live_view", "pipeline"... (for --at N:open=KEY and the saved layout)
@@ -49,6 +51,15 @@ struct CalibrationSettings {
   BoardSpec board;
   bool capture = true;
   bool undistort = false;
+};
+
+// The Lab workspace's plan and run settings, as the Lab panel edits them (a run takes the detector's current
+// parameters, and the loaded calibration as its camera when there is one and use_calibration).
+struct LabSettings {
+  lab::LabPlan plan = lab::paper_plan();
+  std::vector<std::string> detectors{"arwb", "opencv", "opencv-aruco3"};
+  int seed = 1;
+  bool use_calibration = true;
 };
 
 // Settings the user edits; the workbench sends each change to the worker.
@@ -65,6 +76,7 @@ struct Settings {
   // The printed marker's side in the user's unit (mm, cm, m): poses, distances and Lua's m.pose in that unit.
   // 0: in marker sides.
   double marker_size = 0;
+  LabSettings lab;
 };
 
 enum class RequestKind {
@@ -93,6 +105,11 @@ enum class RequestKind {
   calibration_drop,  // text: the name of a kept calibration view, dropped (and the views solved again)
   calibration_reset, // forget the calibration views and their solve
   calibration_save,  // text: the file to write the newest solve to; value 1: the paper's two files beside it too
+  lab_start,         // run Settings::lab's plan in the background (Status::lab follows it)
+  lab_stop,          // stop the run after the frame in hand (the finished cells stay)
+  lab_open_cell,     // value: a cell of the run's plan, shown in the live view; text: the frame to start on ("" 0)
+  lab_read_plan,     // text: a plan file (YAML), read into Settings::lab.plan
+  lab_save,          // text: a folder for the finished run's tables, plots and report.pdf
 };
 
 struct Request {
@@ -191,6 +208,13 @@ struct Status {
   RecentFiles recent;                             // kept in config_dir/recent.txt
   uint64_t opened = 0;                            // counts files opened through open_file (the browser closes)
   std::string config_dir;                         // the user's settings (presets/, marker-sheets/, recent.txt)
+  // The Lab workspace: the run in the background (null before the first), the cell the live view shows (-1:
+  // none; the source is then another), and the last thing to say about a run, a plan file or a save.
+  std::shared_ptr<const lab::LabProgress> lab;
+  int lab_cell = -1;
+  std::string lab_message;
+  bool lab_message_error = false;
+  bool lab_saving = false;
 };
 
 // Zoom and pan of an image view; the live view and the pipeline's large view share one, so the same pixel sits

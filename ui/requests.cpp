@@ -313,6 +313,11 @@ void App::handle_requests() {
       case ui::RequestKind::calibration_drop: engine->drop_calibration_view(r.text); break;
       case ui::RequestKind::calibration_reset: engine->reset_calibration(); break;
       case ui::RequestKind::calibration_save: save_calibration(r.text, r.value != 0); break;
+      case ui::RequestKind::lab_start:
+      case ui::RequestKind::lab_stop:
+      case ui::RequestKind::lab_open_cell:
+      case ui::RequestKind::lab_read_plan:
+      case ui::RequestKind::lab_save: lab_request(r); break;
     }
   }
 }
@@ -356,6 +361,7 @@ void App::save_calibration(const std::string& text, bool paper_files) {
 
 // [SECTION] Background
 void App::poll_background() {
+  poll_lab();
   for (auto it = dictionary_futures.begin(); it != dictionary_futures.end();) {
     if (it->second.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
       ++it;

@@ -1,5 +1,7 @@
 #include "ui/widgets.hpp"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -385,6 +387,19 @@ bool contains_nocase(std::string_view hay, std::string_view needle) {
     return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
   });
   return it != hay.end();
+}
+
+void why_on_marker(View& view, const Quad& corners) {
+  const cv::Rect2f box = cv::boundingRect(std::vector<cv::Point2f>(corners.begin(), corners.end()));
+  const float pad = 0.15f * std::max(box.width, box.height) + 2;   // the quiet zone and the border's blur
+  view.region = cv::Rect2f(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad);
+  view.has_region = true;
+  view.show_truth = true;
+  // The live view zooms in on it: a marker of a few pixels is a speck in the whole frame.
+  view.image.fit = false;
+  view.image.zoom = std::clamp(160.0f / std::max(view.region.width, view.region.height), 1.0f, 8.0f);
+  view.image.centre = {box.x + box.width / 2, box.y + box.height / 2};
+  view.show(Panel::why);
 }
 
 }  // namespace arwb::ui

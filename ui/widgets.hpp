@@ -103,6 +103,9 @@ void fit_item_width(float want, const char* label);
 ImVec2 scroll_table_size(int rows);
 // TextDisabled that wraps at the window's edge (hints, explanations).
 void text_disabled_wrapped(const char* text);
+// "Why not detected?" on a marker whose exact corners are known (a lab frame's truth): the region around it, the
+// truth drawn, the live view zoomed in on it, the Why panel shown.
+void why_on_marker(View& view, const Quad& corners);
 
 // Case-insensitive substring test; an empty needle matches everything.
 bool contains_nocase(std::string_view hay, std::string_view needle);

@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <thread>
 #include <utility>
 
@@ -260,6 +261,61 @@ void App::run_action(const Action& a) {
       f = engine->wait_newer(f ? f->index : 0, 0.5);
     }
     warn("--actions calib_wait=" + a.arg + ": the calibration did not get there within 120 s");
+  } else if (a.verb == "lab_plan") {
+    // lab_plan=paper|FILE.yml: the Lab panel's plan, as its buttons set it.
+    if (a.arg == "paper") settings.lab.plan = lab::paper_plan();
+    else requests.push_back({ui::RequestKind::lab_read_plan, a.arg, 0, {}, {}});
+  } else if (a.verb == "lab_frames") {
+    const int n = std::atoi(a.arg.c_str());
+    if (n < 1 || n > 10000) return warn("--actions lab_frames: 1 to 10000 frames per cell, not '" + a.arg + "'");
+    settings.lab.plan.frames_per_cell = n;
+  } else if (a.verb == "lab_axis") {
+    // lab_axis=sizes_mm:65,39 (or distances_m:, lux:): what typing in the panel's field does.
+    const size_t colon = a.arg.find(':');
+    const std::string key = a.arg.substr(0, colon);
+    for (const lab::PlanAxis& axis : lab::plan_axes()) {
+      if (key != axis.key || colon == std::string::npos) continue;
+      Result<std::vector<double>> v = lab::parse_axis(axis, a.arg.substr(colon + 1));
+      if (!v) return warn("--actions lab_axis: " + v.error());
+      settings.lab.plan.*axis.values = *v;
+      settings.lab.plan.name = "your plan";
+      return;
+    }
+    warn("--actions lab_axis: sizes_mm:, distances_m: or lux: and values, not '" + a.arg + "'");
+  } else if (a.verb == "lab_detectors") {
+    std::vector<std::string> list;
+    std::stringstream in(a.arg);
+    for (std::string d; std::getline(in, d, ',');)
+      if (!d.empty()) list.push_back(d);
+    settings.lab.detectors = list;
+  } else if (a.verb == "lab_run") {
+    requests.push_back({ui::RequestKind::lab_start, "", 0, {}, {}});
+  } else if (a.verb == "lab_stop") {
+    requests.push_back({ui::RequestKind::lab_stop, "", 0, {}, {}});
+  } else if (a.verb == "lab_wait") {
+    // lab_wait[=CELLS]: for scripts and tests, the window waits (up to 600 s) until the run has finished that many
+    // cells (all: when none is given) or ended. The window is not drawn meanwhile.
+    handle_requests();   // a lab_run of this same frame starts first
+    const int want = a.arg.empty() ? -1 : std::atoi(a.arg.c_str());
+    const auto end = Clock::now() + std::chrono::seconds(600);
+    while (Clock::now() < end) {
+      const auto run = lab_session.snapshot();
+      if (!run->running || (want >= 0 && run->cells_done() >= want)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    poll_lab();
+    if (lab_session.running() && want < 0) warn("--actions lab_wait: the run did not end within 600 s");
+  } else if (a.verb == "lab_cell") {
+    // lab_cell=I[,K]: cell I of the run (from 0, the table's order), at frame K; what clicking it does.
+    int cell = -1, k = 0;
+    if (std::sscanf(a.arg.c_str(), "%d,%d", &cell, &k) < 1) return warn("--actions lab_cell: CELL[,FRAME], not '" + a.arg + "'");
+    requests.push_back({ui::RequestKind::lab_open_cell, std::to_string(k), cell, {}, {}});
+  } else if (a.verb == "lab_why") {
+    // lab_why: what the Lab panel's "Why not detected?" does on the frame shown (the region on the truth).
+    if (!frame || frame->truth.empty()) return warn("--actions lab_why: the frame shown has no marker's truth");
+    ui::why_on_marker(view, frame->truth[0].corners);
+  } else if (a.verb == "lab_save") {
+    requests.push_back({ui::RequestKind::lab_save, a.arg, 0, {}, {}});
   } else if (a.verb == "calib_reset") {
     requests.push_back({ui::RequestKind::calibration_reset, "", 0, {}, {}});
   } else if (a.verb == "calib_save") {
@@ -839,6 +895,34 @@ int run_workbench(const WorkbenchOptions& options) {
         why["other_id"] = rep.other_dictionaries.front().id;
       }
       s["why"] = why;
+    }
+    {
+      // The Lab workspace: the run's progress, each detector's P_Rec per cell (null: not finished), the cell shown.
+      Json lab = {{"running", false}, {"cells", 0}, {"cells_done", 0}};
+      if (const lab::LabProgress* p = app.status.lab.get()) {
+        lab = {{"running", p->running},        {"finished", p->finished},       {"error", p->error},
+               {"plan", p->plan.name},          {"cells", p->cells.size()},      {"cells_done", p->cells_done()},
+               {"frames_done", p->frames_done}, {"frames_total", p->frames_total}, {"detectors", p->options.detectors},
+               {"camera", p->options.camera_name}};
+        Json rates = Json::object();
+        for (size_t d = 0; d < p->options.detectors.size(); ++d) {
+          Json cells = Json::array();
+          for (const auto& r : p->results)
+            cells.push_back(r ? Json(round_decimals(r->detectors[d].p_rec(), 2)) : Json());
+          rates[p->options.detectors[d]] = cells;
+        }
+        lab["p_rec"] = rates;
+        if (app.status.lab_cell >= 0 && size_t(app.status.lab_cell) < p->results.size() && p->results[size_t(app.status.lab_cell)]) {
+          Json marks = Json::object();
+          for (size_t d = 0; d < p->options.detectors.size(); ++d)
+            marks[p->options.detectors[d]] = p->results[size_t(app.status.lab_cell)]->detectors[d].marks;
+          lab["cell_marks"] = marks;
+        }
+      }
+      lab["cell_open"] = app.frame && app.frame->source.kind == SourceKind::lab ? app.status.lab_cell : -1;
+      lab["frame"] = app.frame && app.frame->source.kind == SourceKind::lab ? app.frame->source.position : -1;
+      lab["message"] = app.status.lab_message;
+      s["lab"] = lab;
     }
     s["frozen"] = app.settings.frozen;
     s["tour_active"] = app.view.tour_active;

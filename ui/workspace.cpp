@@ -89,6 +89,14 @@ std::vector<Workspace> shipped_workspaces() {
          columns(0.56f, rows(0.64f, tabs({P::live_view}), tabs({P::calibration_views, P::log})),
                  tabs({P::calibrate, P::source})),
          columns(0.6f, tabs({P::live_view}), rows(0.62f, tabs({P::calibrate}), tabs({P::calibration_views, P::source})))),
+      // Someone running the paper's experiment: the plan and the grid filling in beside the live view, which shows
+      // a clicked cell's frames; under it the question a failed cell raises (why not detected, which candidate,
+      // which stage) and the frame's pipeline.
+      ws("Lab",
+         columns(0.5f, rows(0.6f, tabs({P::live_view}), tabs({P::why, P::inspector, P::pipeline, P::log})),
+                 tabs({P::lab, P::candidates, P::parameters, P::source})),
+         columns(0.62f, rows(0.64f, tabs({P::live_view}), tabs({P::why, P::inspector, P::pipeline})),
+                 tabs({P::lab, P::candidates}))),
   };
 }
 

@@ -28,10 +28,14 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "calib_capture=on|off, calib_drop=N (the N-th view kept), calib_reset, calib_save=PATH, "
                  "calib_wait[=N] (waits until N views are kept and solved), "
                  "undistort=on|off, pose=KINDS (3D over each marker's pose: a comma list of axes, cube, alternative, "
-                 "or all or none), marker_size=L (the printed marker's side: poses in its unit; 0: marker sides).\n"
+                 "or all or none), marker_size=L (the printed marker's side: poses in its unit; 0: marker sides), "
+                 "lab_plan=paper|FILE.yml, lab_frames=N (per cell), lab_axis=sizes_mm:65,39 (or distances_m:, lux:), "
+                 "lab_detectors=arwb,opencv,..., lab_run, lab_stop, lab_wait[=CELLS] (waits until the run has that "
+                 "many cells, or has ended), lab_cell=I[,K] (cell I of the run, frame K, in the live view), lab_why "
+                 "(Why not detected? on the lab frame's marker), lab_save=DIR.\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
-                 "log scene script console calibrate calibration_views pose.\n"
-                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3/4 workspaces Inspect/Script/Teach/Calibrate, Ctrl+Z undo, Ctrl+Shift+Z "
+                 "log scene script console calibrate calibration_views pose lab.\n"
+                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3/4/5 workspaces Inspect/Script/Teach/Calibrate/Lab, Ctrl+Z undo, Ctrl+Shift+Z "
                  "redo, Ctrl+Q quit; none of them while typing in a text field. Help > Keyboard shortcuts lists them "
                  "all. Drop a scene (.lua, .xml), preset (.yml), image, video or folder on the window to open it.");
   std::vector<std::pair<std::string, std::string>> subcommands;

@@ -5,7 +5,9 @@
 #include "detect/yaml_file.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <string_view>
@@ -26,22 +28,66 @@ int LabPlan::empty_frames_per_cell() const {
 
 LabPlan paper_plan() { return LabPlan{}; }
 
+const std::vector<PlanAxis>& plan_axes() {
+  static const std::vector<PlanAxis> kAxes{{"sizes_mm", 1, 2000, "a size in mm", &LabPlan::sizes_mm},
+                                           {"distances_m", 0.05, 100, "a distance in m", &LabPlan::distances_m},
+                                           {"lux", 0.1, 200000, "an illuminance in lux", &LabPlan::lux}};
+  return kAxes;
+}
+
+namespace {
+std::string out_of_range(const PlanAxis& a, size_t i, double d) {
+  char b[200];
+  std::snprintf(b, sizeof b, "%s: value %zu (%g) must be %s from %g to %g", a.key, i + 1, d, a.what, a.lo, a.hi);
+  return b;
+}
+}  // namespace
+
+Result<std::vector<double>> parse_axis(const PlanAxis& axis, const std::string& text) {
+  std::vector<double> v;
+  size_t i = 0;
+  while (i < text.size()) {
+    if (text[i] == ',' || std::isspace(static_cast<unsigned char>(text[i]))) {
+      ++i;
+      continue;
+    }
+    size_t end = i;
+    while (end < text.size() && text[end] != ',' && !std::isspace(static_cast<unsigned char>(text[end]))) ++end;
+    const std::string item = text.substr(i, end - i);
+    char* stop = nullptr;
+    const double d = std::strtod(item.c_str(), &stop);
+    if (stop == item.c_str() || *stop != '\0')
+      return fail(std::string(axis.key) + ": value " + std::to_string(v.size() + 1) + " ('" + item + "') is not a number");
+    if (!std::isfinite(d) || d < axis.lo || d > axis.hi) return fail(out_of_range(axis, v.size(), d));
+    v.push_back(d);
+    i = end;
+  }
+  if (v.empty() || v.size() > 50) return fail(std::string(axis.key) + ": give 1 to 50 values");
+  return v;
+}
+
+std::string axis_text(const std::vector<double>& values) {
+  std::string s;
+  char b[64];
+  for (double d : values) {
+    std::snprintf(b, sizeof b, "%g", d);
+    s += (s.empty() ? "" : ", ") + std::string(b);
+  }
+  return s;
+}
+
 namespace {
 
 constexpr FileLimit kPlanFile{"a lab plan", 1u << 20};
 
-// A list of numbers (a single number is a list of one), each in [lo, hi].
-std::string read_list(const cv::FileNode& n, const char* key, double lo, double hi, const char* what,
-                      std::vector<double>* out) {
+// A list of numbers (a single number is a list of one), each in the axis's range.
+std::string read_list(const cv::FileNode& n, const PlanAxis& axis, std::vector<double>* out) {
+  const char* key = axis.key;
   std::vector<double> v;
   auto take = [&](const cv::FileNode& x, size_t i) -> std::string {
     if (!x.isReal() && !x.isInt()) return std::string(key) + ": value " + std::to_string(i + 1) + " is not a number";
     const double d = double(x);
-    if (!std::isfinite(d) || d < lo || d > hi) {
-      char b[200];
-      std::snprintf(b, sizeof b, "%s: value %zu (%g) must be %s from %g to %g", key, i + 1, d, what, lo, hi);
-      return b;
-    }
+    if (!std::isfinite(d) || d < axis.lo || d > axis.hi) return out_of_range(axis, i, d);
     v.push_back(d);
     return {};
   };
@@ -96,10 +142,8 @@ Result<LabPlan> read_plan(const std::string& path) {
     if (!dictionary_by_name(d)) return fail(path + ": dictionary: unknown '" + d + "'");
     p.dictionary = d;
   }
-  if (!at("sizes_mm").empty()) e = read_list(at("sizes_mm"), "sizes_mm", 1, 2000, "a size in mm", &p.sizes_mm);
-  if (e.empty() && !at("distances_m").empty())
-    e = read_list(at("distances_m"), "distances_m", 0.05, 100, "a distance in m", &p.distances_m);
-  if (e.empty() && !at("lux").empty()) e = read_list(at("lux"), "lux", 0.1, 200000, "an illuminance in lux", &p.lux);
+  for (const PlanAxis& axis : plan_axes())
+    if (e.empty() && !at(axis.key).empty()) e = read_list(at(axis.key), axis, &(p.*axis.values));
   double v = 0;
   if (e.empty() && !at("max_tilt_deg").empty() && (e = read_number(at("max_tilt_deg"), "max_tilt_deg", 0, 80, &v)).empty())
     p.max_tilt_deg = v;

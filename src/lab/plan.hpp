@@ -33,6 +33,20 @@ struct LabPlan {
 
 LabPlan paper_plan();
 
+// The plan's lists, with the range each value must be in: the plan file and the Lab panel check them alike.
+struct PlanAxis {
+  const char* key;                       // the field's name in a plan file
+  double lo, hi;
+  const char* what;                      // "a size in mm"
+  std::vector<double> LabPlan::*values;
+};
+const std::vector<PlanAxis>& plan_axes();   // sizes_mm, distances_m, lux
+// Numbers separated by commas or spaces ("65, 39, 26"), 1 to 50 of them, each in the axis's range; else the
+// one-line reason naming the key and the value: "sizes_mm: value 2 (-5) must be a size in mm from 1 to 2000".
+Result<std::vector<double>> parse_axis(const PlanAxis& axis, const std::string& text);
+// The same list as text, for the panel's field.
+std::string axis_text(const std::vector<double>& values);
+
 // A plan file (YAML): any of the fields above by name, the others the paper's; the file's name (without .yml)
 // names the plan unless it says `name`. Every problem is one line naming the file and the field:
 // "p.yml: sizes_mm: value 2 (-5) must be a size in mm from 1 to 2000", "p.yml: dictionary: unknown 'X'",

@@ -104,6 +104,14 @@ const std::string& chessboard_source() {
 }
 const Shipped kCalibrate{"Calibrate", {"log", "source", "calibration_views", "calibrate", "live_view"}, "",
                          ";1:calib_wait=7"};
+// A small plan run to the end, its grid drawn and a cell open in the live view (26 mm at 0.5 m: detected), so
+// the plan, the progress, the grid and the cell's strips are all audited.
+const Shipped kLab{"Lab",
+                   {"log", "pipeline", "inspector", "source", "parameters", "candidates", "why", "lab", "live_view"},
+                   "",
+                   ";1:lab_axis=sizes_mm:65,26;1:lab_axis=distances_m:0.5,2;1:lab_axis=lux:1000;1:lab_frames=4;1:lab_run;"
+                   "1:lab_wait;"
+                   "2:lab_cell=2,0"};
 
 // One workspace at one window size, in normal then presentation mode: nothing overlaps, nothing is cut off,
 // the regions tile the window, the live view shows the markers; presentation mode has large text and gives the
@@ -189,6 +197,9 @@ TEST(Workspaces, TeachFitsAt1920x1080) { fits(kTeach, 1920, 1080); }
 TEST(Workspaces, CalibrateFitsAt1280x720) { fits(kCalibrate, 1280, 720); }
 TEST(Workspaces, CalibrateFitsAt1600x900) { fits(kCalibrate, 1600, 900); }
 TEST(Workspaces, CalibrateFitsAt1920x1080) { fits(kCalibrate, 1920, 1080); }
+TEST(Workspaces, LabFitsAt1280x720) { fits(kLab, 1280, 720); }
+TEST(Workspaces, LabFitsAt1600x900) { fits(kLab, 1600, 900); }
+TEST(Workspaces, LabFitsAt1920x1080) { fits(kLab, 1920, 1080); }
 
 std::string args(const TempDir& tmp, const std::string& more) {
   return "--config-dir '" + tmp.str("config") + "' --frames 20 --stats " + more;
