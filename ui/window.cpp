@@ -922,6 +922,7 @@ int run_workbench(const WorkbenchOptions& options) {
       lab["cell_open"] = app.frame && app.frame->source.kind == SourceKind::lab ? app.status.lab_cell : -1;
       lab["frame"] = app.frame && app.frame->source.kind == SourceKind::lab ? app.frame->source.position : -1;
       lab["message"] = app.status.lab_message;
+      lab["plan_set"] = app.settings.lab.plan.name;   // the panel's plan (what Run would run)
       s["lab"] = lab;
     }
     s["frozen"] = app.settings.frozen;

@@ -487,6 +487,9 @@ std::string lab_results_json(const LabResults& r) {
                  {"focal_length_mm", m.focal_length_mm},  {"f_number", m.f_number},
                  {"focus_m", m.focus_m},                  {"shake_deg_s", m.shake_deg_s}};
   j["detectors"] = r.options.detectors;
+  // Each detector's "marks": a character per frame of the cell (frames with a marker, then those without): D
+  // detected, M missed, W another id only, . not counted (the marker not wholly in view), c nothing reported on a
+  // frame without a marker, F a false positive there.
   Json cells = Json::array();
   for (const CellResult& c : r.cells) {
     Json per = Json::object();
@@ -500,7 +503,8 @@ std::string lab_results_json(const LabResults& r) {
                                      {"wrong_id", t.wrong_id},
                                      {"empty_frames", t.empty_frames},
                                      {"false_positives", t.false_positives},
-                                     {"median_ms", round_decimals(t.median_ms(), 3)}};
+                                     {"median_ms", round_decimals(t.median_ms(), 3)},
+                                     {"marks", t.marks}};
     }
     cells.push_back({{"size_mm", c.cell.size_mm},
                      {"distance_m", c.cell.distance_m},

@@ -1,0 +1,126 @@
+// The Lab workspace, run for real under xvfb-run: a plan file read into the panel, run in the background to the
+// end (lab_wait makes it independent of the machine's speed), its grid the same as `arwb lab` prints for the same
+// plan and seed; a cell a detector missed a frame of opened in the live view on that very frame, with the marker's
+// truth, and "Why not detected?" answering with a candidate and the stage that dropped it; a stopped run keeping
+// its finished cells; a bad plan file named while the panel's plan and the window carry on.
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace arwb {
+namespace {
+
+using test::RunResult;
+using test::TempDir;
+using Json = nlohmann::json;
+
+Json stats(const RunResult& r) {
+  try {
+    return Json::parse(r.out.substr(0, r.out.find('\n')));
+  } catch (const Json::parse_error& e) {
+    ADD_FAILURE() << e.what() << " in: " << r.out;
+    return Json::object();
+  }
+}
+
+// Two sizes at two distances in one light, 6 frames a cell: 26 mm at 1 m (14 px) is missed often.
+std::string small_plan(const TempDir& tmp) {
+  const std::string path = tmp.str("small.yml");
+  test::write_file(path, "%YAML:1.0\n---\nmarkers: 5\nsizes_mm: [65, 26]\ndistances_m: [0.5, 1]\nlux: [1000]\n"
+                         "frames_per_cell: 6\n");
+  return path;
+}
+
+TEST(LabWorkspace, TheGridIsTheCommandLinesTableAndAMissedFrameEndsInTheWhyPanel) {
+  TempDir tmp;
+  const std::string plan = small_plan(tmp);
+  // The command line's run of the same plan and seed: its P_Rec per cell and each frame's verdict.
+  const RunResult cli = test::run_arwb("lab --plan '" + plan + "' --detectors arwb,opencv --json");
+  ASSERT_EQ(cli.status, 0) << cli.err;
+  const Json want = Json::parse(cli.out);
+  ASSERT_EQ(want["cells"].size(), 4u);
+  // A frame arwb missed, in the cell that misses most.
+  int cell = -1, frame = -1;
+  for (size_t c = 0; c < want["cells"].size() && cell < 0; ++c) {
+    const std::string marks = want["cells"][c]["results"]["arwb"]["marks"];
+    if (const size_t k = marks.find('M'); k != std::string::npos) {
+      cell = int(c);
+      frame = int(k);
+    }
+  }
+  ASSERT_GE(cell, 0) << "no frame missed by arwb: " << cli.out;
+
+  const RunResult r = test::run_arwb_window(
+      "--config-dir '" + tmp.str("config") + "' --stats --frames 30 --actions '1:workspace=Lab;1:lab_plan=" + plan +
+      ";2:lab_detectors=arwb,opencv;3:lab_run;3:lab_wait;5:lab_cell=" + std::to_string(cell) + "," +
+      std::to_string(frame) + ";12:lab_why'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json s = stats(r);
+  const Json lab = s["lab"];
+  EXPECT_EQ(lab["plan"], "small");
+  EXPECT_TRUE(lab["finished"].get<bool>()) << lab.dump();
+  EXPECT_EQ(lab["cells_done"], 4);
+  EXPECT_EQ(lab["frames_done"], lab["frames_total"]);
+  for (const char* d : {"arwb", "opencv"}) {
+    ASSERT_EQ(lab["p_rec"][d].size(), 4u) << lab.dump();
+    for (size_t c = 0; c < 4; ++c) {
+      EXPECT_DOUBLE_EQ(lab["p_rec"][d][c].get<double>(), want["cells"][c]["results"][d]["p_rec"].get<double>())
+          << d << " cell " << c;
+    }
+    EXPECT_EQ(lab["cell_marks"][d], want["cells"][size_t(cell)]["results"][d]["marks"]) << d;
+  }
+  // The missed frame is in the live view, with its marker's truth, and nothing detected on it.
+  EXPECT_EQ(lab["cell_open"], cell);
+  EXPECT_EQ(lab["frame"], frame);
+  EXPECT_EQ(s["source"].get<std::string>().rfind("lab: ", 0), 0u) << s["source"];
+  EXPECT_EQ(s["markers"], 0) << "arwb found the marker the run says it missed";
+  EXPECT_EQ(s["dictionaries"], Json::array({"ARUCO_ORIGINAL"}));
+  // "Why not detected?" on it: the headline says nothing is detected there and names the candidate it follows.
+  ASSERT_TRUE(s.contains("why")) << s.dump();
+  const std::string why = s["why"]["summary"];
+  EXPECT_NE(why.find("Nothing is detected here"), std::string::npos) << why;
+  EXPECT_GE(s["why"]["candidate"].get<int>(), 0) << why;
+  EXPECT_EQ(s["problems"], 0) << r.err;
+}
+
+TEST(LabWorkspace, AStoppedRunKeepsItsFinishedCells) {
+  TempDir tmp;
+  const RunResult r = test::run_arwb_window(
+      "--config-dir '" + tmp.str("config") + "' --stats --frames 8 --actions '1:workspace=Lab;1:lab_frames=20;"
+      "2:lab_detectors=arwb;3:lab_run;3:lab_wait=1;4:lab_stop;4:lab_wait'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json lab = stats(r)["lab"];
+  EXPECT_FALSE(lab["running"].get<bool>());
+  EXPECT_FALSE(lab["finished"].get<bool>());
+  EXPECT_GE(lab["cells_done"].get<int>(), 1) << lab.dump();
+  EXPECT_LT(lab["cells_done"].get<int>(), 27) << lab.dump();
+  EXPECT_NE(lab["message"].get<std::string>().find("stopped after"), std::string::npos) << lab.dump();
+  // The finished cells keep their rates; the others have none.
+  int rated = 0;
+  for (const Json& v : lab["p_rec"]["arwb"]) rated += !v.is_null();
+  EXPECT_EQ(rated, lab["cells_done"].get<int>());
+}
+
+TEST(LabWorkspace, ABadPlanFileIsNamedAndThePlanAndTheWindowCarryOn) {
+  TempDir tmp;
+  const std::string bad = tmp.str("bad.yml");
+  test::write_file(bad, "%YAML:1.0\n---\nsize_mm: [65]\n");
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") +
+                                            "' --stats --frames 12 --actions '1:workspace=Lab;2:lab_plan=" + bad +
+                                            ";3:lab_detectors=apriltag;4:lab_run'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json s = stats(r);
+  // The second problem (apriltag cannot read ARUCO_ORIGINAL) is the panel's message now; both are in the log.
+  EXPECT_NE(r.err.find("bad.yml: unknown field 'size_mm' (did you mean 'sizes_mm'?)"), std::string::npos) << r.err;
+  EXPECT_NE(s["lab"]["message"].get<std::string>().find("apriltag reads the AprilTag families"), std::string::npos)
+      << s["lab"].dump();
+  EXPECT_EQ(s["lab"]["plan_set"], "paper") << "a bad file leaves the panel's plan as it was";
+  EXPECT_FALSE(s["lab"]["running"].get<bool>());
+  EXPECT_GT(s["markers"].get<int>(), 0) << "the live view goes on";
+}
+
+}  // namespace
+}  // namespace arwb
