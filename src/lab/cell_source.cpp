@@ -74,6 +74,7 @@ SourceInfo LabCellSource::info() const {
                   shown_ + 1, i.count, dictionary_.c_str(), frame_.id, frame_.roll_deg, frame_.tilt_x_deg,
                   frame_.tilt_y_deg);
     i.item = b;
+    if (const std::string light = frame_.light.text(); !light.empty()) i.item += "; " + light;
   }
   return i;
 }

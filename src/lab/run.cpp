@@ -225,6 +225,10 @@ LabFrame LabFrameRenderer::render(size_t ci, int k) const {
   }
   if (!out.visible) return out;
   out.corners = truth.corners;
+  // Shadows and glints from a generator of their own, so the pose and the noise stay those of the frame's seed.
+  std::mt19937 light_rng(options_.seed * 3624381323u + unsigned(ci) * 2246822519u + unsigned(k) * 40503u);
+  out.light = apply_scene_light(levels, options_.light, cell.distance_m, cell.lux, cam.camera_matrix(0, 0),
+                                out.corners, light_rng);
   out.image = camera_picture(levels, options_, cell, rng);
   return out;
 }
@@ -350,6 +354,9 @@ std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
   const SensorModel& m = options.sensor;
   j["sensor"] = {m.sensitivity, m.full_well,    m.read_noise, m.target_level, m.max_exposure_s,
                  m.max_gain,    m.focal_length_mm, m.f_number, m.focus_m,  m.shake_deg_s};
+  const SceneLight& l = options.light;
+  j["light"] = {l.direct_outdoor,   l.direct_indoor,   l.direct_evening, l.shadow_chance_half_metre,
+                l.sun_diameter_rad, l.glare_chance,    l.glare_lobe_deg, l.glare_peak};
   return j.dump();
 }
 
@@ -486,6 +493,11 @@ std::string lab_results_json(const LabResults& r) {
                  {"max_exposure_s", m.max_exposure_s},    {"max_gain", m.max_gain},
                  {"focal_length_mm", m.focal_length_mm},  {"f_number", m.f_number},
                  {"focus_m", m.focus_m},                  {"shake_deg_s", m.shake_deg_s}};
+  const SceneLight& l = r.options.light;
+  j["light"] = {{"direct_outdoor", l.direct_outdoor},   {"direct_indoor", l.direct_indoor},
+                {"direct_evening", l.direct_evening},   {"shadow_chance_half_metre", l.shadow_chance_half_metre},
+                {"sun_diameter_rad", l.sun_diameter_rad}, {"glare_chance", l.glare_chance},
+                {"glare_lobe_deg", l.glare_lobe_deg},   {"glare_peak", l.glare_peak}};
   j["detectors"] = r.options.detectors;
   // Each detector's "marks": a character per frame of the cell (frames with a marker, then those without): D
   // detected, M missed, W another id only, . not counted (the marker not wholly in view), c nothing reported on a

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "lab/plan.hpp"
+#include "lab/lighting.hpp"
 #include "lab/sensor.hpp"
 #include "detect/trace.hpp"
 #include "synth/marker_view.hpp"
@@ -35,6 +36,7 @@ struct LabOptions {
   SynthCamera camera = default_lab_camera();
   std::string camera_name = "the default webcam (640x480, 60 degrees across)";
   SensorModel sensor;
+  SceneLight light;          // shadows and glints by the paper's three conditions (lighting.hpp)
   DetectorParams params;
   // Resuming: cells an earlier run of the same plan and options finished, by index in plan.cells() (empty or a
   // null entry: run it). on_cell is called with each cell run here once it is finished, to save it.
@@ -96,6 +98,7 @@ struct LabFrame {
   int id = -1;              // the marker shown
   Quad corners{};           // its corners in the image (OpenCV's order)
   double roll_deg = 0, tilt_x_deg = 0, tilt_y_deg = 0;
+  LightEvents light;        // a shadow edge or a glint on the marker
 };
 // Renders frames of any cell of one plan and options (a thread's own: it keeps the renderer's buffers).
 class LabFrameRenderer {

@@ -34,7 +34,8 @@ cv::Mat expose(const cv::Mat1f& levels, const SensorModel& s, double lux, std::m
     const float* in = levels.ptr<float>(y);
     uchar* o = out.ptr<uchar>(y);
     for (int x = 0; x < levels.cols; ++x) {
-      const double electrons = std::clamp(double(in[x]) / 255.0, 0.0, 1.0) * e.electrons_white;
+      // Above 255: a glint (lighting.hpp), brighter than the paper's diffuse white; the well clips it below.
+      const double electrons = std::clamp(double(in[x]) / 255.0, 0.0, 8.0) * e.electrons_white;
       // Poisson shot noise by its normal approximation (electrons in the hundreds and more), then read noise.
       const double noisy = electrons + std::sqrt(std::max(electrons, 0.0)) * normal(rng) + s.read_noise * normal(rng);
       const double clipped = std::clamp(noisy, 0.0, s.full_well);

@@ -105,11 +105,11 @@ const std::string& chessboard_source() {
 const Shipped kCalibrate{"Calibrate", {"log", "source", "calibration_views", "calibrate", "live_view"}, "",
                          ";1:calib_wait=7"};
 // A small plan run to the end, its grid drawn and a cell open in the live view (26 mm at 0.5 m: detected), so
-// the plan, the progress, the grid and the cell's strips are all audited.
+// the plan, the progress, the grid and the cell's strips are all audited (850 lx: no shadows or glints).
 const Shipped kLab{"Lab",
                    {"log", "pipeline", "inspector", "source", "parameters", "candidates", "why", "lab", "live_view"},
                    "",
-                   ";1:lab_axis=sizes_mm:65,26;1:lab_axis=distances_m:0.5,2;1:lab_axis=lux:1000;1:lab_frames=4;1:lab_run;"
+                   ";1:lab_axis=sizes_mm:65,26;1:lab_axis=distances_m:0.5,2;1:lab_axis=lux:850;1:lab_frames=4;1:lab_run;"
                    "1:lab_wait;"
                    "2:lab_cell=2,0"};
 
