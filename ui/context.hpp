@@ -9,6 +9,7 @@
 #include "detect/diagnose.hpp"
 #include "lab/plan.hpp"
 #include "lab/session.hpp"
+#include "lab/videos.hpp"
 #include "workbench/frame.hpp"
 #include "detect/params.hpp"
 #include "synth/synthetic_world.hpp"
@@ -60,6 +61,11 @@ struct LabSettings {
   std::vector<std::string> detectors{"arwb", "opencv", "opencv-aruco3"};
   int seed = 1;
   bool use_calibration = true;
+  // Marking the video playing as a row of a videos.csv (arwb lab --videos): its marker, conditions and span
+  // (first_frame and last_frame -1: not marked, the whole clip), and the folder whose videos.csv gets the row
+  // ("": the clip's own folder).
+  lab::VideoRow clip{"", "", 0, "ARUCO_ORIGINAL", 65, 1, 850, -1, -1, 0};
+  std::string videos_dir;
 };
 
 // Settings the user edits; the workbench sends each change to the worker.
@@ -110,6 +116,7 @@ enum class RequestKind {
   lab_open_cell,     // value: a cell of the run's plan, shown in the live view; text: the frame to start on ("" 0)
   lab_read_plan,     // text: a plan file (YAML), read into Settings::lab.plan
   lab_save,          // text: a folder for the finished run's tables, plots and report.pdf
+  lab_save_clip,     // Settings::lab.clip for the video playing, into videos.csv (Settings::lab.videos_dir)
 };
 
 struct Request {

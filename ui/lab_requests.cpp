@@ -7,6 +7,7 @@
 #include "lab/report.hpp"
 
 #include <chrono>
+#include <filesystem>
 #include <cstdlib>
 #include <memory>
 
@@ -101,6 +102,28 @@ void App::lab_request(const ui::Request& r) {
       lab_save_future = std::async(std::launch::async, [results = p->complete, dir = r.text] {
         return lab::write_lab_outputs(*results, dir);
       });
+      break;
+    }
+    case ui::RequestKind::lab_save_clip: {
+      const SourceSpec src = engine->source();
+      if (src.kind != SourceKind::video) {
+        say("marking a clip needs a video as the source", true);
+        break;
+      }
+      const std::string dir = settings.lab.videos_dir.empty()
+                                  ? std::filesystem::path(src.path).parent_path().string()
+                                  : settings.lab.videos_dir;
+      lab::VideoRow row = settings.lab.clip;
+      if (row.first_frame < 0 || row.last_frame < 0) row.first_frame = 0, row.last_frame = -1;   // the whole clip
+      const std::string list = (std::filesystem::path(dir.empty() ? "." : dir) / "videos.csv").string();
+      if (const Status s = lab::save_video_row(dir.empty() ? "." : dir, src.path, row); !s) {
+        say(s.error(), true);
+        break;
+      }
+      say(list + ": " + std::filesystem::path(src.path).filename().string() + ", marker " + std::to_string(row.id) +
+              (row.last_frame >= 0 ? ", frames " + std::to_string(row.first_frame) + " to " + std::to_string(row.last_frame)
+                                   : ", the whole clip"),
+          false);
       break;
     }
     default: break;

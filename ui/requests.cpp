@@ -317,7 +317,8 @@ void App::handle_requests() {
       case ui::RequestKind::lab_stop:
       case ui::RequestKind::lab_open_cell:
       case ui::RequestKind::lab_read_plan:
-      case ui::RequestKind::lab_save: lab_request(r); break;
+      case ui::RequestKind::lab_save:
+      case ui::RequestKind::lab_save_clip: lab_request(r); break;
     }
   }
 }

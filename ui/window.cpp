@@ -314,6 +314,24 @@ void App::run_action(const Action& a) {
     // lab_why: what the Lab panel's "Why not detected?" does on the frame shown (the region on the truth).
     if (!frame || frame->truth.empty()) return warn("--actions lab_why: the frame shown has no marker's truth");
     ui::why_on_marker(view, frame->truth[0].corners);
+  } else if (a.verb == "lab_span") {
+    // lab_span=start|end|whole: the Lab panel's span buttons on the video frame shown.
+    lab::VideoRow& row = settings.lab.clip;
+    const int at = frame ? frame->source.position : 0;
+    if (a.arg == "start") row.first_frame = at;
+    else if (a.arg == "end") row.last_frame = at;
+    else if (a.arg == "whole") row.first_frame = row.last_frame = -1;
+    else warn("--actions lab_span: start, end or whole, not '" + a.arg + "'");
+  } else if (a.verb == "lab_clip") {
+    // lab_clip=ID,SIZE_MM,DISTANCE_M,LUX[,DIR]: the clip's row as typed in the panel, then Save to videos.csv.
+    lab::VideoRow& row = settings.lab.clip;
+    char dir[1024] = "";
+    if (std::sscanf(a.arg.c_str(), "%d,%lf,%lf,%lf,%1023[^\n]", &row.id, &row.size_mm, &row.distance_m, &row.lux,
+                    dir) < 4)
+      return warn("--actions lab_clip: ID,SIZE_MM,DISTANCE_M,LUX[,DIR], not '" + a.arg + "'");
+    row.dictionary = settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : settings.dictionaries[0];
+    settings.lab.videos_dir = dir;
+    requests.push_back({ui::RequestKind::lab_save_clip, "", 0, {}, {}});
   } else if (a.verb == "lab_save") {
     requests.push_back({ui::RequestKind::lab_save, a.arg, 0, {}, {}});
   } else if (a.verb == "calib_reset") {

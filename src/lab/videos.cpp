@@ -115,6 +115,78 @@ Result<std::vector<VideoRow>> read_video_list(const std::string& dir) {
   return rows;
 }
 
+Status save_video_row(const std::string& dir, const std::string& clip, const VideoRow& row) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (dir.empty() || !fs::is_directory(dir, ec)) return fail("the videos' folder '" + shown_name(dir) + "' is not a folder");
+  const fs::path base = fs::weakly_canonical(fs::absolute(dir), ec);
+  const fs::path file = fs::weakly_canonical(fs::absolute(clip), ec);
+  const fs::path rel = file.lexically_relative(base);
+  if (rel.empty() || *rel.begin() == "..") return fail(shown_name(clip) + ": not inside the videos' folder " + shown_name(dir));
+  const std::string name = rel.generic_string();
+  if (name.find(',') != std::string::npos || name.find('"') != std::string::npos)
+    return fail(shown_name(name) + ": a file name with a comma or a quote cannot be a row of videos.csv");
+  const auto dict = dictionary_by_name(row.dictionary);
+  if (!dict) return fail("dictionary: unknown '" + shown_name(row.dictionary) + "'");
+  if (row.id < 0 || row.id >= dict->size())
+    return fail("id " + std::to_string(row.id) + " is not a marker of " + row.dictionary + " (0 to " +
+                std::to_string(dict->size() - 1) + ")");
+  const struct {
+    const char* key;
+    double v, lo, hi;
+  } nums[] = {{"size_mm", row.size_mm, 1, 2000}, {"distance_m", row.distance_m, 0.05, 100}, {"lux", row.lux, 0.1, 200000}};
+  for (const auto& n : nums) {
+    if (!std::isfinite(n.v) || n.v < n.lo || n.v > n.hi) {
+      char b[160];
+      std::snprintf(b, sizeof b, "%s %g is outside %g to %g", n.key, n.v, n.lo, n.hi);
+      return fail(b);
+    }
+  }
+  const bool span = row.last_frame >= 0;
+  if (span && (row.first_frame < 0 || row.last_frame < row.first_frame))
+    return fail("last_frame " + std::to_string(row.last_frame) + " is before first_frame " + std::to_string(row.first_frame));
+  char b[512];
+  std::snprintf(b, sizeof b, "%s,%d,%s,%g,%g,%g", name.c_str(), row.id, row.dictionary.c_str(), row.size_mm,
+                row.distance_m, row.lux);
+  std::string line = b;
+  if (span) line += "," + std::to_string(row.first_frame) + "," + std::to_string(row.last_frame);
+  // The list as it is: its lines kept, the header made the 8-column one, this file's row replaced or appended.
+  const std::string path = (fs::path(dir) / "videos.csv").string();
+  std::vector<std::string> lines;
+  if (fs::exists(path, ec)) {
+    Result<std::string> text = read_text_file(path, kVideoList);
+    if (!text) return fail(text.error());
+    std::stringstream in(*text);
+    for (std::string l; std::getline(in, l);) {
+      if (!l.empty() && l.back() == '\r') l.pop_back();
+      lines.push_back(l);
+    }
+  }
+  const std::string header = "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame";
+  bool have_header = false, replaced = false;
+  for (std::string& l : lines) {
+    const std::string t = trim(l);
+    if (t.empty() || t[0] == '#') continue;
+    if (!have_header) {
+      if (split(t).size() < 6 || split(t)[0] != "file") return fail("videos.csv:1: the header must be " + std::string(kHeader));
+      l = header;
+      have_header = true;
+      continue;
+    }
+    const std::vector<std::string> f = split(t);
+    if (!f.empty() && f[0] == name) {
+      l = replaced ? std::string() : line;
+      replaced = true;
+    }
+  }
+  if (!have_header) lines.insert(lines.begin(), header);
+  if (!replaced) lines.push_back(line);
+  std::string out;
+  for (const std::string& l : lines) out += l + "\n";
+  if (std::string e; !write_file_atomically(path, out, &e)) return fail(e);
+  return {};
+}
+
 Result<LabResults> run_videos(const std::string& dir, const std::vector<VideoRow>& rows, const LabOptions& options,
                               std::vector<std::string>* warnings, const std::function<void(int, int)>& progress) {
   (void)dir;

@@ -33,6 +33,13 @@ struct VideoRow {
 // "videos.csv:1: the header must be file,id,dictionary,size_mm,distance_m,lux[,first_frame,last_frame]".
 Result<std::vector<VideoRow>> read_video_list(const std::string& dir);
 
+// Marks a clip in DIR/videos.csv, as the Lab workspace does from the clip playing in the live view: `clip` is the
+// video's path (it must be inside DIR; the row names it relative to DIR), the other fields as VideoRow's
+// (first_frame and last_frame both given, or last_frame -1 for the whole clip). A row for the same file is replaced,
+// others are kept as they were (comments too); the file is created with its header when missing, and written whole
+// or not at all. Every problem is one line naming the field: "last_frame 3 is before first_frame 8".
+Status save_video_row(const std::string& dir, const std::string& clip, const VideoRow& row);
+
 // Every clip through every detector. Cells are the distinct (size, distance, light) of the rows, in the paper's
 // order (larger first). A clip that cannot be read, or ends before its span, is reported in *warnings and
 // counted for the frames it has.

@@ -36,7 +36,8 @@ bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* o
                                      "workspace", "save_workspace", "move", "splitter", "calib_board", "calib_capture",
                                      "calib_drop", "calib_reset", "calib_save", "calib_wait", "undistort", "pose",
                                      "marker_size", "lab_plan", "lab_frames", "lab_axis", "lab_detectors", "lab_run",
-                                     "lab_stop", "lab_wait", "lab_cell", "lab_why", "lab_save"};
+                                     "lab_stop", "lab_wait", "lab_cell", "lab_why", "lab_save", "lab_span",
+                                     "lab_clip"};
       if (std::none_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; })) {
         *error = "--actions '" + item + "': unknown verb '" + a.verb + "'";
         return false;

@@ -3,10 +3,17 @@
 // plan and seed; a cell a detector missed a frame of opened in the live view on that very frame, with the marker's
 // truth, and "Why not detected?" answering with a candidate and the stage that dropped it; a stopped run keeping
 // its finished cells; a bad plan file named while the panel's plan and the window carry on.
+#include "detect/dictionary.hpp"
+#include "synth/synth.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include <string>
 
@@ -120,6 +127,58 @@ TEST(LabWorkspace, ABadPlanFileIsNamedAndThePlanAndTheWindowCarryOn) {
   EXPECT_EQ(s["lab"]["plan_set"], "paper") << "a bad file leaves the panel's plan as it was";
   EXPECT_FALSE(s["lab"]["running"].get<bool>());
   EXPECT_GT(s["markers"].get<int>(), 0) << "the live view goes on";
+}
+
+// A clip played in the live view, its span marked on the frames shown and saved as a row of videos.csv, which
+// arwb lab --videos then reads: the paper's F_Num from the workbench.
+TEST(LabWorkspace, AClipsSpanMarkedInTheWorkbenchIsWhatArwbLabVideosCounts) {
+  TempDir d;
+  const Dictionary dict = make_aruco_original();
+  {
+    cv::VideoWriter w(d.str("clip.avi"), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 20.0, cv::Size(320, 240));
+    ASSERT_TRUE(w.isOpened());
+    for (int i = 0; i < 12; ++i) {
+      cv::Mat img(240, 320, CV_8UC3, cv::Scalar(200, 200, 200));
+      draw_marker(img, dict, 5, Quad{{{100, 60}, {220, 60}, {220, 180}, {100, 180}}}, 1.0, 4, 20, 235);
+      w.write(img);
+    }
+  }
+  std::filesystem::copy_file(d.str("clip.avi"), d.str("other.avi"));
+  // A list that is there already keeps its other rows and comments.
+  test::write_file(d.str("videos.csv"), "file,id,dictionary,size_mm,distance_m,lux\n# old\nother.avi,3,ARUCO_ORIGINAL,39,2,500\n");
+  const RunResult r = test::run_arwb_window("--config-dir '" + d.str("config") + "' --source '" + d.str("clip.avi") +
+                                            "' --stats --frames 16 --actions '2:freeze;3:lab_span=start;4:next;6:next;"
+                                            "8:next;10:lab_span=end;11:lab_clip=5,65,1,850'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json s = stats(r);
+  EXPECT_NE(s["lab"]["message"].get<std::string>().find("clip.avi, marker 5, frames"), std::string::npos) << s["lab"];
+  std::ifstream in(d.str("videos.csv"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string csv = text.str();
+  EXPECT_EQ(csv.rfind("file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n# old\n"
+                      "other.avi,3,ARUCO_ORIGINAL,39,2,500\nclip.avi,5,ARUCO_ORIGINAL,65,1,850,",
+                      0),
+            0u)
+      << csv;
+  int first = -1, last = -1;
+  ASSERT_EQ(std::sscanf(csv.c_str() + csv.find("clip.avi"), "clip.avi,5,ARUCO_ORIGINAL,65,1,850,%d,%d", &first, &last), 2)
+      << csv;
+  EXPECT_GE(first, 0) << csv;
+  EXPECT_GE(last - first, 3) << "three frames stepped between the marks at least: " << csv;
+  // arwb lab --videos counts exactly the span's frames.
+  const RunResult lab = test::run_arwb("lab --videos '" + d.str() + "' --detectors arwb --json");
+  ASSERT_EQ(lab.status, 0) << lab.err;
+  const Json j = Json::parse(lab.out);
+  bool found = false;
+  for (const Json& c : j["cells"]) {
+    if (c["size_mm"] == 65 && c["distance_m"] == 1 && c["lux"] == 850) {
+      found = true;
+      EXPECT_EQ(c["results"]["arwb"]["frames"], last - first + 1) << c.dump() << csv << lab.err;
+      EXPECT_EQ(c["results"]["arwb"]["detected"], last - first + 1) << c.dump();
+    }
+  }
+  EXPECT_TRUE(found) << lab.out;
 }
 
 }  // namespace

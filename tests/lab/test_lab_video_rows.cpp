@@ -1,0 +1,78 @@
+// Marking a clip in videos.csv (save_video_row, what the Lab workspace's "Save to videos.csv" does): the row is
+// written relative to the folder, replaces the same clip's row, keeps the rest, and every mistake is named.
+#include "lab/videos.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace arwb::lab {
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+VideoRow row(int first, int last) {
+  VideoRow r;
+  r.id = 17;
+  r.dictionary = "ARUCO_ORIGINAL";
+  r.size_mm = 65;
+  r.distance_m = 1;
+  r.lux = 850;
+  r.first_frame = first;
+  r.last_frame = last;
+  return r;
+}
+
+TEST(VideoRows, ARowIsWrittenReplacedAndReadBack) {
+  test::TempDir d;
+  std::filesystem::create_directories(d.str("clips"));
+  test::write_file(d.str("clips/a.mp4"), "not read here");
+  ASSERT_TRUE(save_video_row(d.str(), d.str("clips/a.mp4"), row(12, 140)));
+  EXPECT_EQ(slurp(d.str("videos.csv")), "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
+                                        "clips/a.mp4,17,ARUCO_ORIGINAL,65,1,850,12,140\n");
+  // Marked again: the row is replaced, not added; the whole clip has no span.
+  ASSERT_TRUE(save_video_row(d.str(), d.str("clips/a.mp4"), row(0, -1)));
+  EXPECT_EQ(slurp(d.str("videos.csv")), "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
+                                        "clips/a.mp4,17,ARUCO_ORIGINAL,65,1,850\n");
+  const Result<std::vector<VideoRow>> back = read_video_list(d.str());
+  ASSERT_TRUE(back) << back.error();
+  ASSERT_EQ(back->size(), 1u);
+  EXPECT_EQ((*back)[0].id, 17);
+  EXPECT_EQ((*back)[0].last_frame, -1);
+}
+
+TEST(VideoRows, MistakesAreNamedAndNothingIsWritten) {
+  test::TempDir d;
+  test::write_file(d.str("a.mp4"), "x");
+  test::TempDir elsewhere;
+  test::write_file(elsewhere.str("b.mp4"), "x");
+  struct Case {
+    std::string clip;
+    VideoRow r;
+    std::string message;
+  } cases[] = {
+      {elsewhere.str("b.mp4"), row(0, 5), "not inside the videos' folder"},
+      {d.str("a.mp4"), row(8, 3), "last_frame 3 is before first_frame 8"},
+      {d.str("a.mp4"), [] { VideoRow r = row(0, 5); r.id = 1024; return r; }(), "id 1024 is not a marker of ARUCO_ORIGINAL"},
+      {d.str("a.mp4"), [] { VideoRow r = row(0, 5); r.lux = -1; return r; }(), "lux -1 is outside 0.1 to 200000"},
+      {d.str("a.mp4"), [] { VideoRow r = row(0, 5); r.dictionary = "NOPE"; return r; }(), "dictionary: unknown 'NOPE'"},
+  };
+  for (const Case& c : cases) {
+    const Status s = save_video_row(d.str(), c.clip, c.r);
+    ASSERT_FALSE(s) << c.message;
+    EXPECT_NE(s.error().find(c.message), std::string::npos) << s.error();
+  }
+  EXPECT_FALSE(std::filesystem::exists(d.str("videos.csv")));
+  EXPECT_FALSE(save_video_row(d.str("missing"), d.str("a.mp4"), row(0, 5)));
+}
+
+}  // namespace
+}  // namespace arwb::lab
