@@ -50,4 +50,7 @@ inline nlohmann::ordered_json parse(const std::string& text) {
   }
 }
 
+// The JSON line `arwb --stats` prints first (the window's tests read what the workbench did from it).
+inline nlohmann::ordered_json stats_line(const RunResult& r) { return parse(r.out.substr(0, r.out.find('\n'))); }
+
 }  // namespace arwb::test

@@ -6,18 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace arwb::lab {
 namespace {
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 VideoRow row(int first, int last) {
   VideoRow r;
@@ -36,11 +27,11 @@ TEST(VideoRows, ARowIsWrittenReplacedAndReadBack) {
   std::filesystem::create_directories(d.str("clips"));
   test::write_file(d.str("clips/a.mp4"), "not read here");
   ASSERT_TRUE(save_video_row(d.str(), d.str("clips/a.mp4"), row(12, 140)));
-  EXPECT_EQ(slurp(d.str("videos.csv")), "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
+  EXPECT_EQ(test::read_file(d.str("videos.csv")), "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
                                         "clips/a.mp4,17,ARUCO_ORIGINAL,65,1,850,12,140\n");
   // Marked again: the row is replaced, not added; the whole clip has no span.
   ASSERT_TRUE(save_video_row(d.str(), d.str("clips/a.mp4"), row(0, -1)));
-  EXPECT_EQ(slurp(d.str("videos.csv")), "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
+  EXPECT_EQ(test::read_file(d.str("videos.csv")), "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
                                         "clips/a.mp4,17,ARUCO_ORIGINAL,65,1,850\n");
   const Result<std::vector<VideoRow>> back = read_video_list(d.str());
   ASSERT_TRUE(back) << back.error();
