@@ -160,10 +160,10 @@ void plan_section(Context& ctx, LabView& v, bool running) {
     ls.seed = 1;
   }
   ImGui::EndDisabled();
-  const int frames = int(plan.cells().size()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
+  const int frames = int(plan.cell_count()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
   char b[300];
   std::snprintf(b, sizeof b, "%s: %zu cells x %d frames (and %d without a marker), %d frames in all",
-                plan.name.c_str(), plan.cells().size(), plan.frames_per_cell, plan.empty_frames_per_cell(), frames);
+                plan.name.c_str(), plan.cell_count(), plan.frames_per_cell, plan.empty_frames_per_cell(), frames);
   text_disabled_wrapped(b);
 }
 
@@ -236,9 +236,12 @@ void grid(Context& ctx, LabView& v, const lab::LabProgress& p) {
     ImGui::TableSetColumnIndex(0);
     const lab::Cell& c0 = p.cells[i];
     const lab::CellResult* r0 = p.results[i].get();
-    if (r0) std::snprintf(b, sizeof b, "%g mm at %g m (%.0f px)", c0.size_mm, c0.distance_m, r0->side_px);
+    if (c0.side_px > 0) std::snprintf(b, sizeof b, "%g px at %g m", c0.side_px, c0.distance_m);   // sides_px
+    else if (r0) std::snprintf(b, sizeof b, "%g mm at %g m (%.0f px)", c0.size_mm, c0.distance_m, r0->side_px);
     else std::snprintf(b, sizeof b, "%g mm at %g m", c0.size_mm, c0.distance_m);
-    ImGui::TextUnformatted(b);
+    // Rows are every combination but light: the added axes the plan has name theirs ("tilt 60 blur 1.5").
+    const std::string added = lab::added_axes_text(p.plan, c0);
+    ImGui::TextUnformatted(added.empty() ? b : (std::string(b) + ", " + added).c_str());
     for (size_t j = i; j < i + L && j < p.cells.size(); ++j) {
       ImGui::TableSetColumnIndex(int(j - i) + 1);
       const lab::CellResult* r = p.results[j].get();

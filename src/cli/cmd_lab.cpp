@@ -137,7 +137,7 @@ int cmd_lab(int argc, char** argv) {
     std::filesystem::create_directories(out, ec);
     const std::string cells_path = (std::filesystem::path(out) / "cells.jsonl").string();
     if (restart) std::filesystem::remove(cells_path, ec);
-    options.finished.resize(plan.cells().size());
+    options.finished.resize(plan.cell_count());
     int resumed = 0;
     if (std::FILE* in = std::fopen(cells_path.c_str(), "r")) {
       std::string line;
@@ -157,7 +157,7 @@ int cmd_lab(int argc, char** argv) {
     }
     if (resumed > 0)
       std::fprintf(stderr, "arwb lab: resuming: %d of %zu cells from %s (--restart runs them again)\n", resumed,
-                   plan.cells().size(), cells_path.c_str());
+                   plan.cell_count(), cells_path.c_str());
     saved = std::fopen(cells_path.c_str(), "a");
     if (!saved) {
       print_problem("arwb lab: %s: cannot write (%s)\n", cells_path.c_str(), std::strerror(errno));
@@ -188,7 +188,7 @@ int cmd_lab(int argc, char** argv) {
     return 0;
   }
   std::printf("%s: %zu cells x %d frames (and %d without a marker), markers %s, camera %s, seed %d\n\n",
-              plan_opt == "paper" ? "The paper's plan" : ("Plan " + plan.name).c_str(), plan.cells().size(),
+              plan_opt == "paper" ? "The paper's plan" : ("Plan " + plan.name).c_str(), plan.cell_count(),
               plan.frames_per_cell, plan.empty_frames_per_cell(), plan.dictionary.c_str(),
               r->options.camera_name.c_str(), seed);
   std::fputs(lab::lab_table_text(*r).c_str(), stdout);

@@ -11,15 +11,21 @@
 namespace arwb::lab {
 
 std::string cell_name(const Cell& cell) {
-  return decimals_text(cell.size_mm, 1) + " mm at " + decimals_text(cell.distance_m, 2) + " m, " + decimals_text(cell.lux, 0) +
-         " lx";
+  // A sides_px plan's cell by its side (its printed size was derived from it), the added axes when not the default.
+  std::string s = cell.side_px > 0 ? decimals_text(cell.side_px, 1) + " px" : decimals_text(cell.size_mm, 1) + " mm";
+  s += " at " + decimals_text(cell.distance_m, 2) + " m, " + decimals_text(cell.lux, 0) + " lx";
+  if (cell.tilt_deg >= 0) s += ", tilt " + decimals_text(cell.tilt_deg, 1);
+  if (cell.blur_px > 0) s += ", blur " + decimals_text(cell.blur_px, 2);
+  if (cell.noise > 0) s += ", noise " + decimals_text(cell.noise, 2);
+  if (cell.occlusion > 0) s += ", occluded " + decimals_text(cell.occlusion, 2);
+  return s;
 }
 
 LabCellSource::LabCellSource(const LabPlan& plan, const LabOptions& options, std::vector<int> ids,
                              size_t cell_index, int frame)
     : renderer_(plan, options, std::move(ids)), dictionary_(plan.dictionary), cell_index_(cell_index),
       position_(std::clamp(frame, 0, std::max(0, renderer_.frames_per_cell() - 1))) {
-  const std::vector<Cell> cells = plan.cells();
+  const std::vector<Cell> cells = plan.cells(options.camera.camera_matrix(0, 0));
   if (cell_index < cells.size()) cell_ = cells[cell_index];
 }
 

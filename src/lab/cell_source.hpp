@@ -12,7 +12,8 @@
 
 namespace arwb::lab {
 
-// How a cell is named everywhere (the Lab panel, the source's name, the log): "26 mm at 2 m, 500 lx".
+// How a cell is named everywhere (the Lab panel, the source's name, the log): "26 mm at 2 m, 500 lx", with the
+// added axes other than their defaults ("20 px at 1 m, 850 lx, tilt 60, blur 1.5").
 std::string cell_name(const Cell& cell);
 
 class LabCellSource : public TruthSource {

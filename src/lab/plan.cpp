@@ -14,12 +14,70 @@
 
 namespace arwb::lab {
 
-std::vector<Cell> LabPlan::cells() const {
+namespace {
+// An added axis left empty (in code; a plan file always gives values) is the axis at its default.
+const std::vector<double>& or_default(const std::vector<double>& v, const std::vector<double>& fallback) {
+  return v.empty() ? fallback : v;
+}
+const std::vector<double> kNone{0}, kRandomTilt{-1};
+}  // namespace
+
+std::vector<Cell> LabPlan::cells(double focal_px) const {
+  const bool by_side = !sides_px.empty();
+  const std::vector<double>& tilts = or_default(tilts_deg, kRandomTilt);
   std::vector<Cell> out;
-  for (double s : sizes_mm)
+  for (double s : by_side ? sides_px : sizes_mm)
     for (double d : distances_m)
-      for (double l : lux) out.push_back({s, d, l});
+      for (double t : tilts)
+        for (double b : or_default(blurs_px, kNone))
+          for (double n : or_default(noises, kNone))
+            for (double o : or_default(occlusions, kNone))
+              for (double l : lux) {
+                Cell c;
+                // The inverse of marker_side_px (sensor.hpp): side = focal_px x size / distance.
+                c.size_mm = by_side ? (focal_px > 0 ? s * d * 1000 / focal_px : 0) : s;
+                c.side_px = by_side ? s : 0;
+                c.distance_m = d;
+                c.lux = l;
+                c.tilt_deg = t;
+                c.blur_px = b;
+                c.noise = n;
+                c.occlusion = o;
+                out.push_back(c);
+              }
   return out;
+}
+
+size_t LabPlan::cell_count() const {
+  return (sides_px.empty() ? sizes_mm.size() : sides_px.size()) * distances_m.size() *
+         std::max<size_t>(1, tilts_deg.size()) * std::max<size_t>(1, blurs_px.size()) *
+         std::max<size_t>(1, noises.size()) * std::max<size_t>(1, occlusions.size()) * lux.size();
+}
+
+size_t LabPlan::pose_index(size_t index) const {
+  const size_t L = std::max<size_t>(1, lux.size());
+  const size_t added = std::max<size_t>(1, tilts_deg.size()) * std::max<size_t>(1, blurs_px.size()) *
+                       std::max<size_t>(1, noises.size()) * std::max<size_t>(1, occlusions.size());
+  return index / L / added * L + index % L;
+}
+
+bool LabPlan::has_blurs() const { return !blurs_px.empty() && blurs_px != kNone; }
+bool LabPlan::has_noises() const { return !noises.empty() && noises != kNone; }
+bool LabPlan::has_occlusions() const { return !occlusions.empty() && occlusions != kNone; }
+
+std::string added_axes_text(const LabPlan& plan, const Cell& cell) {
+  std::string s;
+  char b[64];
+  auto add = [&](bool has, const char* name, double v) {
+    if (!has) return;
+    std::snprintf(b, sizeof b, "%s%s %g", s.empty() ? "" : " ", name, v);
+    s += b;
+  };
+  add(plan.has_tilts(), "tilt", cell.tilt_deg);
+  add(plan.has_blurs(), "blur", cell.blur_px);
+  add(plan.has_noises(), "noise", cell.noise);
+  add(plan.has_occlusions(), "occluded", cell.occlusion);
+  return s;
 }
 
 int LabPlan::empty_frames_per_cell() const {
@@ -31,7 +89,13 @@ LabPlan paper_plan() { return LabPlan{}; }
 const std::vector<PlanAxis>& plan_axes() {
   static const std::vector<PlanAxis> kAxes{{"sizes_mm", 1, 2000, "a size in mm", &LabPlan::sizes_mm},
                                            {"distances_m", 0.05, 100, "a distance in m", &LabPlan::distances_m},
-                                           {"lux", 0.1, 200000, "an illuminance in lux", &LabPlan::lux}};
+                                           {"lux", 0.1, 200000, "an illuminance in lux", &LabPlan::lux},
+                                           {"sides_px", 4, 2000, "a side in pixels", &LabPlan::sides_px},
+                                           {"tilts_deg", 0, 85, "a tilt in degrees", &LabPlan::tilts_deg},
+                                           {"blurs_px", 0, 20, "a blur sigma in pixels", &LabPlan::blurs_px},
+                                           {"noises", 0, 100, "a noise sigma in grey levels", &LabPlan::noises},
+                                           {"occlusions", 0, 0.5, "a share of the marker's area",
+                                            &LabPlan::occlusions}};
   return kAxes;
 }
 
@@ -124,7 +188,8 @@ Result<LabPlan> read_plan(const std::string& path) {
   const cv::FileNode root = fs.root();
   if (!root.isMap()) return fail(path + ": a plan is a map of fields (sizes_mm: [65, 39, 26], ...)");
   static const std::vector<std::string_view> kKnown = {"name", "dictionary", "markers", "sizes_mm", "distances_m",
-                                                       "lux", "max_tilt_deg", "frames_per_cell", "empty_share"};
+                                                       "lux", "max_tilt_deg", "frames_per_cell", "empty_share",
+                                                       "sides_px", "tilts_deg", "blurs_px", "noises", "occlusions"};
   for (const cv::FileNode& n : root) {
     const std::string key = n.name();
     if (std::find(kKnown.begin(), kKnown.end(), key) != kKnown.end()) continue;
@@ -133,6 +198,8 @@ Result<LabPlan> read_plan(const std::string& path) {
   }
   auto at = [&](const char* key) { return root[key]; };
   std::string e;
+  if (!at("sides_px").empty() && !at("sizes_mm").empty())
+    return fail(path + ": sides_px and sizes_mm: give one of them (sides_px derives the printed size)");
   if (!at("name").empty()) {
     if (!at("name").isString()) return fail(path + ": name: not a text");
     p.name = std::string(at("name"));
@@ -159,7 +226,7 @@ Result<LabPlan> read_plan(const std::string& path) {
   if (p.markers > dict_size)
     return fail(path + ": markers: " + std::to_string(p.markers) + " distinct ids, but " + p.dictionary + " has " +
                 std::to_string(dict_size));
-  const size_t cells = p.sizes_mm.size() * p.distances_m.size() * p.lux.size();
+  const size_t cells = p.cell_count();
   if (cells > 10000) return fail(path + ": " + std::to_string(cells) + " cells, more than 10000");
   return p;
 }

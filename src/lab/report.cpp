@@ -66,6 +66,86 @@ std::vector<Curve> curves_by(const LabResults& r, Key key) {
   return out;
 }
 
+// Frames pooled into bins of `width` by a value per frame, P_Rec per bin; a point sits at the mean value of its
+// frames (not the bin's middle: a plan of fixed tilts 0, 30, 60 gives its points at 0, 30 and 60).
+struct Bins {
+  struct Bin {
+    Pool pool;
+    double sum = 0;
+  };
+  double width;
+  std::map<long, Bin> bins;
+  void add(double x, bool detected) {
+    Bin& b = bins[std::lround(std::floor(x / width))];
+    ++b.pool.frames;
+    b.pool.detected += detected;
+    b.sum += x;
+  }
+  Curve curve() const {
+    Curve c;
+    for (const auto& [k, b] : bins) {
+      const auto [lo, hi] = b.pool.interval();
+      c.x.push_back(b.sum / b.pool.frames);
+      c.p.push_back(b.pool.p_rec());
+      c.lo.push_back(lo);
+      c.hi.push_back(hi);
+    }
+    return c;
+  }
+};
+
+// A bin width for values spread over `span`: 1, 2 or 5 times a power of ten, about eight bins over the span.
+double bin_width(double span) {
+  if (!(span > 0)) return 1;
+  const double raw = span / 8, ten = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0})
+    if (raw <= m * ten) return m * ten;
+  return 10 * ten;
+}
+
+// P_Rec against the marker's tilt, frame by frame: each frame with the marker in view goes to the bin of its own
+// tilt (10 degrees wide), whatever its cell.
+std::vector<Curve> curves_by_tilt(const LabResults& r) {
+  std::vector<Curve> out(r.options.detectors.size());
+  for (size_t d = 0; d < out.size(); ++d) {
+    Bins bins{10, {}};
+    for (const CellResult& c : r.cells) {
+      if (d >= c.detectors.size()) continue;
+      const std::string& marks = c.detectors[d].marks;
+      for (size_t k = 0; k < c.tilts_deg.size() && k < marks.size(); ++k) {
+        const char m = marks[k];
+        if (c.tilts_deg[k] < 0 || (m != mark::detected && m != mark::missed && m != mark::wrong_id)) continue;
+        bins.add(c.tilts_deg[k], m == mark::detected);
+      }
+    }
+    out[d] = bins.curve();
+  }
+  return out;
+}
+
+// P_Rec against the cell's whole blur (CellResult::blur_px), cells pooled into bins of a width fit for the
+// plan's spread of blurs.
+std::vector<Curve> curves_by_blur(const LabResults& r) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const CellResult& c : r.cells) lo = std::min(lo, c.blur_px), hi = std::max(hi, c.blur_px);
+  const double width = std::isfinite(lo) ? std::max(0.1, bin_width(hi - lo)) : 1;
+  std::vector<Curve> out(r.options.detectors.size());
+  for (size_t d = 0; d < out.size(); ++d) {
+    Bins bins{width, {}};
+    for (const CellResult& c : r.cells) {
+      if (d >= c.detectors.size()) continue;
+      const DetectorTally& t = c.detectors[d];
+      Bins::Bin& b = bins.bins[std::lround(std::floor(c.blur_px / width))];
+      b.pool.add(t);
+      b.sum += c.blur_px * t.frames;
+    }
+    for (auto it = bins.bins.begin(); it != bins.bins.end();)   // bins whose cells had no frame in view
+      it = it->second.pool.frames == 0 ? bins.bins.erase(it) : std::next(it);
+    out[d] = bins.curve();
+  }
+  return out;
+}
+
 // PLplot reads '#' as the start of an escape sequence ("#u" superscript): a literal one is "##".
 std::string plain(const std::string& s) {
   std::string out;
@@ -199,28 +279,45 @@ void draw_recall_by_light(const LabResults& r) {
               "Recognition against light (all sizes and distances)");
 }
 
+void draw_recall_by_tilt(const LabResults& r) {
+  draw_curves(r, curves_by_tilt(r), "the marker's tilt (degrees from facing the camera; frames in 10-degree bins)",
+              "Recognition against tilt (every frame, all cells)");
+}
+
+void draw_recall_by_blur(const LabResults& r) {
+  draw_curves(r, curves_by_blur(r), "blur (px: defocus, half the hand's streak and any added blur, combined)",
+              "Recognition against blur (cells in bins)");
+}
+
 // Size (rows, the plan's order from the top) x distance (columns), each cell's colour and number P_Rec pooled
 // over light, with its interval and the marker's side underneath.
 void draw_heatmap(const LabResults& r, size_t d) {
-  const std::vector<double>& sizes = r.plan.sizes_mm;
+  // A sides_px plan's rows are its sides in pixels (its printed sizes differ by distance).
+  const bool by_side = !r.plan.sides_px.empty();
+  const std::vector<double>& sizes = by_side ? r.plan.sides_px : r.plan.sizes_mm;
+  const bool added = r.plan.has_tilts() || r.plan.has_blurs() || r.plan.has_noises() || r.plan.has_occlusions();
   const std::vector<double>& distances = r.plan.distances_m;
   const auto rows = double(sizes.size()), cols = double(distances.size());
   pladv(0);
   plvpor(0.17, 0.8, 0.14, 0.88);
   plwind(0, std::max(cols, 1.0), 0, std::max(rows, 1.0));
   plcol0(kInk);
-  pllab("distance", "", ("P#dRec#u of " + plain(r.options.detectors[d]) + ", pooled over light").c_str());
-  plmtex("l", 7.5, 0.5, 0.5, "printed size");   // clear of the sizes' labels, which are wider than numbers
+  pllab("distance", "",
+        ("P#dRec#u of " + plain(r.options.detectors[d]) + ", pooled over light" + (added ? " and the added axes" : ""))
+            .c_str());
+  // Clear of the sizes' labels, which are wider than numbers.
+  plmtex("l", 7.5, 0.5, 0.5, by_side ? "marker side at the centre" : "printed size");
   for (size_t i = 0; i < sizes.size(); ++i) {
     const double y0 = rows - double(i) - 1;
-    plmtex("lv", 1.0, (y0 + 0.5) / rows, 1.0, (number(sizes[i]) + " mm").c_str());
+    plmtex("lv", 1.0, (y0 + 0.5) / rows, 1.0, (number(sizes[i]) + (by_side ? " px" : " mm")).c_str());
     for (size_t j = 0; j < distances.size(); ++j) {
       const auto x0 = double(j);
       if (i == 0) plmtex("b", 1.5, (x0 + 0.5) / cols, 0.5, (number(distances[j]) + " m").c_str());
       Pool pool;
       double side = 0;
       for (const CellResult& c : r.cells)
-        if (c.cell.size_mm == sizes[i] && c.cell.distance_m == distances[j] && d < c.detectors.size()) {
+        if ((by_side ? c.cell.side_px : c.cell.size_mm) == sizes[i] && c.cell.distance_m == distances[j] &&
+            d < c.detectors.size()) {
           pool.add(c.detectors[d]);
           side = c.side_px;
         }
@@ -287,11 +384,21 @@ void draw_title_page(const LabResults& r) {
   std::vector<std::pair<bool, std::string>> lines{
       {true, "Plan"},
       {false, "'" + p.name + "': " + std::to_string(p.markers) + " random " + p.dictionary + " markers, " +
-                  std::to_string(p.cells().size()) + " cells x " + std::to_string(p.frames_per_cell) + " frames"},
-      {false, "printed " + joined(p.sizes_mm, "mm") + "; at " + joined(p.distances_m, "m") + "; under " +
-                  joined(p.lux, "lux")},
-      {false, "turned in plane over 360 deg, tilted up to " + number(p.max_tilt_deg) + " deg about x and about y"},
+                  std::to_string(p.cell_count()) + " cells x " + std::to_string(p.frames_per_cell) + " frames"},
+      {false, (p.sides_px.empty() ? "printed " + joined(p.sizes_mm, "mm")
+                                  : "sides of " + joined(p.sides_px, "px") + " at the image centre") +
+                  "; at " + joined(p.distances_m, "m") + "; under " + joined(p.lux, "lux")},
+      {false, "turned in plane over 360 deg, " +
+                  (p.has_tilts() ? "tilted by exactly " + joined(p.tilts_deg, "deg") + " about a random axis"
+                                 : "tilted up to " + number(p.max_tilt_deg) + " deg about x and about y")},
   };
+  {
+    std::string more;
+    if (p.has_blurs()) more += "added blur " + joined(p.blurs_px, "px (sigma)");
+    if (p.has_noises()) more += (more.empty() ? "" : "; ") + std::string("added noise ") + joined(p.noises, "grey levels");
+    if (p.has_occlusions()) more += (more.empty() ? "" : "; ") + std::string("occluded ") + joined(p.occlusions, "of the marker");
+    if (!more.empty()) lines.emplace_back(false, more);
+  }
   for (const std::string& l : id_lines) lines.emplace_back(false, l);
   lines.insert(lines.end(), {
       {true, "Camera"},
@@ -332,13 +439,18 @@ void draw_title_page(const LabResults& r) {
 }
 
 // The pages in their order (the title page is the PDF's alone).
+constexpr size_t kCurvePages = 4;
 void draw_plot(const LabResults& r, size_t page) {
   if (page == 0)
     draw_recall_by_side(r);
   else if (page == 1)
     draw_recall_by_light(r);
+  else if (page == 2)
+    draw_recall_by_tilt(r);
+  else if (page == 3)
+    draw_recall_by_blur(r);
   else
-    draw_heatmap(r, page - 2);
+    draw_heatmap(r, page - kCurvePages);
 }
 
 // One PLplot stream for one output file, ended (plend1) and the caller's stream made current again whatever
@@ -426,7 +538,8 @@ Status draw_file(const fs::path& path, const char* device, int width, int height
 }  // namespace
 
 std::vector<std::string> lab_report_png_names(const LabResults& r) {
-  std::vector<std::string> names{"recall_by_side.png", "recall_by_light.png"};
+  std::vector<std::string> names{"recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png",
+                                 "recall_by_blur.png"};
   for (const std::string& d : r.options.detectors) {
     // Two detectors whose names read alike in a file name ("a b", "a_b", or one named twice) get a number each.
     std::string name = "heatmap_" + file_safe(d);

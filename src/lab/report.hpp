@@ -18,6 +18,8 @@ inline constexpr int kReportPageWidthPt = 842, kReportPageHeightPt = 595;
 //   recall_by_side.png   P_Rec against the marker's side in pixels (cells of equal side pooled over light), a
 //                        line per detector with 95 % Wilson error bars;
 //   recall_by_light.png  P_Rec against lux (pooled over sizes and distances), a line per detector;
+//   recall_by_tilt.png   P_Rec against the marker's tilt, frame by frame in 10-degree bins, a line per detector;
+//   recall_by_blur.png   P_Rec against the cell's whole blur in px (CellResult::blur_px), cells in bins;
 //   heatmap_<detector>.png  size (rows) x distance (columns), colour and number = P_Rec pooled over light;
 //   report.pdf           a title page (plan, camera, sensor, seed, time), then the plots above, one per page.
 // Each file is drawn under a temporary name (".arwb-saving") and renamed when complete. An error names the folder or file that

@@ -66,10 +66,60 @@ cv::Mat camera_picture(cv::Mat1f levels, const LabOptions& options, const Cell& 
     const double angle = u(rng) * CV_PI;
     if (length > 0.5) cv::filter2D(levels, levels, -1, motion_kernel(length, angle));
   }
-  const cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
+  // The plan's added blur (blurs_px), an optical one: before the sensor, so its noise stays sharp.
+  if (cell.blur_px > 0) cv::GaussianBlur(levels, levels, cv::Size(), cell.blur_px);
+  cv::Mat grey = expose(levels, options.sensor, cell.lux, rng);
+  // The plan's added noise (noises), in grey levels on the sensor's picture. Drawn after the sensor's, from a
+  // seed of the frame's draws: a plan without it draws exactly what it drew before.
+  if (cell.noise > 0) {
+    cv::Mat1f noisy, noise(grey.size());
+    cv::RNG draw(uint64_t(rng()) << 32 | rng());
+    draw.fill(noise, cv::RNG::NORMAL, 0, cell.noise);
+    grey.convertTo(noisy, CV_32F);
+    noisy += noise;
+    noisy.convertTo(grey, CV_8U);   // rounded and clipped to 0..255
+  }
   cv::Mat bgr;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
   return bgr;
+}
+
+// The background's grey where a patch lies: synth/marker_view.cpp paints the background as a ramp from 90 grey
+// levels at the left edge to 150 at the right.
+double background_level(double x, int width) { return 90 + 60.0 * x / std::max(1, width); }
+
+// Covers `share` of the marker's area along its side `side` (0 top, 1 right, 2 bottom, 3 left of the upright
+// marker) with a patch of the background's grey, as a finger or a cable over the print would: the patch runs
+// along the whole side and a little past it (over the white margin too), `share` of the way across the marker in
+// the marker's own plane (mapped by the homography of its corners, so the share holds under perspective). Its
+// edges are anti-aliased (4x4 samples per pixel), as the renderer's are.
+void occlude(cv::Mat1f& levels, const Quad& corners, double share, int side) {
+  if (share <= 0) return;
+  std::vector<cv::Point2f> unit{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, quad;
+  for (int i = 0; i < 4; ++i) quad.push_back(corners[size_t((side + i) % 4)]);
+  const cv::Mat H = cv::getPerspectiveTransform(unit, quad);
+  const float past = 0.3f;   // beyond the side and its ends, in sides: over the margin and onto the background
+  const std::vector<cv::Point2f> patch_unit{{-past, -past}, {1 + past, -past}, {1 + past, float(share)},
+                                            {-past, float(share)}};
+  std::vector<cv::Point2f> patch;
+  cv::perspectiveTransform(patch_unit, patch, H);
+  const cv::Rect whole(0, 0, levels.cols, levels.rows);
+  const cv::Rect roi = cv::boundingRect(patch) & whole;
+  if (roi.empty()) return;
+  constexpr int kSamples = 4;
+  cv::Mat1b mask(roi.height * kSamples, roi.width * kSamples, uchar(0));
+  std::vector<cv::Point> at;
+  for (const cv::Point2f& p : patch)
+    at.emplace_back(int(std::lround((p.x - float(roi.x)) * kSamples)), int(std::lround((p.y - float(roi.y)) * kSamples)));
+  cv::fillConvexPoly(mask, at, cv::Scalar(255));
+  cv::Mat1f cover;
+  cv::resize(mask, cover, roi.size(), 0, 0, cv::INTER_AREA);
+  cover /= 255.f;
+  const cv::Point2f centre = (patch[0] + patch[1] + patch[2] + patch[3]) * 0.25f;
+  const auto grey = float(background_level(centre.x, levels.cols));
+  cv::Mat1f part = levels(roi);
+  for (int y = 0; y < roi.height; ++y)
+    for (int x = 0; x < roi.width; ++x) part(y, x) += cover(y, x) * (grey - part(y, x));
 }
 
 }  // namespace
@@ -111,6 +161,7 @@ namespace {
 // One frame's outcome for every detector, kept by frame so that tallies do not depend on which thread ran it.
 struct FrameOutcome {
   bool visible = false;
+  float tilt_deg = -1;           // the marker's (a frame with one, placed)
   bool empty = false;            // a frame without a marker: `found` counts false positives
   std::vector<char> marks;       // per detector (namespace mark)
   std::vector<char> other_id;    // per detector: another id reported (the wrong-id rate counts it even beside
@@ -130,6 +181,7 @@ FrameOutcome run_frame(Worker& w, size_t ci, double side_px, int k) {
   FrameOutcome fo;
   fo.visible = frame.visible;
   fo.empty = frame.empty;
+  if (frame.visible && !frame.empty) fo.tilt_deg = float(frame.tilt_deg);
   if (!frame.visible) {   // the marker could not be placed wholly in view: not a frame of the experiment
     fo.marks.assign(w.detectors.size(), mark::not_visible);
     return fo;
@@ -161,7 +213,7 @@ std::vector<int> lab_marker_ids(const LabPlan& plan, unsigned seed) {
 }
 
 LabFrameRenderer::LabFrameRenderer(const LabPlan& plan, const LabOptions& options, std::vector<int> ids)
-    : plan_(plan), options_(options), ids_(std::move(ids)), cells_(plan.cells()),
+    : plan_(plan), options_(options), ids_(std::move(ids)), cells_(plan.cells(options.camera.camera_matrix(0, 0))),
       renderer_(options.camera, SynthMarker{plan.dictionary, 0, 1.0, 1.5}) {
   options_.finished.clear();   // a renderer needs the plan's physics, not a run's bookkeeping
   options_.on_cell = nullptr;
@@ -173,18 +225,21 @@ LabFrame LabFrameRenderer::render(size_t ci, int k) const {
   if (ci >= cells_.size() || k < 0 || k >= frames_per_cell() || ids_.empty()) return out;
   const Cell& cell = cells_[ci];
   const SynthCamera& cam = options_.camera;
+  // Frames are drawn by the cell of the paper's axes this one belongs to: cells that differ only in an added axis
+  // (tilt, blur, noise, occlusion) show the same markers, in the same places, with the same noise.
+  const size_t pi = plan_.pose_index(ci);
   if (k >= plan_.frames_per_cell) {
     // A frame without a marker: one of the benchmark's cluttered photographs with no marker in it (rectangles,
     // checkerboard patches, text, and decoys with a black border whose bits decode to nothing), through the
     // cell's optics and sensor. Every marker a detector reports on it is a false positive.
     const int e = k - plan_.frames_per_cell;
     out.empty = out.visible = true;
-    std::mt19937 rng(options_.seed * 2246822519u + unsigned(ci) * 3266489917u + unsigned(e) * 668265263u);
+    std::mt19937 rng(options_.seed * 2246822519u + unsigned(pi) * 3266489917u + unsigned(e) * 668265263u);
     SynthOptions so;
     so.size = cam.size;
     so.dictionaries = {*dictionary_by_name(plan_.dictionary)};
     so.empty_fraction = 1.0;
-    const SynthImage photo = synth_photo(so, options_.seed + 1000003ull * (ci + 1), e);
+    const SynthImage photo = synth_photo(so, options_.seed + 1000003ull * (pi + 1), e);
     cv::Mat grey;
     cv::cvtColor(photo.image, grey, cv::COLOR_BGR2GRAY);
     cv::Mat1f levels;
@@ -193,19 +248,30 @@ LabFrame LabFrameRenderer::render(size_t ci, int k) const {
     return out;
   }
   // Each frame's draws come from its own seed: a frame is the same whatever ran before it, on any thread.
-  std::mt19937 rng(options_.seed * 2654435761u + unsigned(ci) * 7919u + unsigned(k) * 104729u);
+  const unsigned frame_seed = options_.seed * 2654435761u + unsigned(pi) * 7919u + unsigned(k) * 104729u;
+  std::mt19937 rng(frame_seed);
   std::uniform_real_distribution<double> u(0, 1);
-  out.id = ids_[size_t(int(ci) * plan_.frames_per_cell + k) % ids_.size()];
+  out.id = ids_[size_t(int(pi) * plan_.frames_per_cell + k) % ids_.size()];
   renderer_.set_marker(SynthMarker{plan_.dictionary, out.id, 1.0, 1.5});
   // The pose: facing the camera, tilted about x and y, turned in plane; the centre somewhere in the middle of the
   // picture, at the cell's distance. Geometry is scale-free: a marker of side L at t is one of side 1 at t / L.
   const double L = cell.size_mm / 1000;
+  if (!(L > 0)) return out;   // a sides_px plan's cells without the camera's focal length: nothing to render
   MarkerView truth;
   cv::Mat1f levels;
   for (int tries = 0; tries < 20 && !out.visible; ++tries) {
     const double roll = u(rng) * 2 * CV_PI;
-    const double tx = (u(rng) * 2 - 1) * plan_.max_tilt_deg * CV_PI / 180;
-    const double ty = (u(rng) * 2 - 1) * plan_.max_tilt_deg * CV_PI / 180;
+    const double draw_x = u(rng), draw_y = u(rng);
+    double tx = (draw_x * 2 - 1) * plan_.max_tilt_deg * CV_PI / 180;
+    double ty = (draw_y * 2 - 1) * plan_.max_tilt_deg * CV_PI / 180;
+    if (cell.tilt_deg >= 0) {
+      // A fixed tilt: exactly that angle about an axis in the marker's plane in a random direction (the first
+      // draw), the roll still random. The second draw goes unused, so the marker lands where the random tilt's
+      // would have.
+      const double axis = draw_x * 2 * CV_PI;
+      tx = std::cos(axis) * cell.tilt_deg * CV_PI / 180;
+      ty = std::sin(axis) * cell.tilt_deg * CV_PI / 180;
+    }
     const double px = cam.size.width * (0.2 + 0.6 * u(rng));
     const double py = cam.size.height * (0.2 + 0.6 * u(rng));
     cv::Matx33d Rt, Rr;
@@ -222,11 +288,22 @@ LabFrame LabFrameRenderer::render(size_t ci, int k) const {
     out.roll_deg = roll * 180 / CV_PI;
     out.tilt_x_deg = tx * 180 / CV_PI;
     out.tilt_y_deg = ty * 180 / CV_PI;
+    // The rotation vector (tx, ty, 0) turns the marker by its length about an axis in its plane, and the roll
+    // about its normal leaves the normal where it is: the normal is that length away from the optical axis.
+    out.tilt_deg = std::hypot(tx, ty) * 180 / CV_PI;
   }
   if (!out.visible) return out;
   out.corners = truth.corners;
-  // Shadows and glints from a generator of their own, so the pose and the noise stay those of the frame's seed.
-  std::mt19937 light_rng(options_.seed * 3624381323u + unsigned(ci) * 2246822519u + unsigned(k) * 40503u);
+  if (cell.occlusion > 0) {
+    // The covered side from a generator of its own: the frame's other draws stay those of the cell without it.
+    // Covered before the light falls: the patch is in the same shadow or glint as the print around it.
+    std::mt19937 side_rng(frame_seed ^ 0x5bd1e995u);
+    out.occluded_side = int(side_rng() % 4);
+    occlude(levels, out.corners, cell.occlusion, out.occluded_side);
+  }
+  // Shadows and glints from a generator of their own, so the pose and the noise stay those of the frame's seed
+  // (seeded by the pose's cell: cells differing only in an added axis get the same light).
+  std::mt19937 light_rng(options_.seed * 3624381323u + unsigned(pi) * 2246822519u + unsigned(k) * 40503u);
   out.light = apply_scene_light(levels, options_.light, cell.distance_m, cell.lux, cam.camera_matrix(0, 0),
                                 out.corners, light_rng);
   out.image = camera_picture(levels, options_, cell, rng);
@@ -268,7 +345,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
   out.options = options;
   out.ids = workers[0]->renderer.ids();
   const double f = options.camera.camera_matrix(0, 0);
-  const std::vector<Cell> cells = plan.cells();
+  const std::vector<Cell> cells = plan.cells(f);
   const int total = int(cells.size()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
   std::atomic<int> done{0};
   std::mutex progress_mutex;
@@ -295,6 +372,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     cr.snr_black_white = snr(options.sensor, cell.lux, 0.12);
     cr.blur_px = std::hypot(defocus_sigma_px(options.sensor, cell.distance_m, f),
                             shake_length_px(options.sensor, ex.exposure_s, f) / 2);
+    if (cell.blur_px > 0) cr.blur_px = std::hypot(cr.blur_px, cell.blur_px);
     cr.detectors.resize(options.detectors.size());
     const int empty = plan.empty_frames_per_cell(), n = plan.frames_per_cell + empty;
     std::vector<FrameOutcome> frames(static_cast<size_t>(n));
@@ -316,6 +394,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     }
     for (const FrameOutcome& fo : frames) {
       for (size_t d = 0; d < cr.detectors.size(); ++d) cr.detectors[d].marks += fo.marks[d];
+      if (!fo.empty) cr.tilts_deg.push_back(fo.tilt_deg);
       if (fo.empty) {
         for (size_t d = 0; d < cr.detectors.size(); ++d) {
           ++cr.detectors[d].empty_frames;
@@ -342,7 +421,8 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
 std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
   nlohmann::ordered_json j;
   j["plan"] = {plan.name,        plan.dictionary,   plan.markers,         plan.sizes_mm, plan.distances_m,
-               plan.lux,         plan.max_tilt_deg, plan.frames_per_cell, plan.empty_share};
+               plan.lux,         plan.max_tilt_deg, plan.frames_per_cell, plan.empty_share,  plan.sides_px,
+               plan.tilts_deg,   plan.blurs_px,     plan.noises,          plan.occlusions};
   j["seed"] = options.seed;
   j["detectors"] = options.detectors;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();
@@ -364,8 +444,10 @@ std::string cell_to_line(const std::string& key, size_t index, const CellResult&
   nlohmann::json j;
   j["key"] = key;
   j["index"] = index;
-  j["cell"] = {c.cell.size_mm, c.cell.distance_m, c.cell.lux};
+  j["cell"] = {c.cell.size_mm, c.cell.distance_m, c.cell.lux,      c.cell.side_px,
+               c.cell.tilt_deg, c.cell.blur_px,    c.cell.noise, c.cell.occlusion};
   j["side_px"] = c.side_px;
+  j["tilts"] = c.tilts_deg;
   j["exposure_ms"] = c.exposure_ms;
   j["gain"] = c.gain;
   j["snr"] = c.snr_black_white;
@@ -384,8 +466,11 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
     if (!j.is_object() || j.value("key", std::string()) != key) return std::nullopt;
     CellResult c;
     const auto& cell = j.at("cell");
-    c.cell = {cell.at(0).get<double>(), cell.at(1).get<double>(), cell.at(2).get<double>()};
+    double* fields[] = {&c.cell.size_mm, &c.cell.distance_m, &c.cell.lux,      &c.cell.side_px,
+                        &c.cell.tilt_deg, &c.cell.blur_px,    &c.cell.noise, &c.cell.occlusion};
+    for (size_t i = 0; i < std::size(fields); ++i) *fields[i] = cell.at(i).get<double>();
     c.side_px = j.at("side_px").get<double>();
+    c.tilts_deg = j.at("tilts").get<std::vector<float>>();
     c.exposure_ms = j.at("exposure_ms").get<double>();
     c.gain = j.at("gain").get<double>();
     c.snr_black_white = j.at("snr").get<double>();
@@ -412,8 +497,19 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
 std::string lab_table_text(const LabResults& r) {
   std::string s;
   char b[256];
+  // The added axes' values of each row (nothing for the paper's plan), padded alike so the columns stay in line.
+  const size_t per_row = std::max<size_t>(1, r.plan.lux.size());
+  std::vector<std::string> added;
+  size_t added_width = 0;
+  for (size_t i = 0; i < r.cells.size(); i += per_row) {
+    added.push_back(added_axes_text(r.plan, r.cells[i].cell));
+    added_width = std::max(added_width, added.back().size());
+  }
+  for (std::string& a : added) a = added_width ? " " + a + std::string(added_width - a.size(), ' ') : "";
+  const int label_width = 20 + int(added_width ? added_width + 1 : 0);
   for (size_t d = 0; d < r.options.detectors.size(); ++d) {
-    std::snprintf(b, sizeof b, "%s: P_Rec %% [95%% interval]\n%-20s", r.options.detectors[d].c_str(), "size, distance");
+    std::snprintf(b, sizeof b, "%s: P_Rec %% [95%% interval]\n%-*s", r.options.detectors[d].c_str(), label_width,
+                  "size, distance");
     s += b;
     for (double l : r.plan.lux) {
       std::snprintf(b, sizeof b, "  %14.0f lx", l);
@@ -424,6 +520,7 @@ std::string lab_table_text(const LabResults& r) {
       const CellResult& c0 = r.cells[i];
       std::snprintf(b, sizeof b, "%3.0f mm %4.1f m %4.0f px", c0.cell.size_mm, c0.cell.distance_m, c0.side_px);
       s += b;
+      s += added[i / per_row];
       for (size_t j = i; j < i + r.plan.lux.size() && j < r.cells.size(); ++j) {
         const DetectorTally& t = r.cells[j].detectors[d];
         const auto [lo, hi] = wilson_interval(t.detected, t.frames);
@@ -453,16 +550,20 @@ std::string lab_table_text(const LabResults& r) {
 std::string lab_table_csv(const LabResults& r) {
   std::string s =
       "detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,wrong_id_rate,empty_frames,"
-      "false_positives,median_ms\n";
-  char b[320];
+      "false_positives,median_ms,tilt_deg,added_blur_px,added_noise,occlusion\n";
+  char b[400];
   for (size_t d = 0; d < r.options.detectors.size(); ++d)
     for (const CellResult& c : r.cells) {
       const DetectorTally& t = c.detectors[d];
       const auto [lo, hi] = wilson_interval(t.detected, t.frames);
-      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%d,%d,%.3f\n",
+      // tilt_deg is empty for a random tilt (up to the plan's max_tilt_deg).
+      char tilt[32] = "";
+      if (c.cell.tilt_deg >= 0) std::snprintf(tilt, sizeof tilt, "%g", c.cell.tilt_deg);
+      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%d,%d,%.3f,%s,%g,%g,%g\n",
                     r.options.detectors[d].c_str(), c.cell.size_mm, c.cell.distance_m, c.cell.lux, c.side_px, t.frames,
                     t.detected, t.p_rec(), 100 * lo, 100 * hi, t.frames ? double(t.wrong_id) / t.frames : 0.0,
-                    t.empty_frames, t.false_positives, t.median_ms());
+                    t.empty_frames, t.false_positives, t.median_ms(), tilt, c.cell.blur_px, c.cell.noise,
+                    c.cell.occlusion);
       s += b;
     }
   return s;
@@ -479,6 +580,11 @@ std::string lab_results_json(const LabResults& r) {
                {"distances_m", r.plan.distances_m},
                {"lux", r.plan.lux},
                {"max_tilt_deg", r.plan.max_tilt_deg},
+               {"sides_px", r.plan.sides_px},
+               {"tilts_deg", r.plan.tilts_deg},
+               {"blurs_px", r.plan.blurs_px},
+               {"noises", r.plan.noises},
+               {"occlusions", r.plan.occlusions},
                {"frames_per_cell", r.plan.frames_per_cell},
                {"empty_frames_per_cell", r.plan.empty_frames_per_cell()}};
   j["seed"] = r.options.seed;
@@ -518,14 +624,24 @@ std::string lab_results_json(const LabResults& r) {
                                      {"median_ms", round_decimals(t.median_ms(), 3)},
                                      {"marks", t.marks}};
     }
-    cells.push_back({{"size_mm", c.cell.size_mm},
+    Json tilts = Json::array();
+    for (float t : c.tilts_deg) tilts.push_back(round_decimals(t, 1));
+    cells.push_back({{"size_mm", round_decimals(c.cell.size_mm, 3)},
                      {"distance_m", c.cell.distance_m},
                      {"lux", c.cell.lux},
                      {"side_px", round_decimals(c.side_px, 1)},
+                     // The added axes: tilt_deg null for a random tilt; blur_px below is the cell's whole blur.
+                     {"tilt_deg", c.cell.tilt_deg >= 0 ? Json(c.cell.tilt_deg) : Json(nullptr)},
+                     {"added_blur_px", c.cell.blur_px},
+                     {"added_noise", c.cell.noise},
+                     {"occlusion", c.cell.occlusion},
                      {"exposure_ms", round_decimals(c.exposure_ms, 2)},
                      {"gain", round_decimals(c.gain, 2)},
                      {"snr_ink", round_decimals(c.snr_black_white, 1)},
                      {"blur_px", round_decimals(c.blur_px, 2)},
+                     // Each frame with a marker's tilt (the angle of its normal from the optical axis), -1 where
+                     // the marker could not be placed.
+                     {"tilts_deg", tilts},
                      {"results", per}});
   }
   j["cells"] = cells;

@@ -74,7 +74,12 @@ struct DetectorTally {
 struct CellResult {
   Cell cell;
   double side_px = 0;          // the marker's side at the image centre, facing the camera
+  // blur_px: the cell's whole blur, in px: the defocus's sigma, half the hand's streak and the cell's added blur,
+  // combined as independent blurs are (the root of the sum of squares).
   double exposure_ms = 0, gain = 1, snr_black_white = 0, blur_px = 0;
+  // Per frame with a marker (frames 0 .. frames_per_cell-1), the marker's tilt (LabFrame::tilt_deg), -1 for a
+  // frame whose marker could not be placed: recall against tilt bins frames by it.
+  std::vector<float> tilts_deg;
   std::vector<DetectorTally> detectors;   // in LabOptions::detectors' order
 };
 
@@ -99,6 +104,8 @@ struct LabFrame {
   Quad corners{};           // its corners in the image (OpenCV's order)
   double roll_deg = 0, tilt_x_deg = 0, tilt_y_deg = 0;
   LightEvents light;        // a shadow edge or a glint on the marker
+  double tilt_deg = 0;      // the angle between the marker's normal and the camera's optical axis
+  int occluded_side = -1;   // the side (0 top, 1 right, 2 bottom, 3 left of the upright marker) covered, if any
 };
 // Renders frames of any cell of one plan and options (a thread's own: it keeps the renderer's buffers).
 class LabFrameRenderer {
@@ -135,11 +142,13 @@ std::string cell_to_line(const std::string& key, size_t index, const CellResult&
 std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& key, const std::string& line,
                                                             size_t detectors);
 
-// The paper's table as text: per detector, a row per size and distance, a column per light level, each cell
-// "P_Rec% [low-high]", then its false positives on the frames without a marker.
+// The paper's table as text: per detector, a row per size and distance (and the added axes' values the plan
+// has: "26 mm  1.0 m   14 px tilt 60 blur 1.5"), a column per light level, each cell "P_Rec% [low-high]", then its
+// false positives on the frames without a marker.
 std::string lab_table_text(const LabResults& r);
 // One row per cell and detector: detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,
-// wrong_id_rate,empty_frames,false_positives,median_ms.
+// wrong_id_rate,empty_frames,false_positives,median_ms, then the added axes: tilt_deg (empty: random up to the
+// plan's max_tilt_deg), added_blur_px, added_noise, occlusion.
 std::string lab_table_csv(const LabResults& r);
 // Everything above, with the plan, the camera, the sensor model and each cell's exposure, as JSON text.
 std::string lab_results_json(const LabResults& r);

@@ -33,7 +33,7 @@ Status LabSession::start(const LabPlan& plan, const LabOptions& options) {
     if (auto d = make_detector(name, plan.dictionary, options.params); !d) return fail(d.error());
   }
   if (options.detectors.empty()) return fail("choose at least one detector");
-  if (plan.cells().empty()) return fail("the plan has no cells (every axis needs a value)");
+  if (plan.cell_count() == 0) return fail("the plan has no cells (every axis needs a value)");
   if (plan.frames_per_cell < 1) return fail("a plan needs at least one frame per cell");
   stop_ = false;
   LabOptions opts = options;
@@ -47,7 +47,7 @@ Status LabSession::start(const LabPlan& plan, const LabOptions& options) {
     p.plan = plan;
     p.options = opts;
     p.ids = lab_marker_ids(plan, opts.seed);
-    p.cells = plan.cells();
+    p.cells = plan.cells(opts.camera.camera_matrix(0, 0));
     p.results.assign(p.cells.size(), nullptr);
     p.frames_total = int(p.cells.size()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
     p.running = true;

@@ -19,7 +19,7 @@ struct LabProgress {
   LabPlan plan;
   LabOptions options;           // without the run's callbacks
   std::vector<int> ids;         // the markers shown (lab_marker_ids)
-  std::vector<Cell> cells;      // plan.cells()
+  std::vector<Cell> cells;      // plan.cells(the camera's focal length)
   std::vector<std::shared_ptr<const CellResult>> results;   // by cell; null until that cell is finished
   int frames_done = 0, frames_total = 0;
   bool running = false;

@@ -223,7 +223,7 @@ Result<LabResults> run_videos(const std::string& dir, const std::vector<VideoRow
   out.plan.markers = int(ids.size());
   out.ids.assign(ids.begin(), ids.end());
   const double f = options.camera.camera_matrix(0, 0);
-  for (const Cell& c : out.plan.cells()) {
+  for (const Cell& c : out.plan.cells(f)) {
     CellResult cr;
     cr.cell = c;
     cr.side_px = marker_side_px(c.size_mm, c.distance_m, f);
