@@ -280,12 +280,12 @@ void draw_recall_by_light(const LabResults& r) {
 }
 
 void draw_recall_by_tilt(const LabResults& r) {
-  draw_curves(r, curves_by_tilt(r), "the marker's tilt (degrees from facing the camera; frames in 10-degree bins)",
+  draw_curves(r, curves_by_tilt(r), "tilt (degrees from facing the camera, 10-degree bins)",
               "Recognition against tilt (every frame, all cells)");
 }
 
 void draw_recall_by_blur(const LabResults& r) {
-  draw_curves(r, curves_by_blur(r), "blur (px: defocus, half the hand's streak and any added blur, combined)",
+  draw_curves(r, curves_by_blur(r), "blur (px: defocus, half the streak, added; combined)",
               "Recognition against blur (cells in bins)");
 }
 

@@ -112,9 +112,10 @@ void occlude(cv::Mat1f& levels, const Quad& corners, double share, int side) {
   for (const cv::Point2f& p : patch)
     at.emplace_back(int(std::lround((p.x - float(roi.x)) * kSamples)), int(std::lround((p.y - float(roi.y)) * kSamples)));
   cv::fillConvexPoly(mask, at, cv::Scalar(255));
+  cv::Mat covered;
+  cv::resize(mask, covered, roi.size(), 0, 0, cv::INTER_AREA);
   cv::Mat1f cover;
-  cv::resize(mask, cover, roi.size(), 0, 0, cv::INTER_AREA);
-  cover /= 255.f;
+  covered.convertTo(cover, CV_32F, 1.0 / 255);
   const cv::Point2f centre = (patch[0] + patch[1] + patch[2] + patch[3]) * 0.25f;
   const auto grey = float(background_level(centre.x, levels.cols));
   cv::Mat1f part = levels(roi);
@@ -497,16 +498,39 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
 std::string lab_table_text(const LabResults& r) {
   std::string s;
   char b[256];
-  // The added axes' values of each row (nothing for the paper's plan), padded alike so the columns stay in line.
+  // The added axes' values of each row (nothing for the paper's plan), each axis's values padded to one width so
+  // the columns stay in line: "tilt 0  blur 1.5", "tilt 60 blur 1.5".
   const size_t per_row = std::max<size_t>(1, r.plan.lux.size());
-  std::vector<std::string> added;
-  size_t added_width = 0;
+  const struct {
+    bool has;
+    const char* name;
+    double Cell::*value;
+  } axes[] = {{r.plan.has_tilts(), "tilt", &Cell::tilt_deg},
+              {r.plan.has_blurs(), "blur", &Cell::blur_px},
+              {r.plan.has_noises(), "noise", &Cell::noise},
+              {r.plan.has_occlusions(), "occluded", &Cell::occlusion}};
+  std::vector<std::vector<std::string>> values;   // per row, per axis the plan has
+  std::vector<size_t> widths(std::size(axes), 0);
   for (size_t i = 0; i < r.cells.size(); i += per_row) {
-    added.push_back(added_axes_text(r.plan, r.cells[i].cell));
-    added_width = std::max(added_width, added.back().size());
+    values.emplace_back();
+    for (size_t a = 0; a < std::size(axes); ++a) {
+      if (!axes[a].has) continue;
+      std::snprintf(b, sizeof b, "%g", r.cells[i].cell.*axes[a].value);
+      values.back().push_back(b);
+      widths[a] = std::max(widths[a], values.back().back().size());
+    }
   }
-  for (std::string& a : added) a = added_width ? " " + a + std::string(added_width - a.size(), ' ') : "";
-  const int label_width = 20 + int(added_width ? added_width + 1 : 0);
+  std::vector<std::string> added;
+  for (const std::vector<std::string>& row : values) {
+    std::string text;
+    for (size_t a = 0, v = 0; a < std::size(axes); ++a) {
+      if (!axes[a].has) continue;
+      text += std::string(" ") + axes[a].name + " " + row[v] + std::string(widths[a] - row[v].size(), ' ');
+      ++v;
+    }
+    added.push_back(text);
+  }
+  const int label_width = 20 + int(added.empty() ? 0 : added[0].size());
   for (size_t d = 0; d < r.options.detectors.size(); ++d) {
     std::snprintf(b, sizeof b, "%s: P_Rec %% [95%% interval]\n%-*s", r.options.detectors[d].c_str(), label_width,
                   "size, distance");

@@ -23,7 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // Two detectors on a 2x2x2 plan. arwb sees every frame of the big near marker and none of the small far one;
-// opencv does a little worse everywhere; light costs both a few frames.
+// opencv does a little worse everywhere; light costs both a few frames. Frame k of a cell is tilted 1.5 k degrees
+// and the frames missed are the last (the most tilted); the far cells are the blurrier.
 LabResults made_up_results() {
   LabResults r;
   r.plan.sizes_mm = {65, 26};
@@ -35,10 +36,12 @@ LabResults made_up_results() {
   r.ids = {3, 14, 159};
   r.seconds = 12.5;
   const double f = r.options.camera.camera_matrix(0, 0);
-  for (const Cell& c : r.plan.cells()) {
+  for (const Cell& c : r.plan.cells(f)) {
     CellResult cr;
     cr.cell = c;
     cr.side_px = marker_side_px(c.size_mm, c.distance_m, f);
+    cr.blur_px = c.distance_m == 2 ? 2.5 : 1.2;
+    for (int k = 0; k < 40; ++k) cr.tilts_deg.push_back(1.5f * float(k));
     const bool big = c.size_mm == 65, near = c.distance_m == 0.5, bright = c.lux == 1000;
     int arwb = big && near ? 40 : !big && !near ? 0 : (big ? 30 : 20) - (bright ? 0 : 4);
     int opencv = std::max(0, arwb - 6);
@@ -46,6 +49,7 @@ LabResults made_up_results() {
       DetectorTally t;
       t.frames = 40;
       t.detected = detected;
+      t.marks = std::string(size_t(detected), 'D') + std::string(size_t(40 - detected), 'M');
       cr.detectors.push_back(t);
     }
     r.cells.push_back(cr);
@@ -94,8 +98,8 @@ TEST(LabReport, WritesEveryPlotAndAPdfWithATitlePage) {
   ASSERT_TRUE(s) << s.error();
 
   const std::vector<std::string> pngs = lab_report_png_names(r);
-  ASSERT_EQ(pngs, (std::vector<std::string>{"recall_by_side.png", "recall_by_light.png", "heatmap_arwb.png",
-                                            "heatmap_opencv.png"}));
+  ASSERT_EQ(pngs, (std::vector<std::string>{"recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png",
+                                            "recall_by_blur.png", "heatmap_arwb.png", "heatmap_opencv.png"}));
   for (const std::string& name : pngs) {
     SCOPED_TRACE(name);
     const cv::Mat img = cv::imread(out + "/" + name, cv::IMREAD_COLOR);
@@ -106,7 +110,7 @@ TEST(LabReport, WritesEveryPlotAndAPdfWithATitlePage) {
     EXPECT_GT(pixels_near(img, 255, 255, 255), img.total() / 4);   // white paper
   }
   // The curves are drawn in the detectors' colours (arwb blue, opencv orange).
-  for (const char* name : {"recall_by_side.png", "recall_by_light.png"}) {
+  for (const char* name : {"recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png", "recall_by_blur.png"}) {
     SCOPED_TRACE(name);
     const cv::Mat img = cv::imread(out + "/" + name, cv::IMREAD_COLOR);
     EXPECT_GT(pixels_near(img, 31, 119, 180), 200);
@@ -137,7 +141,7 @@ TEST(LabReport, PdfinfoCountsThePagesToo) {
   const std::string info = dir.str("info.txt");
   ASSERT_EQ(std::system(("pdfinfo '" + dir.str("report.pdf") + "' > '" + info + "'").c_str()), 0);
   const std::string text = test::read_file(info);
-  EXPECT_TRUE(std::regex_search(text, std::regex("Pages:\\s+5\\n"))) << text;
+  EXPECT_TRUE(std::regex_search(text, std::regex("Pages:\\s+7\\n"))) << text;
   EXPECT_NE(text.find("842 x 595 pts"), std::string::npos) << text;
 }
 
@@ -145,6 +149,7 @@ TEST(LabReport, DetectorsWhoseNamesReadAlikeGetAHeatmapEach) {
   LabResults r = made_up_results();
   r.options.detectors = {"a b", "a_b", "a/b"};
   EXPECT_EQ(lab_report_png_names(r), (std::vector<std::string>{"recall_by_side.png", "recall_by_light.png",
+                                                               "recall_by_tilt.png", "recall_by_blur.png",
                                                                "heatmap_a_b.png", "heatmap_a_b_2.png",
                                                                "heatmap_a_b_3.png"}));
 }
