@@ -574,7 +574,7 @@ std::string lab_table_text(const LabResults& r) {
 std::string lab_table_csv(const LabResults& r) {
   std::string s =
       "detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,wrong_id_rate,empty_frames,"
-      "false_positives,median_ms,tilt_deg,added_blur_px,added_noise,occlusion\n";
+      "false_positives,tilt_deg,added_blur_px,added_noise,occlusion,median_ms\n";
   char b[400];
   for (size_t d = 0; d < r.options.detectors.size(); ++d)
     for (const CellResult& c : r.cells) {
@@ -583,11 +583,11 @@ std::string lab_table_csv(const LabResults& r) {
       // tilt_deg is empty for a random tilt (up to the plan's max_tilt_deg).
       char tilt[32] = "";
       if (c.cell.tilt_deg >= 0) std::snprintf(tilt, sizeof tilt, "%g", c.cell.tilt_deg);
-      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%d,%d,%.3f,%s,%g,%g,%g\n",
+      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%d,%d,%s,%g,%g,%g,%.3f\n",
                     r.options.detectors[d].c_str(), c.cell.size_mm, c.cell.distance_m, c.cell.lux, c.side_px, t.frames,
                     t.detected, t.p_rec(), 100 * lo, 100 * hi, t.frames ? double(t.wrong_id) / t.frames : 0.0,
-                    t.empty_frames, t.false_positives, t.median_ms(), tilt, c.cell.blur_px, c.cell.noise,
-                    c.cell.occlusion);
+                    t.empty_frames, t.false_positives, tilt, c.cell.blur_px, c.cell.noise, c.cell.occlusion,
+                    t.median_ms());
       s += b;
     }
   return s;

@@ -147,8 +147,8 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
 // false positives on the frames without a marker.
 std::string lab_table_text(const LabResults& r);
 // One row per cell and detector: detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,
-// wrong_id_rate,empty_frames,false_positives,median_ms, then the added axes: tilt_deg (empty: random up to the
-// plan's max_tilt_deg), added_blur_px, added_noise, occlusion.
+// wrong_id_rate,empty_frames,false_positives, the added axes (tilt_deg, empty for a random tilt up to the plan's
+// max_tilt_deg; added_blur_px, added_noise, occlusion), and median_ms last (the one column that varies run to run).
 std::string lab_table_csv(const LabResults& r);
 // Everything above, with the plan, the camera, the sensor model and each cell's exposure, as JSON text.
 std::string lab_results_json(const LabResults& r);

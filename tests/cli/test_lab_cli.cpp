@@ -43,10 +43,14 @@ TEST(LabCli, PrintsAndWritesThePapersTable) {
   EXPECT_EQ(j["ids"].size(), 25u);
   EXPECT_EQ(j["plan"]["sizes_mm"], nlohmann::json({65, 39, 26}));
   EXPECT_TRUE(j["cells"][0]["results"].contains("opencv"));
+  // The added axes at their defaults, always present; each frame's tilt.
+  EXPECT_EQ(j["plan"]["occlusions"], nlohmann::json({0}));
+  EXPECT_TRUE(j["cells"][0]["tilt_deg"].is_null());
+  EXPECT_EQ(j["cells"][0]["tilts_deg"].size(), 2u);
   // The plots and report.pdf beside them (tests/lab/test_lab_report.cpp looks inside).
-  EXPECT_NE(r.out.find("report.pdf and 4 PNG plots to " + d.str("out")), std::string::npos) << r.out;
-  for (const char* name : {"report.pdf", "recall_by_side.png", "recall_by_light.png", "heatmap_arwb.png",
-                           "heatmap_opencv.png"})
+  EXPECT_NE(r.out.find("report.pdf and 6 PNG plots to " + d.str("out")), std::string::npos) << r.out;
+  for (const char* name : {"report.pdf", "recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png",
+                           "recall_by_blur.png", "heatmap_arwb.png", "heatmap_opencv.png"})
     EXPECT_GT(slurp(d.str("out/") + name).size(), 1000u) << name;
 }
 
@@ -104,7 +108,26 @@ TEST(LabCli, PlanFilesAndTheirMistakes) {
       {"lux: [a, 2]\n", "bad.yml: lux: value 1 is not a number"},
       {"frames_per_cell: 0\n", "bad.yml: frames_per_cell: 0 must be from 1 to 100000"},
       {"markers: 60\ndictionary: \"4X4_50\"\n", "bad.yml: markers: 60 distinct ids, but 4X4_50 has 50"},
+      {"sides_px: [20]\nsizes_mm: [65]\n",
+       "bad.yml: sides_px and sizes_mm: give one of them (sides_px derives the printed size)"},
+      {"occlusions: [0.9]\n", "bad.yml: occlusions: value 1 (0.9) must be a share of the marker's area from 0 to 0.5"},
   };
+  // The added axes: rows name their values, the CSV and JSON carry them, and the frames' tilts are in the JSON.
+  test::write_file(d.str("added.yml"), "sizes_mm: [65]\ndistances_m: [1]\nlux: 1000\nframes_per_cell: 2\n"
+                                       "tilts_deg: [0, 60]\nblurs_px: [0, 1.5]\n");
+  r = run_arwb("lab --plan " + d.str("added.yml") + " --detectors arwb --out " + d.str("added"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("Plan added: 4 cells x 2 frames"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n 65 mm  1.0 m   36 px tilt 60 blur 1.5  "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n 65 mm  1.0 m   36 px tilt 0  blur 0    "), std::string::npos) << r.out;
+  EXPECT_NE(slurp(d.str("added/table.csv")).find("arwb,65,1,1000,36.0,2,"), std::string::npos);
+  EXPECT_NE(slurp(d.str("added/table.csv")).find(",60,1.5,0,0,"), std::string::npos) << slurp(d.str("added/table.csv"));
+  const auto added = nlohmann::json::parse(slurp(d.str("added/results.json")), nullptr, false);
+  ASSERT_TRUE(added.is_object());
+  EXPECT_EQ(added["plan"]["tilts_deg"], nlohmann::json({0, 60}));
+  EXPECT_EQ(added["cells"][3]["tilt_deg"], 60);
+  EXPECT_EQ(added["cells"][3]["added_blur_px"], 1.5);
+  EXPECT_EQ(added["cells"][3]["tilts_deg"], nlohmann::json({60, 60}));
   for (const auto& [text, message] : bad) {
     test::write_file(d.str("bad.yml"), text);
     r = run_arwb("lab --plan " + d.str("bad.yml"));
