@@ -160,6 +160,17 @@ void plan_section(Context& ctx, LabView& v, bool running) {
     ls.seed = 1;
   }
   ImGui::EndDisabled();
+  // The axes only a plan file sets (docs/lab.md), named so the fields above are not taken for the whole plan.
+  std::string added;
+  auto add = [&](bool has, const char* what, const std::vector<double>& values) {
+    if (has) added += (added.empty() ? "" : "; ") + std::string(what) + " " + lab::axis_text(values);
+  };
+  add(!plan.sides_px.empty(), "sides (px, instead of the sizes)", plan.sides_px);
+  add(plan.has_tilts(), "tilts (deg, instead of up to)", plan.tilts_deg);
+  add(plan.has_blurs(), "added blur (px)", plan.blurs_px);
+  add(plan.has_noises(), "added noise", plan.noises);
+  add(plan.has_occlusions(), "occluded", plan.occlusions);
+  if (!added.empty()) text_disabled_wrapped(("From the plan file: " + added).c_str());
   const int frames = int(plan.cell_count()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
   char b[300];
   std::snprintf(b, sizeof b, "%s: %zu cells x %d frames (and %d without a marker), %d frames in all",

@@ -76,9 +76,10 @@ SourceInfo LabCellSource::info() const {
                   i.count);
     i.item = b;
   } else {
-    std::snprintf(b, sizeof b, "frame %d of %d: %s id %d, turned %.0f deg, tilted %.0f deg about x and %.0f about y",
+    std::snprintf(b, sizeof b,
+                  "frame %d of %d: %s id %d, turned %.0f deg, tilted %.0f deg about x and %.0f about y (%.0f in all)%s",
                   shown_ + 1, i.count, dictionary_.c_str(), frame_.id, frame_.roll_deg, frame_.tilt_x_deg,
-                  frame_.tilt_y_deg);
+                  frame_.tilt_y_deg, frame_.tilt_deg, frame_.occluded_side >= 0 ? ", one side covered" : "");
     i.item = b;
     if (const std::string light = frame_.light.text(); !light.empty()) i.item += "; " + light;
   }
