@@ -270,7 +270,8 @@ void App::run_action(const Action& a) {
     if (n < 1 || n > 10000) return warn("--actions lab_frames: 1 to 10000 frames per cell, not '" + a.arg + "'");
     settings.lab.plan.frames_per_cell = n;
   } else if (a.verb == "lab_axis") {
-    // lab_axis=sizes_mm:65,39 (or distances_m:, lux:): what typing in the panel's field does.
+    // lab_axis=sizes_mm:65,39 (or distances_m:, lux:, or an added axis, tilts_deg: ...): what typing in the panel's
+    // field does, or reading a plan file that gives it.
     const size_t colon = a.arg.find(':');
     const std::string key = a.arg.substr(0, colon);
     for (const lab::PlanAxis& axis : lab::plan_axes()) {
@@ -281,7 +282,9 @@ void App::run_action(const Action& a) {
       settings.lab.plan.name = "your plan";
       return;
     }
-    warn("--actions lab_axis: sizes_mm:, distances_m: or lux: and values, not '" + a.arg + "'");
+    std::string keys;
+    for (const lab::PlanAxis& axis : lab::plan_axes()) keys += (keys.empty() ? "" : ", ") + std::string(axis.key) + ":";
+    warn("--actions lab_axis: one of " + keys + " and values, not '" + a.arg + "'");
   } else if (a.verb == "lab_detectors") {
     std::vector<std::string> list;
     std::stringstream in(a.arg);

@@ -74,7 +74,8 @@ int cmd_lab(int argc, char** argv) {
   cl.app.add_option("--detectors", detectors_opt, "a comma list of arwb, opencv, opencv-aruco3, apriltag")
       ->type_name("LIST");
   cl.app.add_option("--plan", plan_opt, "the paper's plan, or a plan file (docs/lab.md: sizes_mm, distances_m, lux, "
-                                        "max_tilt_deg, frames_per_cell, markers, dictionary, empty_share)")
+                                        "max_tilt_deg, frames_per_cell, markers, dictionary, empty_share, and the "
+                                        "added axes sides_px, tilts_deg, blurs_px, noises, occlusions)")
       ->type_name("paper|FILE.yml");
   cl.app.add_option("--videos", videos, "real clips instead of rendered frames: DIR/videos.csv lists each clip with "
                                         "its marker and conditions (docs/lab.md); the same table from them")
