@@ -202,6 +202,7 @@ TEST(LabAxes, AFixedTiltIsTheAngleBetweenTheMarkersNormalAndTheCameraAxis) {
 
 TEST(LabAxes, AnOccludedSideCoversItsShareAndCostsRecognition) {
   LabPlan p = one_cell(20);
+  p.lux = {500};   // evening light: no shadow or glint (lighting.hpp), so the patch is all that differs
   p.occlusions = {0, 0.4};
   LabOptions o;
   o.detectors = {"arwb"};
@@ -214,6 +215,7 @@ TEST(LabAxes, AnOccludedSideCoversItsShareAndCostsRecognition) {
     // The same marker in the same place (the cells differ only in the occlusion), one side covered.
     EXPECT_EQ(clear.id, covered.id);
     for (size_t i = 0; i < 4; ++i) EXPECT_EQ(clear.corners[i], covered.corners[i]);
+    EXPECT_FALSE(clear.light.shadow || clear.light.glare);
     EXPECT_EQ(clear.occluded_side, -1);
     EXPECT_GE(covered.occluded_side, 0);
     // The pixels of the marker the patch changed (the noise is drawn alike in both): about 40 % of its area.
