@@ -91,6 +91,10 @@ bool CalibrationSession::drop_view(const std::string& name) {
 
 void CalibrationSession::feed(const cv::Mat& frame, const std::string& name) {
   if (frame.empty()) return;
+  if (finding_.valid()) {
+    finding_.wait();
+    poll();
+  }
   judge(detect_board(frame, board_), frame.size(), name);
 }
 
