@@ -324,7 +324,7 @@ void App::handle_requests() {
 }
 
 // The newest solve, as `arwb calibrate` writes it (write_calibration: whole or not at all), and the paper's two
-// files beside it when asked.
+// files beside it when asked (all three, or none).
 void App::save_calibration(const std::string& text, bool paper_files) {
   const std::shared_ptr<const CalibrationSnapshot> snap = frame ? frame->calibration : nullptr;
   if (!snap || !snap->solution) {
@@ -341,19 +341,13 @@ void App::save_calibration(const std::string& text, bool paper_files) {
   x.view_count = int(s.view_names.size());
   x.notes = s.notes;
   const std::string path = fs::absolute(text).lexically_normal().string();
-  if (Status st = write_calibration(path, s.calibration, x); !st) {
+  // With the paper's files, all three or none (write_calibration writes them together).
+  const std::string paper_dir = paper_files ? fs::path(path).parent_path().string() : std::string();
+  if (Status st = write_calibration(path, s.calibration, x, paper_dir); !st) {
     error("calibration: " + st.error());
     return;
   }
-  std::string also;
-  if (paper_files) {
-    const std::string dir = fs::path(path).parent_path().string();
-    if (Status st = write_paper_files(dir, s.calibration); !st) {
-      error("calibration: " + st.error());
-      return;
-    }
-    also = " and the paper's cameraMatrix.xml, distCoeffs.xml beside it";
-  }
+  const std::string also = paper_files ? " and the paper's cameraMatrix.xml, distCoeffs.xml beside it" : "";
   status.recent.add(ui::FileKind::calibration, path);
   save_recent();
   note_status("calibration: wrote " + path + also + " (" + std::to_string(s.view_names.size()) + " views, RMS " +

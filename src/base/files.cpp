@@ -183,23 +183,31 @@ Result<std::string> read_text_file(const std::string& path, const FileLimit& lim
 }
 
 bool write_file_atomically(const std::string& path, const std::string& text, std::string* error) {
-  const std::string tmp = path + ".arwb-saving";
-  FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) {
-    *error = std::strerror(errno);
+  std::string failed;
+  return write_files_atomically({{path, text}}, &failed, error);
+}
+
+bool write_files_atomically(const std::vector<std::pair<std::string, std::string>>& path_and_text,
+                            std::string* failed, std::string* error) {
+  std::vector<std::string> temps;
+  const auto give_up = [&](const std::string& path, std::string why, size_t from) {
+    *failed = path;
+    *error = std::move(why);
+    for (size_t i = from; i < temps.size(); ++i) std::remove(temps[i].c_str());
     return false;
+  };
+  for (const auto& [path, text] : path_and_text) {
+    const std::string tmp = path + ".arwb-saving";
+    FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) return give_up(path, std::strerror(errno), 0);
+    temps.push_back(tmp);
+    const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    const bool closed = std::fclose(f) == 0;
+    if (!wrote || !closed) return give_up(path, "write failed (disk full?)", 0);
   }
-  const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  const bool closed = std::fclose(f) == 0;
-  if (!wrote || !closed) {
-    *error = "write failed (disk full?)";
-    std::remove(tmp.c_str());
-    return false;
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    *error = std::strerror(errno);
-    std::remove(tmp.c_str());
-    return false;
+  for (size_t i = 0; i < temps.size(); ++i) {
+    if (std::rename(temps[i].c_str(), path_and_text[i].first.c_str()) != 0)
+      return give_up(path_and_text[i].first, std::strerror(errno), i);
   }
   return true;
 }

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace arwb {
 
@@ -81,5 +83,11 @@ Result<std::string> read_text_file(const std::string& path, const FileLimit& lim
 // Replaces `path` with `text`: the new text goes to a temporary file beside the old one and replaces it in one
 // rename, so a full disk or a crash never leaves half a script (and the watcher never reads one).
 bool write_file_atomically(const std::string& path, const std::string& text, std::string* error);
+// The same for files that belong together (a calibration and the paper's two files): every text goes to its
+// temporary file first, and only when all are written are they renamed into place, so a folder that cannot be
+// written or a full disk replaces none of them. A rename that fails after others (rare: each temporary file is
+// already beside its file) leaves those before it replaced. *failed is the path the error is about.
+bool write_files_atomically(const std::vector<std::pair<std::string, std::string>>& path_and_text,
+                            std::string* failed, std::string* error);
 
 }  // namespace arwb

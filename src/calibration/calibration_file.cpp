@@ -294,27 +294,51 @@ Result<int> storage_format(const std::string& path) {
   return fail(path + ": the file name must end in .xml, .yml or .yaml");
 }
 
-Status write_storage(const std::string& path, int format, const std::function<void(cv::FileStorage&)>& fill) {
-  std::string text;
+// The text of a FileStorage that `fill` writes, in `format`.
+Result<std::string> storage_text(const std::string& path, int format,
+                                 const std::function<void(cv::FileStorage&)>& fill) {
   try {
     cv::FileStorage fs(".", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | format);
     fill(fs);
-    text = fs.releaseAndGetString();
+    return fs.releaseAndGetString();
   } catch (const cv::Exception&) {
     return fail(path + ": cannot write (OpenCV could not format the values)");
   }
-  std::string error;
-  if (!write_file_atomically(path, text, &error)) return fail(path + ": cannot write (" + error + ")");
+}
+
+using Files = std::vector<std::pair<std::string, std::string>>;
+
+// The paper's cameraMatrix.xml and distCoeffs.xml in `dir`, added to `files`.
+Status add_paper_files(const std::string& dir, const Calibration& c, Files* files) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return fail(dir + ": no such folder");
+  const cv::Mat K(c.camera_matrix), D(1, int(c.distortion.size()), CV_64F, const_cast<double*>(c.distortion.data()));
+  const std::string base = (std::filesystem::path(dir) / "").string();
+  Result<std::string> k = storage_text(base + "cameraMatrix.xml", cv::FileStorage::FORMAT_XML,
+                                       [&](cv::FileStorage& fs) { fs << "cameraMatrix" << K; });
+  if (!k) return fail(k.error());
+  Result<std::string> d = storage_text(base + "distCoeffs.xml", cv::FileStorage::FORMAT_XML,
+                                       [&](cv::FileStorage& fs) { fs << "distCoeffs" << D; });
+  if (!d) return fail(d.error());
+  files->emplace_back(base + "cameraMatrix.xml", std::move(*k));
+  files->emplace_back(base + "distCoeffs.xml", std::move(*d));
+  return {};
+}
+
+Status write_together(const Files& files) {
+  std::string failed, error;
+  if (!write_files_atomically(files, &failed, &error)) return fail(failed + ": cannot write (" + error + ")");
   return {};
 }
 
 }  // namespace
 
-Status write_calibration(const std::string& path, const Calibration& c, const CalibrationFileExtras& x) {
+Status write_calibration(const std::string& path, const Calibration& c, const CalibrationFileExtras& x,
+                         const std::string& paper_dir) {
   Result<int> format = storage_format(path);
   if (!format) return fail(format.error());
   const cv::Mat K(c.camera_matrix), D(1, int(c.distortion.size()), CV_64F, const_cast<double*>(c.distortion.data()));
-  return write_storage(path, *format, [&](cv::FileStorage& fs) {
+  Result<std::string> text = storage_text(path, *format, [&](cv::FileStorage& fs) {
     fs << "calibration_date" << (x.date.empty() ? utc_now() : x.date);
     fs << "image_width" << c.image_size.width << "image_height" << c.image_size.height;
     fs << "board" << x.board << "view_count" << x.view_count;
@@ -329,19 +353,17 @@ Status write_calibration(const std::string& path, const Calibration& c, const Ca
     // The paper's names, so its code reads this file unchanged.
     fs << "cameraMatrix" << K << "distCoeffs" << D;
   });
+  if (!text) return fail(text.error());
+  Files files{{path, std::move(*text)}};
+  if (!paper_dir.empty())
+    if (Status st = add_paper_files(paper_dir, c, &files); !st) return st;
+  return write_together(files);
 }
 
 Status write_paper_files(const std::string& dir, const Calibration& c) {
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) return fail(dir + ": no such folder");
-  const cv::Mat K(c.camera_matrix), D(1, int(c.distortion.size()), CV_64F, const_cast<double*>(c.distortion.data()));
-  const std::string base = (std::filesystem::path(dir) / "").string();
-  if (Status st = write_storage(base + "cameraMatrix.xml", cv::FileStorage::FORMAT_XML,
-                                [&](cv::FileStorage& fs) { fs << "cameraMatrix" << K; });
-      !st)
-    return st;
-  return write_storage(base + "distCoeffs.xml", cv::FileStorage::FORMAT_XML,
-                       [&](cv::FileStorage& fs) { fs << "distCoeffs" << D; });
+  Files files;
+  if (Status st = add_paper_files(dir, c, &files); !st) return st;
+  return write_together(files);
 }
 
 }  // namespace arwb

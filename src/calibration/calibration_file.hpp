@@ -56,10 +56,13 @@ struct CalibrationFileExtras {
 
 // Writes the calibration as OpenCV FileStorage (XML for .xml, YAML for .yml/.yaml; anything else is refused)
 // with camera_matrix, distortion_coefficients, image_width, image_height, the extras, and the paper's names
-// cameraMatrix and distCoeffs. The text goes to a temporary file that replaces `path` in one rename: a failure
-// ("out/cam.xml: cannot write (Permission denied)") leaves no file, or the old one, never half of one.
-Status write_calibration(const std::string& path, const Calibration& c, const CalibrationFileExtras& extras);
-// The paper's two files in `dir` (which must exist): cameraMatrix.xml and distCoeffs.xml, each written whole.
+// cameraMatrix and distCoeffs; with `paper_dir` (which must exist), the paper's two files there too. The texts go
+// to temporary files that replace the files in one rename each once all are written: a failure ("out/cam.xml:
+// cannot write (Permission denied)") leaves none of them written, or the old ones, never half of one and never
+// a calibration file without the paper's files asked for (or a cameraMatrix.xml beside an older distCoeffs.xml).
+Status write_calibration(const std::string& path, const Calibration& c, const CalibrationFileExtras& extras,
+                         const std::string& paper_dir = "");
+// The paper's two files in `dir` (which must exist): cameraMatrix.xml and distCoeffs.xml, both or neither.
 Status write_paper_files(const std::string& dir, const Calibration& c);
 
 }  // namespace arwb

@@ -91,6 +91,10 @@ bool CalibrationSession::drop_view(const std::string& name) {
 
 void CalibrationSession::feed(const cv::Mat& frame, const std::string& name) {
   if (frame.empty()) return;
+  if (finding_.valid()) {
+    finding_.wait();
+    poll();
+  }
   judge(detect_board(frame, board_), frame.size(), name);
 }
 
@@ -168,7 +172,8 @@ bool CalibrationSession::poll() {
   if (!running_.valid() && !tried && state_.image_size.area() > 0) {
     if (static_cast<int>(state_.views.size()) < solve_opt_.min_views) {
       // Not worth a thread: the solve would refuse at once; say what is missing instead.
-      const std::string why = std::to_string(state_.views.size()) + " views; at least " +
+      const size_t n = state_.views.size();
+      const std::string why = std::to_string(n) + (n == 1 ? " view" : " views") + "; at least " +
                               std::to_string(solve_opt_.min_views) + " are needed to solve";
       if (state_.solve_error != why || state_.solution) {
         state_.solve_error = why;

@@ -74,7 +74,8 @@ class CalibrationSession {
 
   // One new frame (8-bit BGR or grey), named for messages ("frame 120", "img_004.png"): the board is looked for
   // and, while capturing, the frame judged and perhaps kept. A frame of another size than the views starts
-  // afresh (one calibration is of one camera at one size).
+  // afresh (one calibration is of one camera at one size). A search begun by offer() is finished and judged
+  // first, so that frames are judged in the order they came.
   void feed(const cv::Mat& frame, const std::string& name);
   // The same for a live source: the board is searched for on a thread of its own when it is idle (the frame is
   // skipped otherwise, and false returned); poll() judges the frame when the search is done.

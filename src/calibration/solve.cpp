@@ -128,7 +128,7 @@ bool QualityReport::good() const {
 Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, const BoardSpec& board, cv::Size size,
                                    const SolveOptions& opt) {
   if (int(all.size()) < opt.min_views)
-    return fail(std::to_string(all.size()) + " views; at least " + std::to_string(opt.min_views) +
+    return fail(std::to_string(all.size()) + (all.size() == 1 ? " view" : " views") + "; at least " + std::to_string(opt.min_views) +
                 " are needed: show the board in more places, tilted several ways");
   Solution s;
   // What the views can determine, decided before the solve from where the board was.

@@ -17,8 +17,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -145,6 +147,22 @@ std::string other_board_hint(const std::vector<std::pair<std::string, cv::Mat>>&
   return "; count the inner corners, where four squares meet (the paper's board has 9x6)";
 }
 
+// Whether a file can be made in `dir` ("" the working folder), tried with an empty file removed at once: asked
+// before the input is read, so that a folder that cannot be written is said before a long video or a camera
+// session, not after. The reason, as the system gives it, in *why.
+bool can_write_in(const std::string& dir, std::string* why) {
+  const std::filesystem::path probe =
+      std::filesystem::path(dir.empty() ? "." : dir) / (".arwb-calibrate-probe-" + std::to_string(::getpid()));
+  FILE* f = std::fopen(probe.c_str(), "wx");
+  if (!f) {
+    *why = std::strerror(errno);
+    return false;
+  }
+  std::fclose(f);
+  std::remove(probe.c_str());
+  return true;
+}
+
 std::string tally_text(const std::map<std::string, int>& tally) {
   std::string t;
   for (const auto& [kind, n] : tally) {
@@ -210,6 +228,16 @@ int cmd_calibrate(int argc, char** argv) {
   }
   if (!paper_dir.empty() && !std::filesystem::is_directory(paper_dir, ec)) {
     print_problem("%s: --paper-files %s: no such folder\n", kCommand, paper_dir.c_str());
+    return 1;
+  }
+  std::string why;
+  if (!can_write_in(out_dir.string(), &why)) {
+    print_problem("%s: %s: cannot write in %s (%s)\n", kCommand, out.c_str(),
+                  out_dir.empty() ? "the working folder" : out_dir.c_str(), why.c_str());
+    return 1;
+  }
+  if (!paper_dir.empty() && !can_write_in(paper_dir, &why)) {
+    print_problem("%s: --paper-files %s: cannot write there (%s)\n", kCommand, paper_dir.c_str(), why.c_str());
     return 1;
   }
 
@@ -318,8 +346,8 @@ int cmd_calibrate(int argc, char** argv) {
     std::fprintf(stderr, "%s: stopped (Ctrl+C): solving with the %zu views kept\n", kCommand, views.size());
   if (!problem.empty()) print_problem("%s: %s\n", kCommand, problem.c_str());
   const std::string summary = std::to_string(read) + " frame" + (read == 1 ? "" : "s") + " read, board in " +
-                              std::to_string(boards) + ", " + std::to_string(views.size()) + " views kept; " +
-                              tally_text(tally);
+                              std::to_string(boards) + ", " + std::to_string(views.size()) +
+                              (views.size() == 1 ? " view kept; " : " views kept; ") + tally_text(tally);
   if (boards == 0 && board.kind == BoardKind::charuco) {
     print_problem("%s: no %s in any of the %d frames of %s (at least %d corners, not on one line); check --cols, "
                   "--rows (squares) and --dict; boards printed for OpenCV's older ChArUco layout (before 4.6; it "
@@ -345,15 +373,10 @@ int cmd_calibrate(int argc, char** argv) {
   x.board = board.describe();
   x.view_count = int(s->view_names.size());
   x.notes = s->notes;
-  if (Status st = write_calibration(out, s->calibration, x); !st) {
+  // The file and the paper's files together: all of them or none.
+  if (Status st = write_calibration(out, s->calibration, x, paper_dir); !st) {
     print_problem("%s: %s\n", kCommand, st.error().c_str());
     return 1;
-  }
-  if (!paper_dir.empty()) {
-    if (Status st = write_paper_files(paper_dir, s->calibration); !st) {
-      print_problem("%s: %s\n", kCommand, st.error().c_str());
-      return 1;
-    }
   }
   if (json) {
     nlohmann::json j = nlohmann::json::parse(solution_json(*s, board));

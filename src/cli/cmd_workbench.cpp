@@ -85,6 +85,12 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                     "marker sides")
       ->type_name("L")
       ->check(CLI::Range(0.0, 1e6));
+  cl.app.add_option("--synthetic-step", o.engine.synthetic_step_s,
+                    "the synthetic source moves on S seconds per frame taken instead of with the clock, and the "
+                    "Calibrate workspace judges every frame it gives (waiting for the board search): the same frames "
+                    "on a slow machine as on a fast one, for scripted runs and tests; 0: with the clock")
+      ->type_name("S")
+      ->check(real_number(0, 10));
   cl.app.add_option("--actions", actions, "scripted steps 'N:verb[=arg];...', see below")->type_name("STEPS");
   if (const auto status = cl.parse(argc, argv)) return *status;
 

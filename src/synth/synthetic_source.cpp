@@ -10,8 +10,11 @@ SourceStatus SyntheticSource::next(double now_s, cv::Mat& out) {
   // The world's clock integrates speed, so changing speed does not make it jump. While animating the clock is
   // published in time_s, so that stopping the animation holds the world where it was; while not animating time_s
   // drives the clock, so resuming continues from where the slider was left.
-  const double dt = have_last_ && std::isfinite(now_s) ? std::max(0.0, now_s - last_now_) : 0.0;
+  // A frame step stands for the time between calls (the first frame is still at the clock's start).
+  const double dt = frame_step_ > 0 ? (given_ ? frame_step_ : 0.0)
+                    : have_last_ && std::isfinite(now_s) ? std::max(0.0, now_s - last_now_) : 0.0;
   if (std::isfinite(now_s)) last_now_ = now_s, have_last_ = true;
+  given_ = true;
   if (c.animate) {
     clock_ += dt * std::clamp(std::isfinite(c.speed) ? c.speed : 1.0, 0.0, 4.0);
     c.time_s = clock_;

@@ -8,6 +8,7 @@
 #include "synth/chessboard_view.hpp"
 #include "synth/synthetic_world.hpp"
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,11 +26,18 @@ class SyntheticSource : public TruthSource {
   // The camera that the board is seen through while the controls show a calibration board (controls().board not
   // empty): the truth a calibration is compared with. Null while markers are shown.
   const SynthCamera* board_camera() const;
+  // > 0: every frame given moves the world's clock on by this many seconds (times the speed slider), whatever the
+  // time between the calls, so that a scripted run sees the same frames on a slow machine as on a fast one; 0
+  // (the default): the clock follows the time the caller gives.
+  void set_frame_step(double seconds) { frame_step_ = std::isfinite(seconds) && seconds > 0 ? seconds : 0.0; }
+  double frame_step() const { return frame_step_; }
 
  private:
   SyntheticWorld world_;
   std::vector<TruthMarker> truth_;
   double clock_ = 0, last_now_ = 0;
+  double frame_step_ = 0;
+  bool given_ = false;   // a frame was given
   bool have_last_ = false;
 };
 

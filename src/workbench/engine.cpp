@@ -289,7 +289,15 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
       // Offered to the search on the session's own thread: a frame without a board can take OpenCV a second, which
       // must not stop the live view (nor quitting). A folder's image that comes while it is busy is skipped; a
       // looping folder shows it again.
-      w.calibration_searched = session.offer(f.image, name);
+      // A synthetic world stepped per frame waits for the search instead: a frame skipped would put the next
+      // frame judged a step further on, and a slow machine would see the board move between every two.
+      const auto* syn = dynamic_cast<const SyntheticSource*>(w.source.get());
+      if (syn && syn->frame_step() > 0) {
+        session.feed(f.image, name);
+        w.calibration_searched = true;
+      } else {
+        w.calibration_searched = session.offer(f.image, name);
+      }
       w.calibration_name = name;
     } else if (!w.calibration_searched) {
       // The frame shown was skipped while the search was busy: searched once the search is free, so that a frozen
@@ -352,7 +360,10 @@ void Engine::State::run() {
     w.source = std::move(src);
     if (!w.source) return;
     w.source->set_playback(w.playback);
-    if (auto* syn = dynamic_cast<SyntheticSource*>(w.source.get())) syn->world().set_controls(w.synthetic);
+    if (auto* syn = dynamic_cast<SyntheticSource*>(w.source.get())) {
+      syn->world().set_controls(w.synthetic);
+      syn->set_frame_step(w.config.synthetic_step_s);
+    }
   };
   auto fall_back = [&](const std::string& why) {
     log_(2, why + "; showing the synthetic source");

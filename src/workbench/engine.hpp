@@ -40,6 +40,9 @@ struct EngineConfig {
   std::string calibration_file;   // a calibration to load at start (--calib; "" none)
   // The printed marker's side (--marker-size, any unit: mm, cm, m): poses in that unit. 0: in marker sides.
   double marker_size = 0;
+  // > 0: the synthetic source's world moves on this many seconds per frame taken, not with the clock, and the
+  // Calibrate workspace judges every frame it gives (--synthetic-step): the same frames on any machine.
+  double synthetic_step_s = 0;
 };
 
 class Engine {

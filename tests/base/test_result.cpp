@@ -60,6 +60,25 @@ TEST(Files, WriteAtomicallyReplacesTheWholeFile) {
   EXPECT_FALSE(std::filesystem::exists(path + ".arwb-saving")) << "no temporary file is left behind";
 }
 
+// Files that belong together: all replaced, or, when one cannot be written, none (the others keep their old text)
+// and no temporary file is left; the error names the file it is about.
+TEST(Files, FilesWrittenTogetherAreAllReplacedOrNone) {
+  test::TempDir dir;
+  const std::string a = dir.str("a.yml"), b = dir.str("b.xml");
+  std::string failed, err;
+  ASSERT_TRUE(write_files_atomically({{a, "a one"}, {b, "b one"}}, &failed, &err)) << err;
+  EXPECT_EQ(slurp(a), "a one");
+  EXPECT_EQ(slurp(b), "b one");
+  const std::string missing = dir.str("no/such/folder/c.xml");
+  EXPECT_FALSE(write_files_atomically({{a, "a two"}, {b, "b two"}, {missing, "c"}}, &failed, &err));
+  EXPECT_EQ(failed, missing);
+  EXPECT_FALSE(err.empty());
+  EXPECT_EQ(slurp(a), "a one") << "nothing is replaced when one file cannot be written";
+  EXPECT_EQ(slurp(b), "b one");
+  for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().find("arwb-saving"), std::string::npos) << e.path();
+}
+
 TEST(Files, WriteIntoAMissingFolderFailsAndSaysWhy) {
   test::TempDir dir;
   std::string err;

@@ -206,6 +206,40 @@ TEST(CalibrationFile, AFailedWriteLeavesNothing) {
   EXPECT_EQ(files, 0u);
 }
 
+// The calibration with the paper's files: when one of the three cannot be written, none is (no calibration file
+// without the paper's files asked for, no new cameraMatrix.xml beside an old distCoeffs.xml).
+TEST(CalibrationFile, TheFileAndThePapersFilesAreWrittenTogetherOrNotAtAll) {
+  TempDir dir;
+  Calibration c;
+  c.camera_matrix = cv::Matx33d(560, 0, 322, 0, 555, 236, 0, 0, 1);
+  c.distortion = {-0.25, 0.08, 0, 0, 0};
+  c.image_size = {640, 480};
+  std::filesystem::create_directory(dir.str("paper"));
+  write_file(dir.str("paper/distCoeffs.xml"), "an older one");
+  // distCoeffs.xml's temporary file cannot be made: a folder is in its place.
+  std::filesystem::create_directory(dir.str("paper/distCoeffs.xml.arwb-saving"));
+  const Status st = write_calibration(dir.str("cam.yml"), c, {}, dir.str("paper"));
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.error(), dir.str("paper/distCoeffs.xml") + ": cannot write (Is a directory)");
+  EXPECT_FALSE(std::filesystem::exists(dir.str("cam.yml")));
+  EXPECT_FALSE(std::filesystem::exists(dir.str("paper/cameraMatrix.xml")));
+  EXPECT_FALSE(std::filesystem::exists(dir.str("cam.yml.arwb-saving")));
+  EXPECT_FALSE(std::filesystem::exists(dir.str("paper/cameraMatrix.xml.arwb-saving")));
+  EXPECT_EQ(test::read_file(dir.str("paper/distCoeffs.xml")), "an older one");
+  EXPECT_FALSE(write_paper_files(dir.str("paper"), c).ok());
+  EXPECT_FALSE(std::filesystem::exists(dir.str("paper/cameraMatrix.xml")));
+  // Once it can be written, all three are, and read back as one calibration.
+  std::filesystem::remove(dir.str("paper/distCoeffs.xml.arwb-saving"));
+  ASSERT_TRUE(write_calibration(dir.str("cam.yml"), c, {}, dir.str("paper")).ok());
+  ASSERT_TRUE(read_calibration(dir.str("cam.yml")).ok());
+  const Result<Calibration> paper = read_calibration(dir.str("paper/cameraMatrix.xml"));
+  ASSERT_TRUE(paper.ok()) << paper.error();
+  EXPECT_EQ(paper->camera_matrix, c.camera_matrix);
+  EXPECT_EQ(paper->distortion, c.distortion);
+  EXPECT_EQ(write_calibration(dir.str("cam2.yml"), c, {}, dir.str("nope")).error(), dir.str("nope") + ": no such folder");
+  EXPECT_FALSE(std::filesystem::exists(dir.str("cam2.yml")));
+}
+
 struct Refusal {
   const char* name;
   std::string text;

@@ -133,6 +133,27 @@ TEST(CalibrationSolve, FixesThePrincipalPointWhenTheBoardStayedInOnePlace) {
   EXPECT_DOUBLE_EQ(s->calibration.camera_matrix(0, 2), (v.camera.size.width - 1) / 2.0);
 }
 
+// k3 trades against k1 and k2 and is fitted to noise unless many views reach the image's outer parts: fixed at 0
+// (and said) with a few views, solved with many that cover the image.
+TEST(CalibrationSolve, FixesK3UnlessManyViewsCoverTheImage) {
+  const Views few = make_views(8, 1.0);
+  const Result<Solution> a = solve_calibration(few.views, kBoard, few.camera.size);
+  ASSERT_TRUE(a.ok()) << a.error();
+  ASSERT_EQ(a->calibration.distortion.size(), 5u);
+  EXPECT_EQ(a->calibration.distortion[4], 0.0);
+  ASSERT_FALSE(a->notes.empty());
+  EXPECT_EQ(a->notes[0].rfind("k3 fixed at 0: ", 0), 0u) << a->notes[0];
+  const Views many = make_views(28, 1.0);
+  const Result<Solution> b = solve_calibration(many.views, kBoard, many.camera.size);
+  ASSERT_TRUE(b.ok()) << b.error();
+  ASSERT_GE(b->report.grid_coverage, 0.85) << "the views must cover the image for k3 to be solved";
+  for (const std::string& n : b->notes) EXPECT_EQ(n.find("k3 fixed"), std::string::npos) << n;
+  EXPECT_NE(b->calibration.distortion[4], 0.0);
+  EXPECT_GT(b->std_distortion[4], 0.0) << "a solved k3 has an uncertainty";
+  const cv::Matx33d& K = b->calibration.camera_matrix;
+  EXPECT_NEAR(K(0, 0), many.camera.camera_matrix(0, 0), 0.005 * many.camera.camera_matrix(0, 0));
+}
+
 TEST(CalibrationSolve, RefusesTooFewViews) {
   Views v = make_views(4, 1.0);
   const Result<Solution> s = solve_calibration(v.views, kBoard, v.camera.size);

@@ -157,6 +157,27 @@ TEST(Calibrate, AnUnwritableOutputFolderIsRefusedBeforeReading) {
       "--paper-files " + dir.str("nope") + ": no such folder");
 }
 
+// A folder that exists but where no file can be made (procfs here, which refuses even root): said before the
+// input is read, for the calibration file and for the paper's files. And when the paper's files cannot be
+// written at the end, the calibration file is not written either: the run writes all it was asked for, or nothing.
+TEST(Calibrate, AFolderThatCannotBeWrittenIsSaidBeforeReadingAndNothingIsWrittenHalf) {
+  TempDir dir;
+  write_views(dir.str("views"), 1);
+  expect_one_line_and_nothing_written(dir, "--input " + q(dir.str("views")) + " --out /proc/cam.xml",
+                                      "/proc/cam.xml: cannot write in /proc (");
+  expect_one_line_and_nothing_written(
+      dir, "--input " + q(dir.str("views")) + " --out " + q(dir.str("cam.xml")) + " --paper-files /proc",
+      "--paper-files /proc: cannot write there (");
+  write_views(dir.str("views"), 8);
+  std::filesystem::create_directories(dir.str("paper/distCoeffs.xml.arwb-saving"));   // its temporary file's place
+  const auto r = run_arwb("calibrate --input " + q(dir.str("views")) + " --out " + q(dir.str("cam.xml")) +
+                          " --paper-files " + q(dir.str("paper")));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(dir.str("paper/distCoeffs.xml") + ": cannot write"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.str("cam.xml")));
+  EXPECT_FALSE(std::filesystem::exists(dir.str("paper/cameraMatrix.xml")));
+}
+
 TEST(Calibrate, ATruncatedVideoIsNamed) {
   TempDir dir;
   cv::VideoWriter w(dir.str("board.avi"), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, kCamera.size, false);

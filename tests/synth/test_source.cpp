@@ -169,6 +169,31 @@ TEST(SourceSynthetic, AnimatesWithSpeedAndHoldsWhenStill) {
   EXPECT_NEAR(syn->world().controls().time_s, 3.5, 1e-9);
 }
 
+// A frame step: the world moves on the same per frame whatever the caller's clock says (a slow machine's frames
+// are as far apart in the world as a fast one's), times the speed slider; no step follows the clock again.
+TEST(SourceSynthetic, AFrameStepMovesTheWorldPerFrameWhateverTheClock) {
+  SyntheticSource src;
+  src.set_frame_step(0.25);
+  EXPECT_EQ(src.frame_step(), 0.25);
+  cv::Mat a, b;
+  src.next(10.0, a);
+  EXPECT_NEAR(src.world().controls().time_s, 0.0, 1e-9) << "the first frame is at the clock's start";
+  src.next(10.0, a);   // no time at all between the calls
+  EXPECT_NEAR(src.world().controls().time_s, 0.25, 1e-9);
+  src.next(500.0, a);  // a long stall
+  EXPECT_NEAR(src.world().controls().time_s, 0.5, 1e-9);
+  EXPECT_EQ(cv::norm(a, src.world().render(0.5).image, cv::NORM_INF), 0) << "the world at the stepped time";
+  src.world().controls().speed = 2;
+  src.next(500.1, b);
+  EXPECT_NEAR(src.world().controls().time_s, 1.0, 1e-9);
+  src.set_frame_step(std::nan(""));
+  EXPECT_EQ(src.frame_step(), 0.0);
+  src.set_frame_step(-1);
+  EXPECT_EQ(src.frame_step(), 0.0);
+  src.next(501.1, b);
+  EXPECT_NEAR(src.world().controls().time_s, 3.0, 1e-9) << "back on the caller's clock";
+}
+
 // [SECTION] video
 
 class SourceVideo : public ::testing::Test {

@@ -77,23 +77,30 @@ TEST(CalibrateWorkspace, FillsUpOverTheFramesAndSolvesNearTheTruth) {
 }
 
 // What a teacher does without a camera: the synthetic source shows the workspace's board through its known lens,
-// the solve comes out beside that truth, and leaving the workspace brings the markers back.
+// the solve comes out beside that truth, and leaving the workspace brings the markers back. The board moves from
+// pose to pose and holds each for 1.1 s of the source's clock; --synthetic-step moves that clock a quarter second
+// per frame and has every frame judged, so that a slow machine (a sanitizer, a loaded CPU), whose board search
+// takes longer than a pause, still sees each pause as four or five still frames, not every frame "moving".
 TEST(CalibrateWorkspace, OnTheSyntheticSourceTheBoardComesAndTheTruthIsBesideTheResult) {
   TempDir tmp;
-  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 40 --actions "
-                                            "'1:workspace=Calibrate;2:calib_wait=8'");
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 40 "
+                                            "--synthetic-step 0.25 --actions '1:workspace=Calibrate;2:calib_wait=8'");
   ASSERT_EQ(r.status, 0) << r.err;
   const Json s = stats(r);
   const Json c = s["calibration"];
   ASSERT_TRUE(c.contains("truth")) << "no synthetic camera to compare with: " << c.dump();
   ASSERT_TRUE(c.contains("fx")) << "no solve: " << c.dump();
   EXPECT_GE(c["solved_views"].get<int>(), 8) << c.dump();
+  // The board moved between its pauses, and no frame went by unjudged.
+  EXPECT_GE(c["refused"].value("moving", 0), 8) << c.dump();
+  EXPECT_EQ(c["skipped"], 0) << c.dump();
   for (const char* k : {"fx", "fy"})
     EXPECT_NEAR(c[k].get<double>(), c["truth"][k].get<double>(), 0.01 * c["truth"][k].get<double>()) << k << c.dump();
   for (const char* k : {"cx", "cy"})
     EXPECT_NEAR(c[k].get<double>(), c["truth"][k].get<double>(), 3.0) << k << c.dump();
   EXPECT_EQ(s["synthetic_board"], "chessboard");
-  // Frozen, the frame shown is searched too (it may have come while the search was busy): its board is drawn.
+  // Frozen, the frame shown is searched too (it may have come while the search was busy): its board is drawn. On
+  // the wall clock, not stepped, so that the search skips frames as it does live.
   const RunResult frozen = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 60 "
                                                  "--actions '1:workspace=Calibrate;2:calib_wait=2;3:freeze'");
   ASSERT_EQ(frozen.status, 0) << frozen.err;
@@ -104,7 +111,8 @@ TEST(CalibrateWorkspace, OnTheSyntheticSourceTheBoardComesAndTheTruthIsBesideThe
   EXPECT_EQ(stats(back)["synthetic_board"], "") << "back in Inspect, the synthetic source shows markers again";
 
   // The ChArUco board: the synthetic source follows the kind of board the workspace looks for.
-  const RunResult ch = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 20 --actions "
+  const RunResult ch = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 20 "
+                                             "--synthetic-step 0.25 --actions "
                                              "'1:workspace=Calibrate;1:calib_board=charuco;3:calib_wait=6'");
   ASSERT_EQ(ch.status, 0) << ch.err;
   const Json sc = stats(ch);

@@ -4,6 +4,7 @@
 // state on its frames while calibrating, and none while not.
 #include "calibration/session.hpp"
 #include "synth/chessboard_view.hpp"
+#include "synth/synthetic_world.hpp"
 #include "workbench/engine.hpp"
 #include "support.hpp"
 
@@ -128,6 +129,55 @@ TEST(CalibrationSession, OfferedFramesAreSearchedOffTheCallersThreadAndJudgedWhe
   session.reset();
   ASSERT_TRUE(session.wait_solved(30));
   EXPECT_EQ(session.snapshot()->frames, 0);
+}
+
+// feed() after offer(): the offered frame's search is finished and judged first, so the frames are judged in
+// the order they came (the second sees the first as its previous frame, and is kept as still).
+TEST(CalibrationSession, AFedFrameIsJudgedAfterTheOneOfferedBeforeIt) {
+  CalibrationSession session;
+  const std::vector<cv::Mat> views = render_views(1);
+  ASSERT_TRUE(session.offer(views[0], "frame 0"));
+  session.feed(views[0], "frame 1");
+  const auto s = session.snapshot();
+  EXPECT_EQ(s->frames, 2);
+  ASSERT_EQ(s->recent.size(), 2u);
+  EXPECT_EQ(s->recent[0].frame, "frame 1");
+  EXPECT_EQ(s->recent[1].frame, "frame 0");
+  EXPECT_EQ(s->views.size(), 1u) << s->verdict.reason;
+  EXPECT_EQ(s->skipped, 0);
+}
+
+// With the synthetic source stepped per frame (--synthetic-step), the worker judges every frame it takes while
+// calibrating, waiting for the board search: none is skipped, whatever the machine's speed, so each of the
+// board's pauses is seen as still frames one step apart. The board moves between them, and the views solve near
+// the camera the source shows it through.
+TEST(CalibrationSession, ASteppedSyntheticBoardIsJudgedOnEveryFrame) {
+  EngineConfig c;
+  c.synthetic_step_s = 0.25;
+  Engine e(c, [](int, const std::string&) {});
+  SyntheticControls board;
+  board.board = "chessboard";
+  e.set_synthetic(board);
+  e.set_calibrating(true);
+  e.start();
+  std::shared_ptr<const Frame> f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (std::chrono::steady_clock::now() < end) {
+    f = e.wait_newer(f->index, 1.0);
+    const CalibrationSnapshot* s = f->calibration.get();
+    if (s && s->views.size() >= 8 && s->current()) break;
+  }
+  e.stop();
+  const CalibrationSnapshot* s = f->calibration.get();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->skipped, 0);
+  ASSERT_GE(s->views.size(), 8u) << s->verdict.reason;
+  EXPECT_GE(s->tally.at("moving"), 8) << "the board moves between its pauses";
+  // The kept views are each one pause: frames judged per view kept stay near a pose's frames (1.7 s / 0.25 s).
+  EXPECT_LE(double(s->frames) / double(s->views.size()), 12.0) << s->frames << " frames";
+  ASSERT_TRUE(s->solution) << s->solve_error;
+  expect_near_truth(s->solution->calibration, 0.01);
 }
 
 TEST(CalibrationSession, WorkerFeedsItWhileCalibratingAndPublishesTheSolve) {
