@@ -379,9 +379,21 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     std::vector<FrameOutcome> frames(static_cast<size_t>(n));
     std::atomic<int> next{0};
     auto stopped = [&] { return options.stop && options.stop->load(); };
+    // A library's exception on one frame (OpenCV, a detector) must not end the process from a worker thread: the
+    // first one stops the cell's other threads and becomes the run's error, naming the cell and frame.
+    std::mutex failure_mutex;
+    std::string failure;
+    std::atomic<bool> failed{false};
     auto work = [&](Worker& w) {
-      for (int k = next++; k < n && !stopped(); k = next++) {
-        frames[size_t(k)] = run_frame(w, ci, cr.side_px, k);
+      for (int k = next++; k < n && !stopped() && !failed; k = next++) {
+        try {
+          frames[size_t(k)] = run_frame(w, ci, cr.side_px, k);
+        } catch (const std::exception& e) {
+          std::lock_guard lock(failure_mutex);
+          if (failure.empty())
+            failure = "cell " + std::to_string(ci + 1) + ", frame " + std::to_string(k + 1) + ": " + e.what();
+          failed = true;
+        }
         report();
       }
     };
@@ -389,6 +401,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     for (int i = 1; i < threads; ++i) pool.emplace_back(work, std::ref(*workers[size_t(i)]));
     work(*workers[0]);
     for (std::thread& t : pool) t.join();
+    if (failed) return fail(failure);
     if (stopped()) {
       return fail("stopped after " + std::to_string(ci) + " of " + std::to_string(cells.size()) +
                   " cells (those are kept)");
