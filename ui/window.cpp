@@ -6,9 +6,9 @@
 #include "ui/window.hpp"
 
 #include "ui/app.hpp"
+#include "ui/gl_window.hpp"
 #include "base/decimals.hpp"
 #include "pose/marker_pose.hpp"
-#include "render/gl_driver.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
@@ -581,23 +581,16 @@ void App::draw_status_bar(float height) {
 }
 
 bool App::take_screenshot(const std::string& path, GLFWwindow* window) {
-  int w = 0, h = 0;
-  glfwGetFramebufferSize(window, &w, &h);
-  const cv::Mat img = render::read_framebuffer(w, h);
-  try {
-    if (cv::imwrite(path, img)) {
-      info("screenshot: " + path);
-      return true;
-    }
-  } catch (const cv::Exception&) {
+  std::string why;
+  if (ui::save_window_image(window, path, &why)) {
+    info("screenshot: " + path);
+    return true;
   }
-  error("screenshot: cannot write " + path);
+  error("screenshot: " + why);
   return false;
 }
 
 namespace {
-void glfw_error(int code, const char* text) { std::fprintf(stderr, "arwb: GLFW error %d: %s\n", code, text); }
-
 App* g_app = nullptr;   // for GLFW's drop callback, which has no user pointer of its own to spare
 void on_drop(GLFWwindow*, int count, const char** paths) {
   if (!g_app) return;
@@ -617,55 +610,25 @@ int run_workbench(const WorkbenchOptions& options) {
       return 2;
     }
   }
-  glfwSetErrorCallback(glfw_error);
-  if (!glfwInit()) {
-    std::fprintf(stderr, "arwb: cannot open a window (no display? run under xvfb-run, or use `arwb detect`)\n");
-    return 1;
-  }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  GLFWwindow* window = glfwCreateWindow(options.window.width, options.window.height, "ArUco Workbench", nullptr, nullptr);
-  if (!window) {
-    std::fprintf(stderr, "arwb: cannot create an OpenGL 3.3 window\n");
-    glfwTerminate();
-    return 1;
-  }
-  glfwMakeContextCurrent(window);
+  ui::GlWindow gl;
+  if (!ui::open_gl_window("arwb", "ArUco Workbench", options.window, false, &gl)) return 1;
+  GLFWwindow* window = gl.window;
   app.glfw_window = window;
   g_app = &app;
   glfwSetDropCallback(window, on_drop);
-  render::keep_gl_driver_loaded();  // see render/gl_driver.hpp
-  glfwSwapInterval(0);  // paced below; vsync under Xvfb is absent anyway
+  app.base_style = ImGui::GetStyle();
+  app.font_normal = gl.font_normal;
+  app.fonts_large = gl.fonts_large;
 
-  IMGUI_CHECKVERSION();
-  ImGui::CreateContext();
-  ImGuiIO& io = ImGui::GetIO();
   const std::string config_dir = options.config_dir.empty() ? default_config_dir() : options.config_dir;
   std::error_code ec;
   fs::create_directories(config_dir, ec);
   const std::string ini_path = config_dir + "/imgui.ini";
   const std::string workspaces_path = config_dir + "/workspaces.json";
-  io.IniFilename = nullptr;  // loaded and saved by hand, so a bad path is a message, not a silent loss
   load_layout(ini_path);
   app.load_workspaces(workspaces_path);
   app.status.config_dir = config_dir;
   app.load_recent();
-
-  ImGui::StyleColorsDark();
-  // Opaque windows: panels opened over others (the scene's, on a first start) stay readable.
-  ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.0f;
-  ImGui::GetStyle().Colors[ImGuiCol_PopupBg].w = 1.0f;   // dialogs and menus: no panel text showing through
-  app.base_style = ImGui::GetStyle();
-  const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  if (fs::exists(font)) {
-    app.font_normal = io.Fonts->AddFontFromFileTTF(font, 15.0f);
-    // Presentation mode's sizes (presentation_scale): crisp text at each rather than one font stretched.
-    for (int px : {20, 25, 30}) app.fonts_large[px] = io.Fonts->AddFontFromFileTTF(font, static_cast<float>(px));
-  }
-  if (!app.font_normal) app.font_normal = io.Fonts->AddFontDefault();
-  ImGui_ImplGlfw_InitForOpenGL(window, true);
-  ImGui_ImplOpenGL3_Init("#version 330 core");
   {
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);
@@ -1038,11 +1001,7 @@ int run_workbench(const WorkbenchOptions& options) {
   }
   app.textures = render::TextureCache{};
   app.compositor.reset();
-  ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext();
-  glfwDestroyWindow(window);
-  glfwTerminate();
+  ui::close_gl_window(gl);
   return 0;
 }
 
