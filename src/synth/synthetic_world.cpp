@@ -88,6 +88,9 @@ SyntheticControls clamped(const SyntheticControls& c) {
   o.marker_size_m = clamp(c.marker_size_m, 0.02, 0.3);
   o.markers = std::clamp(c.markers, 1, 8);
   o.first_id = std::max(c.first_id, 0);
+  o.ids.clear();
+  for (int id : c.ids)
+    if (id >= 0 && o.ids.size() < 8 && std::find(o.ids.begin(), o.ids.end(), id) == o.ids.end()) o.ids.push_back(id);
   if (o.board != "chessboard" && o.board != "charuco") o.board.clear();
   return o;
 }
@@ -195,7 +198,10 @@ SyntheticFrame SyntheticWorld::render(double t) const {
   if (!std::isfinite(t)) t = 0;
 
   // [SECTION] geometry: the group centre comes and goes; each marker sways around its slot and turns.
-  const std::vector<int> ids = scene_ids(*dict, c.first_id, c.markers);
+  std::vector<int> ids;
+  for (int id : c.ids)
+    if (id < dict->size()) ids.push_back(id);
+  if (c.ids.empty()) ids = scene_ids(*dict, c.first_id, c.markers);
   const int n = int(ids.size());
   const int cols = n <= 2 ? n : n <= 4 ? 2 : n <= 6 ? 3 : 4;
   const int rows = cols > 0 ? (n + cols - 1) / cols : 0;

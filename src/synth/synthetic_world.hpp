@@ -31,6 +31,9 @@ struct SyntheticControls {
   int markers = 3;               // 1 .. 8
   int first_id = 0;              // ids first_id, first_id+1, ... (ids a dictionary reads ambiguously are skipped)
   std::string dict = "ARUCO_ORIGINAL";
+  // Not empty: exactly these ids are shown (the first 8 of them that `dict` has), in place of `markers` ids from
+  // `first_id`; the player shows a bundle's own markers this way, so that its media appear without a camera.
+  std::vector<int> ids;
   // "" shows the markers above; "chessboard" (the paper's 9x6 inner corners, 25 mm) or "charuco" shows a
   // calibration board held in front of a camera with known intrinsics and lens distortion (SyntheticSource::
   // board_camera), moved from pose to pose with pauses, so that the Calibrate workspace can be shown without a

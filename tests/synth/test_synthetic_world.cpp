@@ -262,6 +262,26 @@ TEST(Scene, AmbiguousIdsAreSkipped) {
   EXPECT_EQ(seen, expected);
 }
 
+// The player shows a bundle's own ids (not a run from first_id) when there is no camera: exactly those, in its
+// dictionary, each found by the detector; ids past the dictionary's end and repeats are dropped.
+TEST(Scene, ChosenIdsAreShownInsteadOfARun) {
+  SyntheticWorld scene;
+  SyntheticControls c = scene.controls();
+  c.dict = "4X4_50";
+  c.ids = {42, 7, 7, 60};
+  scene.set_controls(c);
+  EXPECT_EQ(scene.controls().ids, (std::vector<int>{42, 7, 60}));
+  Detector det({*dictionary_by_name("4X4_50")});
+  std::set<int> seen, found;
+  for (double t : times(12, 0.9)) {
+    const SyntheticFrame f = scene.render(t);
+    for (const auto& m : f.markers) seen.insert(m.id);
+    for (const auto& d : det.detect(f.image)) found.insert(d.id);
+  }
+  EXPECT_EQ(seen, (std::set<int>{7, 42}));
+  EXPECT_EQ(found, (std::set<int>{7, 42}));
+}
+
 TEST(Scene, OtherSizesAndFocalLengths) {
   SyntheticWorld scene({320, 240}, 300, 7);
   EXPECT_EQ(scene.size(), cv::Size(320, 240));
