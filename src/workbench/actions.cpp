@@ -6,7 +6,13 @@
 
 namespace arwb {
 
-bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* out, std::string* error) {
+const std::vector<std::string>& player_action_verbs() {
+  static const std::vector<std::string> kVerbs = {"overlay", "stage", "click", "fullscreen", "quit"};
+  return kVerbs;
+}
+
+bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* out, std::string* error,
+                   const std::vector<std::string>* verbs) {
   for (const auto& spec : specs) {
     size_t start = 0;
     while (start <= spec.size()) {
@@ -38,7 +44,9 @@ bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* o
                                      "marker_size", "lab_plan", "lab_frames", "lab_axis", "lab_detectors", "lab_run",
                                      "lab_stop", "lab_wait", "lab_cell", "lab_why", "lab_save", "lab_span",
                                      "lab_clip"};
-      if (std::none_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; })) {
+      const bool known = verbs ? std::find(verbs->begin(), verbs->end(), a.verb) != verbs->end()
+                               : std::any_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; });
+      if (!known) {
         *error = "--actions '" + item + "': unknown verb '" + a.verb + "'";
         return false;
       }

@@ -12,6 +12,10 @@ struct Action {
 };
 
 // Parses every spec into `out`, sorted by frame (stable). False and a message naming the bad item otherwise.
-bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* out, std::string* error);
+// `verbs`: the verbs allowed; null: the workbench's (`arwb --help` lists them).
+bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* out, std::string* error,
+                   const std::vector<std::string>* verbs = nullptr);
+// The player's verbs (`arwb play --help`).
+const std::vector<std::string>& player_action_verbs();
 
 }  // namespace arwb

@@ -26,5 +26,21 @@ struct WorkbenchOptions {
   std::vector<std::string> actions;
 };
 
+// What the player (`arwb play BUNDLE`, ui/player.hpp) is started with: the engine's configuration filled from the
+// bundle (its scene, calibration, dictionary and marker size) and the source, and the window's options.
+struct PlayerOptions {
+  EngineConfig engine;
+  std::vector<int> ids;           // the bundle's ids: what the synthetic source shows, so the media appear without a camera
+  std::string title;              // the bundle's title: the window's title and the overlay's first line
+  int frames = 0;                 // > 0: draw this many frames, then exit (scripted runs, tests)
+  std::string screenshot;         // write the window to this PNG before exiting
+  bool stats = false;             // print one JSON line of figures at exit
+  bool verbose = false;           // every log line to stderr, not only warnings and errors
+  bool fullscreen = false;        // on the primary monitor at its own resolution
+  cv::Size window{1280, 720};     // the window's size when not full screen
+  // Scripted actions "N:verb[=arg]": overlay[=on|off], stage=NAME|next|previous, click=X,Y (image pixels),
+  // fullscreen=on|off, quit.
+  std::vector<std::string> actions;
+};
 
 }  // namespace arwb
