@@ -16,6 +16,7 @@ int cmd_render(int argc, char** argv);
 int cmd_make_media(int argc, char** argv);
 int cmd_calibrate(int argc, char** argv);
 int cmd_lab(int argc, char** argv);
+int cmd_export(int argc, char** argv);
 
 // The table main dispatches on and `arwb --help` lists.
 struct Subcommand {

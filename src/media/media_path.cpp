@@ -49,8 +49,17 @@ std::string_view authority_of(std::string_view url, std::string* scheme) {
 
 }  // namespace
 
+namespace {
+thread_local ResolvedFilesRecorder* t_recorder = nullptr;
+}
+
+ResolvedFilesRecorder::ResolvedFilesRecorder() : outer_(t_recorder) { t_recorder = this; }
+ResolvedFilesRecorder::~ResolvedFilesRecorder() { t_recorder = outer_; }
+
 ResolvedFile resolve_scene_file(const fs::path& scene_dir, const std::string& relative, const fs::path& from_folder) {
-  return resolve_inside(scene_dir, relative, from_folder, "the scene's folder");
+  ResolvedFile file = resolve_inside(scene_dir, relative, from_folder, "the scene's folder");
+  if (t_recorder && file.ok()) t_recorder->files_.insert(file.path);
+  return file;
 }
 
 CheckedPath check_media_path(const fs::path& scene_dir, const std::string& relative) {

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include <filesystem>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -34,6 +35,26 @@ struct CheckedPath {
 using ResolvedFile = ResolvedPath;
 ResolvedFile resolve_scene_file(const std::filesystem::path& scene_dir, const std::string& relative,
                                 const std::filesystem::path& from_folder = {});
+
+// Every file resolve_scene_file resolved on this thread while the recorder lives (canonical absolute paths):
+// `arwb export` loads and runs a scene under one to learn which files it reads (media, cube faces, models and
+// what each model reads), whatever part of the scene asked. Recorders nest: an inner one hides the outer one
+// until it ends. A thread's own list, since media are resolved on the thread that runs the scene (the offline
+// store decodes nothing in the background).
+class ResolvedFilesRecorder {
+ public:
+  ResolvedFilesRecorder();
+  ~ResolvedFilesRecorder();
+  ResolvedFilesRecorder(const ResolvedFilesRecorder&) = delete;
+  ResolvedFilesRecorder& operator=(const ResolvedFilesRecorder&) = delete;
+  const std::set<std::string>& files() const { return files_; }
+
+ private:
+  friend ResolvedFile resolve_scene_file(const std::filesystem::path&, const std::string&,
+                                         const std::filesystem::path&);
+  std::set<std::string> files_;
+  ResolvedFilesRecorder* outer_ = nullptr;
+};
 
 // Resolves `relative` (as written in the scene) against `scene_dir` by resolve_scene_file's rules. Absolute paths and any ".." component are
 // refused from the text alone, before the file system is asked; then the path is resolved (symbolic links

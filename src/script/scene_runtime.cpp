@@ -275,5 +275,14 @@ std::vector<Overlay> SceneRuntime::update(const SceneInput& in) { return impl_->
 const SceneStatus& SceneRuntime::status() const { return impl_->status; }
 std::vector<std::string> SceneRuntime::take_errors() { return impl_->take_errors(); }
 std::string SceneRuntime::dictionary() const { return impl_->prog ? impl_->prog->def.dictionary : std::string(); }
+std::string SceneRuntime::dictionary_name() const {
+  return impl_->prog ? impl_->prog->def.dict_name : SceneDef{}.dict_name;
+}
+std::vector<std::vector<std::pair<int, int>>> SceneRuntime::mapping_ids() const {
+  std::vector<std::vector<std::pair<int, int>>> out;
+  if (impl_->prog)
+    for (const Mapping& m : impl_->prog->def.mappings) out.push_back(m.ids.ranges);
+  return out;
+}
 
 }  // namespace arwb::script

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace arwb::media { class MediaStore; }
@@ -83,6 +84,11 @@ class SceneRuntime {
   std::vector<std::string> take_errors();
   // The dictionary the scene asked for with dictionary "NAME" (or the database's attribute), "" if none.
   std::string dictionary() const;
+  // The dictionary the scene's ids are checked against: the one it asked for, else ARUCO_ORIGINAL.
+  std::string dictionary_name() const;
+  // The ids each mapping covers (inclusive ranges, as written), in the order of status().mappings; empty for a
+  // mapping refused for its ids, and no rows when no scene is loaded. What `arwb export`'s self-test draws.
+  std::vector<std::vector<std::pair<int, int>>> mapping_ids() const;
 
  private:
   struct Impl;

@@ -33,6 +33,8 @@ class SceneStage {
   const SceneStatus& status() const;
   // Error lines the scene reported since the last call, each text once per load (SceneRuntime::take_errors).
   std::vector<std::string> take_errors();
+  // The scene runtime itself, for what the stage does not pass on (the mappings' ids for `arwb export`).
+  const script::SceneRuntime& runtime() const { return *runtime_; }
 
  private:
   media::MediaStore store_;

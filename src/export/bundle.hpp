@@ -1,0 +1,124 @@
+// The paper's Code Generator: a scene, its media, the camera's calibration and a marker sheet as one bundle that
+// runs on its own (`arwb export`, `arwb play`, File > Export... and File > Play bundle). docs/export.md.
+//
+#pragma once
+
+#include "base/result.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace arwb::bundle {
+
+inline constexpr int kFormatVersion = 1;
+inline constexpr const char* kManifestName = "manifest.json";
+
+// One file of the bundle, as the manifest lists it. `path` is relative to the bundle's root, '/'-separated, never
+// absolute, no "..", no symbolic link.
+struct BundleFile {
+  std::string path;
+  std::uint64_t size = 0;
+  std::string sha256;      // 64 lowercase hex digits
+  std::string role;        // "scene", "media", "calibration", "sheet", "readme", "card"
+};
+
+// The self-test: each id of the scene drawn synthetically, detected, and run through the scene.
+struct SelfTestRow {
+  int id = -1;
+  int mapping_line = 0;        // the marker(...) call or database row that covers it
+  std::string media;           // MediaSpec::describe() of what it showed, or "callbacks only"
+  bool detected = false;       // the detector read the id on its synthetic frame
+  bool fired = false;          // the mapping made an overlay (or its callbacks ran) for it
+  std::string detail;          // why not, one line ("" when it passed)
+};
+
+struct WebCard {
+  std::string url;
+  std::string title;
+  std::string picture;         // bundle path of the card's PNG ("cards/web-1.png")
+};
+
+struct Manifest {
+  int format_version = kFormatVersion;
+  std::string title;
+  std::string generator;               // "arwb 0.1.0"
+  std::string dictionary;              // the detector's dictionary
+  std::vector<int> ids;                // every id the scene maps, ascending
+  double marker_size_mm = 0;           // the printed side
+  std::string scene;                   // bundle path of the scene file ("scene/museum.lua")
+  std::string calibration;             // bundle path of the calibration, "" when none (the default camera)
+  std::vector<BundleFile> files;       // every file but manifest.json itself
+  std::vector<SelfTestRow> self_test;
+  bool self_test_passed = false;
+  std::vector<WebCard> web_cards;
+};
+
+// manifest.json's text, and back. parse_manifest checks every field (types, format version, relative paths, hex
+// digests) and names the first bad one: "manifest.json: files[3].sha256: not 64 hex digits".
+std::string manifest_json(const Manifest& m);
+Result<Manifest> parse_manifest(const std::string& text);
+
+struct ExportOptions {
+  std::string scene;             // FILE.lua or FILE.xml
+  std::string out;               // a folder, or FILE.arwb / FILE.zip (a zip)
+  std::string calibration;       // "" : none (the bundle then uses the default camera, marked so in the manifest)
+  std::string title;             // "" : the scene file's stem
+  double marker_size_mm = 0;     // 0 : 50 mm
+  bool force = false;            // replace an existing out
+  std::function<void(const std::string&)> progress;   // one line per step, may be null
+};
+
+// Everything checked and computed, nothing written yet: what File > Export... shows before the user confirms.
+struct ExportPlan {
+  ExportOptions options;
+  Manifest manifest;                                   // files listed with sizes and digests
+  std::vector<std::pair<std::string, std::string>> sources;   // bundle path <- absolute source path (or "" with bytes)
+  std::vector<std::pair<std::string, std::string>> generated; // bundle path <- bytes (README, sheet, cards, manifest)
+  std::vector<std::string> warnings;
+};
+// The checks of `arwb export`: the scene loads; every media file resolves inside the scene's folder; every id and
+// the dictionary are valid; the calibration reads; and the self-test passes. An error names the file, line or id.
+Result<ExportPlan> plan_export(const ExportOptions& options);
+// Writes the plan: all of it or nothing (a temporary sibling renamed into place).
+Status write_export(const ExportPlan& plan);
+
+// Limits for reading a bundle someone sent.
+struct BundleLimits {
+  std::size_t max_entries = 10'000;
+  std::uint64_t max_file_bytes = 1ull << 30;     // one file, uncompressed
+  std::uint64_t max_total_bytes = 4ull << 30;    // all of them
+  double max_ratio = 1000;                       // uncompressed / compressed, per entry (zip bombs)
+};
+
+// A bundle opened for playing: copied or extracted into a private temporary folder (0700), verified there
+// against its manifest, removed when this is destroyed. Refused, with the entry named, when: manifest.json is
+// missing or bad; a listed file is missing, has another size or digest ("scene/media/logo.png: changed since
+// export (SHA-256 differs)"); a file is not listed ("scene/extra.lua: not in the manifest"); a zip entry is
+// absolute, has "..", is a symbolic link or device, is duplicated, or is past the limits. Nothing is ever written
+// outside the temporary folder.
+class OpenedBundle {
+ public:
+  ~OpenedBundle();   // removes the folder
+  OpenedBundle(OpenedBundle&&) noexcept;
+  OpenedBundle& operator=(OpenedBundle&&) noexcept;
+  const std::filesystem::path& dir() const;
+  const Manifest& manifest() const;
+  std::string scene_path() const;          // absolute
+  std::string calibration_path() const;    // absolute, "" when none
+  const std::string& source() const;       // the folder or zip it was opened from, as given
+
+ private:
+  friend Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& limits);
+  OpenedBundle() = default;
+  std::filesystem::path dir_;
+  Manifest manifest_;
+  std::string source_;
+};
+Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& limits = {});
+
+}  // namespace arwb::bundle

@@ -1,0 +1,224 @@
+// manifest.json: written by manifest_json, read back by parse_manifest, which trusts nothing in it (a bundle is
+// a file someone sent): every field's type, the format version, relative paths and hex digests are checked, and
+// the first bad one is named.
+#include "export/bundle.hpp"
+#include "export/bundle_files.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <set>
+
+namespace arwb::bundle {
+
+using nlohmann::json;
+
+std::string manifest_json(const Manifest& m) {
+  json j;
+  j["format_version"] = m.format_version;
+  j["title"] = m.title;
+  j["generator"] = m.generator;
+  j["dictionary"] = m.dictionary;
+  j["ids"] = m.ids;
+  j["marker_size_mm"] = m.marker_size_mm;
+  j["scene"] = m.scene;
+  j["calibration"] = m.calibration;
+  json files = json::array();
+  for (const BundleFile& f : m.files)
+    files.push_back({{"path", f.path}, {"size", f.size}, {"sha256", f.sha256}, {"role", f.role}});
+  j["files"] = files;
+  json rows = json::array();
+  for (const SelfTestRow& r : m.self_test)
+    rows.push_back({{"id", r.id}, {"line", r.mapping_line}, {"media", r.media}, {"detected", r.detected},
+                    {"fired", r.fired}, {"detail", r.detail}});
+  j["self_test"] = rows;
+  j["self_test_passed"] = m.self_test_passed;
+  json cards = json::array();
+  for (const WebCard& c : m.web_cards) cards.push_back({{"url", c.url}, {"title", c.title}, {"picture", c.picture}});
+  j["web_cards"] = cards;
+  // Invalid UTF-8 (a title from a command line) is replaced, never a reason to fail.
+  return j.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
+namespace {
+
+constexpr size_t kMaxDepth = 16;
+
+// Deeper nesting than a manifest ever has is refused before parsing, so no text can make the parser or the
+// value's destructor recurse deeply.
+bool too_deep(const std::string& text) {
+  size_t depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '"') in_string = true;
+    else if (c == '[' || c == '{') {
+      if (++depth > kMaxDepth) return true;
+    } else if ((c == ']' || c == '}') && depth > 0) --depth;
+  }
+  return false;
+}
+
+struct Reader {
+  std::string error;
+  bool bad(const std::string& field, const std::string& why) {
+    if (error.empty()) error = std::string(kManifestName) + ": " + field + ": " + why;
+    return false;
+  }
+  bool str(const json& o, const char* key, const std::string& field, std::string* out) {
+    const auto it = o.find(key);
+    if (it == o.end()) return bad(field, "missing");
+    if (!it->is_string()) return bad(field, "not a string");
+    *out = it->get<std::string>();
+    return true;
+  }
+  bool boolean(const json& o, const char* key, const std::string& field, bool* out) {
+    const auto it = o.find(key);
+    if (it == o.end()) return bad(field, "missing");
+    if (!it->is_boolean()) return bad(field, "not true or false");
+    *out = it->get<bool>();
+    return true;
+  }
+  bool integer(const json& o, const char* key, const std::string& field, long long lo, long long hi, long long* out) {
+    const auto it = o.find(key);
+    if (it == o.end()) return bad(field, "missing");
+    if (!it->is_number_integer()) return bad(field, "not a whole number");
+    const long long v = it->is_number_unsigned() && it->get<unsigned long long>() > (unsigned long long)hi
+                            ? hi + 1
+                            : it->get<long long>();
+    if (v < lo || v > hi) return bad(field, std::to_string(v) + " is out of range " + std::to_string(lo) + ".." +
+                                                std::to_string(hi));
+    *out = v;
+    return true;
+  }
+  bool array(const json& o, const char* key, const std::string& field, const json** out) {
+    const auto it = o.find(key);
+    if (it == o.end()) return bad(field, "missing");
+    if (!it->is_array()) return bad(field, "not a list");
+    *out = &*it;
+    return true;
+  }
+  bool path(const std::string& p, const std::string& field, bool may_be_empty) {
+    if (p.empty() && may_be_empty) return true;
+    const std::string problem = bundle_path_problem(p);
+    if (!problem.empty()) return bad(field, "\"" + p + "\": " + problem);
+    return true;
+  }
+};
+
+bool is_hex64(const std::string& s) {
+  if (s.size() != 64) return false;
+  for (const char c : s)
+    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+  return true;
+}
+
+}  // namespace
+
+Result<Manifest> parse_manifest(const std::string& text) {
+  if (too_deep(text)) return fail(std::string(kManifestName) + ": nested deeper than " + std::to_string(kMaxDepth));
+  json j = json::parse(text, nullptr, false);
+  if (j.is_discarded()) return fail(std::string(kManifestName) + ": not valid JSON");
+  if (!j.is_object()) return fail(std::string(kManifestName) + ": not a JSON object");
+  Reader r;
+  Manifest m;
+  long long v = 0;
+  // The version first: a newer bundle may have other fields, and is refused for what it is.
+  if (!r.integer(j, "format_version", "format_version", 1, 1'000'000, &v)) return fail(r.error);
+  if (v > kFormatVersion)
+    return fail(std::string(kManifestName) + ": format_version " + std::to_string(v) +
+                ": made by a newer arwb (this one reads bundles up to version " + std::to_string(kFormatVersion) + ")");
+  m.format_version = int(v);
+  r.str(j, "title", "title", &m.title);
+  r.str(j, "generator", "generator", &m.generator);
+  r.str(j, "dictionary", "dictionary", &m.dictionary);
+  const json* ids = nullptr;
+  if (r.array(j, "ids", "ids", &ids))
+    for (size_t i = 0; i < ids->size(); ++i) {
+      const json& id = (*ids)[i];
+      if (!id.is_number_integer() || id.get<long long>() < 0 || id.get<long long>() > 1'000'000) {
+        r.bad("ids[" + std::to_string(i) + "]", "not a marker id");
+        break;
+      }
+      m.ids.push_back(id.get<int>());
+    }
+  if (const auto it = j.find("marker_size_mm"); it == j.end()) r.bad("marker_size_mm", "missing");
+  else if (!it->is_number() || !(it->get<double>() > 0) || it->get<double>() > 10'000)
+    r.bad("marker_size_mm", "not a size in millimetres");
+  else m.marker_size_mm = it->get<double>();
+  if (r.str(j, "scene", "scene", &m.scene)) r.path(m.scene, "scene", false);
+  if (r.str(j, "calibration", "calibration", &m.calibration)) r.path(m.calibration, "calibration", true);
+  const json* files = nullptr;
+  std::set<std::string> paths;
+  if (r.array(j, "files", "files", &files))
+    for (size_t i = 0; i < files->size() && r.error.empty(); ++i) {
+      const std::string field = "files[" + std::to_string(i) + "]";
+      const json& f = (*files)[i];
+      if (!f.is_object()) {
+        r.bad(field, "not an object");
+        break;
+      }
+      BundleFile b;
+      long long size = 0;
+      if (r.str(f, "path", field + ".path", &b.path) && r.path(b.path, field + ".path", false)) {
+        if (b.path == kManifestName) r.bad(field + ".path", "lists manifest.json itself");
+        else if (!paths.insert(b.path).second) r.bad(field + ".path", "\"" + b.path + "\" is listed twice");
+      }
+      if (r.integer(f, "size", field + ".size", 0, (1ll << 50), &size)) b.size = std::uint64_t(size);
+      if (r.str(f, "sha256", field + ".sha256", &b.sha256) && !is_hex64(b.sha256))
+        r.bad(field + ".sha256", "not 64 lowercase hex digits");
+      r.str(f, "role", field + ".role", &b.role);
+      m.files.push_back(std::move(b));
+    }
+  const json* rows = nullptr;
+  if (r.array(j, "self_test", "self_test", &rows))
+    for (size_t i = 0; i < rows->size() && r.error.empty(); ++i) {
+      const std::string field = "self_test[" + std::to_string(i) + "]";
+      const json& o = (*rows)[i];
+      if (!o.is_object()) {
+        r.bad(field, "not an object");
+        break;
+      }
+      SelfTestRow row;
+      long long n = 0;
+      if (r.integer(o, "id", field + ".id", 0, 1'000'000, &n)) row.id = int(n);
+      if (r.integer(o, "line", field + ".line", 0, 100'000'000, &n)) row.mapping_line = int(n);
+      r.str(o, "media", field + ".media", &row.media);
+      r.boolean(o, "detected", field + ".detected", &row.detected);
+      r.boolean(o, "fired", field + ".fired", &row.fired);
+      r.str(o, "detail", field + ".detail", &row.detail);
+      m.self_test.push_back(std::move(row));
+    }
+  r.boolean(j, "self_test_passed", "self_test_passed", &m.self_test_passed);
+  const json* cards = nullptr;
+  if (r.array(j, "web_cards", "web_cards", &cards))
+    for (size_t i = 0; i < cards->size() && r.error.empty(); ++i) {
+      const std::string field = "web_cards[" + std::to_string(i) + "]";
+      const json& o = (*cards)[i];
+      if (!o.is_object()) {
+        r.bad(field, "not an object");
+        break;
+      }
+      WebCard c;
+      r.str(o, "url", field + ".url", &c.url);
+      r.str(o, "title", field + ".title", &c.title);
+      if (r.str(o, "picture", field + ".picture", &c.picture)) r.path(c.picture, field + ".picture", false);
+      m.web_cards.push_back(std::move(c));
+    }
+  if (!r.error.empty()) return fail(r.error);
+  // What the manifest points at must be among its files.
+  if (!paths.count(m.scene)) return fail(std::string(kManifestName) + ": scene: \"" + m.scene + "\" is not among files");
+  if (!m.calibration.empty() && !paths.count(m.calibration))
+    return fail(std::string(kManifestName) + ": calibration: \"" + m.calibration + "\" is not among files");
+  for (size_t i = 0; i < m.web_cards.size(); ++i)
+    if (!paths.count(m.web_cards[i].picture))
+      return fail(std::string(kManifestName) + ": web_cards[" + std::to_string(i) + "].picture: \"" +
+                  m.web_cards[i].picture + "\" is not among files");
+  return m;
+}
+
+}  // namespace arwb::bundle
