@@ -43,6 +43,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "all. Drop a scene (.lua, .xml), preset (.yml), image, video or folder on the window to open it.");
   std::vector<std::pair<std::string, std::string>> subcommands;
   for (const Subcommand& s : arwb_subcommands()) subcommands.emplace_back(s.name, s.summary);
+  subcommands.emplace_back("play", kPlaySummary);   // dispatched by main, which passes it the player window
   cl.add_section("subcommands (`arwb <subcommand> --help` describes each one)", subcommands);
 
   cl.app.set_version_flag("--version", "arwb " ARWB_VERSION, "print the version and exit");

@@ -30,4 +30,10 @@ std::span<const Subcommand> arwb_subcommands();
 // lives above the command line in ui/window.hpp; main passes it in). Its help is `arwb --help`.
 int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&));
 
+// `arwb play BUNDLE [options]`: opens and verifies the bundle (export/bundle.hpp), then hands the player's options
+// to `run` (the player window, ui/player.hpp; main passes it in, as for the workbench).
+int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&));
+inline constexpr const char* kPlaySummary =
+    "play a bundle made by arwb export: the camera view with its media, full screen, no panels";
+
 }  // namespace arwb

@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/opencv_limits.hpp"
 #include "capture/image_io.hpp"
+#include "ui/player.hpp"
 #include "ui/window.hpp"
 
 #include <cstdio>
@@ -31,6 +32,15 @@ int main(int argc, char** argv) {
     }
   }
   const std::string_view name = argv[1];
+  // The player is a window too: like the workbench, it gets ui's run function from here.
+  if (name == "play") {
+    try {
+      return arwb::cmd_play(argc - 2, argv + 2, arwb::run_player);
+    } catch (const std::exception& e) {
+      arwb::print_problem("arwb play: %s\n", e.what());
+      return 1;
+    }
+  }
   for (const auto& s : arwb::arwb_subcommands()) {
     if (name == s.name) {
       try {

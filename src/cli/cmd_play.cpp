@@ -1,0 +1,70 @@
+// `arwb play BUNDLE`: the application the paper generated. The bundle (a folder, or a .arwb / .zip file made by
+// `arwb export`) is opened and verified against its manifest first (export/bundle.hpp): a bundle that is refused
+// says which entry and why in one line, and no window opens. Then the player (ui/player.hpp, passed in by main)
+// runs with the bundle's scene, calibration, dictionary and marker size.
+#include "cli/cli_common.hpp"
+#include "cli/commands.hpp"
+#include "export/bundle.hpp"
+
+#include <algorithm>
+#include <string>
+
+namespace arwb {
+
+int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
+  CommandLine cl("arwb play",
+                 "Plays a bundle made by `arwb export` (or File > Export... in the workbench): the camera view with "
+                 "the scene's media, filling the window, without the workbench's panels. The bundle is verified "
+                 "first: a file missing, changed or added since the export is named and the bundle refused.",
+                 "Keys: F1 or I shows a small overlay (fps, markers in view, the scene's title, one stage of the "
+                 "pipeline; Left/Right change the stage), F11 full screen on and off, Esc leaves full screen or "
+                 "quits, q quits. A click on a web card opens its link.\n"
+                 "--actions runs steps at UI frame N, for demos and tests: overlay[=on|off], stage=NAME|next|previous, "
+                 "click=X,Y (image pixels), fullscreen=on|off, quit.");
+  PlayerOptions o;
+  std::string bundle_path, source, window = "1280x720", actions;
+  cl.app.add_option("BUNDLE", bundle_path, "the bundle: a folder, or a .arwb or .zip file")->required();
+  cl.app.add_option("--source", source,
+                    "what to show (default: the first camera, else the synthetic source showing the bundle's own "
+                    "markers)")
+      ->type_name("camera:N[@WxH]|VIDEO|DIR|IMAGE|synthetic");
+  cl.app.add_flag("--fullscreen", o.fullscreen, "full screen on the primary monitor, at its own resolution");
+  cl.app.add_option("--window", window, "the window's size when not full screen")
+      ->type_name("WxH")
+      ->check(frame_size({320, 240}, {8192, 8192}));
+  cl.app.add_option("--frames", o.frames, "draw N frames, then exit; 0: run until closed")
+      ->type_name("N")
+      ->check(whole_number(0, 10'000'000));
+  cl.app.add_option("--screenshot", o.screenshot, "write the window to this PNG before exiting")->type_name("FILE.png");
+  cl.app.add_flag("--stats", o.stats, "print one JSON line of figures at exit");
+  cl.app.add_flag("--verbose", o.verbose, "every log line to stderr, not only warnings and errors");
+  cl.app.add_option("--actions", actions, "scripted steps 'N:verb[=arg];...', see below")->type_name("STEPS");
+  if (const auto status = cl.parse(argc, argv)) return *status;
+
+  // Verified before anything else: a refused bundle opens no window.
+  Result<bundle::OpenedBundle> opened = bundle::open_bundle(bundle_path);
+  if (!opened) {
+    print_problem("arwb play: %s\n", opened.error().c_str());
+    return 1;
+  }
+  const bundle::Manifest& m = opened->manifest();
+
+  if (!actions.empty()) o.actions.push_back(actions);
+  if (source.empty()) {
+    const std::vector<int> cameras = list_cameras();
+    source = cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front());
+  }
+  std::string err;
+  if (!parse_source_spec(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
+  o.window = *parse_frame_size(window);  // checked by frame_size
+  o.engine.scene_file = opened->scene_path();
+  o.engine.calibration_file = opened->calibration_path();
+  if (!m.dictionary.empty()) o.engine.dictionaries = {m.dictionary};
+  // Poses in millimetres, as printed on the bundle's marker sheet.
+  o.engine.marker_size = m.marker_size_mm;
+  o.ids = m.ids;
+  o.title = m.title;
+  return run(o);   // `opened` lives until the player ends: its folder holds the scene and media
+}
+
+}  // namespace arwb
