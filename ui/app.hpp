@@ -5,6 +5,7 @@
 #pragma once
 
 #include "detect/diagnose.hpp"
+#include "export/bundle.hpp"
 #include "lab/session.hpp"
 #include "teach/tour.hpp"
 #include "render/compositor.hpp"
@@ -29,6 +30,7 @@
 #include <filesystem>
 #include <future>
 #include <map>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
@@ -128,6 +130,34 @@ struct App {
     char path[1024] = "";
     ui::FileBrowser browser;
   } sheet;
+  // File > Export...: the scene loaded, as a bundle (ui/export_requests.cpp). Check and Export run plan_export
+  // (and write_export) on a thread of their own; the dialog shows the last check's self-test.
+  struct ExportDialog {
+    bool opening = false;
+    char title[256] = "";
+    double size_mm = 50;
+    bool use_calibration = true;      // the calibration loaded with --calib, when there is one
+    bool force = false;               // replace an existing bundle at `out`
+    char out[1024] = "";
+    ui::FileBrowser browser;
+    std::future<Result<bundle::ExportPlan>> checking;   // Check, or the check before writing
+    bool write_after = false;         // the check running is Export's: write when it passes
+    std::future<Status> writing;
+    std::shared_ptr<const bundle::ExportPlan> plan;     // the last check that passed
+    std::string error;                // the last check's or write's failure, one line
+    std::string written;              // where the last export went
+  } export_dialog;
+  // File > Play bundle...: each player started runs as a process of its own; a thread per player verifies the
+  // bundle first, starts it and waits for it, and leaves its messages here for the UI thread's log.
+  struct Players {
+    std::mutex mutex;
+    std::vector<std::pair<LogLevel, std::string>> messages;
+    int running = 0;                  // verifying, or started and not yet ended
+    int started = 0, ended = 0, refused = 0;
+    std::vector<int> exit_codes;      // of the players that ended, in the order they ended
+  };
+  std::shared_ptr<Players> players = std::make_shared<Players>();
+  std::vector<std::string> play_args;   // --actions play_args=: more arguments for the players started (tests)
   std::string modal;                // the modal shown this frame ("Unsaved edits"), for --stats
 
   void note_status(const std::string& s);   // info in the log, and in the status bar for a while
@@ -172,6 +202,14 @@ struct App {
   void lab_request(const ui::Request& r);
   void poll_lab();
   void watch_file(const std::string& path, bool reread);
+  // ui/export_requests.cpp: File > Export... and File > Play bundle...
+  void open_export_dialog(const std::string& out = "");
+  void draw_export_dialog(ui::Context& ctx);
+  void export_request(const ui::Request& r);
+  void poll_export();   // a finished check or write; the players' messages
+  bundle::ExportOptions export_options() const;
+  void wait_export(double timeout_s);    // --actions export_wait
+  void wait_players(double timeout_s);   // --actions play_wait
   // ui/layout.cpp
   void set_presentation(bool on);
   void load_workspaces(const std::string& path);

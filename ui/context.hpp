@@ -117,6 +117,9 @@ enum class RequestKind {
   lab_read_plan,     // text: a plan file (YAML), read into Settings::lab.plan
   lab_save,          // text: a folder for the finished run's tables, plots and report.pdf
   lab_save_clip,     // Settings::lab.clip for the video playing, into videos.csv (Settings::lab.videos_dir)
+  export_check,      // File > Export...'s Check: plan_export off the UI thread, its self-test shown in the dialog
+  export_write,      // File > Export...'s Export: checked again, then written (write_export)
+  play_bundle,       // text: a bundle, verified (open_bundle) off the UI thread, then `arwb play` started on it
 };
 
 struct Request {

@@ -48,6 +48,7 @@ void App::open_path(ui::FileKind kind, const std::string& path) {
     case ui::FileKind::source: requests.push_back({ui::RequestKind::open_source, path, 0, {}, {}}); break;
     case ui::FileKind::scene: requests.push_back({ui::RequestKind::load_scene, path, 0, {}, {}}); break;
     case ui::FileKind::preset: requests.push_back({ui::RequestKind::load_preset, path, 0, {}, {}}); break;
+    case ui::FileKind::bundle: requests.push_back({ui::RequestKind::play_bundle, path, 0, {}, {}}); break;
     case ui::FileKind::calibration:
     case ui::FileKind::count: warn("calibration files cannot be opened yet: " + path); return;
   }
@@ -428,6 +429,8 @@ void App::draw_dialogs(ui::Context& ctx) {
     if (ImGui::Button("Cancel") || a == "cancel") ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
   }
+
+  draw_export_dialog(ctx);   // File > Export... (ui/export_requests.cpp)
 
   answer.clear();   // an answer given while no dialog asked is a click on nothing
 

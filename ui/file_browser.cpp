@@ -202,6 +202,11 @@ bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
       ImGui::TextDisabled("(no camera found)");
     }
   }
+  if (b.kind == FileKind::bundle && !b.saving) {
+    // An exported bundle is a folder as often as a zip: the folder listed is the one played.
+    if (ImGui::SmallButton("Play this folder")) ctx.request(RequestKind::open_file, l.dir, static_cast<int>(b.kind), {}, "folder");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The folder shown, as a bundle (it holds manifest.json).");
+  }
   const float bottom = ImGui::GetFrameHeightWithSpacing() + ImGui::GetStyle().ItemSpacing.y;
   const float left_w = std::min(260 * ctx.scale, ImGui::GetContentRegionAvail().x * 0.35f);
   ImGui::BeginChild("##places", {left_w, -bottom}, true);

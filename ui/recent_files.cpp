@@ -30,6 +30,7 @@ const char* file_kind_name(FileKind k) {
     case FileKind::scene: return "scene";
     case FileKind::preset: return "preset";
     case FileKind::calibration: return "calibration";
+    case FileKind::bundle: return "bundle";
     case FileKind::count: break;
   }
   return "?";
@@ -52,6 +53,7 @@ bool listed_for(FileKind kind, const std::string& name) {
     case FileKind::scene: return one_of(e, {".lua", ".xml"});
     case FileKind::preset: return one_of(e, {".yml", ".yaml"});
     case FileKind::calibration: return one_of(e, {".yml", ".yaml", ".xml", ".json"});
+    case FileKind::bundle: return one_of(e, {".arwb", ".zip"});
     case FileKind::count: break;
   }
   return false;

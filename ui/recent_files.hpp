@@ -10,9 +10,9 @@
 namespace arwb::ui {
 
 // What is being opened: decides the browser's filter and where a chosen file goes.
-enum class FileKind { source, scene, preset, calibration, count };
+enum class FileKind { source, scene, preset, calibration, bundle, count };
 constexpr int kFileKindCount = static_cast<int>(FileKind::count);
-const char* file_kind_name(FileKind k);   // "source", "scene", "preset", "calibration"
+const char* file_kind_name(FileKind k);   // "source", "scene", "preset", "calibration", "bundle"
 
 // A file or folder dropped on the window, by its name: a scene (.lua, .xml), a preset (.yml, .yaml), or a
 // source when it is a folder or an image or video (is_media: the caller read its first bytes, see
@@ -21,7 +21,7 @@ enum class DropKind { scene, preset, source, none };
 DropKind drop_kind(const std::string& path, bool is_folder, bool is_media);
 
 // Whether the browser lists a file of this name for `kind` (folders are always listed). Sources: images and
-// videos by extension; scenes: .lua, .xml; presets: .yml, .yaml; calibrations: .yml, .yaml, .xml, .json.
+// videos by extension; scenes: .lua, .xml; presets: .yml, .yaml; calibrations: .yml, .yaml, .xml, .json; bundles (`arwb export`): .arwb, .zip.
 bool listed_for(FileKind kind, const std::string& name);
 
 struct RecentFiles {

@@ -319,6 +319,9 @@ void App::handle_requests() {
       case ui::RequestKind::lab_read_plan:
       case ui::RequestKind::lab_save:
       case ui::RequestKind::lab_save_clip: lab_request(r); break;
+      case ui::RequestKind::export_check:
+      case ui::RequestKind::export_write:
+      case ui::RequestKind::play_bundle: export_request(r); break;
     }
   }
 }
@@ -357,6 +360,7 @@ void App::save_calibration(const std::string& text, bool paper_files) {
 // [SECTION] Background
 void App::poll_background() {
   poll_lab();
+  poll_export();
   for (auto it = dictionary_futures.begin(); it != dictionary_futures.end();) {
     if (it->second.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
       ++it;

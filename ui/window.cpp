@@ -341,6 +341,36 @@ void App::run_action(const Action& a) {
     requests.push_back({ui::RequestKind::calibration_reset, "", 0, {}, {}});
   } else if (a.verb == "calib_save") {
     requests.push_back({ui::RequestKind::calibration_save, a.arg, view.calibration_paper_files ? 1 : 0, {}, {}});
+  } else if (a.verb == "export_dialog") {
+    open_export_dialog(a.arg);
+  } else if (a.verb == "export") {
+    // export=PATH: what File > Export...'s Export button does, with the dialog's values (export_title=, ...).
+    open_export_dialog(a.arg);
+    export_dialog.opening = false;
+    requests.push_back({ui::RequestKind::export_write, "", 0, {}, {}});
+  } else if (a.verb == "export_title") {
+    std::snprintf(export_dialog.title, sizeof export_dialog.title, "%s", a.arg.c_str());
+  } else if (a.verb == "export_size") {
+    const double mm = std::atof(a.arg.c_str());
+    if (!(mm >= 1 && mm <= 1000)) return warn("--actions export_size: 1 to 1000 mm, not '" + a.arg + "'");
+    export_dialog.size_mm = mm;
+  } else if (a.verb == "export_calibration" || a.verb == "export_force") {
+    if (a.arg != "on" && a.arg != "off") return warn("--actions " + a.verb + ": on or off, not '" + a.arg + "'");
+    (a.verb == "export_force" ? export_dialog.force : export_dialog.use_calibration) = a.arg == "on";
+  } else if (a.verb == "export_wait") {
+    // export_wait[=S]: for scripts and tests, the window waits (up to S seconds, 120 by default) for the check or
+    // export running to finish. The window is not drawn meanwhile.
+    wait_export(a.arg.empty() ? 120 : std::clamp(std::atof(a.arg.c_str()), 0.0, 600.0));
+  } else if (a.verb == "play") {
+    requests.push_back({ui::RequestKind::play_bundle, a.arg, 0, {}, {}});
+  } else if (a.verb == "play_args") {
+    // play_args=ARGS: more arguments for the players File > Play bundle starts, split at spaces ("--frames 30").
+    play_args.clear();
+    std::istringstream in(a.arg);
+    for (std::string w; in >> w;) play_args.push_back(w);
+  } else if (a.verb == "play_wait") {
+    // play_wait[=S]: waits (up to S seconds, 120 by default) until every player started has ended.
+    wait_players(a.arg.empty() ? 120 : std::clamp(std::atof(a.arg.c_str()), 0.0, 600.0));
   } else if (a.verb == "help") {
     show_shortcuts |= a.arg == "shortcuts";
     show_first_steps |= a.arg == "first";
@@ -510,6 +540,10 @@ void App::draw_menu(GLFWwindow* window) {
     ImGui::Separator();
     if (ImGui::MenuItem("Snapshot", "S")) requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
     if (ImGui::MenuItem("Print marker sheet...")) open_sheet_dialog();
+    ImGui::Separator();
+    // The paper's Code Generator: the scene as a bundle that runs on its own, and trying one in the player.
+    if (ImGui::MenuItem("Export...", nullptr, false, frame && !frame->scene.file.empty())) open_export_dialog();
+    if (ImGui::MenuItem("Play bundle...")) view.browse_kind = static_cast<int>(ui::FileKind::bundle);
     ImGui::Separator();
     if (ImGui::MenuItem("Quit", "Ctrl+Q")) glfwSetWindowShouldClose(window, 1);
     ImGui::EndMenu();
@@ -908,6 +942,26 @@ int run_workbench(const WorkbenchOptions& options) {
       lab["message"] = app.status.lab_message;
       lab["plan_set"] = app.settings.lab.plan.name;   // the panel's plan (what Run would run)
       s["lab"] = lab;
+    }
+    {
+      // File > Export... and File > Play bundle...: the last check, the last export, the players started.
+      const App::ExportDialog& d = app.export_dialog;
+      Json rows = Json::array();
+      if (d.plan)
+        for (const bundle::SelfTestRow& r : d.plan->manifest.self_test)
+          rows.push_back({{"id", r.id}, {"line", r.mapping_line}, {"media", r.media}, {"detected", r.detected},
+                          {"fired", r.fired}, {"why", r.detail}});
+      s["export"] = {{"checked", d.plan != nullptr},
+                     {"self_test_passed", d.plan && d.plan->manifest.self_test_passed},
+                     {"self_test", rows},
+                     {"error", d.error},
+                     {"written", d.written}};
+      std::lock_guard lock(app.players->mutex);
+      s["players"] = {{"started", app.players->started},
+                      {"ended", app.players->ended},
+                      {"refused", app.players->refused},
+                      {"running", app.players->running},
+                      {"exit_codes", app.players->exit_codes}};
     }
     s["frozen"] = app.settings.frozen;
     s["tour_active"] = app.view.tour_active;

@@ -43,7 +43,9 @@ bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* o
                                      "calib_drop", "calib_reset", "calib_save", "calib_wait", "undistort", "pose",
                                      "marker_size", "lab_plan", "lab_frames", "lab_axis", "lab_detectors", "lab_run",
                                      "lab_stop", "lab_wait", "lab_cell", "lab_why", "lab_save", "lab_span",
-                                     "lab_clip"};
+                                     "lab_clip", "export_dialog", "export", "export_title", "export_size",
+                                     "export_calibration", "export_force", "export_wait", "play", "play_args",
+                                     "play_wait"};
       const bool known = verbs ? std::find(verbs->begin(), verbs->end(), a.verb) != verbs->end()
                                : std::any_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; });
       if (!known) {
