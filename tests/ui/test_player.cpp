@@ -1,0 +1,197 @@
+// The player (`arwb play BUNDLE`) and the workbench's File > Export... and File > Play bundle..., in real windows
+// (xvfb-run, Mesa): an exported bundle plays from another folder with the original gone and its media land where
+// `arwb render` (the workbench's compositor, offscreen) puts them; a tampered bundle is refused before any window;
+// the workbench's export is a bundle open_bundle accepts; Play bundle starts the player as a process of its own.
+#include "export/bundle.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace arwb {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunResult;
+using test::TempDir;
+using test::write_file;
+
+const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
+
+// A scene in its own folder: a magenta picture stretched over markers 843 and 950 of the sample image (a table
+// {843, 950} given to marker() would be the range 843 to 950).
+void write_scene(const std::string& dir) {
+  fs::create_directories(dir);
+  cv::imwrite(dir + "/magenta.png", cv::Mat(64, 64, CV_8UC3, cv::Scalar(255, 0, 255)));
+  write_file(dir + "/scene.lua",
+             "for _, id in ipairs({843, 950}) do\n"
+             "  marker(id, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n"
+             "end\n");
+}
+
+// Every JSON line of a run's stdout (the workbench's, and a player's it started).
+std::vector<nlohmann::json> json_lines(const std::string& out) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(out);
+  for (std::string line; std::getline(in, line);) {
+    auto j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_object()) lines.push_back(j);
+  }
+  return lines;
+}
+
+// The inside of a media quad (image pixels), shrunk towards its centre so that edges, which the two renderings
+// smooth differently, are left out.
+cv::Mat quad_mask(cv::Size size, const nlohmann::json& quad, double shrink) {
+  std::vector<cv::Point2d> c;
+  for (const auto& p : quad) c.emplace_back(p[0].get<double>(), p[1].get<double>());
+  cv::Point2d centre(0, 0);
+  for (const auto& p : c) centre += p * 0.25;
+  std::vector<cv::Point> poly;
+  for (const auto& p : c) poly.emplace_back(cv::Point(int(std::lround(centre.x + (p.x - centre.x) * shrink)),
+                                                      int(std::lround(centre.y + (p.y - centre.y) * shrink))));
+  cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+  cv::fillConvexPoly(mask, poly, cv::Scalar(255));
+  return mask;
+}
+
+TEST(Player, ExportedBundlePlaysFromAnotherFolderWithTheMediaWhereRenderPutsThem) {
+  TempDir tmp;
+  const std::string src = tmp.str("author");
+  write_scene(src);
+  // What the workbench's compositor makes of the sample with this scene (arwb render: the same code, offscreen).
+  RunResult r = test::run_arwb("render --scene '" + src + "/scene.lua' --input '" + kSample + "' --out '" +
+                               tmp.str("rendered") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const cv::Mat rendered = cv::imread(tmp.str("rendered/frame_000000.png"));
+  ASSERT_EQ(rendered.size(), cv::Size(640, 480));
+
+  r = test::run_arwb("export --scene '" + src + "/scene.lua' --out '" + tmp.str("made.arwb") + "' --title 'Magenta'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // The bundle moves elsewhere and the author's folder is gone: everything it needs is inside it.
+  fs::create_directories(tmp.str("elsewhere"));
+  fs::rename(tmp.str("made.arwb"), tmp.str("elsewhere/played.arwb"));
+  fs::remove_all(src);
+
+  r = test::run_arwb_window("play '" + tmp.str("elsewhere/played.arwb") + "' --source '" + kSample +
+                            "' --frames 40 --stats --screenshot '" + tmp.str("shot.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto stats = test::stats_line(r);
+  EXPECT_EQ(stats["title"], "Magenta") << r.out;
+  EXPECT_EQ(stats["scene_ok"], true) << r.out;
+  EXPECT_EQ(stats["dictionary"], "ARUCO_ORIGINAL") << r.out;
+  EXPECT_EQ(stats["marker_ids"], nlohmann::ordered_json::array({843, 950})) << r.out;
+  ASSERT_EQ(stats["overlays"], 2) << r.out;
+  EXPECT_EQ(stats["pose_marker_side"], 50.0) << "poses in the bundle's millimetres";
+
+  // The picture fills the 1280x720 window with its aspect kept: 960x720 between two black bars.
+  const cv::Mat shot = cv::imread(tmp.str("shot.png"));
+  ASSERT_EQ(shot.size(), cv::Size(1280, 720));
+  const auto& pic = stats["picture"];
+  EXPECT_EQ(pic, nlohmann::ordered_json::array({160.0, 0.0, 960.0, 720.0})) << r.out;
+  EXPECT_LT(cv::norm(cv::mean(shot(cv::Rect(0, 0, 150, 720)))), 1.0) << "the bars are black";
+  // The player's picture at the image's own size, to compare pixel for pixel with the rendered frame.
+  cv::Mat played;
+  cv::resize(shot(cv::Rect(160, 0, 960, 720)), played, rendered.size(), 0, 0, cv::INTER_AREA);
+  for (const auto& m : stats["media"]) {
+    const cv::Mat mask = quad_mask(rendered.size(), m["quad"], 0.7);
+    ASSERT_GT(cv::countNonZero(mask), 200) << m.dump();
+    const cv::Scalar in_player = cv::mean(played, mask), in_render = cv::mean(rendered, mask);
+    // The media's colour (BGR 255, 0, 255) in both, on the same pixels.
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(in_player[c], c == 1 ? 0 : 255, 20) << "marker " << m["marker"] << " channel " << c;
+      EXPECT_NEAR(in_player[c], in_render[c], 12) << "marker " << m["marker"] << " channel " << c;
+    }
+  }
+  // And the whole picture matches the rendered frame closely (scaling up and down blurs it a little).
+  cv::Mat diff;
+  cv::absdiff(played, rendered, diff);
+  const cv::Scalar d = cv::mean(diff);
+  EXPECT_LT((d[0] + d[1] + d[2]) / 3, 6.0);
+}
+
+TEST(Player, TamperedBundleIsRefusedNamingTheEntryWithoutAWindow) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("bundle") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // One pixel of the media changed after the export.
+  std::string media_entry;
+  for (const auto& e : fs::recursive_directory_iterator(tmp.str("bundle")))
+    if (e.path().filename() == "magenta.png") media_entry = fs::relative(e.path(), tmp.str("bundle")).string();
+  ASSERT_FALSE(media_entry.empty());
+  cv::Mat img = cv::imread(tmp.str("bundle/" + media_entry));
+  img.at<cv::Vec3b>(0, 0) = {0, 0, 0};
+  cv::imwrite(tmp.str("bundle/" + media_entry), img);
+  // No xvfb here: a player that opened a window would fail for want of a display, not for the bundle.
+  r = test::run_arwb("play '" + tmp.str("bundle") + "' --frames 5");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(media_entry), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("window"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+}
+
+TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleStartsThePlayer) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  const std::string out = tmp.str("exports/from-the-window");   // its folder does not exist yet
+  const RunResult r = test::run_arwb_window(
+      "--verbose --config-dir '" + tmp.str("config") + "' --source '" + kSample + "' --scene '" + tmp.str("author/scene.lua") +
+      "' --frames 30 --stats --actions '3:export_title=From the window;3:export_size=65;4:export=" + out +
+      ";4:export_wait;6:play_args=--frames 15 --stats --source " + kSample + ";6:play=" + out + ";6:play_wait'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::vector<nlohmann::json> lines = json_lines(r.out);
+  ASSERT_EQ(lines.size(), 2u) << "the player's stats line, then the workbench's:\n" << r.out;
+  const nlohmann::json& player = lines[0];
+  const nlohmann::json& wb = lines[1];
+  EXPECT_EQ(wb["export"]["written"], out) << wb["export"].dump();
+  EXPECT_EQ(wb["export"]["self_test_passed"], true);
+  ASSERT_EQ(wb["export"]["self_test"].size(), 2u) << wb["export"].dump();
+  for (const auto& row : wb["export"]["self_test"]) {
+    EXPECT_TRUE(row["detected"].get<bool>() && row["fired"].get<bool>()) << row.dump();
+    EXPECT_EQ(row["line"], 2);
+  }
+  EXPECT_EQ(wb["players"]["started"], 1) << wb["players"].dump();
+  EXPECT_EQ(wb["players"]["ended"], 1);
+  EXPECT_EQ(wb["players"]["exit_codes"], nlohmann::json::array({0}));
+  EXPECT_NE(r.err.find("ended (exit status 0)"), std::string::npos) << r.err;
+  // The player showed the bundle: its title, its markers, its media.
+  EXPECT_EQ(player["title"], "From the window") << player.dump();
+  EXPECT_EQ(player["frames"], 15);
+  EXPECT_EQ(player["overlays"], 2) << player.dump();
+
+  // What the window wrote is a bundle the player's own check accepts.
+  Result<bundle::OpenedBundle> opened = bundle::open_bundle(out);
+  ASSERT_TRUE(opened) << opened.error();
+  EXPECT_EQ(opened->manifest().title, "From the window");
+  EXPECT_EQ(opened->manifest().marker_size_mm, 65);
+  EXPECT_EQ(opened->manifest().ids, (std::vector<int>{843, 950}));
+  EXPECT_TRUE(opened->manifest().self_test_passed);
+}
+
+TEST(WorkbenchExport, PlayBundleRefusesATamperedBundleInTheLog) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("bundle") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  write_file(tmp.str("bundle/extra.lua"), "print('not exported')\n");
+  r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --source synthetic --frames 10 --stats "
+                            "--actions '2:play_args=--frames 5;2:play=" + tmp.str("bundle") + ";2:play_wait'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::vector<nlohmann::json> lines = json_lines(r.out);
+  ASSERT_EQ(lines.size(), 1u) << "no player ran:\n" << r.out;
+  EXPECT_EQ(lines[0]["players"]["refused"], 1) << lines[0]["players"].dump();
+  EXPECT_EQ(lines[0]["players"]["started"], 0);
+  EXPECT_NE(r.err.find("play: refused:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("extra.lua"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace arwb
