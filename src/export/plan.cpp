@@ -286,10 +286,13 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
   if (options.scene.empty()) return fail("--scene: no scene named");
   if (Status s = check_out(options); !s) return fail(s.error());
   if (Status s = check_input_file(options.scene, {"a scene", 16u << 20}); !s) return fail(s.error());
+  // The scene's folder as the runtime sees it (the folder the path names, its links resolved): media resolve
+  // inside it, and the scene file goes beside them under the name it was given.
   std::error_code ec;
-  const fs::path scene_file = fs::canonical(options.scene, ec);
+  const fs::path parent = fs::absolute(options.scene, ec).parent_path();
+  const fs::path scene_dir = fs::canonical(parent, ec);
   if (ec) return fail(options.scene + ": " + ec.message());
-  const fs::path scene_dir = scene_file.parent_path();
+  const fs::path scene_file = scene_dir / fs::path(options.scene).filename();
   const double marker_mm = options.marker_size_mm > 0 ? options.marker_size_mm : kDefaultMarkerMm;
   if (!std::isfinite(marker_mm)) return fail("--marker-size-mm: not a number");
 
@@ -358,8 +361,9 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
     if (file.compare(0, prefix.size(), prefix) != 0) return fail(file + ": outside the scene's folder " + scene_dir.string());
     const std::string rel = file.substr(prefix.size());
     if (const std::string problem = bundle_path_problem(rel); !problem.empty()) return fail(rel + ": " + problem);
+    // Media were resolved to their real paths; the scene file may be a link, and its target's bytes go in.
     struct stat st {};
-    if (::lstat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return fail(rel + ": not a regular file");
+    if (::stat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return fail(rel + ": not a regular file");
     plan.sources.emplace_back("scene/" + rel, file);
   }
 
