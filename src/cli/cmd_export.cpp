@@ -83,8 +83,8 @@ int cmd_export(int argc, char** argv) {
     print_problem("arwb export: %s\n", s.error().c_str());
     return 1;
   }
-  std::printf("exported %s (%zu markers of %s, %g mm) to %s\n", printable(m.title).c_str(), m.ids.size(),
-              m.dictionary.c_str(), m.marker_size_mm, printable(o.out).c_str());
+  std::printf("exported %s (%zu marker%s of %s, %g mm) to %s\n", printable(m.title).c_str(), m.ids.size(),
+              m.ids.size() == 1 ? "" : "s", m.dictionary.c_str(), m.marker_size_mm, printable(o.out).c_str());
   return 0;
 }
 

@@ -214,6 +214,8 @@ Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimi
   const std::string where = zip_path.string() + ": ";
   int code = 0;
   ZipPtr z(zip_open(zip_path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code));
+  // libzip refuses a zip with two entries of one name as it opens it, before any name can be asked for.
+  if (!z && code == ZIP_ER_EXISTS) return fail(where + "two entries have the same name");
   if (!z) return fail(where + "not a readable zip (" + zip_error_text(code) + ")");
   const zip_int64_t count = zip_get_num_entries(z.get(), 0);
   if (count < 0) return fail(where + "not a readable zip");

@@ -13,7 +13,8 @@ namespace arwb::bundle {
 using nlohmann::json;
 
 std::string manifest_json(const Manifest& m) {
-  json j;
+  // Written in the order a reader wants it (the version first), not sorted by key.
+  nlohmann::ordered_json j;
   j["format_version"] = m.format_version;
   j["title"] = m.title;
   j["generator"] = m.generator;
@@ -22,21 +23,21 @@ std::string manifest_json(const Manifest& m) {
   j["marker_size_mm"] = m.marker_size_mm;
   j["scene"] = m.scene;
   j["calibration"] = m.calibration;
-  json files = json::array();
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const BundleFile& f : m.files)
     files.push_back({{"path", f.path}, {"size", f.size}, {"sha256", f.sha256}, {"role", f.role}});
   j["files"] = files;
-  json rows = json::array();
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const SelfTestRow& r : m.self_test)
     rows.push_back({{"id", r.id}, {"line", r.mapping_line}, {"media", r.media}, {"detected", r.detected},
                     {"fired", r.fired}, {"detail", r.detail}});
   j["self_test"] = rows;
   j["self_test_passed"] = m.self_test_passed;
-  json cards = json::array();
+  nlohmann::ordered_json cards = nlohmann::ordered_json::array();
   for (const WebCard& c : m.web_cards) cards.push_back({{"url", c.url}, {"title", c.title}, {"picture", c.picture}});
   j["web_cards"] = cards;
   // Invalid UTF-8 (a title from a command line) is replaced, never a reason to fail.
-  return j.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 namespace {

@@ -65,22 +65,47 @@ std::vector<int> expand(const std::vector<std::pair<int, int>>& ranges) {
   return {ids.begin(), ids.end()};
 }
 
+// "0-2, 7" for a sorted list of ids.
+std::string id_ranges(const std::vector<int>& ids) {
+  std::string out;
+  for (size_t i = 0; i < ids.size();) {
+    size_t j = i;
+    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
+    if (!out.empty()) out += ", ";
+    out += std::to_string(ids[i]);
+    if (j > i) out += "-" + std::to_string(ids[j]);
+    i = j + 1;
+  }
+  return out;
+}
+
 std::string readme_text(const Manifest& m, const std::string& bundle_name) {
   std::ostringstream s;
   s << m.title << "\n" << std::string(m.title.size(), '=') << "\n\n"
-    << "An augmented-reality scene exported by " << m.generator << " (`arwb export`): the scene, its media,\n"
-    << "the camera's calibration and the markers to print, checked and listed with their digests in\n"
-    << "manifest.json.\n\n"
+    << "An augmented-reality scene exported by " << m.generator << " (`arwb export`): the scene and its media,\n"
+    << "the markers to print" << (m.calibration.empty() ? "" : " and the camera's calibration")
+    << ", checked and listed with their digests in manifest.json.\n\n"
     << "To run it:   arwb play " << bundle_name << "\n\n"
     << "Print markers.pdf at 100 % (no \"fit to page\"): each marker's black square is " << m.marker_size_mm
     << " mm;\nthe bar at the bottom of each page is 100 mm when the printer kept the size.\n\n"
     << "Dictionary: " << m.dictionary << "\n"
     << "Camera:     " << (m.calibration.empty() ? std::string("default values (no calibration given)") : m.calibration)
-    << "\n\nMarker  Line  Media\n";
+    << "\n\nScene line  Markers      Media\n";
+  // One row per mapping (its line and media), with the ids it covers.
+  std::vector<std::pair<std::pair<int, std::string>, std::vector<int>>> rows;
   for (const SelfTestRow& r : m.self_test) {
-    char line[64];
-    std::snprintf(line, sizeof line, "%6d  %4d  ", r.id, r.mapping_line);
-    s << line << r.media << "\n";
+    auto it = std::find_if(rows.begin(), rows.end(), [&](const auto& row) {
+      return row.first == std::make_pair(r.mapping_line, r.media);
+    });
+    if (it == rows.end()) rows.push_back({{r.mapping_line, r.media}, {r.id}});
+    else it->second.push_back(r.id);
+  }
+  std::sort(rows.begin(), rows.end());
+  for (auto& [key, ids] : rows) {
+    std::sort(ids.begin(), ids.end());
+    char head[48];
+    std::snprintf(head, sizeof head, "%10d  %-11s  ", key.first, id_ranges(ids).c_str());
+    s << head << key.second << "\n";
   }
   if (!m.web_cards.empty()) {
     s << "\nLinks (a click on the card opens them):\n";
@@ -261,10 +286,13 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
   if (options.scene.empty()) return fail("--scene: no scene named");
   if (Status s = check_out(options); !s) return fail(s.error());
   if (Status s = check_input_file(options.scene, {"a scene", 16u << 20}); !s) return fail(s.error());
+  // The scene's folder as the runtime sees it (the folder the path names, its links resolved): media resolve
+  // inside it, and the scene file goes beside them under the name it was given.
   std::error_code ec;
-  const fs::path scene_file = fs::canonical(options.scene, ec);
+  const fs::path parent = fs::absolute(options.scene, ec).parent_path();
+  const fs::path scene_dir = fs::canonical(parent, ec);
   if (ec) return fail(options.scene + ": " + ec.message());
-  const fs::path scene_dir = scene_file.parent_path();
+  const fs::path scene_file = scene_dir / fs::path(options.scene).filename();
   const double marker_mm = options.marker_size_mm > 0 ? options.marker_size_mm : kDefaultMarkerMm;
   if (!std::isfinite(marker_mm)) return fail("--marker-size-mm: not a number");
 
@@ -333,8 +361,9 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
     if (file.compare(0, prefix.size(), prefix) != 0) return fail(file + ": outside the scene's folder " + scene_dir.string());
     const std::string rel = file.substr(prefix.size());
     if (const std::string problem = bundle_path_problem(rel); !problem.empty()) return fail(rel + ": " + problem);
+    // Media were resolved to their real paths; the scene file may be a link, and its target's bytes go in.
     struct stat st {};
-    if (::lstat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return fail(rel + ": not a regular file");
+    if (::stat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return fail(rel + ": not a regular file");
     plan.sources.emplace_back("scene/" + rel, file);
   }
 

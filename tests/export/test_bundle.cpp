@@ -1,0 +1,628 @@
+// Bundles: an example scene exported to a folder and to a zip opens from elsewhere with the original gone, its
+// manifest listing every file with the right digest; a bundle that was tampered with (media, manifest, an added
+// or a missing file), a zip with "..", absolute, symbolic-link, duplicate or device entries, and zips that
+// inflate past the limits are each refused naming the entry, with nothing written outside the temporary folder;
+// and exports that must not happen (a missing media file, an id out of range, a scene that does not load, a
+// mapping that does not fire) write nothing.
+#include "export/bundle.hpp"
+#include "export/bundle_files.hpp"
+
+#include "calibration/calibration_file.hpp"
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+#include <zip.h>
+
+#include <sys/stat.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <set>
+
+namespace arwb::bundle {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+using test::read_file;
+using test::write_file;
+
+const fs::path kScripts = fs::path(ARWB_SOURCE_DIR) / "scripts";
+
+// Every file and folder under `dir`, relative, '/'-separated.
+std::set<std::string> listing(const fs::path& dir) {
+  std::set<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    out.insert(e.path().lexically_relative(dir).generic_string() + (e.is_directory() ? "/" : ""));
+  return out;
+}
+
+// A private TMPDIR for the test's process, so the temporary folders open_bundle makes can be counted.
+class PrivateTmp {
+ public:
+  PrivateTmp() {
+    const char* old = std::getenv("TMPDIR");
+    if (old) old_ = old, had_ = true;
+    setenv("TMPDIR", dir_.str().c_str(), 1);
+  }
+  ~PrivateTmp() {
+    if (had_) setenv("TMPDIR", old_.c_str(), 1);
+    else unsetenv("TMPDIR");
+  }
+  std::set<std::string> contents() const { return listing(dir_.path()); }
+
+ private:
+  TempDir dir_;
+  std::string old_;
+  bool had_ = false;
+};
+
+// A copy of an example's folder in `into`.
+fs::path copy_example(const std::string& name, const fs::path& into) {
+  const fs::path to = into / name;
+  fs::copy(kScripts / name, to, fs::copy_options::recursive);
+  return to;
+}
+
+Status export_to(const fs::path& scene, const fs::path& out, const std::string& calib = "", bool force = false) {
+  ExportOptions o;
+  o.scene = scene.string();
+  o.out = out.string();
+  o.calibration = calib;
+  o.force = force;
+  Result<ExportPlan> plan = plan_export(o);
+  if (!plan) return fail(plan.error());
+  return write_export(*plan);
+}
+
+// The museum exported to `out` from a copy that is then removed.
+void export_museum(const fs::path& out) {
+  TempDir src;
+  const fs::path dir = copy_example("museum", src.path());
+  const Status s = export_to(dir / "museum.lua", out);
+  ASSERT_TRUE(s.ok()) << s.error();
+}
+
+TEST(Sha256, KnownDigests) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+}
+
+TEST(BundlePath, RefusesWhatCouldLeaveTheFolder) {
+  EXPECT_EQ(bundle_path_problem("scene/media/a.png"), "");
+  EXPECT_NE(bundle_path_problem(""), "");
+  EXPECT_NE(bundle_path_problem("/etc/passwd"), "");
+  EXPECT_NE(bundle_path_problem("../x"), "");
+  EXPECT_NE(bundle_path_problem("a/../../x"), "");
+  EXPECT_NE(bundle_path_problem("a/./x"), "");
+  EXPECT_NE(bundle_path_problem("a//x"), "");
+  EXPECT_NE(bundle_path_problem("a\\..\\x"), "");
+  EXPECT_NE(bundle_path_problem("C:x"), "");
+  EXPECT_NE(bundle_path_problem(std::string("a\0b", 3)), "");
+}
+
+TEST(Export, MuseumToAFolderOpensElsewhereWithTheOriginalRemoved) {
+  TempDir out;
+  export_museum(out.path() / "museum");
+  const fs::path b = out.path() / "museum";
+  EXPECT_EQ(listing(b), (std::set<std::string>{"README.txt", "manifest.json", "markers.pdf", "scene/", "scene/media/",
+                                                "scene/media/composition.png", "scene/media/orbit.mp4",
+                                                "scene/media/sunset.png", "scene/museum.lua"}));
+  // The manifest lists every file but itself, with its size and digest.
+  Result<Manifest> m = parse_manifest(read_file((b / "manifest.json").string()));
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->format_version, kFormatVersion);
+  EXPECT_EQ(m->title, "museum");
+  EXPECT_EQ(m->dictionary, "ARUCO_ORIGINAL");
+  EXPECT_EQ(m->ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(m->marker_size_mm, 50);
+  EXPECT_EQ(m->scene, "scene/museum.lua");
+  EXPECT_EQ(m->calibration, "");
+  ASSERT_EQ(m->files.size(), 6u);
+  for (const BundleFile& f : m->files) {
+    const std::string bytes = read_file((b / f.path).string());
+    EXPECT_EQ(f.size, bytes.size()) << f.path;
+    EXPECT_EQ(f.sha256, sha256_hex(bytes)) << f.path;
+  }
+  // The media are the originals, byte for byte.
+  EXPECT_EQ(read_file((b / "scene/media/sunset.png").string()),
+            read_file((kScripts / "museum/media/sunset.png").string()));
+  // The self-test: each (id, mapping) fired; 3 ids x (own media, caption, counter).
+  EXPECT_TRUE(m->self_test_passed);
+  ASSERT_EQ(m->self_test.size(), 9u);
+  for (const SelfTestRow& r : m->self_test) EXPECT_TRUE(r.detected && r.fired) << r.id << " " << r.detail;
+  EXPECT_EQ(m->self_test[0].id, 0);
+  EXPECT_EQ(m->self_test[0].mapping_line, 13);
+  EXPECT_EQ(m->self_test[0].media, "image media/composition.png");
+  const std::string readme = read_file((b / "README.txt").string());
+  EXPECT_NE(readme.find("arwb play museum"), std::string::npos);
+  EXPECT_NE(readme.find("100 %"), std::string::npos);
+  EXPECT_EQ(read_file((b / "markers.pdf").string()).rfind("%PDF", 0), 0u);
+
+  // Opened from elsewhere: a private copy, verified.
+  PrivateTmp tmp;
+  fs::path opened_dir;
+  {
+    Result<OpenedBundle> o = open_bundle(b.string());
+    ASSERT_TRUE(o.ok()) << o.error();
+    opened_dir = o->dir();
+    EXPECT_NE(opened_dir.string().find(tmp.contents().begin()->substr(0, 10)), std::string::npos);
+    EXPECT_EQ(fs::status(opened_dir).permissions() & fs::perms::all, fs::perms::owner_all);
+    EXPECT_EQ(o->manifest().ids, m->ids);
+    EXPECT_EQ(o->scene_path(), (opened_dir / "scene/museum.lua").string());
+    EXPECT_EQ(o->calibration_path(), "");
+    fs::remove_all(b);   // the original goes: the copy is what plays
+    EXPECT_EQ(read_file(o->scene_path()), read_file((kScripts / "museum/museum.lua").string()));
+    // Moved, the folder goes with the new owner.
+    OpenedBundle moved = std::move(*o);
+    EXPECT_EQ(moved.dir(), opened_dir);
+    EXPECT_TRUE(fs::exists(opened_dir));
+  }
+  EXPECT_FALSE(fs::exists(opened_dir));
+  EXPECT_TRUE(tmp.contents().empty());
+}
+
+TEST(Export, MuseumToAZipOpensElsewhere) {
+  TempDir out;
+  const fs::path zip = out.path() / "museum.arwb";
+  export_museum(zip);
+  ASSERT_TRUE(fs::is_regular_file(zip));
+  EXPECT_EQ(listing(out.path()), (std::set<std::string>{"museum.arwb"}));   // no temporary sibling left
+  // Entries with their paths, regular files only.
+  int code = 0;
+  zip_t* z = zip_open(zip.c_str(), ZIP_RDONLY, &code);
+  ASSERT_NE(z, nullptr);
+  std::set<std::string> names;
+  for (zip_int64_t i = 0; i < zip_get_num_entries(z, 0); ++i) {
+    names.insert(zip_get_name(z, zip_uint64_t(i), 0));
+    zip_uint8_t opsys = 0;
+    zip_uint32_t attr = 0;
+    ASSERT_EQ(zip_file_get_external_attributes(z, zip_uint64_t(i), 0, &opsys, &attr), 0);
+    EXPECT_EQ(opsys, ZIP_OPSYS_UNIX);
+    EXPECT_TRUE(S_ISREG(attr >> 16));
+  }
+  zip_discard(z);
+  EXPECT_EQ(names, (std::set<std::string>{"README.txt", "manifest.json", "markers.pdf", "scene/media/composition.png",
+                                          "scene/media/orbit.mp4", "scene/media/sunset.png", "scene/museum.lua"}));
+  // Recognised by its bytes, not its name.
+  const fs::path renamed = out.path() / "museum.data";
+  fs::rename(zip, renamed);
+  PrivateTmp tmp;
+  {
+    Result<OpenedBundle> o = open_bundle(renamed.string());
+    ASSERT_TRUE(o.ok()) << o.error();
+    fs::remove(renamed);
+    EXPECT_EQ(listing(o->dir()), (std::set<std::string>{"README.txt", "manifest.json", "markers.pdf", "scene/",
+                                                         "scene/media/", "scene/media/composition.png",
+                                                         "scene/media/orbit.mp4", "scene/media/sunset.png",
+                                                         "scene/museum.lua"}));
+    EXPECT_EQ(read_file((o->dir() / "scene/media/orbit.mp4").string()),
+              read_file((kScripts / "museum/media/orbit.mp4").string()));
+  }
+  EXPECT_TRUE(tmp.contents().empty());
+}
+
+TEST(Export, EveryFileAModelReadsAndTheWebCards) {
+  TempDir out;
+  ASSERT_TRUE(export_to(kScripts / "models/models.lua", out.path() / "m").ok());
+  Result<Manifest> m = parse_manifest(read_file(out.str("m/manifest.json")));
+  ASSERT_TRUE(m.ok()) << m.error();
+  std::set<std::string> paths;
+  for (const BundleFile& f : m->files) paths.insert(f.path);
+  // house.obj reads house.mtl: the model's own references come along.
+  EXPECT_TRUE(paths.count("scene/house.obj"));
+  EXPECT_TRUE(paths.count("scene/house.mtl"));
+  EXPECT_TRUE(paths.count("scene/marker_post.gltf"));
+  EXPECT_FALSE(paths.count("scene/make_gltf.py"));   // in the folder, but the scene never reads it
+
+  ASSERT_TRUE(export_to(kScripts / "links/links.lua", out.path() / "l.zip").ok());
+  PrivateTmp tmp;
+  Result<OpenedBundle> o = open_bundle(out.str("l.zip"));
+  ASSERT_TRUE(o.ok()) << o.error();
+  ASSERT_EQ(o->manifest().web_cards.size(), 3u);
+  EXPECT_EQ(o->manifest().web_cards[0].url, "https://opencv.org");
+  EXPECT_EQ(o->manifest().web_cards[0].title, "OpenCV");
+  EXPECT_EQ(o->manifest().web_cards[0].picture, "cards/web-1.png");
+  EXPECT_EQ(read_file((o->dir() / "cards/web-1.png").string()).substr(1, 3), "PNG");
+}
+
+TEST(Export, CalibrationIsCopiedAndReadsBack) {
+  TempDir out;
+  Calibration c;
+  c.camera_matrix = cv::Matx33d(500, 0, 160, 0, 500, 120, 0, 0, 1);
+  c.distortion = {0.01, -0.02, 0, 0, 0};
+  c.image_size = {320, 240};
+  ASSERT_TRUE(write_calibration(out.str("cam.yml"), c, {}).ok());
+  ASSERT_TRUE(export_to(kScripts / "museum/museum.lua", out.path() / "b", out.str("cam.yml")).ok());
+  EXPECT_EQ(read_file(out.str("b/calibration.yml")), read_file(out.str("cam.yml")));
+  PrivateTmp tmp;
+  Result<OpenedBundle> o = open_bundle(out.str("b"));
+  ASSERT_TRUE(o.ok()) << o.error();
+  EXPECT_EQ(o->manifest().calibration, "calibration.yml");
+  Result<Calibration> back = read_calibration(o->calibration_path());
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_EQ(back->camera_matrix(0, 0), 500);
+
+  // A calibration that does not read is refused, naming it.
+  write_file(out.str("bad.yml"), "%YAML:1.0\nnothing: 1\n");
+  const Status s = export_to(kScripts / "museum/museum.lua", out.path() / "b2", out.str("bad.yml"));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().find("bad.yml"), std::string::npos) << s.error();
+  EXPECT_FALSE(fs::exists(out.path() / "b2"));
+}
+
+// --- Refused bundles -----------------------------------------------------------------------------------------
+
+struct Refusal {
+  std::string error;
+  std::set<std::string> parent_before, parent_after, tmp_after;
+};
+
+// Opens `bundle` and expects a refusal; what the bundle's folder and the temporary folder hold afterwards.
+Refusal refuse(const fs::path& bundle, const BundleLimits& limits = {}) {
+  Refusal r;
+  PrivateTmp tmp;
+  r.parent_before = listing(bundle.parent_path());
+  Result<OpenedBundle> o = open_bundle(bundle.string(), limits);
+  EXPECT_FALSE(o.ok()) << bundle;
+  r.error = o.ok() ? "" : o.error();
+  r.parent_after = listing(bundle.parent_path());
+  r.tmp_after = tmp.contents();
+  return r;
+}
+
+#define EXPECT_REFUSED(r, text)                                                                         \
+  do {                                                                                                  \
+    EXPECT_NE((r).error.find(text), std::string::npos) << (r).error;                                   \
+    EXPECT_EQ((r).parent_before, (r).parent_after);                                                     \
+    EXPECT_TRUE((r).tmp_after.empty()) << "the temporary folder was left";                             \
+  } while (0)
+
+class Tampered : public ::testing::Test {
+ protected:
+  void SetUp() override { export_museum(out_.path() / "museum"); }
+  fs::path b() const { return out_.path() / "museum"; }
+  TempDir out_;
+};
+
+TEST_F(Tampered, MediaChangedInPlace) {
+  std::string png = read_file((b() / "scene/media/sunset.png").string());
+  png[png.size() / 2] = char(png[png.size() / 2] ^ 1);   // same size
+  write_file((b() / "scene/media/sunset.png").string(), png);
+  EXPECT_REFUSED(refuse(b()), "scene/media/sunset.png: changed since export (SHA-256 differs)");
+  write_file((b() / "scene/media/sunset.png").string(), png + "x");
+  EXPECT_REFUSED(refuse(b()), "scene/media/sunset.png: changed since export (17679 bytes");
+}
+
+TEST_F(Tampered, ManifestEditedByHand) {
+  const std::string text = read_file((b() / "manifest.json").string());
+  // A digest edited: the file it names no longer matches.
+  Result<Manifest> m = parse_manifest(text);
+  ASSERT_TRUE(m.ok());
+  Manifest edited = *m;
+  for (BundleFile& f : edited.files)
+    if (f.path == "scene/museum.lua") f.sha256 = std::string(64, '0');
+  write_file((b() / "manifest.json").string(), manifest_json(edited));
+  EXPECT_REFUSED(refuse(b()), "scene/museum.lua: changed since export (SHA-256 differs)");
+  // A path that leaves the bundle.
+  edited = *m;
+  edited.files[0].path = "../outside.txt";
+  write_file((b() / "manifest.json").string(), manifest_json(edited));
+  EXPECT_REFUSED(refuse(b()), "manifest.json: files[0].path: \"../outside.txt\": has \"..\"");
+  // Not JSON, a digest that is not hex, a newer format.
+  write_file((b() / "manifest.json").string(), text.substr(0, text.size() / 2));
+  EXPECT_REFUSED(refuse(b()), "manifest.json: not valid JSON");
+  edited = *m;
+  edited.files[2].sha256 = "xyz";
+  write_file((b() / "manifest.json").string(), manifest_json(edited));
+  EXPECT_REFUSED(refuse(b()), "manifest.json: files[2].sha256: not 64 lowercase hex digits");
+  edited = *m;
+  edited.format_version = kFormatVersion + 1;
+  write_file((b() / "manifest.json").string(), manifest_json(edited));
+  EXPECT_REFUSED(refuse(b()), "format_version 2: made by a newer arwb");
+  fs::remove(b() / "manifest.json");
+  EXPECT_REFUSED(refuse(b()), "no manifest.json");
+}
+
+TEST_F(Tampered, FileAddedOrMissing) {
+  write_file((b() / "scene/extra.lua").string(), "print('hi')\n");
+  EXPECT_REFUSED(refuse(b()), "scene/extra.lua: not in the manifest");
+  fs::remove(b() / "scene/extra.lua");
+  fs::remove(b() / "scene/media/orbit.mp4");
+  EXPECT_REFUSED(refuse(b()), "scene/media/orbit.mp4: missing");
+}
+
+TEST_F(Tampered, SymbolicLinkInAFolderBundle) {
+  fs::remove(b() / "scene/media/sunset.png");
+  fs::create_symlink("/etc/passwd", b() / "scene/media/sunset.png");
+  EXPECT_REFUSED(refuse(b()), "scene/media/sunset.png: is a symbolic link");
+}
+
+TEST(ManifestText, RoundTrip) {
+  Manifest m;
+  m.title = "T";
+  m.generator = "arwb 0.1.0";
+  m.dictionary = "ARUCO_ORIGINAL";
+  m.ids = {3, 7};
+  m.marker_size_mm = 42.5;
+  m.scene = "scene/s.lua";
+  m.files = {{"scene/s.lua", 12, std::string(64, 'a'), "scene"}, {"cards/web-1.png", 5, std::string(64, 'b'), "card"}};
+  m.self_test = {{3, 4, "image a.png", true, true, ""}, {7, 5, "callbacks only", true, true, ""}};
+  m.self_test_passed = true;
+  m.web_cards = {{"https://x.org", "X", "cards/web-1.png"}};
+  Result<Manifest> back = parse_manifest(manifest_json(m));
+  ASSERT_TRUE(back.ok()) << back.error();
+  EXPECT_EQ(manifest_json(*back), manifest_json(m));
+  EXPECT_EQ(back->self_test[1].media, "callbacks only");
+  // What it points at must be listed.
+  m.scene = "scene/other.lua";
+  EXPECT_EQ(parse_manifest(manifest_json(m)).error(), "manifest.json: scene: \"scene/other.lua\" is not among files");
+  // Deep nesting is refused before parsing.
+  EXPECT_NE(parse_manifest(std::string(100000, '[')).error().find("nested deeper"), std::string::npos);
+}
+
+// --- Hostile zips --------------------------------------------------------------------------------------------
+
+std::uint32_t crc32_of(const std::string& s) {
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (const unsigned char b : s) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+
+void put16(std::string& o, unsigned v) {
+  o += char(v & 0xff);
+  o += char((v >> 8) & 0xff);
+}
+void put32(std::string& o, std::uint32_t v) {
+  put16(o, v & 0xffff);
+  put16(o, v >> 16);
+}
+
+struct RawEntry {
+  std::string name, data;
+  std::uint32_t mode = 0100644;   // the Unix mode in the external attributes
+};
+
+// A zip of stored entries written byte by byte, so its names and attributes can be anything libzip would not
+// write itself (a duplicate, "..", a link).
+std::string raw_zip(const std::vector<RawEntry>& entries) {
+  std::string out, central;
+  for (const RawEntry& e : entries) {
+    const std::uint32_t offset = std::uint32_t(out.size());
+    const std::uint32_t crc = crc32_of(e.data);
+    put32(out, 0x04034b50);
+    put16(out, 20), put16(out, 0), put16(out, 0), put16(out, 0), put16(out, 0);
+    put32(out, crc), put32(out, std::uint32_t(e.data.size())), put32(out, std::uint32_t(e.data.size()));
+    put16(out, unsigned(e.name.size())), put16(out, 0);
+    out += e.name + e.data;
+    put32(central, 0x02014b50);
+    put16(central, (3 << 8) | 20), put16(central, 20), put16(central, 0), put16(central, 0);
+    put16(central, 0), put16(central, 0);
+    put32(central, crc), put32(central, std::uint32_t(e.data.size())), put32(central, std::uint32_t(e.data.size()));
+    put16(central, unsigned(e.name.size())), put16(central, 0), put16(central, 0), put16(central, 0), put16(central, 0);
+    put32(central, e.mode << 16);
+    put32(central, offset);
+    central += e.name;
+  }
+  const std::uint32_t cd_offset = std::uint32_t(out.size());
+  out += central;
+  put32(out, 0x06054b50);
+  put16(out, 0), put16(out, 0), put16(out, unsigned(entries.size())), put16(out, unsigned(entries.size()));
+  put32(out, std::uint32_t(central.size())), put32(out, cd_offset), put16(out, 0);
+  return out;
+}
+
+TEST(RawZip, TheTestsOwnWriterMakesAZipThatOpens) {
+  // The fixture itself: a good bundle rewritten entry by entry with raw_zip opens.
+  TempDir out;
+  const fs::path src = out.path() / "src";
+  export_museum(src);
+  std::vector<RawEntry> entries;
+  for (const std::string& rel : listing(src))
+    if (rel.back() != '/') entries.push_back({rel, read_file((src / rel).string())});
+  write_file(out.str("ok.zip"), raw_zip(entries));
+  PrivateTmp tmp;
+  Result<OpenedBundle> o = open_bundle(out.str("ok.zip"));
+  EXPECT_TRUE(o.ok()) << o.error();
+}
+
+class HostileZip : public ::testing::Test {
+ protected:
+  // A zip in a folder of its own (whose listing is checked), with a manifest-less but otherwise plain entry first.
+  fs::path zip(const std::vector<RawEntry>& entries) {
+    const fs::path dir = out_.path() / ("z" + std::to_string(n_++));
+    fs::create_directory(dir);
+    const fs::path p = dir / "bundle.arwb";
+    std::vector<RawEntry> all{{"README.txt", "hello\n"}};
+    all.insert(all.end(), entries.begin(), entries.end());
+    write_file(p.string(), raw_zip(all));
+    return p;
+  }
+  TempDir out_;
+  int n_ = 0;
+};
+
+TEST_F(HostileZip, EntriesThatWouldLeaveTheFolderAreRefusedByName) {
+  EXPECT_REFUSED(refuse(zip({{"../evil.txt", "x"}})), "entry \"../evil.txt\": has \"..\"");
+  EXPECT_REFUSED(refuse(zip({{"scene/../../evil.txt", "x"}})), "entry \"scene/../../evil.txt\": has \"..\"");
+  EXPECT_REFUSED(refuse(zip({{"/tmp/evil.txt", "x"}})), "entry \"/tmp/evil.txt\": absolute path");
+  EXPECT_REFUSED(refuse(zip({{"scene\\..\\evil.txt", "x"}})), "backslash");
+  EXPECT_REFUSED(refuse(zip({{"link", "/etc/passwd", 0120777}})), "entry \"link\": is a symbolic link");
+  EXPECT_REFUSED(refuse(zip({{"dev", "", 0020644}})), "entry \"dev\": is a device");
+  EXPECT_REFUSED(refuse(zip({{"fifo", "", 0010644}})), "entry \"fifo\": is not a regular file");
+  EXPECT_REFUSED(refuse(zip({{"a.txt", "1"}, {"a.txt", "2"}})), "two entries have the same name");
+  // Nothing landed beside the zips or in the folder above either.
+  EXPECT_FALSE(fs::exists(out_.path() / "evil.txt"));
+  EXPECT_FALSE(fs::exists("/tmp/evil.txt") && fs::last_write_time("/tmp/evil.txt") > fs::file_time_type::clock::now() - std::chrono::minutes(5));
+}
+
+TEST_F(HostileZip, NotABundleAtAll) {
+  EXPECT_REFUSED(refuse(zip({})), "no manifest.json");
+  const fs::path text = out_.path() / "notes.arwb";
+  write_file(text.string(), "just text\n");
+  EXPECT_NE(refuse(text).error.find("not a bundle (neither a folder nor a zip)"), std::string::npos);
+}
+
+// A zip made with libzip (deflated), of `files` entries of `size` bytes each: zeros (a bomb's stuff), or bytes
+// that hardly compress.
+fs::path libzip_zip(const fs::path& dir, const std::string& zip_name, std::uint64_t size, int files, bool zeros) {
+  const fs::path p = dir / zip_name;
+  int code = 0;
+  zip_t* z = zip_open(p.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &code);
+  EXPECT_NE(z, nullptr);
+  std::string bytes(size_t(size), '\0');
+  std::uint32_t x = 12345;
+  if (!zeros)
+    for (char& c : bytes) c = char((x = x * 1103515245u + 12345u) >> 24);
+  for (int i = 0; i < files; ++i) {
+    zip_source_t* s = zip_source_buffer(z, bytes.data(), bytes.size(), 0);
+    const std::string name = (zeros ? "zeros-" : "data-") + std::to_string(i) + ".bin";
+    const zip_int64_t idx = zip_file_add(z, name.c_str(), s, 0);
+    EXPECT_GE(idx, 0);
+    zip_set_file_compression(z, zip_uint64_t(idx), ZIP_CM_DEFLATE, 9);
+  }
+  EXPECT_EQ(zip_close(z), 0);
+  return p;
+}
+
+TEST_F(HostileZip, ABombIsRefusedOnTheBytesReallyInflated) {
+  // 64 MiB of zeros deflate to about 64 KiB: the default limits refuse its ratio as soon as it passes 1000,
+  // whatever the entry declares.
+  const fs::path dir = out_.path() / "bomb";
+  fs::create_directory(dir);
+  const fs::path bomb = libzip_zip(dir, "bomb.zip", 64ull << 20, 1, true);
+  EXPECT_LT(fs::file_size(bomb), 100u << 10);
+  EXPECT_REFUSED(refuse(bomb), "entry \"zeros-0.bin\": inflates more than 1000 times its compressed size");
+  // Lowered limits: one file's size, all files' size, the count of entries.
+  const fs::path small = libzip_zip(dir, "small.zip", 2u << 20, 3, false);
+  BundleLimits l;
+  l.max_file_bytes = 1u << 20;
+  EXPECT_REFUSED(refuse(small, l), "entry \"data-0.bin\": inflates past 1048576 bytes");
+  l = {};
+  l.max_total_bytes = 5u << 20;
+  EXPECT_REFUSED(refuse(small, l), "entry \"data-2.bin\": the bundle inflates past 5242880 bytes");
+  l = {};
+  l.max_ratio = 100;
+  const fs::path zeros = libzip_zip(dir, "zeros.zip", 1u << 20, 1, true);
+  EXPECT_REFUSED(refuse(zeros, l), "entry \"zeros-0.bin\": inflates more than 100 times");
+  l = {};
+  l.max_entries = 2;
+  EXPECT_REFUSED(refuse(small, l), "3 entries, more than the limit of 2");
+}
+
+// --- Exports that must not happen ----------------------------------------------------------------------------
+
+class ExportRefused : public ::testing::Test {
+ protected:
+  // Writes the scene into a copy of the museum and exports it; the error, and checks that nothing was written.
+  // The copy of the museum the scenes are written into.
+  fs::path src() {
+    const fs::path dir = out_.path() / "src";
+    if (!fs::exists(dir)) copy_example("museum", out_.path()), fs::rename(out_.path() / "museum", dir);
+    return dir;
+  }
+  std::string export_scene(const std::string& lua) {
+    const fs::path dir = src();
+    write_file((dir / "scene.lua").string(), lua);
+    const std::set<std::string> before = listing(out_.path());
+    const Status s = export_to(dir / "scene.lua", out_.path() / "out.arwb");
+    EXPECT_FALSE(s.ok());
+    EXPECT_EQ(listing(out_.path()), before) << "something was written";
+    return s.error();
+  }
+  TempDir out_;
+};
+
+TEST_F(ExportRefused, AMissingMediaFile) {
+  const std::string e = export_scene("marker(3, { media = image 'media/gone.png' })\n");
+  EXPECT_NE(e.find("scene.lua:1:"), std::string::npos) << e;
+  EXPECT_NE(e.find("media/gone.png: no such file"), std::string::npos) << e;
+}
+
+TEST_F(ExportRefused, AMediaFileOutsideTheScenesFolder) {
+  write_file(out_.str("outside.png"), read_file((kScripts / "museum/media/sunset.png").string()));
+  fs::create_symlink(out_.path() / "outside.png", src() / "media/link.png");
+  const std::string e = export_scene("marker(3, { media = image 'media/link.png' })\n");
+  EXPECT_NE(e.find("media/link.png: leaves the scene's folder"), std::string::npos) << e;
+}
+
+TEST_F(ExportRefused, AnIdOutOfRange) {
+  const std::string e = export_scene("marker(5000, { media = image 'media/sunset.png' })\n");
+  EXPECT_NE(e.find("5000"), std::string::npos) << e;
+  EXPECT_NE(e.find("scene.lua:1"), std::string::npos) << e;
+}
+
+TEST_F(ExportRefused, ASceneThatDoesNotLoad) {
+  const std::string e = export_scene("marker(1, { media = image 'media/sunset.png' }\n");
+  EXPECT_NE(e.find("scene.lua:"), std::string::npos) << e;
+}
+
+TEST_F(ExportRefused, AMappingThatDoesNotFire) {
+  const std::string e = export_scene(
+      "marker(1, { media = image 'media/sunset.png' })\n"
+      "marker(4, { on_enter = function(m) error('broken exhibit') end })\n");
+  EXPECT_NE(e.find("marker 4 does not fire"), std::string::npos) << e;
+  EXPECT_NE(e.find("scene.lua:2"), std::string::npos) << e;
+  EXPECT_NE(e.find("broken exhibit"), std::string::npos) << e;
+}
+
+TEST_F(ExportRefused, ASceneThatMapsNothing) {
+  EXPECT_NE(export_scene("-- empty\n").find("maps no marker"), std::string::npos);
+}
+
+// --- Writing -------------------------------------------------------------------------------------------------
+
+TEST(ExportWrite, AnExistingOutIsReplacedOnlyWithForceAndOnlyWhenABundle) {
+  TempDir out;
+  const fs::path scene = kScripts / "museum/museum.lua";
+  ASSERT_TRUE(export_to(scene, out.path() / "b").ok());
+  Status s = export_to(scene, out.path() / "b");
+  EXPECT_NE(s.error().find("exists; add --force"), std::string::npos) << s.error();
+  s = export_to(scene, out.path() / "b", "", true);
+  EXPECT_TRUE(s.ok()) << s.error();
+  EXPECT_EQ(listing(out.path()).count("b/manifest.json"), 1u);
+  // A user's file put into the bundle's folder: not ours to delete.
+  write_file(out.str("b/notes.txt"), "mine\n");
+  s = export_to(scene, out.path() / "b", "", true);
+  EXPECT_NE(s.error().find("holds notes.txt, which is not part of its bundle"), std::string::npos) << s.error();
+  EXPECT_EQ(read_file(out.str("b/notes.txt")), "mine\n");
+  // A folder or file that is no bundle at all.
+  fs::create_directory(out.path() / "photos");
+  write_file(out.str("photos/a.jpg"), "x");
+  s = export_to(scene, out.path() / "photos", "", true);
+  EXPECT_NE(s.error().find("not a bundle"), std::string::npos) << s.error();
+  EXPECT_TRUE(fs::exists(out.path() / "photos/a.jpg"));
+  write_file(out.str("report.zip"), "not a zip");
+  s = export_to(scene, out.path() / "report.zip", "", true);
+  EXPECT_NE(s.error().find("not a zip"), std::string::npos) << s.error();
+  EXPECT_EQ(read_file(out.str("report.zip")), "not a zip");
+  // A zip bundle replaced by another.
+  ASSERT_TRUE(export_to(scene, out.path() / "z.arwb").ok());
+  ASSERT_TRUE(export_to(kScripts / "links/links.lua", out.path() / "z.arwb", "", true).ok());
+  PrivateTmp tmp;
+  Result<OpenedBundle> o = open_bundle(out.str("z.arwb"));
+  ASSERT_TRUE(o.ok()) << o.error();
+  EXPECT_EQ(o->manifest().title, "links");
+  // No temporary sibling is left anywhere.
+  for (const std::string& name : listing(out.path())) EXPECT_EQ(name.find(".partial"), std::string::npos) << name;
+}
+
+TEST(ExportWrite, ASourceChangedAfterThePlanIsNamedAndNothingIsWritten) {
+  TempDir out;
+  const fs::path dir = copy_example("museum", out.path());
+  ExportOptions o;
+  o.scene = (dir / "museum.lua").string();
+  o.out = out.str("b.arwb");
+  Result<ExportPlan> plan = plan_export(o);
+  ASSERT_TRUE(plan.ok()) << plan.error();
+  write_file((dir / "media/sunset.png").string(), "changed");
+  const Status s = write_export(*plan);
+  EXPECT_NE(s.error().find("sunset.png: changed since it was checked"), std::string::npos) << s.error();
+  EXPECT_FALSE(fs::exists(out.path() / "b.arwb"));
+}
+
+}  // namespace
+}  // namespace arwb::bundle
