@@ -6,8 +6,8 @@
 #include "ui/window.hpp"
 
 #include "ui/app.hpp"
-#include "base/data_dirs.hpp"
 #include "base/decimals.hpp"
+#include "base/data_dirs.hpp"
 #include "pose/marker_pose.hpp"
 #include "render/gl_driver.hpp"
 #include "ui/panels.hpp"
