@@ -8,6 +8,7 @@
 #include "ui/app.hpp"
 #include "ui/gl_window.hpp"
 #include "base/decimals.hpp"
+#include "base/data_dirs.hpp"
 #include "pose/marker_pose.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
@@ -29,10 +30,6 @@
 #include <sstream>
 #include <thread>
 #include <utility>
-
-#ifndef ARWB_ASSETS_DIR
-#define ARWB_ASSETS_DIR "assets"
-#endif
 
 namespace arwb {
 
@@ -673,7 +670,7 @@ int run_workbench(const WorkbenchOptions& options) {
 
   // Tour text.
   {
-    const std::string path = options.tour_path.empty() ? std::string(ARWB_ASSETS_DIR) + "/teaching/tour.txt"
+    const std::string path = options.tour_path.empty() ? data_dirs().assets + "/teaching/tour.txt"
                                                         : options.tour_path;
     std::vector<std::string> errors;
     load_tour(path, &app.tour, &errors);
@@ -691,8 +688,8 @@ int run_workbench(const WorkbenchOptions& options) {
   });
   app.engine->start();
   app.status.cameras = list_cameras();
-  app.status.assets_dir = ARWB_ASSETS_DIR;
-  app.status.scripts_dir = ARWB_SCRIPTS_DIR;
+  app.status.assets_dir = data_dirs().assets;     // installed beside the binary, or the source tree's
+  app.status.scripts_dir = data_dirs().examples;
   app.list_presets();
   app.list_examples();
   app.compositor = std::make_unique<render::Compositor>(4);

@@ -2,6 +2,7 @@
 // also `arwb --help`, so it lists the subcommands too.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "base/data_dirs.hpp"
 
 #include <cstdio>
 
@@ -50,6 +51,12 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   for (const Subcommand& s : arwb_subcommands()) subcommands.emplace_back(s.name, s.summary);
   subcommands.emplace_back("play", kPlaySummary);   // dispatched by main, which passes it the player window
   cl.add_section("subcommands (`arwb <subcommand> --help` describes each one)", subcommands);
+  // Where the presets, the tour and the example scenes are read from: an installed arwb's own share/arwb, or a
+  // build tree's source tree (base/data_dirs.hpp). Said here so a packaged arwb can be seen to use its own.
+  cl.add_section(data_dirs().installed ? "shipped data (installed beside arwb, in ../share/arwb)"
+                                       : "shipped data (in the source tree arwb was built from)",
+                 {{"assets", "presets, the tour, the sample image: " + data_dirs().assets},
+                  {"examples", "the example scenes: " + data_dirs().examples}});
 
   cl.app.set_version_flag("--version", "arwb " ARWB_VERSION, "print the version and exit");
   WorkbenchOptions o;
@@ -78,7 +85,8 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                     "layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)")
       ->type_name("DIR");
   cl.app.add_option("--snapshot-dir", o.snapshot_dir, "where snapshots go")->type_name("DIR");
-  cl.app.add_option("--tour", o.tour_path, "the guided tour (default assets/teaching/tour.txt)")->type_name("FILE");
+  cl.app.add_option("--tour", o.tour_path, "the guided tour (default " + data_dirs().assets + "/teaching/tour.txt)")
+      ->type_name("FILE");
   cl.app.add_flag("--verbose", o.verbose, "every log line to stderr, not only warnings and errors");
   cl.app.add_option("--scene", o.engine.scene_file, "a Lua scene or the paper's XML database")
       ->type_name("FILE.lua|FILE.xml");
