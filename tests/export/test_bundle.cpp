@@ -610,6 +610,15 @@ TEST(ExportWrite, AnExistingOutIsReplacedOnlyWithForceAndOnlyWhenABundle) {
   for (const std::string& name : listing(out.path())) EXPECT_EQ(name.find(".partial"), std::string::npos) << name;
 }
 
+TEST(ExportWrite, AFolderNamedWithATrailingSlash) {
+  TempDir out;
+  const Status s = export_to(kScripts / "museum/museum.lua", out.str("museum/"));
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_TRUE(fs::is_regular_file(out.path() / "museum/manifest.json"));
+  EXPECT_EQ(listing(out.path()).size(), listing(out.path() / "museum").size() + 1);   // nothing else beside it
+  EXPECT_NE(read_file(out.str("museum/README.txt")).find("arwb play museum\n"), std::string::npos);
+}
+
 TEST(ExportWrite, ASourceChangedAfterThePlanIsNamedAndNothingIsWritten) {
   TempDir out;
   const fs::path dir = copy_example("museum", out.path());
