@@ -198,6 +198,14 @@ TEST(Export, MuseumToAZipOpensElsewhere) {
                                                          "scene/museum.lua"}));
     EXPECT_EQ(read_file((o->dir() / "scene/media/orbit.mp4").string()),
               read_file((kScripts / "museum/media/orbit.mp4").string()));
+    // The copy runs on its own: its scene loads and passes the same self-test where it lies now.
+    ExportOptions again;
+    again.scene = o->scene_path();
+    again.out = out.str("again");
+    Result<ExportPlan> plan = plan_export(again);
+    ASSERT_TRUE(plan.ok()) << plan.error();
+    EXPECT_EQ(plan->manifest.self_test.size(), 9u);
+    EXPECT_FALSE(fs::exists(out.path() / "again"));   // a plan writes nothing
   }
   EXPECT_TRUE(tmp.contents().empty());
 }
