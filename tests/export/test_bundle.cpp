@@ -234,6 +234,28 @@ TEST(Export, EveryFileAModelReadsAndTheWebCards) {
   EXPECT_EQ(read_file((o->dir() / "cards/web-1.png").string()).substr(1, 3), "PNG");
 }
 
+TEST(Export, ACubesFaceImagesAndTheXmlDatabasesMedia) {
+  TempDir out;
+  const fs::path dir = copy_example("museum", out.path());
+  write_file((dir / "cube.lua").string(),
+             "marker(4, { media = cube { size = 0.5, faces = { top = 'media/sunset.png', left = '#ff0000' } } })\n");
+  Status s = export_to(dir / "cube.lua", out.path() / "cube");
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_EQ(listing(out.path() / "cube").count("scene/media/sunset.png"), 1u);
+  EXPECT_EQ(listing(out.path() / "cube").count("scene/media/composition.png"), 0u);
+  s = export_to(dir / "museum.xml", out.path() / "xml");
+  ASSERT_TRUE(s.ok()) << s.error();
+  Result<Manifest> m = parse_manifest(read_file(out.str("xml/manifest.json")));
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->scene, "scene/museum.xml");
+  std::set<std::string> media;
+  for (const BundleFile& f : m->files)
+    if (f.role == "media") media.insert(f.path);
+  EXPECT_EQ(media, (std::set<std::string>{"scene/media/composition.png", "scene/media/orbit.mp4",
+                                          "scene/media/sunset.png"}));
+  for (const SelfTestRow& r : m->self_test) EXPECT_GT(r.mapping_line, 0) << r.id;   // the database's rows
+}
+
 TEST(Export, CalibrationIsCopiedAndReadsBack) {
   TempDir out;
   Calibration c;
