@@ -79,6 +79,8 @@ int cmd_export(int argc, char** argv) {
     }
     if (m.self_test.size() > kShown) std::printf("  ... %zu more rows, all passed\n", m.self_test.size() - kShown);
   }
+  if (!quiet)
+    for (const std::string& w : plan->warnings) std::printf("note: %s\n", printable(w).c_str());
   if (Status s = bundle::write_export(*plan); !s) {
     print_problem("arwb export: %s\n", s.error().c_str());
     return 1;

@@ -59,7 +59,9 @@ struct Manifest {
 };
 
 // manifest.json's text, and back. parse_manifest checks every field (types, format version, relative paths, hex
-// digests) and names the first bad one: "manifest.json: files[3].sha256: not 64 hex digits".
+// digests, that the scene, calibration and card pictures are among the files, nesting at most 16 deep) and names
+// the first bad one: "manifest.json: files[3].sha256: not 64 lowercase hex digits"; a newer format_version is
+// "manifest.json: format_version 2: made by a newer arwb (...)". docs/export.md lists the fields.
 std::string manifest_json(const Manifest& m);
 Result<Manifest> parse_manifest(const std::string& text);
 
@@ -77,14 +79,19 @@ struct ExportOptions {
 struct ExportPlan {
   ExportOptions options;
   Manifest manifest;                                   // files listed with sizes and digests
-  std::vector<std::pair<std::string, std::string>> sources;   // bundle path <- absolute source path (or "" with bytes)
-  std::vector<std::pair<std::string, std::string>> generated; // bundle path <- bytes (README, sheet, cards, manifest)
-  std::vector<std::string> warnings;
+  std::vector<std::pair<std::string, std::string>> sources;   // bundle path <- absolute source path (scene, media, calibration)
+  std::vector<std::pair<std::string, std::string>> generated; // bundle path <- bytes (README, sheet, cards, manifest.json last)
+  std::vector<std::string> warnings;                   // worth saying, not stopping for ("no calibration: ...")
 };
-// The checks of `arwb export`: the scene loads; every media file resolves inside the scene's folder; every id and
-// the dictionary are valid; the calibration reads; and the self-test passes. An error names the file, line or id.
+// The checks of `arwb export` (docs/export.md): out may be written (an existing one only with force, and only when
+// it is a bundle); the scene loads with no mapping skipped; every file it reads (recorded while it loads and runs)
+// lies inside the scene's folder; every id is valid for the dictionary; the marker size fits a sheet; the
+// calibration reads; and the self-test passes (each mapped id drawn, detected and run through SceneStage). An
+// error is one line naming the file, line or id ("museum.lua:14: marker 1 does not fire its mapping in the
+// self-test: ..."). Nothing is written, except scratch files in the system's temporary folder.
 Result<ExportPlan> plan_export(const ExportOptions& options);
-// Writes the plan: all of it or nothing (a temporary sibling renamed into place).
+// Writes the plan: all of it or nothing (built in a private folder beside out, then renamed into place; an old
+// bundle it replaces goes only then). The sources are read again and must still have their planned digests.
 Status write_export(const ExportPlan& plan);
 
 // Limits for reading a bundle someone sent.
@@ -99,14 +106,16 @@ struct BundleLimits {
 // against its manifest, removed when this is destroyed. Refused, with the entry named, when: manifest.json is
 // missing or bad; a listed file is missing, has another size or digest ("scene/media/logo.png: changed since
 // export (SHA-256 differs)"); a file is not listed ("scene/extra.lua: not in the manifest"); a zip entry is
-// absolute, has "..", is a symbolic link or device, is duplicated, or is past the limits. Nothing is ever written
-// outside the temporary folder.
+// absolute, has "..", is a symbolic link or device, is duplicated, or is past the limits (counted on the bytes
+// really inflated); a folder holds a link or device. Nothing is ever written outside the temporary folder, which
+// is removed at once on a refusal. The folder or zip is told by its bytes, not its name. Errors read
+// "<path>: <entry>: <reason>".
 class OpenedBundle {
  public:
   ~OpenedBundle();   // removes the folder
   OpenedBundle(OpenedBundle&&) noexcept;
   OpenedBundle& operator=(OpenedBundle&&) noexcept;
-  const std::filesystem::path& dir() const;
+  const std::filesystem::path& dir() const;   // absolute: $TMPDIR (or /tmp)/arwb-bundle-XXXXXX
   const Manifest& manifest() const;
   std::string scene_path() const;          // absolute
   std::string calibration_path() const;    // absolute, "" when none

@@ -123,7 +123,7 @@ Status write_new_file(const fs::path& path, std::string_view bytes) {
 
 Result<TempDir> TempDir::make(const fs::path& near, const std::string& stem) {
   std::error_code ec;
-  const fs::path base = near.empty() ? fs::temp_directory_path(ec) : near;
+  const fs::path base = fs::absolute(near.empty() ? fs::temp_directory_path(ec) : near, ec);
   if (ec) return fail("no temporary folder (" + ec.message() + ")");
   std::string templ = (base / (stem + "-XXXXXX")).string();
   if (!::mkdtemp(templ.data())) return fail("cannot create a folder in " + base.string() + " (" + errno_text(errno) + ")");

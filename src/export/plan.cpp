@@ -47,6 +47,13 @@ bool is_zip_name(const std::string& out) {
   return ext == ".zip" || ext == ".arwb";
 }
 
+// --out as an absolute path without a trailing '/' ("museum/" names the folder museum).
+fs::path out_path(const std::string& out) {
+  fs::path p = fs::absolute(out).lexically_normal();
+  if (!p.has_filename() && p.has_parent_path()) p = p.parent_path();
+  return p;
+}
+
 void say(const ExportOptions& o, const std::string& line) {
   if (o.progress) o.progress(line);
 }
@@ -266,7 +273,7 @@ Status replaceable(const fs::path& out) {
 
 Status check_out(const ExportOptions& o) {
   if (o.out.empty()) return fail("--out: no bundle named");
-  const fs::path out = fs::absolute(o.out).lexically_normal();
+  const fs::path out = out_path(o.out);
   std::error_code ec;
   const fs::path parent = out.parent_path();
   if (!fs::is_directory(parent, ec)) return fail("--out " + o.out + ": the folder " + parent.string() + " does not exist");
@@ -330,6 +337,9 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
   }
 
   std::optional<Calibration> calib;
+  if (options.calibration.empty())
+    plan.warnings.push_back("no --calib: the player uses the paper's default camera values, so poses and 3D media "
+                            "are approximate");
   if (!options.calibration.empty()) {
     say(options, "reading the calibration " + options.calibration);
     if (Status s = plan_calibration(options.calibration, plan, &calib); !s) return fail(s.error());
@@ -397,7 +407,7 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
     else if (path.rfind("scene/", 0) != 0) role = "calibration";
     m.files.push_back({path, bytes->size(), sha256_hex(*bytes), role});
   }
-  const std::string bundle_name = fs::path(options.out).filename().string();
+  const std::string bundle_name = out_path(options.out).filename().string();
   plan.generated.emplace_back("README.txt", readme_text(m, bundle_name.empty() ? std::string("BUNDLE") : bundle_name));
   for (const auto& [path, bytes] : plan.generated) {
     const std::string role = path == "markers.pdf" ? "sheet" : path == "README.txt" ? "readme" : "card";
@@ -413,7 +423,7 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
 Status write_export(const ExportPlan& plan) {
   const ExportOptions& o = plan.options;
   if (Status s = check_out(o); !s) return s;
-  const fs::path out = fs::absolute(o.out).lexically_normal();
+  const fs::path out = out_path(o.out);
   std::error_code ec;
   const bool exists = fs::symlink_status(out, ec).type() != fs::file_type::not_found;
 

@@ -198,6 +198,14 @@ TEST(Export, MuseumToAZipOpensElsewhere) {
                                                          "scene/museum.lua"}));
     EXPECT_EQ(read_file((o->dir() / "scene/media/orbit.mp4").string()),
               read_file((kScripts / "museum/media/orbit.mp4").string()));
+    // The copy runs on its own: its scene loads and passes the same self-test where it lies now.
+    ExportOptions again;
+    again.scene = o->scene_path();
+    again.out = out.str("again");
+    Result<ExportPlan> plan = plan_export(again);
+    ASSERT_TRUE(plan.ok()) << plan.error();
+    EXPECT_EQ(plan->manifest.self_test.size(), 9u);
+    EXPECT_FALSE(fs::exists(out.path() / "again"));   // a plan writes nothing
   }
   EXPECT_TRUE(tmp.contents().empty());
 }
@@ -224,6 +232,28 @@ TEST(Export, EveryFileAModelReadsAndTheWebCards) {
   EXPECT_EQ(o->manifest().web_cards[0].title, "OpenCV");
   EXPECT_EQ(o->manifest().web_cards[0].picture, "cards/web-1.png");
   EXPECT_EQ(read_file((o->dir() / "cards/web-1.png").string()).substr(1, 3), "PNG");
+}
+
+TEST(Export, ACubesFaceImagesAndTheXmlDatabasesMedia) {
+  TempDir out;
+  const fs::path dir = copy_example("museum", out.path());
+  write_file((dir / "cube.lua").string(),
+             "marker(4, { media = cube { size = 0.5, faces = { top = 'media/sunset.png', left = '#ff0000' } } })\n");
+  Status s = export_to(dir / "cube.lua", out.path() / "cube");
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_EQ(listing(out.path() / "cube").count("scene/media/sunset.png"), 1u);
+  EXPECT_EQ(listing(out.path() / "cube").count("scene/media/composition.png"), 0u);
+  s = export_to(dir / "museum.xml", out.path() / "xml");
+  ASSERT_TRUE(s.ok()) << s.error();
+  Result<Manifest> m = parse_manifest(read_file(out.str("xml/manifest.json")));
+  ASSERT_TRUE(m.ok()) << m.error();
+  EXPECT_EQ(m->scene, "scene/museum.xml");
+  std::set<std::string> media;
+  for (const BundleFile& f : m->files)
+    if (f.role == "media") media.insert(f.path);
+  EXPECT_EQ(media, (std::set<std::string>{"scene/media/composition.png", "scene/media/orbit.mp4",
+                                          "scene/media/sunset.png"}));
+  for (const SelfTestRow& r : m->self_test) EXPECT_GT(r.mapping_line, 0) << r.id;   // the database's rows
 }
 
 TEST(Export, CalibrationIsCopiedAndReadsBack) {
@@ -608,6 +638,15 @@ TEST(ExportWrite, AnExistingOutIsReplacedOnlyWithForceAndOnlyWhenABundle) {
   EXPECT_EQ(o->manifest().title, "links");
   // No temporary sibling is left anywhere.
   for (const std::string& name : listing(out.path())) EXPECT_EQ(name.find(".partial"), std::string::npos) << name;
+}
+
+TEST(ExportWrite, AFolderNamedWithATrailingSlash) {
+  TempDir out;
+  const Status s = export_to(kScripts / "museum/museum.lua", out.str("museum/"));
+  ASSERT_TRUE(s.ok()) << s.error();
+  EXPECT_TRUE(fs::is_regular_file(out.path() / "museum/manifest.json"));
+  EXPECT_EQ(listing(out.path()).size(), listing(out.path() / "museum").size() + 1);   // nothing else beside it
+  EXPECT_NE(read_file(out.str("museum/README.txt")).find("arwb play museum\n"), std::string::npos);
 }
 
 TEST(ExportWrite, ASourceChangedAfterThePlanIsNamedAndNothingIsWritten) {
