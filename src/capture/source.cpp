@@ -459,6 +459,12 @@ std::vector<int> list_cameras() {
   return devices;
 }
 
+bool parse_source_or_default(const std::string& text, SourceSpec* out, std::string* error) {
+  if (!text.empty()) return parse_source_spec(text, out, error);
+  const std::vector<int> cameras = list_cameras();
+  return parse_source_spec(cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front()), out, error);
+}
+
 cv::Size acquisition_size(cv::Size in, const AcquisitionSettings& s) {
   if (!s.resize || in.width <= 0 || in.height <= 0 || s.size.width < 0 || s.size.height < 0) return in;
   int w = s.size.width, h = s.size.height;

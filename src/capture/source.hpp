@@ -31,6 +31,9 @@ struct SourceSpec {
 };
 // False and a one-line message naming the argument when it names nothing usable (missing path, bad device).
 bool parse_source_spec(const std::string& text, SourceSpec* out, std::string* error);
+// parse_source_spec, where an empty `text` means the first camera that exists, else the synthetic source (what
+// the workbench and the player open when no --source is given).
+bool parse_source_or_default(const std::string& text, SourceSpec* out, std::string* error);
 
 enum class FrameStatus {
   ok,         // a new frame

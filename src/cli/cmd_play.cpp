@@ -50,12 +50,8 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
   const bundle::Manifest& m = opened->manifest();
 
   if (!actions.empty()) o.actions.push_back(actions);
-  if (source.empty()) {
-    const std::vector<int> cameras = list_cameras();
-    source = cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front());
-  }
   std::string err;
-  if (!parse_source_spec(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
+  if (!parse_source_or_default(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
   o.window = *parse_frame_size(window);  // checked by frame_size
   o.engine.scene_file = opened->scene_path();
   o.engine.calibration_file = opened->calibration_path();

@@ -109,12 +109,8 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   if (const auto status = cl.parse(argc, argv)) return *status;
 
   if (!actions.empty()) o.actions.push_back(actions);
-  if (source.empty()) {
-    const std::vector<int> cameras = list_cameras();
-    source = cameras.empty() ? "synthetic" : "camera:" + std::to_string(cameras.front());
-  }
   std::string err;
-  if (!parse_source_spec(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
+  if (!parse_source_or_default(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
   o.window = *parse_frame_size(size);  // checked by frame_size
   if (resize == "off") {
     o.engine.acquisition.resize = false;

@@ -1,6 +1,5 @@
 // The paper's Code Generator: a scene, its media, the camera's calibration and a marker sheet as one bundle that
 // runs on its own (`arwb export`, `arwb play`, File > Export... and File > Play bundle). docs/export.md.
-//
 #pragma once
 
 #include "base/result.hpp"
