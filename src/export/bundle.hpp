@@ -101,14 +101,16 @@ struct BundleLimits {
   double max_ratio = 1000;                       // uncompressed / compressed, per entry (zip bombs)
 };
 
-// A bundle opened for playing: copied or extracted into a private temporary folder (0700), verified there
-// against its manifest, removed when this is destroyed. Refused, with the entry named, when: manifest.json is
-// missing or bad; a listed file is missing, has another size or digest ("scene/media/logo.png: changed since
-// export (SHA-256 differs)"); a file is not listed ("scene/extra.lua: not in the manifest"); a zip entry is
-// absolute, has "..", is a symbolic link or device, is duplicated, or is past the limits (counted on the bytes
-// really inflated); a folder holds a link or device. Nothing is ever written outside the temporary folder, which
-// is removed at once on a refusal. The folder or zip is told by its bytes, not its name. Errors read
-// "<path>: <entry>: <reason>".
+// A bundle opened for playing: copied or extracted into a private temporary folder (0700), verified there against its
+// manifest, removed when this is destroyed. Refused, with the entry named, when: manifest.json is missing or bad, or
+// says what arwb export never writes (the scene not a listed .lua or .xml of role "scene", the calibration not a listed
+// file of role "calibration" that reads, an unknown dictionary or a spelling of it arwb does not write, no ids or one
+// the dictionary lacks, an unknown role, a failed self-test); a listed file is missing, has another size or digest
+// ("scene/media/logo.png: changed since export (SHA-256 differs)"); a file is not listed ("scene/extra.lua: not in the
+// manifest"); a zip entry is absolute, has "..", is a symbolic link or device, is duplicated, or is past the limits
+// (counted on the bytes really inflated); a folder holds a link or device. Nothing is ever written outside the
+// temporary folder, which is removed at once on a refusal. The folder or zip is told by its bytes, not its name. Errors
+// read "<path>: <entry>: <reason>".
 class OpenedBundle {
  public:
   ~OpenedBundle();   // removes the folder

@@ -1,5 +1,7 @@
 #include "export/bundle_files.hpp"
 
+#include "base/files.hpp"
+
 #include <openssl/evp.h>
 #include <zip.h>
 
@@ -29,6 +31,13 @@ std::string sha256_hex(std::string_view bytes) {
     out += hex[digest[i] >> 4];
     out += hex[digest[i] & 15];
   }
+  return out;
+}
+
+std::string quoted_name(std::string_view name) {
+  std::string out = "\"";
+  out += shown_name(name);
+  out += '"';
   return out;
 }
 
@@ -237,7 +246,7 @@ Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimi
     if (zip_stat_index(z.get(), i, ZIP_FL_ENC_RAW, &st) != 0 || !(st.valid & ZIP_STAT_NAME))
       return fail(where + "entry " + std::to_string(i) + ": unreadable (" + zip_strerror(z.get()) + ")");
     std::string name = st.name;
-    const std::string shown = "entry \"" + name + "\": ";
+    const std::string shown = "entry " + quoted_name(name) + ": ";   // a long name cut
     if (name.size() != std::strlen(st.name)) return fail(where + shown + "has a NUL byte in its name");
     bool folder = !name.empty() && name.back() == '/';
     if (folder) name.pop_back();
@@ -267,12 +276,12 @@ Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimi
     if (!e.folder) files.insert(e.name);
   for (const Entry& e : list)
     for (size_t slash = e.name.find('/'); slash != std::string::npos; slash = e.name.find('/', slash + 1))
-      if (files.count(e.name.substr(0, slash))) return fail(where + "entry \"" + e.name + "\": its folder is a file");
+      if (files.count(e.name.substr(0, slash))) return fail(where + "entry " + quoted_name(e.name) + ": its folder is a file");
 
   std::uint64_t total = 0;
   std::vector<char> buf(1 << 16);
   for (const Entry& e : list) {
-    const std::string shown = "entry \"" + e.name + "\": ";
+    const std::string shown = "entry " + quoted_name(e.name) + ": ";
     const fs::path target = into / e.name;
     std::error_code ec;
     // Folders are made by us, one by one, never through a link: the names were checked and nothing but this

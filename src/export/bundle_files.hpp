@@ -20,6 +20,10 @@ std::string sha256_hex(std::string_view bytes);
 // backslash, colon or control character, at most 1024 bytes. Else the reason ("absolute path", "has ..", ...).
 std::string bundle_path_problem(std::string_view path);
 
+// `name` for a message, in double quotes, cut with base/files' shown_name (a 600-byte entry name would make one
+// huge line). Built by appending: GCC 12 warns wrongly (-Wrestrict) on "\"" + a temporary string.
+std::string quoted_name(std::string_view name);
+
 // The whole regular file at `path` (symbolic links not followed when `no_follow`), at most max_bytes.
 Result<std::string> read_whole_file(const std::filesystem::path& path, std::uint64_t max_bytes, bool no_follow);
 // Writes a new file (it must not exist; never through a symbolic link), mode 0644, flushed to disk.

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <set>
 
 namespace arwb::bundle {
@@ -106,7 +107,7 @@ struct Reader {
   bool path(const std::string& p, const std::string& field, bool may_be_empty) {
     if (p.empty() && may_be_empty) return true;
     const std::string problem = bundle_path_problem(p);
-    if (!problem.empty()) return bad(field, "\"" + p + "\": " + problem);
+    if (!problem.empty()) return bad(field, quoted_name(p) + ": " + problem);
     return true;
   }
 };
@@ -122,8 +123,20 @@ bool is_hex64(const std::string& s) {
 
 Result<Manifest> parse_manifest(const std::string& text) {
   if (too_deep(text)) return fail(std::string(kManifestName) + ": nested deeper than " + std::to_string(kMaxDepth));
-  json j = json::parse(text, nullptr, false);
-  if (j.is_discarded()) return fail(std::string(kManifestName) + ": not valid JSON");
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // Where the parser stopped, as a line and column a text editor shows (e.byte counts from 1).
+    const size_t at = std::min<size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+    size_t line = 1, column = 1;
+    for (size_t i = 0; i < at; ++i) {
+      if (text[i] == '\n') ++line, column = 1;
+      else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) ++column;
+    }
+    return fail(std::string(kManifestName) + ": not valid JSON at line " + std::to_string(line) + ", column " +
+                std::to_string(column) + " (byte " + std::to_string(e.byte) + ")");
+  }
   if (!j.is_object()) return fail(std::string(kManifestName) + ": not a JSON object");
   Reader r;
   Manifest m;
@@ -167,7 +180,7 @@ Result<Manifest> parse_manifest(const std::string& text) {
       long long size = 0;
       if (r.str(f, "path", field + ".path", &b.path) && r.path(b.path, field + ".path", false)) {
         if (b.path == kManifestName) r.bad(field + ".path", "lists manifest.json itself");
-        else if (!paths.insert(b.path).second) r.bad(field + ".path", "\"" + b.path + "\" is listed twice");
+        else if (!paths.insert(b.path).second) r.bad(field + ".path", quoted_name(b.path) + " is listed twice");
       }
       if (r.integer(f, "size", field + ".size", 0, (1ll << 50), &size)) b.size = std::uint64_t(size);
       if (r.str(f, "sha256", field + ".sha256", &b.sha256) && !is_hex64(b.sha256))
@@ -212,13 +225,13 @@ Result<Manifest> parse_manifest(const std::string& text) {
     }
   if (!r.error.empty()) return fail(r.error);
   // What the manifest points at must be among its files.
-  if (!paths.count(m.scene)) return fail(std::string(kManifestName) + ": scene: \"" + m.scene + "\" is not among files");
+  if (!paths.count(m.scene)) return fail(std::string(kManifestName) + ": scene: " + quoted_name(m.scene) + " is not among files");
   if (!m.calibration.empty() && !paths.count(m.calibration))
-    return fail(std::string(kManifestName) + ": calibration: \"" + m.calibration + "\" is not among files");
+    return fail(std::string(kManifestName) + ": calibration: " + quoted_name(m.calibration) + " is not among files");
   for (size_t i = 0; i < m.web_cards.size(); ++i)
     if (!paths.count(m.web_cards[i].picture))
-      return fail(std::string(kManifestName) + ": web_cards[" + std::to_string(i) + "].picture: \"" +
-                  m.web_cards[i].picture + "\" is not among files");
+      return fail(std::string(kManifestName) + ": web_cards[" + std::to_string(i) + "].picture: " +
+                  quoted_name(m.web_cards[i].picture) + " is not among files");
   return m;
 }
 

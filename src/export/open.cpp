@@ -3,6 +3,12 @@
 #include "export/bundle.hpp"
 #include "export/bundle_files.hpp"
 
+#include "base/files.hpp"
+#include "calibration/calibration_file.hpp"
+#include "detect/dictionary.hpp"
+
+#include <algorithm>
+#include <cctype>
 #include <set>
 
 namespace arwb::bundle {
@@ -25,22 +31,23 @@ Status copy_folder(const fs::path& from, const fs::path& into, const BundleLimit
     const std::string rel = it->path().lexically_relative(from).generic_string();
     if (++entries > limits.max_entries)
       return fail("more than " + std::to_string(limits.max_entries) + " files and folders, the limit");
-    if (const std::string problem = bundle_path_problem(rel); !problem.empty()) return fail(rel + ": " + problem);
+    const std::string shown = shown_name(rel);   // a long name cut for the message
+    if (const std::string problem = bundle_path_problem(rel); !problem.empty()) return fail(shown + ": " + problem);
     const fs::file_status st = it->symlink_status(ec);
     if (ec) break;
-    if (fs::is_symlink(st)) return fail(rel + ": is a symbolic link");
+    if (fs::is_symlink(st)) return fail(shown + ": is a symbolic link");
     if (fs::is_directory(st)) {
       fs::create_directory(into / rel, ec);
-      if (ec) return fail(rel + ": cannot be copied (" + ec.message() + ")");
+      if (ec) return fail(shown + ": cannot be copied (" + ec.message() + ")");
       continue;
     }
-    if (!fs::is_regular_file(st)) return fail(rel + ": is not a regular file");
+    if (!fs::is_regular_file(st)) return fail(shown + ": is not a regular file");
     Result<std::string> bytes = read_whole_file(it->path(), limits.max_file_bytes, true);
-    if (!bytes) return fail(rel + ": " + bytes.error().substr(std::min(bytes.error().size(), it->path().string().size() + 2)));
+    if (!bytes) return fail(shown + ": " + bytes.error().substr(std::min(bytes.error().size(), it->path().string().size() + 2)));
     total += bytes->size();
     if (total > limits.max_total_bytes)
-      return fail(rel + ": the bundle is larger than " + std::to_string(limits.max_total_bytes) + " bytes, the limit");
-    if (Status s = write_new_file(into / rel, *bytes); !s) return fail(rel + ": cannot be copied (" + s.error() + ")");
+      return fail(shown + ": the bundle is larger than " + std::to_string(limits.max_total_bytes) + " bytes, the limit");
+    if (Status s = write_new_file(into / rel, *bytes); !s) return fail(shown + ": cannot be copied (" + s.error() + ")");
   }
   if (ec) return fail("cannot be listed (" + ec.message() + ")");
   return {};
@@ -51,25 +58,82 @@ Status verify(const fs::path& dir, const Manifest& m) {
   std::set<std::string> listed{kManifestName};
   for (const BundleFile& f : m.files) {
     listed.insert(f.path);
+    const std::string shown = shown_name(f.path);
     Result<std::string> bytes = read_whole_file(dir / f.path, ~std::uint64_t(0) >> 1, true);
     std::error_code ec;
     if (!bytes) {
-      if (!fs::exists(fs::symlink_status(dir / f.path, ec))) return fail(f.path + ": missing (listed in the manifest)");
-      return fail(f.path + ": " + bytes.error());
+      if (!fs::exists(fs::symlink_status(dir / f.path, ec))) return fail(shown + ": missing (listed in the manifest)");
+      // The reader's message names the private copy: only its reason is kept.
+      const std::string why = bytes.error().substr(std::min(bytes.error().size(), (dir / f.path).string().size() + 2));
+      return fail(shown + ": " + why);
     }
     if (bytes->size() != f.size)
-      return fail(f.path + ": changed since export (" + std::to_string(bytes->size()) + " bytes, the manifest says " +
+      return fail(shown + ": changed since export (" + std::to_string(bytes->size()) + " bytes, the manifest says " +
                   std::to_string(f.size) + ")");
-    if (sha256_hex(*bytes) != f.sha256) return fail(f.path + ": changed since export (SHA-256 differs)");
+    if (sha256_hex(*bytes) != f.sha256) return fail(shown + ": changed since export (SHA-256 differs)");
   }
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
        it.increment(ec)) {
     if (it->is_directory(ec)) continue;
     const std::string rel = it->path().lexically_relative(dir).generic_string();
-    if (!listed.count(rel)) return fail(rel + ": not in the manifest");
+    if (!listed.count(rel)) return fail(shown_name(rel) + ": not in the manifest");
   }
   if (ec) return fail("cannot be listed (" + ec.message() + ")");
+  return {};
+}
+
+const char* const kRoles[] = {"scene", "media", "calibration", "sheet", "readme", "card"};
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+Status bad(const std::string& field, const std::string& why) {
+  return fail(std::string(kManifestName) + ": " + field + ": " + why);
+}
+
+// What the manifest says, beyond its syntax (parse_manifest): only what arwb export could have written. A hand
+// edit that points the scene at a picture, names an unknown dictionary or an id it does not have, or marks a
+// failed self-test is refused here, naming the field, rather than played as something else.
+Status check_meaning(const Manifest& m) {
+  std::string roles;
+  for (const char* r : kRoles) roles += std::string(roles.empty() ? "" : ", ") + r;
+  const BundleFile* scene = nullptr;
+  const BundleFile* calibration = nullptr;
+  for (size_t i = 0; i < m.files.size(); ++i) {
+    const BundleFile& f = m.files[i];
+    if (std::find(std::begin(kRoles), std::end(kRoles), f.role) == std::end(kRoles))
+      return bad("files[" + std::to_string(i) + "].role", quoted_name(f.role) + " is not one of " + roles);
+    if (f.path == m.scene) scene = &f;
+    if (f.path == m.calibration) calibration = &f;
+  }
+  const std::string scene_ext = lower(std::filesystem::path(m.scene).extension().string());
+  if (!scene || scene->role != "scene")
+    return bad("scene", quoted_name(m.scene) + " is not listed as the scene (its role is " +
+                            quoted_name(scene ? scene->role : std::string("none")) + ")");
+  if (scene_ext != ".lua" && scene_ext != ".xml")
+    return bad("scene", quoted_name(m.scene) + " is not a Lua scene or an XML database (.lua, .xml)");
+  if (!m.calibration.empty() && (!calibration || calibration->role != "calibration"))
+    return bad("calibration", quoted_name(m.calibration) + " is not listed as a calibration (its role is " +
+                                  quoted_name(calibration ? calibration->role : std::string("none")) + ")");
+  std::string dict_error;
+  const std::optional<Dictionary> dict = dictionary_by_name(m.dictionary, &dict_error);
+  if (!dict) return bad("dictionary", quoted_name(m.dictionary) + " is not a known dictionary");
+  // arwb writes the scene's dictionary by its own name; another spelling was typed by hand, and the player
+  // would detect with it whatever the scene uses.
+  if (dict->name() != m.dictionary)
+    return bad("dictionary", quoted_name(m.dictionary) + " is not how arwb names a dictionary (" + dict->name() + ")");
+  if (m.ids.empty()) return bad("ids", "empty (a bundle maps at least one marker)");
+  for (size_t i = 0; i < m.ids.size(); ++i) {
+    if (m.ids[i] >= dict->size())
+      return bad("ids[" + std::to_string(i) + "]", std::to_string(m.ids[i]) + " is not a marker of " + dict->name() +
+                                                       " (ids 0 to " + std::to_string(dict->size() - 1) + ")");
+    if (i > 0 && m.ids[i] <= m.ids[i - 1]) return bad("ids[" + std::to_string(i) + "]", "not in ascending order");
+  }
+  if (!m.self_test_passed)
+    return bad("self_test_passed", "false (arwb export writes only bundles whose self-test passed)");
   return {};
 }
 
@@ -125,7 +189,19 @@ Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& li
   if (!text) return fail(where + "no manifest.json (not a bundle made by arwb export)");
   Result<Manifest> m = parse_manifest(*text);
   if (!m) return fail(where + m.error());
+  if (Status s = check_meaning(*m); !s) return fail(where + s.error());
   if (Status s = verify(tmp->path(), *m); !s) return fail(where + s.error());
+  // The calibration, now known to be the file that was exported, must read (with its distCoeffs.xml when it is
+  // the paper's pair), as the player will read it.
+  if (!m->calibration.empty())
+    if (Result<Calibration> c = read_calibration((tmp->path() / m->calibration).string()); !c) {
+      std::string why = c.error();
+      const std::string dir = tmp->path().string() + "/";
+      // The reader names the private copy; the bundle's own path says more.
+      for (size_t at = why.find(dir); at != std::string::npos; at = why.find(dir)) why.erase(at, dir.size());
+      return fail(where + std::string(kManifestName) + ": calibration: " + quoted_name(m->calibration) + " does not read (" +
+                  why + ")");
+    }
   OpenedBundle b;
   b.dir_ = tmp->keep();
   b.manifest_ = std::move(*m);

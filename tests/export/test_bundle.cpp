@@ -354,6 +354,54 @@ TEST_F(Tampered, ManifestEditedByHand) {
   EXPECT_REFUSED(refuse(b()), "no manifest.json");
 }
 
+TEST_F(Tampered, ManifestThatMeansSomethingArwbNeverWrites) {
+  // Each hand edit keeps the manifest's syntax and every digest right, and is refused naming the field.
+  const std::string text = read_file((b() / "manifest.json").string());
+  Result<Manifest> m = parse_manifest(text);
+  ASSERT_TRUE(m.ok()) << m.error();
+  const auto refused = [&](const Manifest& edited, const std::string& expected) {
+    write_file((b() / "manifest.json").string(), manifest_json(edited));
+    EXPECT_REFUSED(refuse(b()), expected);
+  };
+  Manifest e = *m;
+  e.scene = "scene/media/sunset.png";
+  refused(e, "manifest.json: scene: \"scene/media/sunset.png\" is not listed as the scene (its role is \"media\")");
+  e = *m;
+  for (BundleFile& f : e.files)
+    if (f.path == "scene/media/sunset.png") f.role = "scene";
+  e.scene = "scene/media/sunset.png";
+  refused(e, "manifest.json: scene: \"scene/media/sunset.png\" is not a Lua scene or an XML database");
+  e = *m;
+  e.calibration = "scene/media/sunset.png";
+  refused(e, "manifest.json: calibration: \"scene/media/sunset.png\" is not listed as a calibration");
+  for (BundleFile& f : e.files)
+    if (f.path == "scene/media/sunset.png") f.role = "calibration";
+  refused(e, "manifest.json: calibration: \"scene/media/sunset.png\" does not read (scene/media/sunset.png");
+  e = *m;
+  e.dictionary = "NOPE";
+  refused(e, "manifest.json: dictionary: \"NOPE\" is not a known dictionary");
+  e.dictionary = "DICT_4X4_50";
+  refused(e, "manifest.json: dictionary: \"DICT_4X4_50\" is not how arwb names a dictionary (4X4_50)");
+  e = *m;
+  e.ids = {5000};
+  refused(e, "manifest.json: ids[0]: 5000 is not a marker of ARUCO_ORIGINAL (ids 0 to 1023)");
+  e.ids = {};
+  refused(e, "manifest.json: ids: empty");
+  e.ids = {2, 1};
+  refused(e, "manifest.json: ids[1]: not in ascending order");
+  e = *m;
+  e.files[0].role = "weird";
+  refused(e, "manifest.json: files[0].role: \"weird\" is not one of scene, media, calibration, sheet, readme, card");
+  e = *m;
+  e.self_test_passed = false;
+  refused(e, "manifest.json: self_test_passed: false");
+  // The original still opens.
+  write_file((b() / "manifest.json").string(), text);
+  PrivateTmp tmp;
+  Result<OpenedBundle> o = open_bundle(b().string());
+  EXPECT_TRUE(o.ok()) << o.error();
+}
+
 TEST_F(Tampered, FileAddedOrMissing) {
   write_file((b() / "scene/extra.lua").string(), "print('hi')\n");
   EXPECT_REFUSED(refuse(b()), "scene/extra.lua: not in the manifest");
@@ -366,6 +414,15 @@ TEST_F(Tampered, SymbolicLinkInAFolderBundle) {
   fs::remove(b() / "scene/media/sunset.png");
   fs::create_symlink("/etc/passwd", b() / "scene/media/sunset.png");
   EXPECT_REFUSED(refuse(b()), "scene/media/sunset.png: is a symbolic link");
+}
+
+TEST(ManifestText, NotJsonSaysWhere) {
+  Result<Manifest> m = parse_manifest("{\n  \"a\": ,\n}\n");
+  ASSERT_FALSE(m.ok());
+  EXPECT_EQ(m.error(), "manifest.json: not valid JSON at line 2, column 8 (byte 10)");
+  m = parse_manifest("{\"title\": \"é\", x}");
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.error().find("at line 1, column 16"), std::string::npos) << m.error();
 }
 
 TEST(ManifestText, RoundTrip) {
@@ -487,6 +544,14 @@ TEST_F(HostileZip, EntriesThatWouldLeaveTheFolderAreRefusedByName) {
   // Nothing landed beside the zips or in the folder above either.
   EXPECT_FALSE(fs::exists(out_.path() / "evil.txt"));
   EXPECT_FALSE(fs::exists("/tmp/evil.txt") && fs::last_write_time("/tmp/evil.txt") > fs::file_time_type::clock::now() - std::chrono::minutes(5));
+}
+
+TEST_F(HostileZip, ALongEntryNameIsCutInTheMessage) {
+  // A 600-byte name would make one huge line: the message shows its start and "…".
+  const std::string name = std::string(600, 'a') + "/../evil.txt";
+  const Refusal r = refuse(zip({{name, "x"}}));
+  EXPECT_REFUSED(r, "entry \"" + std::string(120, 'a') + "\u2026\": has \"..\"");
+  EXPECT_LT(r.error.size(), 400u) << r.error;
 }
 
 TEST_F(HostileZip, NotABundleAtAll) {
