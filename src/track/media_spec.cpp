@@ -37,7 +37,10 @@ std::string MediaSpec::describe() const {
       std::string t = text;
       for (char& c : t) if (c == '\n' || c == '\t') c = ' ';
       if (t.size() > 40) t = t.substr(0, 37) + "...";
-      return "text \"" + t + "\"" + (source == "function" ? " (computed)" : "");
+      // A computed text has no words until it runs (a mapping's row, the export's self-test): `text (computed)`
+      // rather than an empty pair of quotes that reads like a mistake.
+      if (source == "function") return t.empty() ? "text (computed)" : "text \"" + t + "\" (computed)";
+      return "text \"" + t + "\"";
     }
   }
   return {};
