@@ -40,15 +40,18 @@ int cmd_export(int argc, char** argv) {
       ->required();
   cl.app.add_option("--out", o.out, "the bundle: a folder, or a zip (FILE.arwb, FILE.zip)")
       ->type_name("DIR|FILE.arwb|FILE.zip")
-      ->required();
+      ->required()
+      ->check(CLI::Validator([](std::string& out) { return bundle::out_name_problem(out); }, "", "bundle name"));
   cl.app.add_option("--calib", o.calibration,
                     "the camera's calibration (XML or YAML, as arwb calibrate writes); without it the player uses "
                     "the paper's default values")
       ->type_name("FILE");
   cl.app.add_option("--title", o.title, "the bundle's title (default: the scene file's name)")->type_name("T");
-  cl.app.add_option("--marker-size-mm", o.marker_size_mm, "the printed markers' side (default 50)")
+  // The range here is only a sanity bound; the sheet's own limits for the dictionary (from 5 mm up to what
+  // fits a page) are checked with the scene loaded, naming them.
+  cl.app.add_option("--marker-size-mm", o.marker_size_mm, "the printed markers' side")
       ->type_name("S")
-      ->check(real_number(0, 1000));
+      ->check(real_number(1, 1000));
   cl.app.add_flag("--force", o.force, "replace an existing OUT (only a bundle arwb wrote)");
   cl.app.add_flag("--quiet", quiet, "print only the last line");
   if (const auto status = cl.parse(argc, argv)) return *status;

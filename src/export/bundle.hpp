@@ -69,10 +69,14 @@ struct ExportOptions {
   std::string out;               // a folder, or FILE.arwb / FILE.zip (a zip)
   std::string calibration;       // "" : none (the bundle then uses the default camera, marked so in the manifest)
   std::string title;             // "" : the scene file's stem
-  double marker_size_mm = 0;     // 0 : 50 mm
+  double marker_size_mm = 50;    // the printed side, within the marker sheet's limits for the dictionary
   bool force = false;            // replace an existing out
   std::function<void(const std::string&)> progress;   // one line per step, may be null
 };
+
+// "" when `out` may name a bundle; else why not, one line (the caller names --out). A name ending in .arwb or .zip
+// is always a zip, so such a name with a trailing '/' is refused rather than read as a folder.
+std::string out_name_problem(const std::string& out);
 
 // Everything checked and computed, nothing written yet: what File > Export... shows before the user confirms.
 struct ExportPlan {

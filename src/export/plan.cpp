@@ -3,6 +3,7 @@
 #include "export/bundle.hpp"
 #include "export/bundle_files.hpp"
 
+#include "base/files.hpp"
 #include "calibration/calibration_file.hpp"
 #include "detect/detector.hpp"
 #include "detect/dictionary.hpp"
@@ -22,6 +23,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #ifndef ARWB_VERSION
 #define ARWB_VERSION "0"
@@ -33,12 +35,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kDefaultMarkerMm = 50;
 constexpr std::uint64_t kMaxSourceBytes = 4ull << 30;   // one file of the scene, read whole to digest it
 constexpr std::uint64_t kMaxManifestBytes = 16u << 20;
 // The self-test's frame: one marker, upright and frontal, well inside a small frame, one second apart so each
-// id enters alone (the tracker holds a missed marker for a quarter second).
+// id enters alone (the tracker holds a missed marker for a quarter second). With a calibration that names its
+// image size the frame takes that size's aspect (see test_frame), since a calibration fits only frames of its
+// own shape.
 const cv::Size kTestFrame{320, 240};
+constexpr int kCalibratedTestWidth = 640;
 constexpr double kTestMarkerPx = 120;
 
 bool is_zip_name(const std::string& out) {
@@ -86,13 +90,45 @@ std::string id_ranges(const std::vector<int>& ids) {
   return out;
 }
 
+constexpr size_t kMaxTitleChars = 200;
+
+// Characters of UTF-8 text (its bytes that do not continue a character), for the README's '=' underline.
+size_t utf8_chars(const std::string& text) {
+  size_t n = 0;
+  for (const char c : text) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+  return n;
+}
+
+// The bundle's name as a shell word for the README's "arwb play NAME": quoted when it holds a space, a quote
+// or anything else the shell would act on.
+std::string shell_word(const std::string& name) {
+  const bool plain = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::string_view("._-+,:@%=/").find(c) != std::string_view::npos;
+  });
+  if (plain) return name;
+  std::string out = "'";
+  for (const char c : name) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// --title goes into one line of the README and the player's window: no control characters, and not a page long.
+Status check_title(const std::string& title) {
+  for (const char c : title)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F)
+      return fail("--title " + shown_name(title) + ": has a control character (a new line, tab or the like); a title "
+                  "is one line");
+  if (utf8_chars(title) > kMaxTitleChars)
+    return fail("--title " + shown_name(title) + ": longer than " + std::to_string(kMaxTitleChars) + " characters");
+  return {};
+}
+
 std::string readme_text(const Manifest& m, const std::string& bundle_name) {
   std::ostringstream s;
-  s << m.title << "\n" << std::string(m.title.size(), '=') << "\n\n"
+  s << m.title << "\n" << std::string(utf8_chars(m.title), '=') << "\n\n"
     << "An augmented-reality scene exported by " << m.generator << " (`arwb export`): the scene and its media,\n"
     << "the markers to print" << (m.calibration.empty() ? "" : " and the camera's calibration")
     << ", checked and listed with their digests in manifest.json.\n\n"
-    << "To run it:   arwb play " << bundle_name << "\n\n"
+    << "To run it:   arwb play " << shell_word(bundle_name) << "\n\n"
     << "Print markers.pdf at 100 % (no \"fit to page\"): each marker's black square is " << m.marker_size_mm
     << " mm;\nthe bar at the bottom of each page is 100 mm when the printer kept the size.\n\n"
     << "Dictionary: " << m.dictionary << "\n"
@@ -121,6 +157,22 @@ std::string readme_text(const Manifest& m, const std::string& bundle_name) {
   return s.str();
 }
 
+// The self-test's frame for a calibration: its own image size scaled to a 640-pixel width (a 16:9 camera's
+// 1280x720 gives 640x360), or the size itself when rounding the height would change the aspect more than
+// calibration_for_size allows (a very wide strip); the small default frame when it names no size.
+cv::Size test_frame(const Calibration& c) {
+  const cv::Size own = c.image_size;
+  if (own.width <= 0 || own.height <= 0) return kTestFrame;
+  const int height = std::max(1, int(std::lround(double(kCalibratedTestWidth) * own.height / own.width)));
+  const cv::Size scaled{kCalibratedTestWidth, height};
+  const double a = double(own.width) * scaled.height, b = double(scaled.width) * own.height;
+  const bool same_aspect = std::abs(a - b) <= 0.004 * std::max(a, b);
+  // The marker (kTestMarkerPx) must fit well inside the frame either way.
+  if (same_aspect && height >= 2 * kTestMarkerPx) return scaled;
+  if (own.width >= 2 * kTestMarkerPx && own.height >= 2 * kTestMarkerPx && own.area() <= 4096 * 4096) return own;
+  return scaled;
+}
+
 struct TestResult {
   std::vector<SelfTestRow> rows;
   std::vector<WebCard> cards;                       // picture: the PNG's bytes until the paths are given
@@ -138,8 +190,9 @@ Result<TestResult> self_test(SceneStage& stage, const Dictionary& dict, const st
     for (const int id : expand(mapping_ids[mi])) by_id[id].push_back(mi);
   Detector detector({dict});
   std::shared_ptr<const Calibration> camera;
+  const cv::Size frame_size = calib ? test_frame(*calib) : kTestFrame;
   if (calib) {
-    Result<Calibration> fitted = calibration_for_size(*calib, kTestFrame);
+    Result<Calibration> fitted = calibration_for_size(*calib, frame_size);
     if (!fitted) return fail("calibration: " + fitted.error());
     camera = std::make_shared<const Calibration>(std::move(*fitted));
   }
@@ -149,8 +202,8 @@ Result<TestResult> self_test(SceneStage& stage, const Dictionary& dict, const st
   size_t done = 0;
   for (const auto& [id, mappings] : by_id) {
     if (++done % 100 == 0) say(options, "self-test: " + std::to_string(done) + " of " + std::to_string(by_id.size()) + " ids");
-    cv::Mat raw(kTestFrame, CV_8UC3, cv::Scalar(200, 200, 200));
-    const Quad corners = project_square({kTestFrame.width / 2.0, kTestFrame.height / 2.0}, kTestMarkerPx, 0, 0, 0, 500);
+    cv::Mat raw(frame_size, CV_8UC3, cv::Scalar(200, 200, 200));
+    const Quad corners = project_square({frame_size.width / 2.0, frame_size.height / 2.0}, kTestMarkerPx, 0, 0, 0, 500);
     draw_marker(raw, dict, id, corners, 1.5);
     Frame f;
     f.index = done;
@@ -203,8 +256,9 @@ Result<TestResult> self_test(SceneStage& stage, const Dictionary& dict, const st
   return out;
 }
 
-// The calibration's bytes, checked as the bundle will hold them: copied beside a sibling distCoeffs.xml when
-// the paper's cameraMatrix.xml needs it, and read back from the copy.
+// The calibration's bytes, checked as the bundle will hold them, and read back from the copy. One file is copied
+// as calibration.EXT; the paper's pair (cameraMatrix.xml whose distortion is in distCoeffs.xml beside it) keeps
+// its two names, which is how the reader finds the second file.
 Status plan_calibration(const std::string& path, ExportPlan& plan, std::optional<Calibration>* read) {
   Result<Calibration> c = read_calibration(path);
   if (!c) return fail("--calib " + c.error());
@@ -214,17 +268,20 @@ Status plan_calibration(const std::string& path, ExportPlan& plan, std::optional
   if (!bytes) return fail("--calib " + bytes.error());
   Result<TempDir> tmp = TempDir::make({}, "arwb-calib");
   if (!tmp) return fail("--calib " + path + ": " + tmp.error());
-  const std::string name = "calibration" + ext;
+  std::string name = "calibration" + ext;
   if (Status s = write_new_file(tmp->path() / name, *bytes); !s) return fail("--calib " + s.error());
   std::vector<std::pair<std::string, std::string>> files{{name, fs::absolute(path).string()}};
   if (!read_calibration((tmp->path() / name).string())) {
+    // Not whole on its own: the paper's pair, under the names the reader looks for.
     const fs::path sibling = fs::absolute(path).parent_path() / "distCoeffs.xml";
     Result<std::string> d = read_whole_file(sibling, kMaxManifestBytes, false);
     if (!d) return fail("--calib " + path + ": its distortion is in " + sibling.string() + ", which cannot be read");
+    name = "cameraMatrix.xml";
+    if (Status s = write_new_file(tmp->path() / name, *bytes); !s) return fail("--calib " + s.error());
     if (Status s = write_new_file(tmp->path() / "distCoeffs.xml", *d); !s) return fail("--calib " + s.error());
     if (Result<Calibration> again = read_calibration((tmp->path() / name).string()); !again)
       return fail("--calib " + path + ": does not read once copied (" + again.error() + ")");
-    files.emplace_back("distCoeffs.xml", sibling.string());
+    files = {{name, fs::absolute(path).string()}, {"distCoeffs.xml", sibling.string()}};
   }
   for (const auto& [bundle_path, source] : files) plan.sources.emplace_back(bundle_path, source);
   plan.manifest.calibration = name;
@@ -232,8 +289,9 @@ Status plan_calibration(const std::string& path, ExportPlan& plan, std::optional
   return {};
 }
 
-// Whether `out` is something this export may replace: a bundle arwb wrote, holding nothing else.
-Status replaceable(const fs::path& out) {
+// Whether `out` is something this export may replace: a bundle arwb wrote, holding nothing else. `as_zip`: the
+// new bundle is a zip (its name ends in .arwb or .zip), so a plain file there was at least meant as one.
+Status replaceable(const fs::path& out, bool as_zip) {
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(out, ec);
   const std::string shown = out.string();
@@ -261,6 +319,7 @@ Status replaceable(const fs::path& out) {
     return {};
   }
   if (fs::is_regular_file(st)) {
+    if (!as_zip) return fail(shown + " is a file, not a bundle folder; not replacing it");
     if (!looks_like_zip(out)) return fail(shown + " is not a zip; not replacing it");
     Result<std::string> text = read_zip_entry(out, kManifestName, kMaxManifestBytes);
     if (!text) return fail(shown + " is not a bundle (" + text.error() + "); not replacing it");
@@ -273,24 +332,48 @@ Status replaceable(const fs::path& out) {
 
 Status check_out(const ExportOptions& o) {
   if (o.out.empty()) return fail("--out: no bundle named");
+  if (const std::string problem = out_name_problem(o.out); !problem.empty()) return fail("--out " + o.out + ": " + problem);
   const fs::path out = out_path(o.out);
   std::error_code ec;
   const fs::path parent = out.parent_path();
   if (!fs::is_directory(parent, ec)) return fail("--out " + o.out + ": the folder " + parent.string() + " does not exist");
   if (fs::symlink_status(out, ec).type() != fs::file_type::not_found) {
     if (!o.force) return fail("--out " + o.out + " exists; add --force to replace it");
-    if (Status s = replaceable(out); !s) return fail("--out " + s.error());
+    if (Status s = replaceable(out, is_zip_name(o.out)); !s) return fail("--out " + s.error());
   }
   return {};
 }
 
+// A load-time message ("scene.lua:2: media/nope.png: no such file; marker(2) skipped") as the export's error:
+// the workbench skips such a mapping and goes on, the export stops, and says so ("cannot export: scene.lua:2:
+// media/nope.png: no such file").
+std::string stopped_by(std::string message) {
+  const size_t at = message.rfind("; ");
+  if (at != std::string::npos) {
+    const std::string tail = message.substr(at + 2);
+    const bool skipped = tail.size() > 8 && tail.compare(tail.size() - 8, 8, " skipped") == 0 &&
+                         (tail.rfind("marker(", 0) == 0 || tail == "row skipped");
+    if (skipped) message.erase(at);
+  }
+  return "cannot export: " + message;
+}
+
 }  // namespace
+
+std::string out_name_problem(const std::string& out) {
+  // "mz.arwb/" once replaced the zip mz.arwb with a folder of that name: a zip's name stays a zip's name.
+  if (!out.empty() && !is_zip_name(out) && is_zip_name(out_path(out).string()))
+    return "a name ending in " + lower_ext(out_path(out)) +
+           " is a zip bundle; drop the trailing '/' (or name a folder without .arwb or .zip)";
+  return "";
+}
 
 Result<ExportPlan> plan_export(const ExportOptions& options) {
   ExportPlan plan;
   plan.options = options;
   Manifest& m = plan.manifest;
   if (options.scene.empty()) return fail("--scene: no scene named");
+  if (Status s = check_title(options.title); !s) return fail(s.error());
   if (Status s = check_out(options); !s) return fail(s.error());
   if (Status s = check_input_file(options.scene, {"a scene", 16u << 20}); !s) return fail(s.error());
   // The scene's folder as the runtime sees it (the folder the path names, its links resolved): media resolve
@@ -300,7 +383,7 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
   const fs::path scene_dir = fs::canonical(parent, ec);
   if (ec) return fail(options.scene + ": " + ec.message());
   const fs::path scene_file = scene_dir / fs::path(options.scene).filename();
-  const double marker_mm = options.marker_size_mm > 0 ? options.marker_size_mm : kDefaultMarkerMm;
+  const double marker_mm = options.marker_size_mm;
   if (!std::isfinite(marker_mm)) return fail("--marker-size-mm: not a number");
 
   // The scene loads, and every file it reads is recorded: at the load and during the self-test.
@@ -309,8 +392,8 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
   SceneStage stage(media::StoreMode::offline);
   if (!stage.load(options.scene)) return fail(stage.status().error);
   for (const MappingRow& row : stage.status().mappings)
-    if (row.health == MappingHealth::skipped) return fail(row.reason);
-  if (const std::vector<std::string> errors = stage.take_errors(); !errors.empty()) return fail(errors.front());
+    if (row.health == MappingHealth::skipped) return fail(stopped_by(row.reason));
+  if (const std::vector<std::string> errors = stage.take_errors(); !errors.empty()) return fail(stopped_by(errors.front()));
 
   const std::string dict_name = stage.runtime().dictionary_name();
   std::string dict_error;
@@ -461,7 +544,7 @@ Status write_export(const ExportPlan& plan) {
   // Into place: the old bundle (checked to be one) moves into the temporary folder and goes with it.
   const fs::path old = tmp->path() / "old";
   if (exists) {
-    if (Status s = replaceable(out); !s) return fail("--out " + s.error());
+    if (Status s = replaceable(out, is_zip_name(o.out)); !s) return fail("--out " + s.error());
     fs::rename(out, old, ec);
     if (ec) return fail("--out " + o.out + ": cannot be replaced (" + ec.message() + ")");
   }

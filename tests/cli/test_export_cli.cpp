@@ -55,6 +55,9 @@ TEST(ExportCli, ASceneThatCannotBeExportedIsOneLineAndWritesNothing) {
   EXPECT_NE(r.err.find("arwb export: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("broken.lua:2:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("media/nope.png: no such file"), std::string::npos) << r.err;
+  // The export stops there; the load-time wording ("; marker(2) skipped") would say it went on.
+  EXPECT_NE(r.err.find("arwb export: cannot export: "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("skipped"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out.path() / "b"));
 }
 
@@ -67,9 +70,20 @@ TEST(ExportCli, UsageErrors) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--marker-size-mm 2"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out.path() / "b"));
+  // 0 is no size (it once meant 50 silently); the help shows one default.
+  r = run_arwb("export --scene '" + kMuseum + "' --out '" + out.str("b") + "' --marker-size-mm 0");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("--marker-size-mm"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out.path() / "b"));
   r = run_arwb("export --help");
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("--calib"), std::string::npos);
+  EXPECT_NE(r.out.find("the printed markers' side (1..1000; default 50)"), std::string::npos) << r.out;
+  // A zip's name with a trailing '/' is a usage error, before anything is loaded.
+  r = run_arwb("export --scene '" + kMuseum + "' --out '" + out.str("mz.arwb") + "/' --force");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("is a zip bundle; drop the trailing '/'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out.path() / "mz.arwb"));
 }
 
 }  // namespace

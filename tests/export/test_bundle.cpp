@@ -281,6 +281,56 @@ TEST(Export, CalibrationIsCopiedAndReadsBack) {
   EXPECT_FALSE(fs::exists(out.path() / "b2"));
 }
 
+TEST(Export, ThePapersCalibrationPairKeepsItsNames) {
+  // The paper's cameraMatrix.xml reads only with distCoeffs.xml beside it: both go in under those names.
+  TempDir out;
+  const fs::path corpus = fs::path(ARWB_SOURCE_DIR) / "fuzz/corpus/calibration";
+  fs::create_directory(out.path() / "paper");
+  fs::copy_file(corpus / "paper_cameraMatrix.xml", out.path() / "paper/cameraMatrix.xml");
+  fs::copy_file(corpus / "paper_distCoeffs.xml", out.path() / "paper/distCoeffs.xml");
+  const Status s = export_to(kScripts / "museum/museum.lua", out.path() / "paper.arwb", out.str("paper/cameraMatrix.xml"));
+  ASSERT_TRUE(s.ok()) << s.error();
+  PrivateTmp tmp;
+  Result<OpenedBundle> o = open_bundle(out.str("paper.arwb"));
+  ASSERT_TRUE(o.ok()) << o.error();
+  EXPECT_EQ(o->manifest().calibration, "cameraMatrix.xml");
+  std::set<std::string> calibration_files;
+  for (const BundleFile& f : o->manifest().files)
+    if (f.role == "calibration") calibration_files.insert(f.path);
+  EXPECT_EQ(calibration_files, (std::set<std::string>{"cameraMatrix.xml", "distCoeffs.xml"}));
+  Result<Calibration> back = read_calibration(o->calibration_path());
+  ASSERT_TRUE(back.ok()) << back.error();
+  Result<Calibration> original = read_calibration(out.str("paper/cameraMatrix.xml"));
+  ASSERT_TRUE(original.ok()) << original.error();
+  EXPECT_EQ(back->camera_matrix, original->camera_matrix);
+  EXPECT_EQ(back->distortion, original->distortion);
+}
+
+TEST(Export, A16By9CalibrationPassesTheSelfTest) {
+  // The self-test's frame takes the calibration's shape: a 1280x720 camera is not refused as "made for 16:9".
+  TempDir out;
+  Calibration c;
+  c.camera_matrix = cv::Matx33d(1000, 0, 640, 0, 1000, 360, 0, 0, 1);
+  c.distortion = {0.01, -0.02, 0, 0, 0};
+  c.image_size = {1280, 720};
+  ASSERT_TRUE(write_calibration(out.str("hd720.yml"), c, {}).ok());
+  ExportOptions o;
+  o.scene = (kScripts / "museum/museum.lua").string();
+  o.out = out.str("hd.arwb");
+  o.calibration = out.str("hd720.yml");
+  Result<ExportPlan> plan = plan_export(o);
+  ASSERT_TRUE(plan.ok()) << plan.error();
+  EXPECT_TRUE(plan->manifest.self_test_passed);
+  EXPECT_EQ(plan->manifest.calibration, "calibration.yml");
+  // A calibration of a very wide strip still passes, at its own size.
+  c.camera_matrix = cv::Matx33d(800, 0, 1000, 0, 800, 150, 0, 0, 1);
+  c.image_size = {2000, 300};
+  ASSERT_TRUE(write_calibration(out.str("strip.yml"), c, {}).ok());
+  o.calibration = out.str("strip.yml");
+  plan = plan_export(o);
+  ASSERT_TRUE(plan.ok()) << plan.error();
+}
+
 // --- Refused bundles -----------------------------------------------------------------------------------------
 
 struct Refusal {
@@ -635,6 +685,23 @@ TEST_F(ExportRefused, AMissingMediaFile) {
   const std::string e = export_scene("marker(3, { media = image 'media/gone.png' })\n");
   EXPECT_NE(e.find("scene.lua:1:"), std::string::npos) << e;
   EXPECT_NE(e.find("media/gone.png: no such file"), std::string::npos) << e;
+  EXPECT_EQ(e.rfind("cannot export: ", 0), 0u) << e;
+  EXPECT_EQ(e.find("skipped"), std::string::npos) << e;
+}
+
+TEST_F(ExportRefused, ADatabaseRowThatDoesNotLoadStopsTheExport) {
+  const fs::path dir = src();
+  write_file((dir / "db.xml").string(),
+             "<database dictionary=\"ARUCO_ORIGINAL\">\n"
+             "  <row><id>1</id><resource>media/sunset.png</resource></row>\n"
+             "  <row><id>2</id><resource>media/gone.png</resource></row>\n"
+             "</database>\n");
+  const Status s = export_to(dir / "db.xml", out_.path() / "out.arwb");
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().rfind("cannot export: ", 0), 0u) << s.error();
+  EXPECT_NE(s.error().find("media/gone.png"), std::string::npos) << s.error();
+  EXPECT_EQ(s.error().find("row skipped"), std::string::npos) << s.error();
+  EXPECT_FALSE(fs::exists(out_.path() / "out.arwb"));
 }
 
 TEST_F(ExportRefused, AMediaFileOutsideTheScenesFolder) {
@@ -694,6 +761,12 @@ TEST(ExportWrite, AnExistingOutIsReplacedOnlyWithForceAndOnlyWhenABundle) {
   s = export_to(scene, out.path() / "report.zip", "", true);
   EXPECT_NE(s.error().find("not a zip"), std::string::npos) << s.error();
   EXPECT_EQ(read_file(out.str("report.zip")), "not a zip");
+  // A plain file where a folder bundle was asked for.
+  write_file(out.str("existing.txt"), "notes\n");
+  s = export_to(scene, out.path() / "existing.txt", "", true);
+  EXPECT_NE(s.error().find("existing.txt is a file, not a bundle folder; not replacing it"), std::string::npos)
+      << s.error();
+  EXPECT_EQ(read_file(out.str("existing.txt")), "notes\n");
   // A zip bundle replaced by another.
   ASSERT_TRUE(export_to(scene, out.path() / "z.arwb").ok());
   ASSERT_TRUE(export_to(kScripts / "links/links.lua", out.path() / "z.arwb", "", true).ok());
@@ -712,6 +785,75 @@ TEST(ExportWrite, AFolderNamedWithATrailingSlash) {
   EXPECT_TRUE(fs::is_regular_file(out.path() / "museum/manifest.json"));
   EXPECT_EQ(listing(out.path()).size(), listing(out.path() / "museum").size() + 1);   // nothing else beside it
   EXPECT_NE(read_file(out.str("museum/README.txt")).find("arwb play museum\n"), std::string::npos);
+}
+
+TEST(ExportWrite, AZipsNameWithATrailingSlashIsRefused) {
+  // "mz.arwb/" with --force once replaced the zip mz.arwb with a folder of that name.
+  TempDir out;
+  const fs::path scene = kScripts / "museum/museum.lua";
+  ASSERT_TRUE(export_to(scene, out.path() / "mz.arwb").ok());
+  const std::string zip = read_file(out.str("mz.arwb"));
+  for (const std::string& name : {std::string("mz.arwb/"), std::string("mz.arwb//"), std::string("MZ.ZIP/")}) {
+    const Status s = export_to(scene, out.str(name), "", true);
+    ASSERT_FALSE(s.ok()) << name;
+    EXPECT_NE(s.error().find("--out " + out.str(name) + ": a name ending in "), std::string::npos) << s.error();
+    EXPECT_NE(s.error().find("is a zip bundle; drop the trailing '/'"), std::string::npos) << s.error();
+  }
+  EXPECT_TRUE(fs::is_regular_file(out.path() / "mz.arwb"));
+  EXPECT_EQ(read_file(out.str("mz.arwb")), zip);
+  EXPECT_FALSE(fs::exists(out.path() / "MZ.ZIP"));
+  EXPECT_EQ(out_name_problem(out.str("mz.arwb")), "");
+  EXPECT_EQ(out_name_problem(out.str("folder/")), "");
+}
+
+TEST(ExportReadme, UnderlineCountsCharactersAndThePlayLineIsShellQuoted) {
+  TempDir out;
+  ExportOptions o;
+  o.scene = (kScripts / "museum/museum.lua").string();
+  o.out = out.str("Salle d'expo.arwb");
+  o.title = "Musée Ω";   // 7 characters, 10 bytes
+  Result<ExportPlan> plan = plan_export(o);
+  ASSERT_TRUE(plan.ok()) << plan.error();
+  std::string readme;
+  for (const auto& [path, bytes] : plan->generated)
+    if (path == "README.txt") readme = bytes;
+  EXPECT_EQ(readme.rfind("Musée Ω\n=======\n\n", 0), 0u) << readme;
+  EXPECT_NE(readme.find("arwb play 'Salle d'\\''expo.arwb'\n"), std::string::npos) << readme;
+  o.out = out.str("plain-name_1.arwb");
+  plan = plan_export(o);
+  ASSERT_TRUE(plan.ok()) << plan.error();
+  for (const auto& [path, bytes] : plan->generated) {
+    if (path == "README.txt") {
+      EXPECT_NE(bytes.find("arwb play plain-name_1.arwb\n"), std::string::npos) << bytes;
+    }
+  }
+}
+
+TEST(ExportReadme, ATitleWithControlCharactersOrTooLongIsRefused) {
+  TempDir out;
+  ExportOptions o;
+  o.scene = (kScripts / "museum/museum.lua").string();
+  o.out = out.str("b.arwb");
+  for (const std::string& title : {std::string("two\nlines"), std::string("a\ttab"), std::string("esc\x1b[31m")}) {
+    o.title = title;
+    Result<ExportPlan> plan = plan_export(o);
+    ASSERT_FALSE(plan.ok()) << title;
+    EXPECT_EQ(plan.error().rfind("--title ", 0), 0u) << plan.error();
+    EXPECT_NE(plan.error().find("has a control character"), std::string::npos) << plan.error();
+  }
+  o.title = std::string(200, 'x');
+  EXPECT_TRUE(plan_export(o).ok());
+  o.title = std::string(201, 'x');
+  Result<ExportPlan> plan = plan_export(o);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_NE(plan.error().find("longer than 200 characters"), std::string::npos) << plan.error();
+  EXPECT_LT(plan.error().size(), 200u) << plan.error();
+  // 200 two-byte characters are 200 characters.
+  std::string wide;
+  for (int i = 0; i < 200; ++i) wide += "é";
+  o.title = wide;
+  EXPECT_TRUE(plan_export(o).ok());
+  EXPECT_FALSE(fs::exists(out.path() / "b.arwb"));
 }
 
 TEST(ExportWrite, ASourceChangedAfterThePlanIsNamedAndNothingIsWritten) {
