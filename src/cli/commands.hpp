@@ -34,6 +34,6 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&));
 // to `run` (the player window, ui/player.hpp; main passes it in, as for the workbench).
 int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&));
 inline constexpr const char* kPlaySummary =
-    "play a bundle made by arwb export: the camera view with its media, full screen, no panels";
+    "play a bundle made by arwb export: the camera view with its media, no panels, in a window (F11: full screen)";
 
 }  // namespace arwb
