@@ -138,6 +138,81 @@ TEST(Player, TamperedBundleIsRefusedNamingTheEntryWithoutAWindow) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
 }
 
+// The bounding box of the dark pixels (all channels under 60) inside `area` of a screenshot.
+cv::Rect dark_box(const cv::Mat& shot, cv::Rect area) {
+  cv::Mat dark;
+  cv::inRange(shot(area), cv::Scalar(0, 0, 0), cv::Scalar(60, 60, 60), dark);
+  const cv::Rect box = cv::boundingRect(dark);
+  return {box.x + area.x, box.y + area.y, box.width, box.height};
+}
+
+// A white image with a black square of `side` pixels in its middle: a source whose aspect shows in the player.
+std::string write_square_image(const TempDir& tmp, const std::string& name, cv::Size size, int side) {
+  cv::Mat img(size, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::rectangle(img, cv::Rect((size.width - side) / 2, (size.height - side) / 2, side, side), cv::Scalar(0, 0, 0),
+                cv::FILLED);
+  const std::string path = tmp.str(name);
+  cv::imwrite(path, img);
+  return path;
+}
+
+TEST(Player, SixteenByNineSourcePlaysAtItsOwnAspectAndASquareStaysSquare) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string wide = write_square_image(tmp, "wide.png", {1280, 720}, 300);
+  r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + wide + "' --frames 10 --stats --screenshot '" +
+                            tmp.str("wide_shot.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto stats = test::stats_line(r);
+  // The paper's 640 width, the height from the source's 16:9 (not the paper's 640x480, which squashed it).
+  EXPECT_EQ(stats["image_size"], nlohmann::ordered_json::array({640, 360})) << r.out;
+  // A 16:9 picture fills the 16:9 window: no bars.
+  EXPECT_EQ(stats["picture"], nlohmann::ordered_json::array({0.0, 0.0, 1280.0, 720.0})) << r.out;
+  cv::Mat shot = cv::imread(tmp.str("wide_shot.png"));
+  ASSERT_EQ(shot.size(), cv::Size(1280, 720));
+  cv::Rect box = dark_box(shot, {0, 0, 1280, 720});
+  EXPECT_NEAR(box.width, 300, 4) << "the square drawn 1:1 in a window as large as the source";
+  EXPECT_NEAR(box.height, 300, 4);
+  EXPECT_NEAR(box.width, box.height, 2) << "a square stays square";
+
+  // A square source: a square image, drawn square between two bars.
+  const std::string square = write_square_image(tmp, "square.png", {500, 500}, 200);
+  r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + square + "' --frames 10 --stats --screenshot '" +
+                            tmp.str("square_shot.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  stats = test::stats_line(r);
+  EXPECT_EQ(stats["image_size"], nlohmann::ordered_json::array({640, 640})) << r.out;
+  EXPECT_EQ(stats["picture"], nlohmann::ordered_json::array({280.0, 0.0, 720.0, 720.0})) << r.out;
+  shot = cv::imread(tmp.str("square_shot.png"));
+  ASSERT_EQ(shot.size(), cv::Size(1280, 720));
+  box = dark_box(shot, {280, 0, 720, 720});   // inside the picture: the bars are black too
+  EXPECT_NEAR(box.width, 288, 4) << "200 of 500 pixels, in a 720-pixel picture";
+  EXPECT_NEAR(box.width, box.height, 2) << "a square stays square";
+}
+
+TEST(Player, ResizeOptionChoosesTheWorkingSize) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string wide = write_square_image(tmp, "wide.png", {1280, 720}, 300);
+  const std::vector<std::pair<std::string, std::vector<int>>> cases = {
+      {"off", {1280, 720}}, {"320x240", {320, 240}}, {"800", {800, 450}}};
+  for (const auto& [resize, size] : cases) {
+    r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + wide + "' --frames 3 --stats --resize " + resize);
+    ASSERT_EQ(r.status, 0) << resize << ": " << r.err;
+    EXPECT_EQ(test::stats_line(r)["image_size"], nlohmann::ordered_json(size)) << resize << ": " << r.out;
+  }
+  // Checked before the bundle is opened or a window is, as a usage error.
+  for (const std::string bad : {"0", "10", "640x", "x480", "wide"}) {
+    r = test::run_arwb("play '" + tmp.str("b.arwb") + "' --resize " + bad);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("--resize"), std::string::npos) << bad << ": " << r.err;
+  }
+}
+
 TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleStartsThePlayer) {
   TempDir tmp;
   write_scene(tmp.str("author"));
