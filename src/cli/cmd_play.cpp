@@ -1,17 +1,21 @@
 // `arwb play BUNDLE`: the application the paper generated. The bundle (a folder, or a .arwb / .zip file made by
 // `arwb export`) is opened and verified against its manifest first (export/bundle.hpp): a bundle that is refused
-// says which entry and why in one line, and no window opens. Then the player (ui/player.hpp, passed in by main)
+// says which entry and why in one line, and no window opens (with --error-window, a small one saying the same line,
+// passed in by main like the player). Then the player (ui/player.hpp, passed in by main)
 // runs with the bundle's scene, calibration, dictionary and marker size.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "base/text.hpp"
 #include "export/bundle.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 namespace arwb {
 
-int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
+int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&),
+             int (*show_error)(const MessageWindowOptions&)) {
   CommandLine cl("arwb play",
                  "Plays a bundle made by `arwb export` (or File > Export... in the workbench): the camera view with "
                  "the scene's media, filling the window, without the workbench's panels. The bundle is verified "
@@ -50,6 +54,10 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
       ->check(whole_number(0, 10'000'000));
   cl.app.add_option("--screenshot", o.screenshot, "write the window to this PNG before exiting")->type_name("FILE.png");
   cl.app.add_flag("--stats", o.stats, "print one JSON line of figures at exit");
+  bool error_window = false;
+  cl.app.add_flag("--error-window", error_window,
+                  "a refused bundle is also said in a small window with a Close button (exit status 1 once it is "
+                  "closed), for starts without a terminal such as opening the bundle from the file manager");
   cl.app.add_flag("--verbose", o.verbose, "every log line to stderr, not only warnings and errors");
   cl.app.add_option("--actions", actions, "scripted steps 'N:verb[=arg];...', see below")->type_name("STEPS");
   if (const auto status = cl.parse(argc, argv)) return *status;
@@ -58,7 +66,16 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
   Result<bundle::OpenedBundle> opened = bundle::open_bundle(bundle_path);
   if (!opened) {
     print_problem("arwb play: %s\n", opened.error().c_str());
-    return 1;
+    if (!error_window) return 1;
+    // Started from the desktop, stderr goes nowhere: the same line in a window, or nothing would be seen.
+    MessageWindowOptions w;
+    w.title = "arwb play: " + printable(std::filesystem::path(bundle_path).filename().string());
+    w.heading = "This bundle cannot be played.";
+    w.message = printable(opened.error());
+    w.frames = o.frames;
+    w.screenshot = o.screenshot;
+    w.stats = o.stats;
+    return show_error(w);
   }
   const bundle::Manifest& m = opened->manifest();
 

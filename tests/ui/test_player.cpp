@@ -213,6 +213,48 @@ TEST(Player, ResizeOptionChoosesTheWorkingSize) {
   }
 }
 
+TEST(Player, RefusedBundleWithErrorWindowSaysItInAWindowAndExitsOne) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("bundle") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  write_file(tmp.str("bundle/extra.lua"), "print('not exported')\n");
+  // What the desktop's file association runs (packaging/arwb-player.desktop), with frames to end it.
+  r = test::run_arwb_window("play --error-window '" + tmp.str("bundle") + "' --frames 5 --stats --screenshot '" +
+                            tmp.str("refused.png") + "'");
+  EXPECT_EQ(r.status, 1) << r.err;
+  // Still the one line on stderr, for whoever has a terminal.
+  EXPECT_NE(r.err.find("extra.lua"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+  const auto stats = test::stats_line(r);
+  EXPECT_EQ(stats["window"], "error") << r.out;
+  EXPECT_EQ(stats["frames"], 5) << r.out;
+  EXPECT_EQ(stats["closed_by"], "frames") << r.out;
+  EXPECT_EQ(stats["heading"], "This bundle cannot be played.") << r.out;
+  // The window says what stderr says.
+  const std::string line = r.err.substr(r.err.find("arwb play: ") + std::string("arwb play: ").size());
+  EXPECT_EQ(stats["message"].get<std::string>() + "\n", line) << r.out;
+  // And the pixels show text: light glyphs below the heading, above the button row.
+  const cv::Mat shot = cv::imread(tmp.str("refused.png"));
+  ASSERT_EQ(shot.size(), cv::Size(640, 220));
+  cv::Mat grey, light;
+  cv::cvtColor(shot(cv::Rect(0, 40, 640, 120)), grey, cv::COLOR_BGR2GRAY);
+  cv::threshold(grey, light, 150, 255, cv::THRESH_BINARY);
+  EXPECT_GT(cv::countNonZero(light), 300) << "no message text drawn";
+}
+
+TEST(Player, ErrorWindowChangesNothingForABundleThatPlays) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = test::run_arwb_window("play --error-window '" + tmp.str("b.arwb") + "' --source '" + kSample + "' --frames 5 --stats");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto stats = test::stats_line(r);
+  EXPECT_FALSE(stats.contains("window")) << r.out;
+  EXPECT_EQ(stats["overlays"], 2) << r.out;
+}
+
 TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleStartsThePlayer) {
   TempDir tmp;
   write_scene(tmp.str("author"));
