@@ -3,6 +3,7 @@
 // `arwb render` (the workbench's compositor, offscreen) puts them; a tampered bundle is refused before any window;
 // the workbench's export is a bundle open_bundle accepts; Play bundle starts the player as a process of its own.
 #include "export/bundle.hpp"
+#include "ui/app.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>
@@ -291,6 +292,33 @@ TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleS
   EXPECT_EQ(opened->manifest().marker_size_mm, 65);
   EXPECT_EQ(opened->manifest().ids, (std::vector<int>{843, 950}));
   EXPECT_TRUE(opened->manifest().self_test_passed);
+}
+
+TEST(WorkbenchExport, DialogSaysTheExportsMessagesInItsOwnWordsNotTheCommandLines) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  const std::string out = tmp.str("twice.arwb");
+  // Exported once (no calibration: a warning), then again to the same name without the replace checkbox (an error).
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --source '" + kSample +
+                                            "' --scene '" + tmp.str("author/scene.lua") + "' --frames 20 --stats --actions '3:export=" +
+                                            out + ";4:export_wait;8:export=" + out + ";9:export_wait'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto stats = test::stats_line(r);
+  const std::string error = stats["export"]["error"].get<std::string>();
+  EXPECT_EQ(error, out + " exists; tick 'replace an existing bundle there' to replace it") << stats["export"].dump();
+  // The warning in the log as the window says it, with no option of `arwb export` anywhere in it.
+  EXPECT_NE(r.err.find("export: no calibration: the player uses the paper's default camera"), std::string::npos) << r.err;
+  for (const char* option : {"--calib", "--out", "--force"}) EXPECT_EQ(r.err.find(option), std::string::npos) << option << ": " << r.err;
+}
+
+TEST(WorkbenchExport, WindowWordingOfTheExportsMessages) {
+  EXPECT_EQ(export_window_wording("no --calib: the player uses the paper's default camera values"),
+            "no calibration: the player uses the paper's default camera values");
+  EXPECT_EQ(export_window_wording("--out /tmp/x is not a bundle (no readable manifest.json); not replacing it"),
+            "/tmp/x is not a bundle (no readable manifest.json); not replacing it");
+  EXPECT_EQ(export_window_wording("--out: no bundle named"), "where to export: no bundle named");
+  EXPECT_EQ(export_window_wording("--calib c.yml: no camera matrix"), "the calibration c.yml: no camera matrix");
+  EXPECT_EQ(export_window_wording("museum.lua:3: marker(5000) skipped"), "museum.lua:3: marker(5000) skipped");
 }
 
 TEST(WorkbenchExport, PlayBundleRefusesATamperedBundleInTheLog) {
