@@ -216,6 +216,10 @@ struct App {
   void save_workspaces(const std::string& path);
 };
 
+// ui/export_requests.cpp: an export message (export/bundle.hpp words it for `arwb export`: --out, --calib, --force)
+// in the Export dialog's words (the path, the calibration, the 'replace an existing bundle there' checkbox).
+std::string export_window_wording(std::string text);
+
 // ui/layout.cpp
 std::string default_config_dir();
 // ImGui's own settings (table column widths and order) in imgui.ini: loaded when it exists, saved at exit; a

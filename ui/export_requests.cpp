@@ -88,6 +88,27 @@ void play_in_background(std::shared_ptr<App::Players> players, std::string path,
 
 }  // namespace
 
+// The export's messages name `arwb export`'s options (--out, --calib, --force, ...), which mean nothing in this
+// dialog: each is said as the field or checkbox it is here. Only the wording changes; export/ stays the command
+// line's.
+std::string export_window_wording(std::string text) {
+  auto starts = [&](std::string_view p) { return text.compare(0, p.size(), p) == 0; };
+  auto replace_all = [&](std::string_view from, std::string_view to) {
+    for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  };
+  if (starts("no --calib:")) text = "no calibration:" + text.substr(std::string_view("no --calib:").size());
+  else if (starts("--out: ")) text = "where to export: " + text.substr(7);
+  else if (starts("--out ")) text = text.substr(6);   // the path itself, as in the field
+  else if (starts("--calib ")) text = "the calibration " + text.substr(8);
+  else if (starts("--marker-size-mm")) text = "the marker size" + text.substr(16);
+  else if (starts("--title")) text = "the title" + text.substr(7);
+  else if (starts("--scene: ")) text = "the scene: " + text.substr(9);
+  replace_all("add --force to replace it", "tick 'replace an existing bundle there' to replace it");
+  replace_all("--force", "'replace an existing bundle there'");
+  return text;
+}
+
 bundle::ExportOptions App::export_options() const {
   bundle::ExportOptions o;
   o.scene = frame ? frame->scene.file : "";
@@ -135,7 +156,8 @@ void App::draw_export_dialog(ui::Context& ctx) {
   ImGui::InputDouble("marker size (mm)", &d.size_mm, 1, 10, "%.1f");
   d.size_mm = std::clamp(d.size_mm, 1.0, 1000.0);
   if (opt.engine.calibration_file.empty()) {
-    ImGui::TextDisabled("Calibration: none loaded (--calib); the player uses the paper's default camera.");
+    ImGui::TextDisabled("Calibration: none (the workbench was started without one); the player uses the paper's "
+                        "default camera.");
   } else {
     const std::string label = "calibration: " + opt.engine.calibration_file;
     ImGui::Checkbox(label.c_str(), &d.use_calibration);
@@ -176,7 +198,8 @@ void App::draw_export_dialog(ui::Context& ctx) {
     ImGui::Text("%s: %zu markers of %s at %.0f mm, %zu files, %.1f KiB; self-test %s", m.title.c_str(), m.ids.size(),
                 m.dictionary.c_str(), m.marker_size_mm, m.files.size(), double(bytes) / 1024,
                 m.self_test_passed ? "passed" : "FAILED");
-    for (const std::string& warning : d.plan->warnings) ImGui::TextColored({1, 0.8f, 0.3f, 1}, "warning: %s", warning.c_str());
+    for (const std::string& warning : d.plan->warnings)
+      ImGui::TextColored({1, 0.8f, 0.3f, 1}, "warning: %s", export_window_wording(warning).c_str());
   }
   ImGui::PopTextWrapPos();
   if (d.plan && ImGui::BeginTable("##self_test", 6,
@@ -257,7 +280,7 @@ void App::poll_export() {
   if (ready(d.checking)) {
     Result<bundle::ExportPlan> plan = d.checking.get();
     if (!plan) {
-      d.error = plan.error();
+      d.error = export_window_wording(plan.error());
       d.plan.reset();
       error("export: " + d.error);
     } else {
@@ -265,7 +288,7 @@ void App::poll_export() {
       const bundle::Manifest& m = d.plan->manifest;
       info("export: checked " + m.title + ": " + std::to_string(m.ids.size()) + " markers, self-test " +
            (m.self_test_passed ? "passed" : "failed"));
-      for (const std::string& w : d.plan->warnings) warn("export: " + w);
+      for (const std::string& w : d.plan->warnings) warn("export: " + export_window_wording(w));
       if (d.write_after) {
         std::shared_ptr<const bundle::ExportPlan> p = d.plan;
         d.writing = std::async(std::launch::async, [p] { return bundle::write_export(*p); });
@@ -278,7 +301,7 @@ void App::poll_export() {
       d.written = d.plan ? d.plan->options.out : "";
       note_status("export: wrote the bundle " + d.written + " (play it with arwb play or File > Play bundle...)");
     } else {
-      d.error = s.error();
+      d.error = export_window_wording(s.error());
       error("export: " + d.error);
     }
   }

@@ -952,7 +952,10 @@ int run_workbench(const WorkbenchOptions& options) {
                      {"self_test_passed", d.plan && d.plan->manifest.self_test_passed},
                      {"self_test", rows},
                      {"error", d.error},
+                     {"warnings", Json::array()},
                      {"written", d.written}};
+      if (d.plan)
+        for (const std::string& w : d.plan->warnings) s["export"]["warnings"].push_back(export_window_wording(w));
       std::lock_guard lock(app.players->mutex);
       s["players"] = {{"started", app.players->started},
                       {"ended", app.players->ended},

@@ -1,17 +1,21 @@
 // `arwb play BUNDLE`: the application the paper generated. The bundle (a folder, or a .arwb / .zip file made by
 // `arwb export`) is opened and verified against its manifest first (export/bundle.hpp): a bundle that is refused
-// says which entry and why in one line, and no window opens. Then the player (ui/player.hpp, passed in by main)
+// says which entry and why in one line, and no window opens (with --error-window, a small one saying the same line,
+// passed in by main like the player). Then the player (ui/player.hpp, passed in by main)
 // runs with the bundle's scene, calibration, dictionary and marker size.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "base/text.hpp"
 #include "export/bundle.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 namespace arwb {
 
-int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
+int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&),
+             int (*show_error)(const MessageWindowOptions&)) {
   CommandLine cl("arwb play",
                  "Plays a bundle made by `arwb export` (or File > Export... in the workbench): the camera view with "
                  "the scene's media, filling the window, without the workbench's panels. The bundle is verified "
@@ -22,12 +26,25 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
                  "--actions runs steps at UI frame N, for demos and tests: overlay[=on|off], stage=NAME|next|previous, "
                  "click=X,Y (image pixels), fullscreen=on|off, quit.");
   PlayerOptions o;
-  std::string bundle_path, source, window = "1280x720", actions;
+  std::string bundle_path, source, window = "1280x720", resize = "640", actions;
   cl.app.add_option("BUNDLE", bundle_path, "the bundle: a folder, or a .arwb or .zip file")->required();
   cl.app.add_option("--source", source,
                     "what to show (default: the first camera, else the synthetic source showing the bundle's own "
                     "markers)")
       ->type_name("camera:N[@WxH]|VIDEO|DIR|IMAGE|synthetic");
+  // The paper's working width, but the source's own aspect: a 16:9 camera squashed into 640x480 would show its
+  // media and everything else squashed too (the workbench keeps the paper's 640x480, for comparing with it).
+  cl.app.add_option("--resize", resize,
+                    "the size every frame is resized to before detection: W (that width, the height from the "
+                    "source's aspect), WxH (exactly, aspect not kept), or off (the source's own size)")
+      ->type_name("W|WxH|off")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const CLI::Validator width = whole_number(16, 8192), size = frame_size({16, 16}, {8192, 8192}, "off");
+            if (width(text).empty() || size(text).empty()) return std::string();
+            return std::string("expected a width W in 16..8192, WxH between 16x16 and 8192x8192, or off");
+          },
+          "16..8192 or 16x16..8192x8192 or off"));
   cl.app.add_flag("--fullscreen", o.fullscreen, "full screen on the primary monitor, at its own resolution");
   cl.app.add_option("--window", window, "the window's size when not full screen")
       ->type_name("WxH")
@@ -37,6 +54,10 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
       ->check(whole_number(0, 10'000'000));
   cl.app.add_option("--screenshot", o.screenshot, "write the window to this PNG before exiting")->type_name("FILE.png");
   cl.app.add_flag("--stats", o.stats, "print one JSON line of figures at exit");
+  bool error_window = false;
+  cl.app.add_flag("--error-window", error_window,
+                  "a refused bundle is also said in a small window with a Close button (exit status 1 once it is "
+                  "closed), for starts without a terminal such as opening the bundle from the file manager");
   cl.app.add_flag("--verbose", o.verbose, "every log line to stderr, not only warnings and errors");
   cl.app.add_option("--actions", actions, "scripted steps 'N:verb[=arg];...', see below")->type_name("STEPS");
   if (const auto status = cl.parse(argc, argv)) return *status;
@@ -45,7 +66,16 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
   Result<bundle::OpenedBundle> opened = bundle::open_bundle(bundle_path);
   if (!opened) {
     print_problem("arwb play: %s\n", opened.error().c_str());
-    return 1;
+    if (!error_window) return 1;
+    // Started from the desktop, stderr goes nowhere: the same line in a window, or nothing would be seen.
+    MessageWindowOptions w;
+    w.title = "arwb play: " + printable(std::filesystem::path(bundle_path).filename().string());
+    w.heading = "This bundle cannot be played.";
+    w.message = printable(opened.error());
+    w.frames = o.frames;
+    w.screenshot = o.screenshot;
+    w.stats = o.stats;
+    return show_error(w);
   }
   const bundle::Manifest& m = opened->manifest();
 
@@ -53,6 +83,13 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&)) {
   std::string err;
   if (!parse_source_or_default(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
   o.window = *parse_frame_size(window);  // checked by frame_size
+  if (resize == "off") {
+    o.engine.acquisition.resize = false;
+  } else if (const auto size = parse_frame_size(resize)) {
+    o.engine.acquisition.size = *size;
+  } else {
+    o.engine.acquisition.size = {std::stoi(resize), 0};  // checked: a width
+  }
   o.engine.scene_file = opened->scene_path();
   o.engine.calibration_file = opened->calibration_path();
   if (!m.dictionary.empty()) o.engine.dictionaries = {m.dictionary};

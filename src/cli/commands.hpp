@@ -31,9 +31,10 @@ std::span<const Subcommand> arwb_subcommands();
 int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&));
 
 // `arwb play BUNDLE [options]`: opens and verifies the bundle (export/bundle.hpp), then hands the player's options
-// to `run` (the player window, ui/player.hpp; main passes it in, as for the workbench).
-int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&));
+// to `run` (the player window, ui/player.hpp; main passes it in, as for the workbench). A refused bundle is said on
+// stderr, and with --error-window in a window too (`show_error`, ui/message_window.hpp, passed in likewise).
+int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&), int (*show_error)(const MessageWindowOptions&));
 inline constexpr const char* kPlaySummary =
-    "play a bundle made by arwb export: the camera view with its media, full screen, no panels";
+    "play a bundle made by arwb export: the camera view with its media, no panels, in a window (F11: full screen)";
 
 }  // namespace arwb

@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/opencv_limits.hpp"
 #include "capture/image_io.hpp"
+#include "ui/message_window.hpp"
 #include "ui/player.hpp"
 #include "ui/window.hpp"
 
@@ -35,7 +36,7 @@ int main(int argc, char** argv) {
   // The player is a window too: like the workbench, it gets ui's run function from here.
   if (name == "play") {
     try {
-      return arwb::cmd_play(argc - 2, argv + 2, arwb::run_player);
+      return arwb::cmd_play(argc - 2, argv + 2, arwb::run_player, arwb::run_message_window);
     } catch (const std::exception& e) {
       arwb::print_problem("arwb play: %s\n", e.what());
       return 1;

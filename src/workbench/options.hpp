@@ -43,4 +43,15 @@ struct PlayerOptions {
   std::vector<std::string> actions;
 };
 
+// What `arwb play --error-window` shows when the bundle is refused (ui/message_window.hpp): the one-line message
+// in a small window of its own, and the same --frames, --screenshot and --stats as the player for tests.
+struct MessageWindowOptions {
+  std::string title;              // the window's title
+  std::string heading;            // a short first line ("This bundle cannot be played.")
+  std::string message;            // the refusal, as printed on stderr
+  int frames = 0;                 // > 0: draw this many frames, then close
+  std::string screenshot;         // write the window to this PNG before closing
+  bool stats = false;             // print one JSON line (what was shown, how it was closed) at exit
+};
+
 }  // namespace arwb

@@ -3,6 +3,7 @@
 // `arwb render` (the workbench's compositor, offscreen) puts them; a tampered bundle is refused before any window;
 // the workbench's export is a bundle open_bundle accepts; Play bundle starts the player as a process of its own.
 #include "export/bundle.hpp"
+#include "ui/app.hpp"
 #include "support.hpp"
 
 #include <gtest/gtest.h>
@@ -138,6 +139,123 @@ TEST(Player, TamperedBundleIsRefusedNamingTheEntryWithoutAWindow) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
 }
 
+// The bounding box of the dark pixels (all channels under 60) inside `area` of a screenshot.
+cv::Rect dark_box(const cv::Mat& shot, cv::Rect area) {
+  cv::Mat dark;
+  cv::inRange(shot(area), cv::Scalar(0, 0, 0), cv::Scalar(60, 60, 60), dark);
+  const cv::Rect box = cv::boundingRect(dark);
+  return {box.x + area.x, box.y + area.y, box.width, box.height};
+}
+
+// A white image with a black square of `side` pixels in its middle: a source whose aspect shows in the player.
+std::string write_square_image(const TempDir& tmp, const std::string& name, cv::Size size, int side) {
+  cv::Mat img(size, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::rectangle(img, cv::Rect((size.width - side) / 2, (size.height - side) / 2, side, side), cv::Scalar(0, 0, 0),
+                cv::FILLED);
+  const std::string path = tmp.str(name);
+  cv::imwrite(path, img);
+  return path;
+}
+
+TEST(Player, SixteenByNineSourcePlaysAtItsOwnAspectAndASquareStaysSquare) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string wide = write_square_image(tmp, "wide.png", {1280, 720}, 300);
+  r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + wide + "' --frames 10 --stats --screenshot '" +
+                            tmp.str("wide_shot.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto stats = test::stats_line(r);
+  // The paper's 640 width, the height from the source's 16:9 (not the paper's 640x480, which squashed it).
+  EXPECT_EQ(stats["image_size"], nlohmann::ordered_json::array({640, 360})) << r.out;
+  // A 16:9 picture fills the 16:9 window: no bars.
+  EXPECT_EQ(stats["picture"], nlohmann::ordered_json::array({0.0, 0.0, 1280.0, 720.0})) << r.out;
+  cv::Mat shot = cv::imread(tmp.str("wide_shot.png"));
+  ASSERT_EQ(shot.size(), cv::Size(1280, 720));
+  cv::Rect box = dark_box(shot, {0, 0, 1280, 720});
+  EXPECT_NEAR(box.width, 300, 4) << "the square drawn 1:1 in a window as large as the source";
+  EXPECT_NEAR(box.height, 300, 4);
+  EXPECT_NEAR(box.width, box.height, 2) << "a square stays square";
+
+  // A square source: a square image, drawn square between two bars.
+  const std::string square = write_square_image(tmp, "square.png", {500, 500}, 200);
+  r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + square + "' --frames 10 --stats --screenshot '" +
+                            tmp.str("square_shot.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  stats = test::stats_line(r);
+  EXPECT_EQ(stats["image_size"], nlohmann::ordered_json::array({640, 640})) << r.out;
+  EXPECT_EQ(stats["picture"], nlohmann::ordered_json::array({280.0, 0.0, 720.0, 720.0})) << r.out;
+  shot = cv::imread(tmp.str("square_shot.png"));
+  ASSERT_EQ(shot.size(), cv::Size(1280, 720));
+  box = dark_box(shot, {280, 0, 720, 720});   // inside the picture: the bars are black too
+  EXPECT_NEAR(box.width, 288, 4) << "200 of 500 pixels, in a 720-pixel picture";
+  EXPECT_NEAR(box.width, box.height, 2) << "a square stays square";
+}
+
+TEST(Player, ResizeOptionChoosesTheWorkingSize) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string wide = write_square_image(tmp, "wide.png", {1280, 720}, 300);
+  const std::vector<std::pair<std::string, std::vector<int>>> cases = {
+      {"off", {1280, 720}}, {"320x240", {320, 240}}, {"800", {800, 450}}};
+  for (const auto& [resize, size] : cases) {
+    r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + wide + "' --frames 3 --stats --resize " + resize);
+    ASSERT_EQ(r.status, 0) << resize << ": " << r.err;
+    EXPECT_EQ(test::stats_line(r)["image_size"], nlohmann::ordered_json(size)) << resize << ": " << r.out;
+  }
+  // Checked before the bundle is opened or a window is, as a usage error.
+  for (const std::string bad : {"0", "10", "640x", "x480", "wide"}) {
+    r = test::run_arwb("play '" + tmp.str("b.arwb") + "' --resize " + bad);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("--resize"), std::string::npos) << bad << ": " << r.err;
+  }
+}
+
+TEST(Player, RefusedBundleWithErrorWindowSaysItInAWindowAndExitsOne) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("bundle") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  write_file(tmp.str("bundle/extra.lua"), "print('not exported')\n");
+  // What the desktop's file association runs (packaging/arwb-player.desktop), with frames to end it.
+  r = test::run_arwb_window("play --error-window '" + tmp.str("bundle") + "' --frames 5 --stats --screenshot '" +
+                            tmp.str("refused.png") + "'");
+  EXPECT_EQ(r.status, 1) << r.err;
+  // Still the one line on stderr, for whoever has a terminal.
+  EXPECT_NE(r.err.find("extra.lua"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+  const auto stats = test::stats_line(r);
+  EXPECT_EQ(stats["window"], "error") << r.out;
+  EXPECT_EQ(stats["frames"], 5) << r.out;
+  EXPECT_EQ(stats["closed_by"], "frames") << r.out;
+  EXPECT_EQ(stats["heading"], "This bundle cannot be played.") << r.out;
+  // The window says what stderr says.
+  const std::string line = r.err.substr(r.err.find("arwb play: ") + std::string("arwb play: ").size());
+  EXPECT_EQ(stats["message"].get<std::string>() + "\n", line) << r.out;
+  // And the pixels show text: light glyphs below the heading, above the button row.
+  const cv::Mat shot = cv::imread(tmp.str("refused.png"));
+  ASSERT_EQ(shot.size(), cv::Size(640, 220));
+  cv::Mat grey, light;
+  cv::cvtColor(shot(cv::Rect(0, 40, 640, 120)), grey, cv::COLOR_BGR2GRAY);
+  cv::threshold(grey, light, 150, 255, cv::THRESH_BINARY);
+  EXPECT_GT(cv::countNonZero(light), 300) << "no message text drawn";
+}
+
+TEST(Player, ErrorWindowChangesNothingForABundleThatPlays) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = test::run_arwb_window("play --error-window '" + tmp.str("b.arwb") + "' --source '" + kSample + "' --frames 5 --stats");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto stats = test::stats_line(r);
+  EXPECT_FALSE(stats.contains("window")) << r.out;
+  EXPECT_EQ(stats["overlays"], 2) << r.out;
+}
+
 TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleStartsThePlayer) {
   TempDir tmp;
   write_scene(tmp.str("author"));
@@ -174,6 +292,33 @@ TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleS
   EXPECT_EQ(opened->manifest().marker_size_mm, 65);
   EXPECT_EQ(opened->manifest().ids, (std::vector<int>{843, 950}));
   EXPECT_TRUE(opened->manifest().self_test_passed);
+}
+
+TEST(WorkbenchExport, DialogSaysTheExportsMessagesInItsOwnWordsNotTheCommandLines) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  const std::string out = tmp.str("twice.arwb");
+  // Exported once (no calibration: a warning), then again to the same name without the replace checkbox (an error).
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --source '" + kSample +
+                                            "' --scene '" + tmp.str("author/scene.lua") + "' --frames 20 --stats --actions '3:export=" +
+                                            out + ";4:export_wait;8:export=" + out + ";9:export_wait'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto stats = test::stats_line(r);
+  const std::string error = stats["export"]["error"].get<std::string>();
+  EXPECT_EQ(error, out + " exists; tick 'replace an existing bundle there' to replace it") << stats["export"].dump();
+  // The warning in the log as the window says it, with no option of `arwb export` anywhere in it.
+  EXPECT_NE(r.err.find("export: no calibration: the player uses the paper's default camera"), std::string::npos) << r.err;
+  for (const char* option : {"--calib", "--out", "--force"}) EXPECT_EQ(r.err.find(option), std::string::npos) << option << ": " << r.err;
+}
+
+TEST(WorkbenchExport, WindowWordingOfTheExportsMessages) {
+  EXPECT_EQ(export_window_wording("no --calib: the player uses the paper's default camera values"),
+            "no calibration: the player uses the paper's default camera values");
+  EXPECT_EQ(export_window_wording("--out /tmp/x is not a bundle (no readable manifest.json); not replacing it"),
+            "/tmp/x is not a bundle (no readable manifest.json); not replacing it");
+  EXPECT_EQ(export_window_wording("--out: no bundle named"), "where to export: no bundle named");
+  EXPECT_EQ(export_window_wording("--calib c.yml: no camera matrix"), "the calibration c.yml: no camera matrix");
+  EXPECT_EQ(export_window_wording("museum.lua:3: marker(5000) skipped"), "museum.lua:3: marker(5000) skipped");
 }
 
 TEST(WorkbenchExport, PlayBundleRefusesATamperedBundleInTheLog) {
