@@ -76,6 +76,17 @@ void close_gl_window(GlWindow& w) {
   glfwTerminate();
 }
 
+void present_imgui_frame(GlWindow& w) {
+  ImGui::Render();
+  int fw = 0, fh = 0;
+  glfwGetFramebufferSize(w.window, &fw, &fh);
+  glViewport(0, 0, fw, fh);
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  glFinish();
+}
+
 bool save_window_image(GLFWwindow* window, const std::string& path, std::string* error) {
   int w = 0, h = 0;
   glfwGetFramebufferSize(window, &w, &h);

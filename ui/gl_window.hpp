@@ -30,5 +30,8 @@ void close_gl_window(GlWindow& w);
 // The window's framebuffer as a PNG (or any format OpenCV writes by the extension). False when it cannot be
 // written, with the reason in *error.
 bool save_window_image(GLFWwindow* window, const std::string& path, std::string* error);
+// Ends an ImGui frame on a black window: renders ImGui's draw data over the whole framebuffer and waits for GL
+// (the player and the message window; the workbench counts its draw calls in between, so it keeps its own).
+void present_imgui_frame(GlWindow& w);
 
 }  // namespace arwb::ui

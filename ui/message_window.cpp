@@ -49,14 +49,7 @@ int run_message_window(const MessageWindowOptions& options) {
         ImGui::IsKeyPressed(GLFW_KEY_KP_ENTER))
       closed_by = "key";
     ImGui::End();
-    ImGui::Render();
-    int fw = 0, fh = 0;
-    glfwGetFramebufferSize(gl.window, &fw, &fh);
-    glViewport(0, 0, fw, fh);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    glFinish();
+    ui::present_imgui_frame(gl);
     ++frames;
     const bool last = options.frames > 0 && frames >= options.frames;
     const bool closing = last || closed_by != "frames" || glfwWindowShouldClose(gl.window);

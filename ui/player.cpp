@@ -288,14 +288,7 @@ int run_player(const PlayerOptions& options) {
       }
     }
     if (p.overlay) p.draw_overlay();
-    ImGui::Render();
-    int fw = 0, fh = 0;
-    glfwGetFramebufferSize(gl.window, &fw, &fh);
-    glViewport(0, 0, fw, fh);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    glFinish();
+    ui::present_imgui_frame(gl);
     p.textures.end_frame();
     ++ui_frames;
     const bool last_frame = options.frames > 0 && ui_frames >= options.frames;
