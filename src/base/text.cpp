@@ -6,6 +6,16 @@
 
 namespace arwb {
 
+std::vector<std::string> split_list(std::string_view list) {
+  std::vector<std::string> out;
+  for (size_t start = 0; start <= list.size();) {
+    const size_t comma = std::min(list.find(',', start), list.size());
+    if (comma > start) out.emplace_back(list.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
 int edit_distance(std::string_view a, std::string_view b) {
   std::vector<int> row(b.size() + 1);  // one row of the table, updated in place
   for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);

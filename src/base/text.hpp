@@ -7,8 +7,12 @@
 #include <algorithm>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace arwb {
+
+// The items of a comma-separated list, empty items left out: "a,,b" gives a and b.
+std::vector<std::string> split_list(std::string_view list);
 
 // Levenshtein distance: insertions, deletions and substitutions of single bytes.
 int edit_distance(std::string_view a, std::string_view b);

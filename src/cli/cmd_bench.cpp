@@ -1,5 +1,6 @@
-// arwb bench: arwb against OpenCV 4.6 aruco (default parameters) and AprilTag 3 (AprilTag families), one thread,
-// the same frames: median ms per frame by resolution, recall, false positives, corner error, and the ratios.
+// arwb bench: arwb against OpenCV 4.6 aruco (default parameters, and its ArUco3 mode) and AprilTag 3 (AprilTag
+// families), one thread, the same frames: median ms per frame by resolution (and by condition on the hard set),
+// recall, false positives, corner error, and the ratios.
 #include "cli/bench_pose.hpp"
 #include "cli/bench_tracking.hpp"
 #include "cli/cli_common.hpp"
@@ -9,6 +10,7 @@
 #include "synth/synth_set.hpp"
 #include "detect/detector.hpp"
 #include "base/decimals.hpp"
+#include "base/text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
@@ -55,20 +57,26 @@ void score(const std::vector<Marker>& found, const std::vector<TruthMarker>& tru
 }
 
 struct Row {
-  std::string set, resolution, detector;
+  std::string set, resolution, condition, detector;  // condition: a hard set's row for one hardship, over all sizes
   Tally tally;
+  std::string group() const { return condition.empty() ? resolution : condition; }
 };
+
+// The peers arwb is compared with, in the order their columns are printed.
+constexpr const char* kPeers[] = {"opencv", "aruco3", "apriltag"};
 
 }  // namespace
 
 int cmd_bench(int argc, char** argv) {
   CommandLine cl("arwb bench",
-                 "Runs arwb, OpenCV 4.6 cv::aruco::detectMarkers (default parameters) and, for AprilTag families, "
-                 "AprilTag 3 (default parameters) on one thread over the same images, and prints per resolution: "
-                 "median ms per frame, recall, false positives (all, and on images without markers), mean corner "
-                 "error of found markers, and arwb's time as a ratio of each peer's.",
-                 "Without DIR, a synthetic set is made in memory for each dictionary: --count images, mixed 640x480, "
-                 "1280x720 and 1920x1080.");
+                 "Runs arwb and its peers on one thread over the same images: OpenCV 4.6 cv::aruco::detectMarkers "
+                 "with its default parameters (opencv) and in its ArUco3 mode (aruco3, useAruco3Detection) and, for "
+                 "AprilTag families, AprilTag 3 with its default parameters (apriltag). Prints per resolution (and "
+                 "per condition on a hard set): median ms per frame, recall, false positives (all, and on images "
+                 "without markers), mean corner error of found markers, and arwb's time as a ratio of each peer's.",
+                 "Without DIR, synthetic sets are made in memory for each dictionary: --count images of the standard "
+                 "set (mixed 640x480, 1280x720 and 1920x1080) and of the hard set (low_contrast, tiny and low_light "
+                 "in turn, up to 3840x2160), as --set says.");
   bool as_json = false;
   std::string dir, dict_arg = "ARUCO_ORIGINAL,APRILTAG_36h11", params_path;
   int count = 90, seed = 1, reps = 3;
@@ -82,6 +90,14 @@ int cmd_bench(int argc, char** argv) {
       ->type_name("R")
       ->check(whole_number(1, 100));
   cl.app.add_flag("--json", as_json, "one JSON object instead of the table");
+  std::string set_arg = "both", peers_arg = "opencv,aruco3,apriltag";
+  cl.app.add_option("--set", set_arg, "the synthetic sets to make (see arwb synth --set)")
+      ->type_name("standard|hard|both")
+      ->check(CLI::IsMember({"standard", "hard", "both"}));
+  cl.app.add_option("--peers", peers_arg,
+                    "the detectors to compare arwb with, any of opencv, aruco3 and apriltag (apriltag only on AprilTag "
+                    "families), or none")
+      ->type_name("NAME[,NAME...]");
   PoseBenchOptions pose;
   bool pose_mode = false;
   cl.app.add_flag("--pose", pose_mode,
@@ -99,7 +115,7 @@ int cmd_bench(int argc, char** argv) {
   // --pose renders its own frames: the detection set's options would be silently ignored.
   if (pose_mode && tracking) return cl.usage_error("--pose and --tracking are two benchmarks: give one");
   if (pose_mode)
-    for (const char* other : {"DIR", "--dict", "--params", "--count", "--reps"})
+    for (const char* other : {"DIR", "--dict", "--params", "--count", "--reps", "--set", "--peers"})
       if (cl.app.count(other)) {
         print_problem("arwb bench: --pose: %s does not apply (see arwb bench --help)\n", other);
         return 2;
@@ -117,6 +133,15 @@ int cmd_bench(int argc, char** argv) {
   DetectorParams params;
   if (!load_params_option(params_path, "arwb bench", params)) return 2;
   if (tracking) return bench_tracking({count, unsigned(seed), 6, 120, params}, as_json);
+  std::vector<std::string> peers;
+  if (peers_arg != "none")
+    for (const std::string& name : split_list(peers_arg)) {
+      if (std::find(std::begin(kPeers), std::end(kPeers), name) == std::end(kPeers))
+        return cl.usage_error("--peers: unknown peer '" + name + "' (opencv, aruco3, apriltag or none)");
+      if (std::find(peers.begin(), peers.end(), name) == peers.end()) peers.push_back(name);
+    }
+  auto wants = [&](const char* peer) { return std::find(peers.begin(), peers.end(), peer) != peers.end(); };
+  if (!pos.empty() && cl.app.count("--set")) return cl.usage_error("--set makes synthetic sets: not with DIR");
   const auto dicts = dictionaries_option(dict_arg, "arwb bench");
   if (!dicts) return 2;
   cv::setNumThreads(1);  // every detector on one thread
@@ -146,10 +171,14 @@ int cmd_bench(int argc, char** argv) {
     if (used.empty()) used = *dicts;
     sets.push_back({pos[0], std::move(*items), std::move(used)});
   } else {
-    for (const Dictionary& d : *dicts) {
-      std::vector<SetItem> items;
-      for (int i = 0; i < count; ++i) items.push_back(make_set_item({d}, mixed_sizes(), uint64_t(seed), i));
-      sets.push_back({"synthetic " + d.name(), std::move(items), {d}});
+    for (const SetKind kind : {SetKind::standard, SetKind::hard}) {
+      if (set_arg != "both" && (set_arg == "hard") != (kind == SetKind::hard)) continue;
+      for (const Dictionary& d : *dicts) {
+        std::vector<SetItem> items;
+        const auto& sizes = kind == SetKind::hard ? hard_sizes() : mixed_sizes();
+        for (int i = 0; i < count; ++i) items.push_back(make_set_item({d}, sizes, uint64_t(seed), i, kind));
+        sets.push_back({std::string(kind == SetKind::hard ? "hard " : "synthetic ") + d.name(), std::move(items), {d}});
+      }
     }
   }
 
@@ -167,16 +196,17 @@ int cmd_bench(int argc, char** argv) {
       return r;
     });
     // Peers search one dictionary each: with several, each runs once per dictionary and the times add up.
-    std::vector<OpenCvArucoPeer> ocv;
+    std::vector<OpenCvArucoPeer> ocv, aruco3;
     std::vector<AprilTagPeer> april;
     for (const auto& d : used) {
-      ocv.emplace_back(d.name());
-      if (AprilTagPeer::supports(d.name())) april.emplace_back(d.name());
+      if (wants("opencv")) ocv.emplace_back(d.name());
+      if (wants("aruco3")) aruco3.emplace_back(d.name(), true);
+      if (wants("apriltag") && AprilTagPeer::supports(d.name())) april.emplace_back(d.name());
     }
-    auto combine = [](auto& peers) {
-      return [&peers](const cv::Mat& img) {
+    auto combine = [](auto& instances) {
+      return [&instances](const cv::Mat& img) {
         PeerResult all;
-        for (const auto& p : peers) {
+        for (const auto& p : instances) {
           PeerResult r = p.detect(img);
           all.ms += r.ms;
           all.markers.insert(all.markers.end(), r.markers.begin(), r.markers.end());
@@ -184,7 +214,8 @@ int cmd_bench(int argc, char** argv) {
         return all;
       };
     };
-    detectors.emplace_back("opencv", combine(ocv));
+    if (!ocv.empty()) detectors.emplace_back("opencv", combine(ocv));
+    if (!aruco3.empty()) detectors.emplace_back("aruco3", combine(aruco3));
     if (!april.empty() && april.size() == used.size()) detectors.emplace_back("apriltag", combine(april));
 
     if (trace_ms[0].empty())
@@ -202,6 +233,7 @@ int cmd_bench(int argc, char** argv) {
         }
       }
     std::map<std::string, std::map<std::string, Tally>> by_res;  // resolution -> detector -> tally
+    std::map<std::string, std::map<std::string, Tally>> by_condition;
     for (const auto& item : items) {
       const std::string res = std::to_string(item.image.cols) + "x" + std::to_string(item.image.rows);
       for (const auto& [name, fn] : detectors) {
@@ -212,7 +244,9 @@ int cmd_bench(int argc, char** argv) {
           best = std::min(best, pr.ms);
           if (r == 0) first = std::move(pr);
         }
-        for (auto* t : {&by_res[res][name], &by_res["all"][name]}) {
+        std::vector<Tally*> tallies = {&by_res[res][name], &by_res["all"][name]};
+        if (!item.condition.empty()) tallies.push_back(&by_condition[item.condition][name]);
+        for (Tally* t : tallies) {
           t->ms.push_back(best);
           score(first.markers, item.truth, *t);
         }
@@ -227,25 +261,28 @@ int cmd_bench(int argc, char** argv) {
       return long(w) * h;
     };
     std::sort(order.begin(), order.end(), [&](const auto& a, const auto& b) { return pixels(a) < pixels(b); });
-    order.push_back("all");
     for (const auto& res : order)
-      for (const auto& [name, _] : detectors) rows.push_back({set_name, res, name, by_res.at(res).at(name)});
+      for (const auto& [name, _] : detectors) rows.push_back({set_name, res, "", name, by_res.at(res).at(name)});
+    for (const Hardship h : kHardships)
+      if (const auto it = by_condition.find(std::string(hardship_name(h))); it != by_condition.end())
+        for (const auto& [name, _] : detectors) rows.push_back({set_name, "all", it->first, name, it->second.at(name)});
+    for (const auto& [name, _] : detectors) rows.push_back({set_name, "all", "", name, by_res.at("all").at(name)});
   }
 
   // Report: a table, or one JSON object.
   auto find = [&](const Row& r, const char* det) -> const Row* {
     for (const auto& o : rows)
-      if (o.set == r.set && o.resolution == r.resolution && o.detector == det) return &o;
+      if (o.set == r.set && o.resolution == r.resolution && o.condition == r.condition && o.detector == det) return &o;
     return nullptr;
   };
   if (as_json) {
     using Json = nlohmann::ordered_json;
-    Json out = {{"threads", 1}, {"reps", reps}, {"rows", Json::array()}};
+    Json out = {{"threads", 1}, {"reps", reps}, {"peers", peers}, {"rows", Json::array()}};
     for (const Row& r : rows) {
       const Tally& t = r.tally;
-      Json row = {{"set", r.set},
-                  {"resolution", r.resolution},
-                  {"detector", r.detector},
+      Json row = {{"set", r.set}, {"resolution", r.resolution}};
+      if (!r.condition.empty()) row["condition"] = r.condition;
+      row.update(Json{{"detector", r.detector},
                   {"images", t.ms.size()},
                   {"median_ms", round_decimals(median(t.ms), 3)},
                   {"markers", t.truth},
@@ -254,9 +291,9 @@ int cmd_bench(int argc, char** argv) {
                   {"false_positives", t.false_pos},
                   {"false_positives_on_empty", t.false_pos_empty},
                   {"empty_images", t.empty_images},
-                  {"corner_error_px", t.corner_n ? Json(round_decimals(t.corner_err / t.corner_n, 4)) : Json()}};
+                  {"corner_error_px", t.corner_n ? Json(round_decimals(t.corner_err / t.corner_n, 4)) : Json()}});
       if (r.detector == "arwb")
-        for (const char* peer : {"opencv", "apriltag"})
+        for (const char* peer : kPeers)
           if (const Row* p = find(r, peer))
             row[std::string("time_ratio_") + peer] = round_decimals(median(t.ms) / median(p->tally.ms), 3);
       out["rows"].push_back(std::move(row));
@@ -273,25 +310,25 @@ int cmd_bench(int argc, char** argv) {
   std::string last_set;
   for (const Row& r : rows) {
     if (r.set != last_set) {
-      Row all{r.set, "all", "arwb", {}};
+      Row all{r.set, "all", "", "arwb", {}};
       const Row* total = find(all, "arwb");
       std::printf("\n%s (%zu images, one thread, fastest of %d runs per image)\n", r.set.c_str(),
                   total ? total->tally.ms.size() : size_t(0), reps);
-      std::printf("%-10s %-9s %9s %8s %7s %6s %9s %11s %s\n", "resolution", "detector", "median_ms", "recall",
+      std::printf("%-12s %-9s %9s %8s %9s %6s %9s %11s %s\n", "resolution", "detector", "median_ms", "recall",
                   "found", "FP", "FP_empty", "corner_px", "time ratio");
       last_set = r.set;
     }
     const Tally& t = r.tally;
     std::string ratio;
     if (r.detector == "arwb")
-      for (const char* peer : {"opencv", "apriltag"})
+      for (const char* peer : kPeers)
         if (const Row* p = find(r, peer)) {
           char buf[64];
           std::snprintf(buf, sizeof buf, "%s%.2fx %s", ratio.empty() ? "" : ", ", median(t.ms) / median(p->tally.ms),
                         peer);
           ratio += buf;
         }
-    std::printf("%-10s %-9s %9.2f %7.1f%% %3d/%-3d %6d %5d/%-3d %11s %s\n", r.resolution.c_str(), r.detector.c_str(),
+    std::printf("%-12s %-9s %9.2f %7.1f%% %4d/%-4d %6d %5d/%-3d %11s %s\n", r.group().c_str(), r.detector.c_str(),
                 median(t.ms), t.truth ? 100.0 * t.found / t.truth : 100.0, t.found, t.truth, t.false_pos,
                 t.false_pos_empty, t.empty_images,
                 t.corner_n ? decimals_text(t.corner_err / t.corner_n, 3).c_str() : "-", ratio.c_str());

@@ -79,10 +79,20 @@ int cmd_synth(int argc, char** argv) {
       ->description("dictionaries, as for arwb detect (ARUCO_ORIGINAL); with --chessboard --board charuco, the "
                     "ChArUco board's (DICT_5X5_100)")
       ->type_name("NAME[,NAME...]");
-  cl.app.add_option("--size", size_arg, "WxH, or mixed: 640x480, 1280x720 and 1920x1080 in turn")
+  cl.app.add_option("--size", size_arg, "WxH, or mixed: the set's sizes in turn (640x480, 1280x720 and 1920x1080, and 3840x2160 in a hard set)")
       ->type_name("WxH|mixed")
       ->check(frame_size({64, 64}, {8192, 8192}, "mixed"));
+  std::string set_arg = "standard";
+  cl.app.add_option("--set", set_arg,
+                    "standard: the photographs above; hard: what detectors miss, each image one of low_contrast "
+                    "(large markers grey on grey, a soft shadow edge and a steep light gradient across them), tiny "
+                    "(markers of 10 to 24 px) and low_light (strong sensor noise and blur), at 640x480 up to "
+                    "3840x2160 unless --size says otherwise")
+      ->type_name("standard|hard")
+      ->check(CLI::IsMember({"standard", "hard"}));
   if (const auto status = cl.parse(argc, argv)) return *status;
+  if (chessboard && cl.app.count("--set")) return cl.usage_error("--set is for marker photographs, not --chessboard");
+  const SetKind kind = set_arg == "hard" ? SetKind::hard : SetKind::standard;
   if (!board_options.dict.empty() && !chessboard) dict_arg = board_options.dict;
   std::optional<BoardSpec> board;
   if (chessboard) {
@@ -93,7 +103,7 @@ int cmd_synth(int argc, char** argv) {
              board_options.marker_mm != 0) {
     return cl.usage_error("--board, --cols, --rows, --square-mm and --marker-mm are for --chessboard");
   }
-  std::vector<cv::Size> sizes = mixed_sizes();
+  std::vector<cv::Size> sizes = kind == SetKind::hard ? hard_sizes() : mixed_sizes();
   if (size_arg != "mixed") sizes = {*parse_frame_size(size_arg)};
   const auto dicts = dictionaries_option(dict_arg, "arwb synth");
   if (!dicts) return 2;
@@ -113,7 +123,7 @@ int cmd_synth(int argc, char** argv) {
   }
   int markers = 0;
   for (int i = 0; i < count; ++i) {
-    const SetItem item = make_set_item(*dicts, sizes, uint64_t(seed), i);
+    const SetItem item = make_set_item(*dicts, sizes, uint64_t(seed), i, kind);
     if (!cv::imwrite(out + "/" + item.file, item.image)) {
       print_problem("arwb synth: %s/%s: cannot write\n", out.c_str(), item.file.c_str());
       return 1;

@@ -1,6 +1,7 @@
 #include "detect/dictionary.hpp"
 
 #include "base/files.hpp"
+#include "base/text.hpp"
 #include "detect/yaml_file.hpp"
 
 #include <opencv2/aruco.hpp>
@@ -401,10 +402,7 @@ std::vector<DictPair> closest_pairs(const Dictionary& d, int max_pairs) {
 
 std::optional<std::vector<Dictionary>> parse_dictionaries(const std::string& list, std::string* error) {
   std::vector<Dictionary> out;
-  std::stringstream ss(list);
-  std::string name;
-  while (std::getline(ss, name, ',')) {
-    if (name.empty()) continue;
+  for (const std::string& name : split_list(list)) {
     const bool file = name.size() > 4 && (name.ends_with(".yml") || name.ends_with(".yaml"));
     auto d = file ? load_dictionary_yaml(name, error) : dictionary_by_name(name, error);
     if (!d) return std::nullopt;

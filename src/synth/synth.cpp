@@ -1,5 +1,7 @@
 #include "synth/synth.hpp"
 
+#include "detect/quad.hpp"
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -184,6 +186,16 @@ cv::Mat background(cv::Size size, cv::RNG& rng) {
 
 }  // namespace
 
+std::string_view hardship_name(Hardship h) {
+  switch (h) {
+    case Hardship::low_contrast: return "low_contrast";
+    case Hardship::tiny: return "tiny";
+    case Hardship::low_light: return "low_light";
+    case Hardship::none: break;
+  }
+  return "none";
+}
+
 SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
   cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + uint64_t(index) * 0xBF58476D1CE4E5B9ull + 1);
   SynthImage out;
@@ -192,14 +204,31 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
   const double focal = size.width * 1.1;
   if (opt.effects) draw_clutter(out.image, rng, opt.dictionaries, focal);
 
+  // A hard set's condition changes the draws below only for its own images: the photographs of Hardship::none
+  // take exactly the draws they always took, so sets made before stay the same.
+  const Hardship hard = opt.effects ? opt.hardship : Hardship::none;
+  const double short_side = std::min(size.width, size.height);
+  int max_markers = opt.max_markers;
+  double min_side = opt.min_side_px, max_side = std::max(opt.min_side_px * 1.5, opt.max_side_rate * short_side);
+  double tilt = opt.max_tilt_deg, min_px_per_cell = 2.0;
+  if (hard == Hardship::low_contrast) {
+    max_markers = std::min(max_markers, 3);
+    max_side = opt.max_side_rate * short_side;
+    min_side = std::min(std::max(100.0, 0.2 * short_side), 0.8 * max_side);
+  } else if (hard == Hardship::tiny) {
+    max_markers = 8;
+    min_side = 10;
+    max_side = 24;
+    tilt = std::min(tilt, 35.0);
+    min_px_per_cell = 1.25;
+  }
+
   const bool empty = rng.uniform(0.0, 1.0) < opt.empty_fraction;
-  const int want = empty ? 0 : rng.uniform(1, opt.max_markers + 1);
+  const int want = empty ? 0 : rng.uniform(1, max_markers + 1);
   std::vector<cv::Rect> taken;
-  const double max_side = std::max(opt.min_side_px * 1.5, opt.max_side_rate * std::min(size.width, size.height));
   for (int attempt = 0; int(out.markers.size()) < want && attempt < 200; ++attempt) {
     const Dictionary& d = opt.dictionaries[size_t(int(out.markers.size() + size_t(index)) % int(opt.dictionaries.size()))];
-    const double side = std::exp(rng.uniform(std::log(opt.min_side_px), std::log(max_side)));
-    const double tilt = opt.max_tilt_deg;
+    const double side = std::exp(rng.uniform(std::log(min_side), std::log(max_side)));
     // One draw a statement, in the order GCC took them (see draw_clutter).
     const double cy = rng.uniform(side, size.height - side), cx = rng.uniform(side, size.width - side);
     const cv::Point2d centre(cx, cy);
@@ -216,12 +245,18 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     // Foreshortened too far to be readable: every side must keep 2 px a cell.
     double min_edge = 1e9;
     for (int i = 0; i < 4; ++i) min_edge = std::min(min_edge, double(cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)])));
-    if (min_edge < 2.0 * (d.marker_size() + 2)) continue;
+    if (min_edge < min_px_per_cell * (d.marker_size() + 2)) continue;
     taken.push_back(box);
     int id = rng.uniform(0, d.size());
     while (!unambiguous(d, id)) id = (id + 1) % d.size();
-    const int black = opt.effects ? rng.uniform(0, 60) : 0;
-    const int white = opt.effects ? rng.uniform(170, 256) : 255;
+    int black = 0, white = 255;
+    if (hard == Hardship::low_contrast) {
+      black = rng.uniform(60, 120);
+      white = black + rng.uniform(35, 70);  // grey on grey
+    } else if (opt.effects) {
+      black = rng.uniform(0, 60);
+      white = rng.uniform(170, 256);
+    }
     draw_marker(out.image, d, id, q, 1.0, 4, black, white);
     out.markers.push_back({id, d.name(), q});
   }
@@ -229,12 +264,38 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
 
   // Light: a gradient across the frame, and sometimes a soft shadow.
   cv::Mat light(size, CV_32FC1);
-  const double gx = rng.uniform(-0.5, 0.5), gy = rng.uniform(-0.5, 0.5), base = rng.uniform(0.75, 1.1);
+  double gx = rng.uniform(-0.5, 0.5), gy = rng.uniform(-0.5, 0.5), base = rng.uniform(0.75, 1.1);
+  if (hard == Hardship::low_contrast) {
+    gx *= 1.8, gy *= 1.8;  // steep: one side of a large marker in half the light of the other
+  } else if (hard == Hardship::low_light) {
+    base *= 0.25, gx *= 0.2, gy *= 0.2;  // dim and even
+  }
   for (int y = 0; y < size.height; ++y)
     for (int x = 0; x < size.width; ++x)
-      light.at<float>(y, x) = float(base + gx * (x / double(size.width) - 0.5) + gy * (y / double(size.height) - 0.5));
+      light.at<float>(y, x) =
+          float(std::max(0.05, base + gx * (x / double(size.width) - 0.5) + gy * (y / double(size.height) - 0.5)));
   std::string notes;
-  if (rng.uniform(0, 3) == 0) {
+  if (hard != Hardship::none) notes = std::string(hardship_name(hard)) + " ";
+  if (hard == Hardship::low_contrast && !out.markers.empty()) {
+    // A shadow whose soft edge crosses the first marker: a straight edge at a random angle through a point near
+    // its centre, everything on one side darkened.
+    const Quad& q = out.markers[0].corners;
+    const cv::Point2f c = quad_centre(q);
+    const double reach = 0.075 * quad_perimeter(q);  // 0.3 of a side
+    const double ox = rng.uniform(-reach, reach), oy = rng.uniform(-reach, reach);
+    const double angle = rng.uniform(0.0, 2 * CV_PI);
+    const double depth = rng.uniform(0.45, 0.7);
+    const double softness = rng.uniform(1.0, 6.0) * std::max(1.0, short_side / 720.0);
+    const cv::Point2d p(c.x + ox, c.y + oy), along(std::cos(angle), std::sin(angle)), across(-along.y, along.x);
+    const double far = 4.0 * (size.width + size.height);
+    const std::vector<cv::Point> half = {p + far * along, p + far * along + far * across,
+                                         p - far * along + far * across, p - far * along};
+    cv::Mat shadow(size, CV_32FC1, cv::Scalar(1));
+    cv::fillConvexPoly(shadow, half, cv::Scalar(depth), cv::LINE_AA);
+    cv::GaussianBlur(shadow, shadow, cv::Size(0, 0), softness);
+    light = light.mul(shadow);
+    notes += "shadow_edge ";
+  } else if (rng.uniform(0, 3) == 0) {
     cv::Mat shadow(size, CV_32FC1, cv::Scalar(1));
     std::vector<cv::Point> poly;
     for (int i = 0; i < 4; ++i) {
@@ -255,12 +316,16 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
   cv::merge(ch, f);
   f.convertTo(out.image, CV_8UC3);
 
-  const double blur = rng.uniform(0.0, 1.2);
+  double blur = rng.uniform(0.0, 1.2);
+  if (hard == Hardship::tiny) blur *= 0.6;
+  if (hard == Hardship::low_light) blur += 0.6;  // a long exposure
   if (blur > 0.3) {
     cv::GaussianBlur(out.image, out.image, cv::Size(0, 0), blur);
     notes += "blur ";
   }
-  const double noise = rng.uniform(0.0, 8.0);
+  double noise = rng.uniform(0.0, 8.0);
+  if (hard == Hardship::tiny) noise *= 0.6;
+  if (hard == Hardship::low_light) noise += 6;  // sensor noise, amplified by the gain of a dim scene
   cv::Mat n(size, CV_16SC3);
   rng.fill(n, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(noise));
   cv::Mat img16;

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace arwb {
@@ -38,6 +39,18 @@ Quad project_square(cv::Point2d centre, double side_px, double roll_deg, double 
 // orientation cannot be told, so synthetic frames skip it.
 bool unambiguous(const Dictionary& dict, int id);
 
+// The harder bench's conditions (`arwb synth --set hard`, `arwb bench --set hard`): each is what detectors were seen
+// to miss on photographs they had never seen. An image of a hard set has one of them.
+enum class Hardship {
+  none,          // the photographs above
+  low_contrast,  // large markers (100 px up to 0.6 of the frame) printed grey on grey, with a soft-edged shadow and a
+                 // steep light gradient across them
+  tiny,          // markers of 10 to 24 px
+  low_light,     // a dim scene: strong sensor noise and the blur of a long exposure
+};
+constexpr Hardship kHardships[] = {Hardship::low_contrast, Hardship::tiny, Hardship::low_light};
+std::string_view hardship_name(Hardship h);
+
 struct SynthOptions {
   cv::Size size{640, 480};
   std::vector<Dictionary> dictionaries;   // markers are drawn from these, in turn
@@ -47,6 +60,7 @@ struct SynthOptions {
   double max_side_rate = 0.6;
   double max_tilt_deg = 55;
   bool effects = true;                    // blur, noise, light, shadow, JPEG, clutter; false: clean renders
+  Hardship hardship = Hardship::none;     // with effects: the sizes, contrast and light of that condition instead
 };
 
 struct SynthImage {

@@ -4,6 +4,7 @@
 #include "base/files.hpp"
 #include "capture/image_io.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -18,14 +19,26 @@ const std::vector<cv::Size>& mixed_sizes() {
   return sizes;
 }
 
-SetItem make_set_item(const std::vector<Dictionary>& dicts, const std::vector<cv::Size>& sizes, uint64_t seed, int i) {
+const std::vector<cv::Size>& hard_sizes() {
+  static const std::vector<cv::Size> sizes = {{640, 480}, {1280, 720}, {1920, 1080}, {3840, 2160}};
+  return sizes;
+}
+
+SetItem make_set_item(const std::vector<Dictionary>& dicts, const std::vector<cv::Size>& sizes, uint64_t seed, int i,
+                      SetKind kind) {
   SynthOptions opt;
   opt.size = sizes[size_t(i) % sizes.size()];
   opt.dictionaries = dicts;
-  SynthImage s = synth_photo(opt, seed, i);
+  int index = i;
+  if (kind == SetKind::hard) {
+    opt.hardship = kHardships[(size_t(i) / sizes.size()) % std::size(kHardships)];
+    index += 1000000;  // not the standard set's draws
+  }
+  SynthImage s = synth_photo(opt, seed, index);
   char name[32];
   std::snprintf(name, sizeof name, "img_%05d.png", i);
-  return SetItem{name, std::move(s.image), std::move(s.markers), std::move(s.notes)};
+  return SetItem{name, std::move(s.image), std::move(s.markers), std::move(s.notes),
+                 kind == SetKind::hard ? std::string(hardship_name(opt.hardship)) : std::string()};
 }
 
 std::string truth_line(const SetItem& item) {
@@ -35,8 +48,9 @@ std::string truth_line(const SetItem& item) {
     for (const auto& c : m.corners) corners.push_back({round_decimals(c.x, 4), round_decimals(c.y, 4)});
     markers.push_back({{"id", m.id}, {"dict", m.dict}, {"corners", std::move(corners)}});
   }
-  const Json line = {{"file", item.file},        {"width", item.image.cols}, {"height", item.image.rows},
-                     {"markers", std::move(markers)}, {"notes", item.notes}};
+  Json line = {{"file", item.file},        {"width", item.image.cols}, {"height", item.image.rows},
+               {"markers", std::move(markers)}, {"notes", item.notes}};
+  if (!item.condition.empty()) line["condition"] = item.condition;
   return line.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
@@ -115,6 +129,17 @@ Result<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::s
     item.truth = std::move(*truth);
     if (const auto notes = line.find("notes"); notes != line.end() && notes->is_string())
       item.notes = notes->get<std::string>();
+    if (const auto c = line.find("condition"); c != line.end()) {
+      // Only the hard set's names: the bench prints a row for each.
+      const bool known = c->is_string() && std::any_of(std::begin(kHardships), std::end(kHardships), [&](Hardship h) {
+                           return hardship_name(h) == c->get_ref<const std::string&>();
+                         });
+      if (!known) {
+        skip("\"condition\" is not one of low_contrast, tiny, low_light");
+        continue;
+      }
+      item.condition = c->get<std::string>();
+    }
     items.push_back(std::move(item));
   }
   return items;

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 using namespace arwb;
@@ -229,7 +230,7 @@ TEST(CliDetect, BadOptionsAreNamed) {
 }
 
 TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
-  const auto r = run_arwb("bench --count 6 --reps 1 --json --dict APRILTAG_36h11");
+  const auto r = run_arwb("bench --count 6 --reps 1 --json --dict APRILTAG_36h11 --set standard");
   ASSERT_EQ(r.status, 0) << r.err;
   Json j = parse(r.out);
   Json& rows = j["rows"];
@@ -237,12 +238,13 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   auto has = [&](const char* key, const char* value) {
     return std::any_of(rows.begin(), rows.end(), [&](Json& row) { return row[key] == value; });
   };
-  for (const char* det : {"arwb", "opencv", "apriltag"}) EXPECT_TRUE(has("detector", det)) << det;
+  for (const char* det : {"arwb", "opencv", "aruco3", "apriltag"}) EXPECT_TRUE(has("detector", det)) << det;
+  EXPECT_FALSE(has("resolution", "3840x2160"));  // the standard set only
   for (const char* res : {"640x480", "1920x1080", "all"}) EXPECT_TRUE(has("resolution", res)) << res;
   const auto arwb_all = std::find_if(rows.begin(), rows.end(),
                                      [](Json& row) { return row["resolution"] == "all" && row["detector"] == "arwb"; });
   ASSERT_NE(arwb_all, rows.end()) << r.out;
-  for (const char* key : {"time_ratio_opencv", "time_ratio_apriltag", "corner_error_px"})
+  for (const char* key : {"time_ratio_opencv", "time_ratio_aruco3", "time_ratio_apriltag", "corner_error_px"})
     EXPECT_TRUE(arwb_all->contains(key)) << key;
   EXPECT_EQ((*arwb_all)["images"], 6);
   EXPECT_TRUE((*arwb_all)["median_ms"].is_number());
@@ -259,6 +261,48 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   EXPECT_EQ(from_dir.status, 0) << from_dir.err;
   EXPECT_NE(from_dir.out.find("arwb"), std::string::npos);
   EXPECT_EQ(run_arwb("bench " + q(dir.str("nowhere"))).status, 1);
+}
+
+// The hard set: a row per condition beside the rows per resolution, 4K frames among them; --peers chooses the
+// detectors compared, and a wrong name is a usage error naming it.
+TEST(CliBench, TheHardSetHasARowPerConditionAndPeersAreChosen) {
+  const auto r = run_arwb("bench --count 12 --reps 1 --json --set hard --peers aruco3 --dict ARUCO_ORIGINAL");
+  ASSERT_EQ(r.status, 0) << r.err;
+  Json j = parse(r.out);
+  EXPECT_EQ(j["peers"], Json::array({"aruco3"}));
+  std::set<std::string> detectors, resolutions, conditions;
+  for (Json& row : j["rows"]) {
+    EXPECT_EQ(row["set"], "hard ARUCO_ORIGINAL");
+    detectors.insert(row["detector"].get<std::string>());
+    resolutions.insert(row["resolution"].get<std::string>());
+    if (row.contains("condition")) {
+      conditions.insert(row["condition"].get<std::string>());
+      EXPECT_EQ(row["resolution"], "all");
+      EXPECT_EQ(row["images"], 4);
+    }
+  }
+  EXPECT_EQ(detectors, (std::set<std::string>{"arwb", "aruco3"}));
+  EXPECT_EQ(resolutions, (std::set<std::string>{"640x480", "1280x720", "1920x1080", "3840x2160", "all"}));
+  EXPECT_EQ(conditions, (std::set<std::string>{"low_contrast", "tiny", "low_light"}));
+
+  const auto table = run_arwb("bench --count 3 --reps 1 --set hard --peers none");
+  ASSERT_EQ(table.status, 0) << table.err;
+  EXPECT_NE(table.out.find("hard ARUCO_ORIGINAL (3 images"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("\nlow_contrast "), std::string::npos) << table.out;
+  EXPECT_EQ(table.out.find("opencv"), std::string::npos) << table.out;
+
+  const auto bad = run_arwb("bench --peers opencv,apriltagg");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--peers: unknown peer 'apriltagg'"), std::string::npos) << bad.err;
+  EXPECT_EQ(run_arwb("bench --set easy").status, 2);
+  test::TempDir dir;
+  ASSERT_EQ(run_arwb("synth --out " + q(dir.str("set")) + " --count 2 --set hard").status, 0);
+  const auto dir_set = run_arwb("bench " + q(dir.str("set")) + " --set hard");
+  EXPECT_EQ(dir_set.status, 2);
+  EXPECT_NE(dir_set.err.find("--set"), std::string::npos) << dir_set.err;
+  const auto from_dir = run_arwb("bench " + q(dir.str("set")) + " --reps 1 --peers none --json");
+  ASSERT_EQ(from_dir.status, 0) << from_dir.err;
+  EXPECT_NE(from_dir.out.find("\"condition\":\"low_contrast\""), std::string::npos) << from_dir.out;
 }
 
 namespace {

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <fstream>
+#include <map>
+#include <set>
 
 using namespace arwb;
 
@@ -92,4 +95,70 @@ TEST(SynthSet, SameSeedGivesTheSameSetWhicheverCompilerBuiltIt) {
     EXPECT_LE(cv::norm(second.truth[i].corners[0] - corner0[i]), 1e-3) << "marker " << i;
   }
   EXPECT_EQ(second.notes, "shadow blur jpeg92 blur0.5 noise7.4");
+}
+
+// The hard set: each hardship does what its name says, every size meets every hardship, the condition survives a
+// round trip through truth.jsonl, and an unknown condition is named and skipped.
+namespace {
+// The mean grey of a quad's inside and of a ring just outside it, on the grey image.
+std::pair<double, double> inside_and_around(const cv::Mat& bgr, const Quad& q) {
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  std::vector<cv::Point> poly;
+  for (const auto& c : q) poly.emplace_back(cvRound(c.x), cvRound(c.y));
+  cv::Mat in(grey.size(), CV_8UC1, cv::Scalar(0)), ring(grey.size(), CV_8UC1, cv::Scalar(0));
+  cv::fillConvexPoly(in, poly, cv::Scalar(255));
+  cv::dilate(in, ring, cv::Mat(), {-1, -1}, 6);
+  ring -= in;
+  return {cv::mean(grey, in)[0], cv::mean(grey, ring)[0]};
+}
+}  // namespace
+
+TEST(SynthSet, TheHardSetHasEachHardshipAtEverySize) {
+  const Dictionary d = make_aruco_original();
+  std::map<std::string, std::set<int>> widths;
+  double tiny_max = 0, contrast_max = 0;
+  int tiny_markers = 0, contrast_markers = 0, dim_images = 0;
+  for (int i = 0; i < 12; ++i) {
+    const SetItem item = make_set_item({d}, hard_sizes(), 1, i, SetKind::hard);
+    ASSERT_FALSE(item.condition.empty());
+    EXPECT_EQ(item.notes.rfind(item.condition + " ", 0), 0u) << item.notes;
+    widths[item.condition].insert(item.image.cols);
+    for (const TruthMarker& m : item.truth) {
+      const double side = quad_perimeter(m.corners) / 4;
+      if (item.condition == "tiny") tiny_max = std::max(tiny_max, side), ++tiny_markers;
+      if (item.condition == "low_contrast") {
+        EXPECT_GE(side, 70) << item.file;  // 100 px before perspective
+        const auto [inside, around] = inside_and_around(item.image, m.corners);
+        contrast_max = std::max(contrast_max, std::abs(around - inside));
+        ++contrast_markers;
+      }
+    }
+    if (item.condition == "low_light") dim_images += cv::mean(item.image)[0] < 60;
+  }
+  ASSERT_EQ(widths.size(), 3u);
+  for (const auto& [condition, seen] : widths)
+    EXPECT_EQ(seen, (std::set<int>{640, 1280, 1920, 3840})) << condition;
+  EXPECT_GT(tiny_markers, 4);
+  EXPECT_LE(tiny_max, 26);
+  EXPECT_GT(contrast_markers, 2);
+  EXPECT_LT(contrast_max, 60);  // grey on grey: a printed marker's black and white are 170 levels apart or more
+  EXPECT_EQ(dim_images, 4);
+}
+
+TEST(SynthSet, AHardSetsConditionReadsBackAndAnUnknownOneIsSkipped) {
+  test::TempDir dir;
+  const SetItem item = make_set_item({make_aruco_original()}, {{320, 240}}, 7, 4, SetKind::hard);
+  ASSERT_EQ(item.condition, "tiny");
+  ASSERT_TRUE(cv::imwrite(dir.str(item.file), item.image));
+  std::string bad = truth_line(item);
+  bad.replace(bad.find("\"tiny\""), 6, "\"foggy\"");
+  test::write_file(dir.str("truth.jsonl"), truth_line(item) + "\n" + bad + "\n");
+  std::vector<std::string> skipped;
+  const auto set = read_set(dir.str(), &skipped);
+  ASSERT_TRUE(set) << set.error();
+  ASSERT_EQ(set->size(), 1u);
+  EXPECT_EQ(set->front().condition, "tiny");
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_EQ(skipped[0], dir.str("truth.jsonl") + ":2: \"condition\" is not one of low_contrast, tiny, low_light");
 }
