@@ -1,5 +1,7 @@
 // Chains the stages of pipeline.hpp over one frame and fills the trace.
-// Step 1: find quads (acquisition .. nested_filter), whole-image work on the calling thread.
+// Step 1: find quads (acquisition .. nested_filter), whole-image work on the calling thread. The search
+// (adaptive_threshold .. quad_fit) runs on the decimated image; its contours and quads are mapped back at once, so
+// from contours on everything is in the grey image's pixels.
 // Step 2: read each quad (corner_refinement .. identification), per candidate, spread over threads.
 // Step 3: resolve duplicates and map corners back to the input image.
 // Each stage's time and counts are its own: the trace lists the stages in the order they run here.
@@ -86,13 +88,24 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   }
   close_stage(Stage::acquisition, 1, 1, grey);
 
-  const cv::Mat binary = stages::adaptive_threshold(grey, p);
-  close_stage(Stage::adaptive_threshold, 1, 1, binary);
+  // The stage pictures of the search are shown over the frame: at full level they are scaled back to its size.
+  const int factor = stages::decimation_used(grey.size(), p);
+  auto at_grey_size = [&](const cv::Mat& img) {
+    if (!full || factor == 1) return img;
+    cv::Mat big;
+    cv::resize(img, big, grey.size(), 0, 0, cv::INTER_NEAREST);
+    return big;
+  };
+  const cv::Mat search = stages::decimate(grey, factor);
+  close_stage(Stage::decimation, 1, 1, at_grey_size(search));
+
+  const cv::Mat binary = stages::adaptive_threshold(search, p);
+  close_stage(Stage::adaptive_threshold, 1, 1, at_grey_size(binary));
 
   std::vector<stages::SmallRegion> small;
   int regions = 0;
   std::vector<std::vector<cv::Point>> contours =
-      stages::find_contours(binary, p.min_perimeter_px, &regions, full ? &small : nullptr);
+      stages::find_contours(binary, p.min_perimeter_px, &regions, full ? &small : nullptr, factor);
   close_stage(Stage::contours, 1, regions);
 
   struct QuadCandidate {
@@ -108,7 +121,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     const auto& c = contours[size_t(contour_index)];
     r.contour = full ? contour_index : -1;
     r.bbox = cv::boundingRect(c);
-    r.perimeter = double(c.size());
+    r.perimeter = stages::contour_length(c, factor);
     if (fate) r.fate = std::move(*fate);
     t.candidates.push_back(std::move(r));
     return int(t.candidates.size()) - 1;
@@ -126,7 +139,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     }
   }
   for (int i = 0; i < int(contours.size()); ++i) {
-    if (auto why = stages::size_filter(contours[size_t(i)], work_size, p, full)) {
+    if (auto why = stages::size_filter(contours[size_t(i)], work_size, p, full, factor)) {
       if (full) add_record(i, std::move(why));
       continue;
     }
@@ -136,7 +149,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
 
   for (int i : size_passed) {
     Quad q;
-    auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q);
+    auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q, factor);
     if (why) {
       if (timed) add_record(i, std::move(why));
       continue;
@@ -191,7 +204,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       };
       const int cells = n + 2;
       Quad q = quad;
-      stages::refine_corners(grey, q, cells, p);
+      stages::refine_corners(grey, q, cells, p, factor);
       lap(0);
       cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
       lap(1);

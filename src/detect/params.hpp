@@ -13,8 +13,10 @@ namespace arwb {
 // Acquisition's resize is not here: it is the source's acquisition setting (capture/source.hpp), one for the
 // workbench, the CLI and the detector.
 struct DetectorParams {
+  // decimation
+  int decimation_factor = 0;         // filled from the table's defaults by the constructor
   // adaptive_threshold
-  int threshold_window_px = 0;       // filled from the table's defaults by the constructor
+  int threshold_window_px = 0;
   double threshold_offset = 0;
   // size_filter
   double min_perimeter_px = 0;

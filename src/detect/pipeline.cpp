@@ -50,6 +50,22 @@ cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scal
   return grey;
 }
 
+// [SECTION] decimation
+
+int decimation_used(cv::Size grey, const DetectorParams& p) {
+  int f = std::max(1, p.decimation_factor);
+  while (f > 1 && std::min(grey.width, grey.height) / f < 64) --f;
+  return f;
+}
+
+cv::Mat decimate(const cv::Mat& grey, int factor) {
+  if (factor <= 1) return grey;
+  // INTER_AREA at a whole factor is the block mean: noise averages out, and a marker's dark frame stays dark.
+  cv::Mat out;
+  cv::resize(grey, out, cv::Size(grey.cols / factor, grey.rows / factor), 0, 0, cv::INTER_AREA);
+  return out;
+}
+
 // [SECTION] adaptive_threshold
 
 cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
@@ -131,7 +147,9 @@ void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::
 }  // namespace
 
 std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
-                                                  int* region_count, std::vector<SmallRegion>* small) {
+                                                  int* region_count, std::vector<SmallRegion>* small, int factor) {
+  factor = std::max(factor, 1);
+  min_perimeter_px /= factor;
   CV_Assert(binary.type() == CV_8UC1);
   const int w = binary.cols, h = binary.rows;
   std::vector<Run> runs;
@@ -185,11 +203,13 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
     const Box& b = boxes[size_t(i)];
     const int bw = b.x1 - b.x0 + 1, bh = b.y1 - b.y0 + 1;
     if (2.0 * (bw + bh) < min_perimeter_px) {
-      if (small) small->push_back({cv::Rect(b.x0, b.y0, bw, bh)});
+      if (small) small->push_back({cv::Rect(b.x0 * factor, b.y0 * factor, bw * factor, bh * factor)});
       continue;
     }
     contours.emplace_back();
     trace_outer_border(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
+    if (factor > 1)
+      for (cv::Point& p : contours.back()) p = undecimate(p, factor);
   }
   if (region_count) *region_count = regions;
   return contours;
@@ -198,8 +218,8 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
 // [SECTION] size_filter
 
 std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
-                                     bool explain) {
-  const double perimeter = static_cast<double>(contour.size());
+                                     bool explain, int factor) {
+  const double perimeter = contour_length(contour, factor);
   if (perimeter < p.min_perimeter_px)
     return reject(Stage::size_filter, "min_perimeter_px", perimeter, p.min_perimeter_px,
                   explain ? fmt("perimeter %.0f px < min_perimeter_px %.0f px", perimeter, p.min_perimeter_px) : "");
@@ -212,11 +232,65 @@ std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::
 
 // [SECTION] quad_fit
 
+namespace {
+
+// The corners where lines fitted to each side's contour points meet. approxPolyDP's vertices are contour points,
+// and a corner that blur or decimation rounded off puts its vertex a pixel or more inside the true corner; the
+// sides stay straight. Each side uses the contour between its two vertices, less a fifth at each end (the
+// rounding). A side with too few points, or a corner that lands implausibly far from its vertex, keeps the
+// vertices as they are. `shift`: what the contour points lack of their block's centre on a decimated search.
+Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::vector<cv::Point>& poly, double shift) {
+  Quad out;
+  for (size_t i = 0; i < 4; ++i) out[i] = cv::Point2f(float(poly[i].x + shift), float(poly[i].y + shift));
+  const int n = int(contour.size());
+  std::array<int, 4> at{};
+  for (size_t i = 0; i < 4; ++i) {
+    const auto it = std::find(contour.begin(), contour.end(), poly[i]);
+    if (it == contour.end()) return out;
+    at[i] = int(it - contour.begin());
+  }
+  std::array<cv::Vec3d, 4> lines;  // a x + b y = c, (a, b) unit
+  std::vector<cv::Point2f> pts;
+  for (size_t i = 0; i < 4; ++i) {
+    const int from = at[i], len = (at[(i + 1) % 4] - from + n) % n;
+    const int trim = len / 5;
+    pts.clear();
+    for (int k = trim; k <= len - trim; ++k) pts.emplace_back(contour[size_t((from + k) % n)]);
+    if (pts.size() < 3) return out;
+    cv::Vec4f l;
+    cv::fitLine(pts, l, cv::DIST_L2, 0, 0.01, 0.01);
+    lines[i] = cv::Vec3d(-l[1], l[0], -l[1] * l[2] + l[0] * l[3]);
+  }
+  Quad fitted;
+  for (size_t i = 0; i < 4; ++i) {
+    const cv::Vec3d &l1 = lines[(i + 3) % 4], &l2 = lines[i];  // vertex i joins side i-1 and side i
+    const double det = l1[0] * l2[1] - l1[1] * l2[0];
+    if (std::abs(det) < 1e-6) return out;
+    const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det + shift),
+                        float((l1[0] * l2[2] - l1[2] * l2[0]) / det + shift));
+    const double side = std::min(cv::norm(poly[i] - poly[(i + 1) % 4]), cv::norm(poly[i] - poly[(i + 3) % 4]));
+    if (cv::norm(c - out[i]) > 0.25 * side) return out;
+    fitted[i] = c;
+  }
+  return fitted;
+}
+
+}  // namespace
+
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
-                                  Quad* quad) {
-  const double perimeter = static_cast<double>(contour.size());
+                                  Quad* quad, int factor) {
+  const double perimeter = contour_length(contour, factor);
   std::vector<cv::Point> poly;
-  cv::approxPolyDP(contour, poly, p.polygon_epsilon_rate * perimeter, true);
+  const double epsilon = p.polygon_epsilon_rate * perimeter;
+  cv::approxPolyDP(contour, poly, epsilon, true);
+  if (poly.size() > 4 && contour.size() < 100) {
+    // A small contour (under 100 steps) is jagged by whole pixels of the search image, and a corner rounded by blur
+    // or decimation can take two vertices. One more try at twice the tolerance, kept only when the polygon still
+    // covers the region (a blob is no quad).
+    std::vector<cv::Point> coarse;
+    cv::approxPolyDP(contour, coarse, 2 * epsilon, true);
+    if (coarse.size() == 4 && cv::contourArea(coarse) >= 0.85 * cv::contourArea(contour)) poly = std::move(coarse);
+  }
   if (poly.size() != 4)
     return reject(Stage::quad_fit, "polygon_epsilon_rate", double(poly.size()), 4,
                   fmt("polygon has %.0f corners, not 4 (polygon_epsilon_rate %g)", double(poly.size()),
@@ -238,10 +312,11 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
     return reject(Stage::quad_fit, "min_border_distance_px", edge, p.min_border_distance_px,
                   fmt("corner %.0f px from the image edge < min_border_distance_px %.0f px", edge,
                       p.min_border_distance_px));
+  Quad q = corners_from_sides(contour, poly, (factor - 1) / 2.0 - (factor - 1) / 2);
   // Clockwise on screen (y down): the cross product of the first two edges is positive.
-  const cv::Point a = poly[1] - poly[0], b = poly[2] - poly[0];
-  if (double(a.x) * b.y - double(a.y) * b.x < 0) std::swap(poly[1], poly[3]);
-  for (int i = 0; i < 4; ++i) (*quad)[size_t(i)] = cv::Point2f(poly[size_t(i)]);
+  const cv::Point2f a = q[1] - q[0], b = q[2] - q[0];
+  if (double(a.x) * b.y - double(a.y) * b.x < 0) std::swap(q[1], q[3]);
+  *quad = q;
   return std::nullopt;
 }
 
@@ -406,7 +481,7 @@ int correction_budget(const Dictionary& dict, const DetectorParams& p) {
 namespace {
 
 // One pass of refine_corners; false when an edge could not be trusted (the corners are then left as they were).
-bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
+bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p, double slack) {
   // Each side of the marker is the edge between its black border (inside) and the white quiet zone (outside).
   // Along the side, profiles across the edge locate it to a fraction of a pixel (the centroid of the rising
   // gradient, which sits on the edge for any symmetric blur); a line is fitted through those points and the
@@ -415,7 +490,7 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
   for (int i = 0; i < 4; ++i)
     min_side = std::min(min_side, double(cv::norm(corners[size_t(i)] - corners[size_t((i + 1) % 4)])));
   const double cell = min_side / cells;
-  const double reach = std::clamp(0.6 * cell, 2.5, double(p.subpix_window_px) + 1.0);
+  const double reach = std::max(std::clamp(0.6 * cell, 2.5, double(p.subpix_window_px) + 1.0), slack);
   const double step = 0.5;
   const int samples = static_cast<int>(std::lround(2 * reach / step)) + 1;
   const cv::Point2f centre = quad_centre(corners);
@@ -461,7 +536,7 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
     const double det = l1[0] * l2[1] - l1[1] * l2[0];
     if (std::abs(det) < 1e-9) return false;
     const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det), float((l1[0] * l2[2] - l1[2] * l2[0]) / det));
-    if (cv::norm(c - corners[size_t(i)]) > std::max(cell, 2.0)) return false;
+    if (cv::norm(c - corners[size_t(i)]) > std::max({cell, 2.0, slack})) return false;
     refined[size_t(i)] = c;
   }
   corners = refined;
@@ -470,13 +545,16 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
 
 }  // namespace
 
-void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p) {
+void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p, int factor) {
   if (p.corner_refinement == 0) return;
   // Each pass profiles across the sides found by the last one, so the profiles end up square to the true edges;
-  // it stops when no corner moves more than subpix_epsilon_px (usually after two or three passes).
-  for (int it = 0; it < p.subpix_max_iterations; ++it) {
+  // it stops when no corner moves more than subpix_epsilon_px (usually after two or three passes). A quad found on
+  // the decimated image starts up to about `factor` pixels off: the first pass reaches that far, and one more
+  // pass follows with the usual reach.
+  const int passes = p.subpix_max_iterations + (factor > 1 ? 1 : 0);
+  for (int it = 0; it < passes; ++it) {
     const Quad before = corners;
-    if (!refine_corners_once(grey, corners, cells, p)) return;
+    if (!refine_corners_once(grey, corners, cells, p, it == 0 && factor > 1 ? factor + 1.5 : 0)) return;
     double moved = 0;
     for (size_t k = 0; k < 4; ++k) moved = std::max(moved, double(cv::norm(corners[k] - before[k])));
     if (moved < p.subpix_epsilon_px) return;

@@ -20,6 +20,16 @@ namespace arwb::stages {
 cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x, double* scale_y,
                 cv::Mat* acquired = nullptr);
 
+// decimation: the search image, the grey image shrunk `factor` times (each pixel the mean of a factor x factor
+// block); the grey image itself when factor is 1. The factor used for a frame is decimation_factor, lowered so that
+// the search image keeps at least 64 pixels a side.
+int decimation_used(cv::Size grey, const DetectorParams& p);
+cv::Mat decimate(const cv::Mat& grey, int factor);
+// A point of the search image in the grey image's pixels (the centre of its block, rounded down), and back.
+inline cv::Point undecimate(cv::Point p, int factor) {
+  return factor == 1 ? p : cv::Point(p.x * factor + (factor - 1) / 2, p.y * factor + (factor - 1) / 2);
+}
+
 // adaptive_threshold: 255 where a pixel is darker than its window mean by more than threshold_offset.
 cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p);
 
@@ -28,21 +38,28 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p);
 // zone separates it), so its outer border is the marker's edge; hole borders are not needed.
 // Regions whose bounding box is too small to hold a border of min_perimeter_px (a convex border is never longer
 // than the box's perimeter) are not traced: they are most regions of a frame. They are returned in `small`.
+// With `factor` > 1 the binary image is the decimated search image: min_perimeter_px is in the grey image's pixels,
+// and the contours and boxes returned are mapped to the grey image (undecimate), so every later stage, the trace
+// and the views work in one set of pixels.
 struct SmallRegion {
   cv::Rect bbox;
 };
 std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
                                                   int* region_count = nullptr,
-                                                  std::vector<SmallRegion>* small = nullptr);
+                                                  std::vector<SmallRegion>* small = nullptr, int factor = 1);
+// A contour's length in the grey image's pixels: its points, each a step of `factor` pixels.
+inline double contour_length(const std::vector<cv::Point>& contour, int factor) {
+  return double(contour.size()) * factor;
+}
 
 // size_filter: nullopt when the contour may go on, else the rejection. Most contours of a frame stop here, so the
 // message is only written when `explain` asks for it.
 std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
-                                     bool explain = true);
+                                     bool explain = true, int factor = 1);
 
 // quad_fit: a convex quad, clockwise on screen, or the rejection.
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
-                                  Quad* quad);
+                                  Quad* quad, int factor = 1);
 
 // nested_filter: for each quad, -1 to keep it or the index of the quad that replaces it (same border, outer kept).
 std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p);
@@ -71,6 +88,8 @@ int correction_budget(const Dictionary& dict, const DetectorParams& p);
 
 // corner_refinement: the four corners refined to subpixel accuracy on the grey image. The detector runs it on each
 // quad before perspective_removal, so that the frontal view's cell grid lines up with the printed cells.
-void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p);
+// `factor`: the decimation the quad was found at; its corners may then be off by about that many pixels, so the
+// first pass looks that much further and one more pass is made.
+void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p, int factor = 1);
 
 }  // namespace arwb::stages

@@ -22,6 +22,8 @@ namespace arwb {
 // trace, the UI, Lua, the tour and docs, always in this order.
 enum class Stage {
   acquisition,          // acquisition's resize (capture/source.hpp) and the grey conversion
+  decimation,           // the grey image shrunk for the search (adaptive_threshold .. quad_fit); candidates are read
+                        // on the full grey
   adaptive_threshold,   // dark-against-neighbourhood binary image
   contours,             // borders of the binary regions
   size_filter,          // drop contours too short or too long

@@ -452,6 +452,7 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
     cv::Mat& dst = out[size_t(si)];
     switch (rec.stage) {
       case Stage::acquisition:
+      case Stage::decimation:  // the search image, stretched back over the frame by the detector
         dst = to_bgr(rec.image.empty() ? base : rec.image);
         break;
       case Stage::adaptive_threshold:

@@ -233,3 +233,72 @@ TEST(Trace, RecordsEveryStageAndEachCandidatesFate) {
   EXPECT_TRUE(off.candidates.empty());
   EXPECT_EQ(off.markers.size(), 1u);
 }
+
+// decimation_factor 2: the search runs on the half-size image, yet every marker of 40 px and more on clean renders
+// is found with its corners placed on the full image, as precisely as a full search places them; the same markers
+// for any thread count.
+TEST(Detector, DecimatedSearchFindsTheMarkersAndPlacesCornersOnTheFullImage) {
+  const Dictionary d = make_aruco_original();
+  DetectorParams half;
+  half.decimation_factor = 2;
+  const Detector full_search({d}), decimated({d}, half);
+  SynthOptions opt;
+  opt.dictionaries = {d};
+  opt.effects = false;
+  opt.empty_fraction = 0;
+  opt.min_side_px = 40;
+  double err_full = 0, err_half = 0;
+  int n = 0;
+  for (int i = 0; i < 16; ++i) {
+    const SynthImage s = synth_photo(opt, 21, i);
+    const auto a = full_search.detect(s.image), b = decimated.detect(s.image);
+    ASSERT_EQ(b.size(), s.markers.size()) << "image " << i;
+    for (const auto& m : b)
+      for (const auto& t : s.markers)
+        if (t.id == m.id) err_half += mean_corner_error(m, t), ++n;
+    for (const auto& m : a)
+      for (const auto& t : s.markers)
+        if (t.id == m.id) err_full += mean_corner_error(m, t);
+    for (int threads : {2, 5}) {
+      const auto many = decimated.detect(s.image, nullptr, TraceLevel::off, threads);
+      ASSERT_EQ(many.size(), b.size());
+      for (size_t k = 0; k < b.size(); ++k)
+        for (size_t c = 0; c < 4; ++c) EXPECT_EQ(many[k].corners[c], b[k].corners[c]);
+    }
+  }
+  ASSERT_GT(n, 25);
+  EXPECT_LT(err_half / n, 0.3);
+  EXPECT_LT(err_half / n, 1.25 * err_full / n);
+}
+
+// The decimation stage is in the trace with its time, and at full level its picture (and the threshold's) is
+// stretched back to the working size, so the views line up with the frame; contours and quads are in its pixels.
+TEST(Trace, DecimationIsAStageWhosePicturesLineUpWithTheFrame) {
+  const Dictionary d = make_aruco_original();
+  cv::Mat img(240, 320, CV_8UC1, cv::Scalar(230));
+  draw_marker(img, d, 77, Quad{cv::Point2f(40, 40), {140, 40}, {140, 140}, {40, 140}});
+  DetectorParams p;
+  p.decimation_factor = 2;
+  FrameTrace t;
+  const auto found = Detector({d}, p).detect(img, &t, TraceLevel::full);
+  ASSERT_EQ(found.size(), 1u);
+  const StageRecord* dec = t.stage(Stage::decimation);
+  ASSERT_NE(dec, nullptr);
+  EXPECT_GE(dec->ms, 0.0);
+  EXPECT_EQ(dec->image.size(), img.size());
+  EXPECT_EQ(dec->image.at<uint8_t>(90, 20), 230);
+  EXPECT_LT(dec->image.at<uint8_t>(46, 50), 60);  // in the marker's black frame
+  const StageRecord* thr = t.stage(Stage::adaptive_threshold);
+  ASSERT_NE(thr, nullptr);
+  EXPECT_EQ(thr->image.size(), img.size());
+  const auto accepted = std::find_if(t.candidates.begin(), t.candidates.end(),
+                                     [](const CandidateRecord& c) { return c.fate.stage == Stage::accepted; });
+  ASSERT_NE(accepted, t.candidates.end());
+  EXPECT_NEAR(accepted->bbox.x, 40, 2);
+  EXPECT_NEAR(accepted->bbox.width, 100, 3);
+  EXPECT_NEAR(accepted->perimeter, 400, 16);
+  // Off: the same markers.
+  const auto quiet = Detector({d}, p).detect(img);
+  ASSERT_EQ(quiet.size(), 1u);
+  EXPECT_EQ(quiet[0].corners, found[0].corners);
+}

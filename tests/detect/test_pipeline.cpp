@@ -236,7 +236,7 @@ TEST(Params, OldPresetsWithResizeKeysLoadWithANote) {
   EXPECT_NE(notes[0].find("resize_width = 320 is not applied"), std::string::npos) << notes[0];
 
   // The shipped presets load without a note: they no longer name a resize.
-  for (const char* name : {"default.yml", "small-markers.yml"}) {
+  for (const char* name : {"default.yml", "small-markers.yml", "fast.yml"}) {
     notes.clear();
     errors.clear();
     EXPECT_TRUE(load_params_yaml(std::string(ARWB_SOURCE_DIR) + "/assets/presets/" + name, p, &errors, &notes))
@@ -248,4 +248,60 @@ TEST(Params, OldPresetsWithResizeKeysLoadWithANote) {
   const DetectorParams before = p;
   EXPECT_FALSE(load_params_yaml(dir.str("typo.yml"), p, &errors, &notes));
   EXPECT_EQ(p, before);
+}
+
+// decimation: the search image is the block mean, a factor that would leave fewer than 64 pixels a side is lowered,
+// and contours found on it come back in the grey image's pixels, their length in those pixels.
+TEST(Stages, DecimationShrinksTheSearchAndContoursComeBackInGreyPixels) {
+  cv::Mat grey(200, 300, CV_8UC1, cv::Scalar(200));
+  grey(cv::Rect(0, 0, 2, 2)).setTo(0);
+  cv::rectangle(grey, cv::Rect(100, 60, 80, 80), cv::Scalar(20), -1);
+  const cv::Mat small = stages::decimate(grey, 2);
+  ASSERT_EQ(small.size(), cv::Size(150, 100));
+  EXPECT_EQ(small.at<uint8_t>(0, 0), 0);        // the 2x2 block's mean
+  EXPECT_EQ(small.at<uint8_t>(0, 1), 200);
+  EXPECT_EQ(stages::decimate(grey, 1).data, grey.data);
+  DetectorParams p;
+  p.decimation_factor = 4;
+  EXPECT_EQ(stages::decimation_used(grey.size(), p), 3);  // 200 / 4 = 50 < 64 pixels
+  p.decimation_factor = 2;
+  EXPECT_EQ(stages::decimation_used(grey.size(), p), 2);
+  EXPECT_EQ(stages::decimation_used({100, 100}, p), 1);
+
+  cv::Mat bin(small.size(), CV_8UC1, cv::Scalar(0));
+  cv::rectangle(bin, cv::Rect(50, 30, 40, 40), cv::Scalar(255), -1);
+  std::vector<stages::SmallRegion> specks;
+  bin(cv::Rect(5, 5, 2, 2)).setTo(255);
+  const auto contours = stages::find_contours(bin, 48, nullptr, &specks, 2);
+  ASSERT_EQ(contours.size(), 1u);
+  const cv::Rect box = cv::boundingRect(contours[0]);
+  EXPECT_EQ(box, cv::Rect(100, 60, 79, 79));  // the square's outer pixels, each its block's top-left
+  EXPECT_DOUBLE_EQ(stages::contour_length(contours[0], 2), 2.0 * double(contours[0].size()));
+  ASSERT_EQ(specks.size(), 1u);
+  EXPECT_EQ(specks[0].bbox, cv::Rect(10, 10, 4, 4));
+  // quad_fit on the mapped contour: the corners of the square, to a pixel.
+  Quad q;
+  ASSERT_FALSE(stages::fit_quad(contours[0], grey.size(), p, &q, 2));
+  const cv::Point2f expected[4] = {{100, 60}, {179, 60}, {179, 139}, {100, 139}};
+  for (size_t k = 0; k < 4; ++k) EXPECT_LE(cv::norm(q[k] - expected[k]), 1.0) << k;
+}
+
+// quad_fit places each corner where the lines of its two sides meet, not on the contour point nearest it: a corner
+// rounded by blur puts the contour's vertex inside the true corner.
+TEST(Stages, QuadFitCornersAreWhereTheSidesMeetWhenBlurRoundsThem) {
+  cv::Mat img(220, 220, CV_8UC1, cv::Scalar(230));
+  cv::rectangle(img, cv::Rect(60, 50, 100, 110), cv::Scalar(20), cv::FILLED);
+  cv::GaussianBlur(img, img, cv::Size(0, 0), 4.0);
+  DetectorParams p;
+  p.threshold_window_px = 61;  // the whole edge, not a ring: the region is the square, its corners rounded
+  p.threshold_offset = 20;
+  const cv::Mat bin = stages::adaptive_threshold(img, p);
+  const auto contours = stages::find_contours(bin, p.min_perimeter_px);
+  ASSERT_EQ(contours.size(), 1u);
+  Quad q;
+  ASSERT_FALSE(stages::fit_quad(contours[0], img.size(), p, &q));
+  // The region's edge, where the blurred square is darker than the window's mean by the offset, runs about
+  // 1.5 px inside the printed edge; the corners should be its sides' crossings, not a point on the rounding.
+  const cv::Point2f truth[4] = {{61.5f, 51.5f}, {157.5f, 51.5f}, {157.5f, 157.5f}, {61.5f, 157.5f}};
+  for (size_t k = 0; k < 4; ++k) EXPECT_LT(cv::norm(q[k] - truth[k]), 1.2) << k << ": " << q[k];
 }
