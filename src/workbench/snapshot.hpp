@@ -15,7 +15,7 @@ namespace arwb {
 struct SnapshotResult {
   bool ok = false;
   std::string dir;                 // the folder made, even when a later write failed
-  std::vector<std::string> files;  // written, relative to dir ("frame.png", "03_contours.png", "trace.json" ...)
+  std::vector<std::string> files;  // written, relative to dir ("frame.png", "03_contours.png", "trace.json" ...: the stage number, then its name)
   std::string error;               // when !ok: what failed, naming the path
 };
 

@@ -52,7 +52,8 @@ TEST(Snapshot, WritesFrameStageImagesCandidatesAndTrace) {
   for (const auto& name : r.files) EXPECT_TRUE(fs::is_regular_file(dir / name)) << name;
   EXPECT_TRUE(listed(r, "frame.png"));
   EXPECT_TRUE(listed(r, "trace.json"));
-  // Stage images: acquisition (grey) and adaptive_threshold (binary) carry images at full level.
+  // Stage images: acquisition (grey), decimation (the search image) and adaptive_threshold (binary) carry images
+  // at full level.
   int stage_files = 0;
   for (const auto& s : f.trace.stages) {
     if (s.image.empty()) continue;
@@ -64,7 +65,7 @@ TEST(Snapshot, WritesFrameStageImagesCandidatesAndTrace) {
     ++stage_files;
   }
   EXPECT_GE(stage_files, 2);
-  EXPECT_TRUE(listed(r, "01_adaptive_threshold.png"));
+  EXPECT_TRUE(listed(r, "02_adaptive_threshold.png"));
   // The accepted candidate's frontal view and bit grid.
   const int accepted = [&] {
     for (int i = 0; i < int(f.trace.candidates.size()); ++i)
