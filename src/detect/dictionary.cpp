@@ -68,25 +68,64 @@ cv::Mat Dictionary::render(int id, int px_per_cell) const {
   return img;
 }
 
-DictMatch Dictionary::nearest(uint64_t code) const {
+namespace {
+
+using Codes = std::vector<std::array<uint64_t, 4>>;
+
+// The scans read every marker in its 4 rotations: 4096 popcounts for ARUCO_ORIGINAL, once per candidate that
+// reaches identification. x86-64's baseline has no POPCNT instruction and the compiler's stand-in is several times
+// slower, so on x86-64 each scan is also built for POPCNT and the processor's own chooses, once.
+inline DictMatch scan_nearest(const Codes& codes, uint64_t code) {
   DictMatch best{-1, 0, 65};
-  for (size_t id = 0; id < codes_.size(); ++id)
+  for (size_t id = 0; id < codes.size(); ++id)
     for (int k = 0; k < 4; ++k) {
-      const int d = std::popcount(code ^ codes_[id][static_cast<size_t>(k)]);
-      if (d < best.hamming) best = {static_cast<int>(id), k, d};
+      const int d = std::popcount(code ^ codes[id][static_cast<size_t>(k)]);
+      if (d < best.hamming) {
+        best = {static_cast<int>(id), k, d};
+        if (d == 0) return best;  // nothing later replaces the first exact match (ties keep the lowest)
+      }
     }
   return best;
 }
 
-std::array<DictMatch, 4> Dictionary::nearest_per_rotation(uint64_t code) const {
+inline std::array<DictMatch, 4> scan_per_rotation(const Codes& codes, uint64_t code) {
   std::array<DictMatch, 4> best;
   for (auto& b : best) b = {-1, 0, 65};
-  for (size_t id = 0; id < codes_.size(); ++id)
+  for (size_t id = 0; id < codes.size(); ++id)
     for (int k = 0; k < 4; ++k) {
-      const int d = std::popcount(code ^ codes_[id][static_cast<size_t>(k)]);
+      const int d = std::popcount(code ^ codes[id][static_cast<size_t>(k)]);
       if (d < best[static_cast<size_t>(k)].hamming) best[static_cast<size_t>(k)] = {static_cast<int>(id), k, d};
     }
   return best;
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+__attribute__((target("popcnt"))) DictMatch scan_nearest_popcnt(const Codes& codes, uint64_t code) {
+  return scan_nearest(codes, code);
+}
+__attribute__((target("popcnt"))) std::array<DictMatch, 4> scan_per_rotation_popcnt(const Codes& codes, uint64_t code) {
+  return scan_per_rotation(codes, code);
+}
+bool has_popcnt() {
+  static const bool yes = __builtin_cpu_supports("popcnt");
+  return yes;
+}
+#else
+DictMatch scan_nearest_popcnt(const Codes& codes, uint64_t code) { return scan_nearest(codes, code); }
+std::array<DictMatch, 4> scan_per_rotation_popcnt(const Codes& codes, uint64_t code) {
+  return scan_per_rotation(codes, code);
+}
+bool has_popcnt() { return false; }
+#endif
+
+}  // namespace
+
+DictMatch Dictionary::nearest(uint64_t code) const {
+  return has_popcnt() ? scan_nearest_popcnt(codes_, code) : scan_nearest(codes_, code);
+}
+
+std::array<DictMatch, 4> Dictionary::nearest_per_rotation(uint64_t code) const {
+  return has_popcnt() ? scan_per_rotation_popcnt(codes_, code) : scan_per_rotation(codes_, code);
 }
 
 int Dictionary::min_distance() const {

