@@ -474,9 +474,12 @@ void status_line(Context& ctx, const ImageMapping& m) {
     std::snprintf(part, sizeof part, "(%d, %d) RGB %d %d %d", x, y, bgr[2], bgr[1], bgr[0]);
     flow(text_width(part));
     ImGui::TextUnformatted(part);
-    if (const StageRecord* th = t.stage(Stage::adaptive_threshold); th && !th->image.empty() &&
-                                                                     th->image.cols == f.image.cols) {
-      std::snprintf(part, sizeof part, "threshold %s", th->image.at<uint8_t>(y, x) ? "foreground" : "background");
+    const int k = t.search_factor();  // the binary image is the decimated search's
+    if (const StageRecord* th = t.stage(Stage::adaptive_threshold);
+        th && !th->image.empty() && th->image.cols == f.image.cols / k && y / k < th->image.rows &&
+        x / k < th->image.cols) {
+      std::snprintf(part, sizeof part, "threshold %s",
+                    th->image.at<uint8_t>(y / k, x / k) ? "foreground" : "background");
       flow(text_width(part));
       ImGui::TextUnformatted(part);
     }

@@ -88,19 +88,13 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   }
   close_stage(Stage::acquisition, 1, 1, grey);
 
-  // The stage pictures of the search are shown over the frame: at full level they are scaled back to its size.
+  // The search's pictures are kept at the decimated size; the views stretch them over the frame.
   const int factor = stages::decimation_used(grey.size(), p);
-  auto at_grey_size = [&](const cv::Mat& img) {
-    if (!full || factor == 1) return img;
-    cv::Mat big;
-    cv::resize(img, big, grey.size(), 0, 0, cv::INTER_NEAREST);
-    return big;
-  };
   const cv::Mat search = stages::decimate(grey, factor);
-  close_stage(Stage::decimation, 1, 1, at_grey_size(search));
+  close_stage(Stage::decimation, 1, 1, search);
 
   const cv::Mat binary = stages::adaptive_threshold(search, p);
-  close_stage(Stage::adaptive_threshold, 1, 1, at_grey_size(binary));
+  close_stage(Stage::adaptive_threshold, 1, 1, binary);
 
   std::vector<stages::SmallRegion> small;
   int regions = 0;

@@ -202,9 +202,10 @@ RegionReport explain(const FrameTrace& trace, cv::Rect2f region, bool advise) {
                   "so whether adaptive_threshold, contours or size_filter lost it is unknown: record a full trace.";
     return rep;
   }
-  const cv::Rect roi = cv::Rect(cv::Point(int(std::floor(r.x)), int(std::floor(r.y))),
-                                cv::Point(int(std::ceil(r.x + std::max(r.width, 1e-3f))),
-                                          int(std::ceil(r.y + std::max(r.height, 1e-3f))))) &
+  const double f = trace.search_factor();  // the binary image is the decimated search's
+  const cv::Rect roi = cv::Rect(cv::Point(int(std::floor(r.x / f)), int(std::floor(r.y / f))),
+                                cv::Point(int(std::ceil((r.x + std::max(r.width, 1e-3f)) / f)),
+                                          int(std::ceil((r.y + std::max(r.height, 1e-3f)) / f)))) &
                        cv::Rect(0, 0, th->image.cols, th->image.rows);
   const int foreground = roi.area() > 0 ? cv::countNonZero(th->image(roi)) : 0;
   if (foreground == 0) {

@@ -1,5 +1,7 @@
 #include "detect/trace.hpp"
 
+#include <algorithm>
+
 namespace arwb {
 namespace {
 constexpr std::string_view kStageNames[] = {
@@ -27,6 +29,12 @@ std::string_view trace_level_name(TraceLevel level) {
     case TraceLevel::full: return "full";
   }
   return "?";
+}
+
+int FrameTrace::search_factor() const {
+  const StageRecord* th = stage(Stage::adaptive_threshold);
+  if (!th || th->image.empty() || th->image.cols <= 0 || work_width <= 0) return 1;
+  return std::max(1, work_width / th->image.cols);
 }
 
 int CandidateRecord::best_rotation() const {

@@ -61,7 +61,8 @@ struct StageRecord {
   double ms = 0;       // summed over candidates for the per-candidate stages
   int in = 0;          // items entering (pixels are not counted: contours, quads, candidates)
   int out = 0;         // items passing on
-  cv::Mat image;       // full level: the stage's output image where it has one (grey, binary)
+  cv::Mat image;       // full level: the stage's output image where it has one (grey, binary); decimation's and
+                       // adaptive_threshold's are the decimated image's size (trace_view stretches them)
 };
 
 // Why a candidate stopped: the stage, the parameter that decided it and the two numbers compared.
@@ -109,6 +110,9 @@ struct FrameTrace {
   std::vector<Marker> markers;                      // always
 
   const StageRecord* stage(Stage s) const;
+  // How many working pixels a pixel of the search's pictures (decimation, adaptive_threshold) covers across:
+  // the decimation factor used, 1 when there is no such picture.
+  int search_factor() const;
 };
 
 }  // namespace arwb

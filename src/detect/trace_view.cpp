@@ -452,11 +452,16 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
     cv::Mat& dst = out[size_t(si)];
     switch (rec.stage) {
       case Stage::acquisition:
-      case Stage::decimation:  // the search image, stretched back over the frame by the detector
-        dst = to_bgr(rec.image.empty() ? base : rec.image);
-        break;
+      case Stage::decimation:
       case Stage::adaptive_threshold:
-        dst = to_bgr(rec.image);
+        dst = to_bgr(rec.image.empty() && rec.stage != Stage::adaptive_threshold ? base : rec.image);
+        // The search's pictures are the decimated image's size: stretched, their blocks lie over the frame's
+        // pixels, so the views compare pixel for pixel.
+        if (!dst.empty() && dst.size() != size && size.area() > 0) {
+          cv::Mat big = pool().take(size, CV_8UC3);
+          cv::resize(dst, big, size, 0, 0, cv::INTER_NEAREST);
+          dst = big;
+        }
         break;
       case Stage::contours:
         dst = view_contours(trace, size);

@@ -1,6 +1,7 @@
 // The detector end to end on synthetic frames with exact truth: many poses, negatives, bit errors, corner
 // accuracy, thread-count independence, multiple dictionaries and the trace.
 #include "detect/detector.hpp"
+#include "detect/trace_view.hpp"
 #include "synth/synth_set.hpp"
 #include "synth/synth.hpp"
 
@@ -274,8 +275,9 @@ TEST(Detector, DecimatedSearchFindsTheMarkersAndPlacesCornersOnTheFullImage) {
   EXPECT_LT(err_half / n, 1.25 * err_full / n);
 }
 
-// The decimation stage is in the trace with its time, and at full level its picture (and the threshold's) is
-// stretched back to the working size, so the views line up with the frame; contours and quads are in its pixels.
+// The decimation stage is in the trace with its time, and at full level its picture (and the threshold's) is the
+// search image; the views stretch both back to the working size, so they line up with the frame. Contours and
+// quads are in the frame's pixels.
 TEST(Trace, DecimationIsAStageWhosePicturesLineUpWithTheFrame) {
   const Dictionary d = make_aruco_original();
   cv::Mat img(240, 320, CV_8UC1, cv::Scalar(230));
@@ -288,12 +290,17 @@ TEST(Trace, DecimationIsAStageWhosePicturesLineUpWithTheFrame) {
   const StageRecord* dec = t.stage(Stage::decimation);
   ASSERT_NE(dec, nullptr);
   EXPECT_GE(dec->ms, 0.0);
-  EXPECT_EQ(dec->image.size(), img.size());
-  EXPECT_EQ(dec->image.at<uint8_t>(90, 20), 230);
-  EXPECT_LT(dec->image.at<uint8_t>(46, 50), 60);  // in the marker's black frame
+  EXPECT_EQ(dec->image.size(), img.size() / 2);
   const StageRecord* thr = t.stage(Stage::adaptive_threshold);
   ASSERT_NE(thr, nullptr);
-  EXPECT_EQ(thr->image.size(), img.size());
+  EXPECT_EQ(thr->image.size(), img.size() / 2);
+  std::array<cv::Mat, kStageCount> views;
+  render_stage_views(cv::Mat(), t, views);
+  const cv::Mat& shown = views[size_t(Stage::decimation)];
+  ASSERT_EQ(shown.size(), img.size());
+  EXPECT_EQ(shown.at<cv::Vec3b>(90, 20), cv::Vec3b(230, 230, 230));
+  EXPECT_LT(shown.at<cv::Vec3b>(46, 50)[0], 60);  // in the marker's black frame
+  EXPECT_EQ(views[size_t(Stage::adaptive_threshold)].size(), img.size());
   const auto accepted = std::find_if(t.candidates.begin(), t.candidates.end(),
                                      [](const CandidateRecord& c) { return c.fate.stage == Stage::accepted; });
   ASSERT_NE(accepted, t.candidates.end());

@@ -188,6 +188,14 @@ TEST(ExplainRegion, ForegroundWithoutATracedBorderIsLostAtContours) {
   EXPECT_EQ(rep.lost_at, Stage::contours);
   EXPECT_TRUE(has(rep.summary, "min_perimeter_px")) << rep.summary;
   EXPECT_EQ(explain_region(t, cv::Rect2f(0, 0, 10, 10)).lost_at, Stage::adaptive_threshold);
+
+  // After a decimated search the binary image is half the frame's size: the region is looked up in its pixels.
+  cv::Mat half = cv::Mat::zeros(40, 50, CV_8UC1);
+  half.at<uint8_t>(30, 40) = 255;  // under the frame's (80, 60) .. (81, 61)
+  t.stages.back().image = half;
+  EXPECT_EQ(t.search_factor(), 2);
+  EXPECT_EQ(explain_region(t, cv::Rect2f(76, 56, 10, 10)).lost_at, Stage::contours);
+  EXPECT_EQ(explain_region(t, cv::Rect2f(45, 35, 10, 10)).lost_at, Stage::adaptive_threshold);
 }
 
 TEST(ExplainRegion, SummaryAndOffTracesSayWhatTheyCannotTell) {
