@@ -26,8 +26,8 @@ const ParamInfo kTable[] = {
              "threshold window covering twice the pixels, finds more large markers at low contrast and in dim "
              "light, but loses some markers under about 40 px; 1 searches every pixel."),
     ARWB_INT(threshold_window_px, "adaptive_threshold", "px", 17, 3, 201,
-             "Side of the square whose mean each pixel is compared with (odd), in the decimated image's pixels. "
-             "Larger keeps thick borders whole, "
+             "Side of the square whose mean each pixel is compared with (odd), in the decimated image's pixels; "
+             "from 9 up the mean is taken over 2x2 block means. Larger keeps thick borders whole, "
              "smaller separates touching dark regions."),
     ARWB_DBL(threshold_offset, "adaptive_threshold", "grey", 7, 0, 100,
              "How much darker than its neighbourhood mean a pixel must be to count as black. Higher ignores faint "

@@ -30,7 +30,8 @@ inline cv::Point undecimate(cv::Point p, int factor) {
   return factor == 1 ? p : cv::Point(p.x * factor + (factor - 1) / 2, p.y * factor + (factor - 1) / 2);
 }
 
-// adaptive_threshold: 255 where a pixel is darker than its window mean by more than threshold_offset.
+// adaptive_threshold: 255 where a pixel is darker than its window mean by more than threshold_offset. Windows of 9
+// pixels and more take their mean over 2x2 block means (half the window), brought back to each pixel bilinearly.
 cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p);
 
 // contours: the outer border of every connected region (8-connected) of the binary image, all points kept,
