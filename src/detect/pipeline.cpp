@@ -258,6 +258,25 @@ std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::
 
 namespace {
 
+// A side of a quad as the line a x + b y = c, (a, b) unit, fitted through its points by least squares.
+cv::Vec3d fit_side(const std::vector<cv::Point2f>& pts) {
+  cv::Vec4f l;
+  cv::fitLine(pts, l, cv::DIST_L2, 0, 0.01, 0.01);
+  return cv::Vec3d(-l[1], l[0], -double(l[1]) * l[2] + double(l[0]) * l[3]);
+}
+
+// Corner i where side i-1 meets side i, for the four corners; false when two neighbouring sides are parallel.
+bool meet_sides(const std::array<cv::Vec3d, 4>& sides, Quad* corners) {
+  for (size_t i = 0; i < 4; ++i) {
+    const cv::Vec3d &l1 = sides[(i + 3) % 4], &l2 = sides[i];
+    const double det = l1[0] * l2[1] - l1[1] * l2[0];
+    if (std::abs(det) < 1e-9) return false;
+    (*corners)[i] = cv::Point2f(float((l1[2] * l2[1] - l1[1] * l2[2]) / det),
+                                float((l1[0] * l2[2] - l1[2] * l2[0]) / det));
+  }
+  return true;
+}
+
 // The corners where lines fitted to each side's contour points meet. approxPolyDP's vertices are contour points,
 // and a corner that blur or decimation rounded off puts its vertex a pixel or more inside the true corner; the
 // sides stay straight. Each side uses the contour between its two vertices, less a fifth at each end (the
@@ -281,20 +300,14 @@ Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::vector
     pts.clear();
     for (int k = trim; k <= len - trim; ++k) pts.emplace_back(contour[size_t((from + k) % n)]);
     if (pts.size() < 3) return out;
-    cv::Vec4f l;
-    cv::fitLine(pts, l, cv::DIST_L2, 0, 0.01, 0.01);
-    lines[i] = cv::Vec3d(-l[1], l[0], -l[1] * l[2] + l[0] * l[3]);
+    lines[i] = fit_side(pts);
   }
   Quad fitted;
+  if (!meet_sides(lines, &fitted)) return out;
   for (size_t i = 0; i < 4; ++i) {
-    const cv::Vec3d &l1 = lines[(i + 3) % 4], &l2 = lines[i];  // vertex i joins side i-1 and side i
-    const double det = l1[0] * l2[1] - l1[1] * l2[0];
-    if (std::abs(det) < 1e-6) return out;
-    const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det + shift),
-                        float((l1[0] * l2[2] - l1[2] * l2[0]) / det + shift));
+    fitted[i] += cv::Point2f(float(shift), float(shift));
     const double side = std::min(cv::norm(poly[i] - poly[(i + 1) % 4]), cv::norm(poly[i] - poly[(i + 3) % 4]));
-    if (cv::norm(c - out[i]) > 0.25 * side) return out;
-    fitted[i] = c;
+    if (cv::norm(fitted[i] - out[i]) > 0.25 * side) return out;
   }
   return fitted;
 }
@@ -522,7 +535,7 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
   const int samples = static_cast<int>(std::lround(2 * reach / step)) + 1;
   const cv::Point2f centre = quad_centre(corners);
 
-  cv::Vec3d lines[4];  // a x + b y = c, (a, b) unit
+  std::array<cv::Vec3d, 4> lines;  // a x + b y = c, (a, b) unit
   for (int i = 0; i < 4; ++i) {
     const cv::Point2d a = corners[size_t(i)], b = corners[size_t((i + 1) % 4)];
     const cv::Point2d dir = (b - a) / cv::norm(b - a);
@@ -554,21 +567,12 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
       pts.push_back(base + normal * (xsum / wsum));
     }
     if (pts.size() < 3) return false;  // not enough edge to trust: keep the corners as they are
-    cv::Vec4f line;
-    std::vector<cv::Point2f> ptsf(pts.begin(), pts.end());
-    cv::fitLine(ptsf, line, cv::DIST_L2, 0, 0.01, 0.01);
-    const double la = -line[1], lb = line[0];
-    lines[i] = cv::Vec3d(la, lb, la * line[2] + lb * line[3]);
+    lines[size_t(i)] = fit_side(std::vector<cv::Point2f>(pts.begin(), pts.end()));
   }
-  Quad refined = corners;
-  for (int i = 0; i < 4; ++i) {
-    const cv::Vec3d &l1 = lines[(i + 3) % 4], &l2 = lines[i];  // corner i joins side i-1 and side i
-    const double det = l1[0] * l2[1] - l1[1] * l2[0];
-    if (std::abs(det) < 1e-9) return false;
-    const cv::Point2f c(float((l1[2] * l2[1] - l1[1] * l2[2]) / det), float((l1[0] * l2[2] - l1[2] * l2[0]) / det));
-    if (cv::norm(c - corners[size_t(i)]) > std::max({cell, 2.0, slack})) return false;
-    refined[size_t(i)] = c;
-  }
+  Quad refined;
+  if (!meet_sides(lines, &refined)) return false;
+  for (size_t i = 0; i < 4; ++i)
+    if (cv::norm(refined[i] - corners[i]) > std::max({cell, 2.0, slack})) return false;
   corners = refined;
   return true;
 }
