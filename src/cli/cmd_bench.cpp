@@ -2,6 +2,8 @@
 // families), one thread, the same frames: median ms per frame by resolution (and by condition on the hard set),
 // recall, false positives, corner error, and the ratios.
 #include "cli/bench_pose.hpp"
+#include "cli/bench_score.hpp"
+#include "cli/bench_video.hpp"
 #include "cli/bench_tracking.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
@@ -25,36 +27,7 @@
 namespace arwb {
 namespace {
 
-struct Tally {
-  std::vector<double> ms;
-  int truth = 0, found = 0, false_pos = 0, false_pos_empty = 0, empty_images = 0;
-  double corner_err = 0;
-  int corner_n = 0;
-};
-
 using DetectFn = std::function<PeerResult(const cv::Mat&)>;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// Detections against the truth by the one matching rule (detect/match.hpp, the truth the reference): a
-// detection that matches no truth marker is a false positive.
-void score(const std::vector<Marker>& found, const std::vector<TruthMarker>& truth, Tally& t) {
-  std::vector<Marker> reference;
-  for (const TruthMarker& m : truth) reference.push_back({m.id, m.dict, m.corners, 0, 0});
-  const MarkerMatching m = match_markers(reference, found);
-  t.truth += int(truth.size());
-  if (truth.empty()) ++t.empty_images;
-  t.found += int(m.pairs.size());
-  for (const MatchedPair& p : m.pairs) t.corner_err += p.corner_px;
-  t.corner_n += int(m.pairs.size());
-  t.false_pos += int(m.only_found.size());
-  if (truth.empty()) t.false_pos_empty += int(m.only_found.size());
-}
 
 struct Row {
   std::string set, resolution, condition, detector;  // condition: a hard set's row for one hardship, over all sizes
@@ -104,24 +77,36 @@ int cmd_bench(int argc, char** argv) {
                   "instead: the pose of a rendered 50 mm marker of known pose by arwb and by OpenCV (detectMarkers, "
                   "default and ArUco3 mode, + solvePnP IPPE_SQUARE), and sequences with and without "
                   "resolve_with_previous");
-  cl.app.add_option("--frames", pose.frames, "--pose: frames rendered")
+  cl.app.add_option("--frames", pose.frames, "--pose: frames rendered; --video: frames per sequence (60)")
       ->type_name("N")
       ->check(whole_number(1, 100000));
   bool tracking = false;
   cl.app.add_flag("--tracking", tracking,
                   "instead: the tracker's jitter on a still marker and lag on a moving one, filtered and raw "
                   "(--count frames per sequence, --params for the tracking_* values)");
+  bool video = false;
+  cl.app.add_flag("--video", video,
+                  "instead: synthetic video sequences at 640x480 to 3840x2160 (--count sequences per resolution and "
+                  "dictionary, 2 by default; --frames each), arwb searching every frame whole and in video mode "
+                  "(search_regions) against the peers, with the frames until a marker coming into view is found");
   if (const auto status = cl.parse(argc, argv)) return *status;
   // --pose renders its own frames: the detection set's options would be silently ignored.
-  if (pose_mode && tracking) return cl.usage_error("--pose and --tracking are two benchmarks: give one");
+  if (int(pose_mode) + int(tracking) + int(video) > 1)
+    return cl.usage_error("--pose, --tracking and --video are three benchmarks: give one");
+  if (video)
+    for (const char* other : {"DIR", "--set"})
+      if (cl.app.count(other)) {
+        print_problem("arwb bench: --video: %s does not apply (see arwb bench --help)\n", other);
+        return 2;
+      }
   if (pose_mode)
     for (const char* other : {"DIR", "--dict", "--params", "--count", "--reps", "--set", "--peers"})
       if (cl.app.count(other)) {
         print_problem("arwb bench: --pose: %s does not apply (see arwb bench --help)\n", other);
         return 2;
       }
-  if (!pose_mode && cl.app.count("--frames")) {
-    print_problem("arwb bench: --frames: only with --pose (see arwb bench --help)\n");
+  if (!pose_mode && !video && cl.app.count("--frames")) {
+    print_problem("arwb bench: --frames: only with --pose or --video (see arwb bench --help)\n");
     return 2;
   }
   if (pose_mode) {
@@ -144,6 +129,18 @@ int cmd_bench(int argc, char** argv) {
   if (!pos.empty() && cl.app.count("--set")) return cl.usage_error("--set makes synthetic sets: not with DIR");
   const auto dicts = dictionaries_option(dict_arg, "arwb bench");
   if (!dicts) return 2;
+  if (video) {
+    VideoBenchOptions v;
+    v.sequences = cl.app.count("--count") ? count : 2;
+    v.frames = cl.app.count("--frames") ? pose.frames : 60;
+    v.seed = unsigned(seed);
+    v.reps = cl.app.count("--reps") ? reps : 1;
+    v.dicts = *dicts;
+    v.peers = peers;
+    v.params = params;
+    v.json = as_json;
+    return bench_video(v);
+  }
   cv::setNumThreads(1);  // every detector on one thread
 
   // The sets: one per dictionary, or the folder's, each with the dictionaries its detectors search.

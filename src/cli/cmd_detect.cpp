@@ -7,6 +7,7 @@
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "detect/detector.hpp"
+#include "detect/video_search.hpp"
 #include "capture/image_io.hpp"
 #include "capture/video_reader.hpp"
 #include "base/decimals.hpp"
@@ -100,12 +101,15 @@ std::vector<cv::Point2f> undistorted(const Calibration& c, const Marker& m) {
   return outp;
 }
 
+// `video`: the video's search state (a frame of a video is searched around the last frame's markers), or null for
+// a still image.
 void report(Output& out, const std::string& source, int frame, const cv::Mat& image, const Detector& det,
-            int threads) {
+            int threads, VideoSearch* video = nullptr) {
   const Calibration* calib = nullptr;
   if (out.calib && !(calib = calibration_for(out, source, image.size()))) return;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<Marker> markers = det.detect(image, nullptr, TraceLevel::off, threads);
+  const std::vector<Marker> markers =
+      video ? video->detect(det, image, nullptr, TraceLevel::off, threads) : det.detect(image, nullptr, TraceLevel::off, threads);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ++out.frames;
   const Calibration camera = calib ? *calib : default_calibration(image.size());
@@ -176,6 +180,7 @@ void run_video(Output& out, const std::string& path, const Detector& det, int th
   const double declared = cap.get(cv::CAP_PROP_FRAME_COUNT);
   int frame = 0;
   cv::Mat image;
+  VideoSearch video;
   for (;;) {
     bool ok = false;
     try {
@@ -184,7 +189,7 @@ void run_video(Output& out, const std::string& path, const Detector& det, int th
       ok = false;
     }
     if (!ok || image.empty()) break;
-    report(out, path, frame++, image, det, threads);
+    report(out, path, frame++, image, det, threads, &video);
   }
   if (frame == 0) print_problem("%s: video has no readable frame\n", path.c_str());
   else if (declared > 0 && frame < static_cast<int>(declared) - 1)
@@ -204,7 +209,10 @@ void run_image(Output& out, const std::string& path, const Detector& det, int th
 
 int cmd_detect(int argc, char** argv) {
   CommandLine cl("arwb detect",
-                 "Detects markers in each PATH: an image, a folder (its images in name order) or a video.",
+                 "Detects markers in each PATH: an image, a folder (its images in name order) or a video. A video's "
+                 "frames are searched as video: around the markers the frame before found, at their scale, and "
+                 "whole every full_search_interval frames (a preset with full_search_interval: 1 searches every "
+                 "frame whole).",
                  "Problems with one PATH are reported on stderr and the others still processed; the exit status is "
                  "non-zero only when no frame could be processed.");
   Output out;

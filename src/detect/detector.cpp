@@ -53,7 +53,7 @@ Detector::Detector(std::vector<Dictionary> dictionaries, DetectorParams params)
     : dictionaries_(std::move(dictionaries)), params_(params) {}
 
 std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, TraceLevel level, int threads,
-                                     cv::Mat* acquired) const {
+                                     cv::Mat* acquired, const SearchHint* hint) const {
   const DetectorParams& p = params_;
   FrameTrace local;
   FrameTrace& t = trace ? *trace : local;
@@ -88,19 +88,95 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   }
   close_stage(Stage::acquisition, 1, 1, grey);
 
-  // The search's pictures are kept at the decimated size; the views stretch them over the frame.
-  const int factor = stages::decimation_used(grey.size(), p);
-  const cv::Mat search = stages::decimate(grey, factor);
-  close_stage(Stage::decimation, 1, 1, search);
+  // search_regions: the whole frame, or around the markers earlier frames found (working pixels).
+  std::vector<Quad> known;
+  if (hint && hint->why_full.empty())
+    for (const Quad& q : hint->known) {
+      Quad w;
+      for (int j = 0; j < 4; ++j)
+        w[size_t(j)] = cv::Point2f(float((q[size_t(j)].x + 0.5) / t.scale_x - 0.5),
+                                   float((q[size_t(j)].y + 0.5) / t.scale_y - 0.5));
+      known.push_back(w);
+    }
+  const stages::SearchPlan plan = stages::plan_search(grey.size(), known, p);
+  const int factor = plan.factor;
+  if (timed) {
+    t.search.whole = plan.whole;
+    t.search.regions = plan.regions;
+    t.search.factor = plan.factor;
+    t.search.known = hint ? int(hint->known.size()) : 0;
+    t.search.why = !hint ? "whole frame: a single image"
+                   : !hint->why_full.empty() ? "whole frame: " + hint->why_full
+                   : plan.whole ? "whole frame: no marker known"
+                                : "around " + std::to_string(known.size()) + " marker" + (known.size() == 1 ? "" : "s") +
+                                      " of the previous frame, decimated " + std::to_string(factor) + "x";
+  }
+  close_stage(Stage::search_regions, int(known.size()), int(plan.regions.size()));
 
-  const cv::Mat binary = stages::adaptive_threshold(search, p);
-  close_stage(Stage::adaptive_threshold, 1, 1, binary);
-
+  // decimation .. contours, once per region. The search's pictures are kept at the decimated size (the views
+  // stretch them over the frame); with regions, the parts outside them are black.
+  std::array<double, 3> search_ms{};
+  auto search_lap = [&](int slot) {
+    if (!timed) return;
+    search_ms[size_t(slot)] += ms_since(stage_start);
+    stage_start = Clock::now();
+  };
+  cv::Mat search_picture, binary_picture;
+  const bool one_region = plan.regions.size() == 1 && plan.regions[0].size() == grey.size();
+  if (full && !one_region) {
+    search_picture = cv::Mat::zeros(grey.rows / factor, grey.cols / factor, CV_8UC1);
+    binary_picture = search_picture.clone();
+  }
   std::vector<stages::SmallRegion> small;
   int regions = 0;
-  std::vector<std::vector<cv::Point>> contours =
-      stages::find_contours(binary, p.min_perimeter_px, &regions, full ? &small : nullptr, factor);
-  close_stage(Stage::contours, 1, regions);
+  std::vector<std::vector<cv::Point>> contours;
+  std::vector<char> cut;   // per contour: cut by its region's edge
+  for (const cv::Rect& r : plan.regions) {
+    const cv::Mat search = stages::decimate(grey(r), factor);
+    search_lap(0);
+    const cv::Mat binary = stages::adaptive_threshold(search, p);
+    search_lap(1);
+    std::vector<stages::SmallRegion> region_small;
+    int region_count = 0;
+    std::vector<std::vector<cv::Point>> found =
+        stages::find_contours(binary, p.min_perimeter_px, &region_count, full ? &region_small : nullptr, factor);
+    regions += region_count;
+    for (auto& c : found) {
+      if (!one_region) {
+        for (cv::Point& pt : c) pt += r.tl();
+        cut.push_back(stages::cut_by_region(cv::boundingRect(c), r, grey.size(), factor));
+      } else {
+        cut.push_back(0);
+      }
+      contours.push_back(std::move(c));
+    }
+    for (auto& sm : region_small) {
+      sm.bbox += r.tl();
+      small.push_back(sm);
+    }
+    search_lap(2);
+    if (full) {
+      if (one_region) {
+        search_picture = search;
+        binary_picture = binary;
+      } else {
+        const cv::Rect at(r.x / factor, r.y / factor, search.cols, search.rows);
+        const cv::Rect inside = at & cv::Rect(0, 0, search_picture.cols, search_picture.rows);
+        const cv::Rect from(inside.tl() - at.tl(), inside.size());
+        search(from).copyTo(search_picture(inside));
+        binary(from).copyTo(binary_picture(inside));
+      }
+    }
+  }
+  if (timed) {
+    const Stage search_stages[] = {Stage::decimation, Stage::adaptive_threshold, Stage::contours};
+    const cv::Mat pictures[] = {search_picture, binary_picture, {}};
+    const int outs[] = {1, 1, regions};
+    for (int k = 0; k < 3; ++k)
+      t.stages.push_back(StageRecord{search_stages[k], search_ms[size_t(k)], k == 2 ? 1 : int(plan.regions.size()),
+                                     outs[k], full ? pictures[k] : cv::Mat()});
+    stage_start = Clock::now();
+  }
 
   struct QuadCandidate {
     int record;   // index into t.candidates, or -1 when not traced
@@ -133,6 +209,13 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     }
   }
   for (int i = 0; i < int(contours.size()); ++i) {
+    if (cut[size_t(i)]) {
+      if (full)
+        add_record(i, Rejection{Stage::search_regions, "region_margin_rate", 0, p.region_margin_rate,
+                                "cut by the edge of its search region (region_margin_rate): a marker there is "
+                                "searched whole on the next full search"});
+      continue;
+    }
     if (auto why = stages::size_filter(contours[size_t(i)], work_size, p, full, factor)) {
       if (full) add_record(i, std::move(why));
       continue;

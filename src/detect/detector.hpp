@@ -6,9 +6,17 @@
 #include "detect/params.hpp"
 #include "detect/trace.hpp"
 
+#include <string>
 #include <vector>
 
 namespace arwb {
+
+// What earlier frames of a video tell the search (detect/video_search.hpp keeps it from frame to frame): the
+// markers they found, in the input's pixels. The search looks around them only, at their scale (search_regions).
+struct SearchHint {
+  std::vector<Quad> known;
+  std::string why_full;   // not empty: search the whole frame anyway, for this reason (shown in the trace)
+};
 
 class Detector {
  public:
@@ -22,9 +30,12 @@ class Detector {
   // `acquired`, when given, receives the frame after acquisition's resize (its channels kept), and the markers
   // and the trace are then in that image's pixels (the trace's width and height are its size, scale 1): the
   // workbench and `arwb render` show that image and draw over it.
+  //
+  // `hint`, when given, is what earlier frames of a video found (see SearchHint); without it the whole frame is
+  // searched.
   std::vector<Marker> detect(const cv::Mat& image, FrameTrace* trace = nullptr,
                              TraceLevel level = TraceLevel::summary, int threads = 1,
-                             cv::Mat* acquired = nullptr) const;
+                             cv::Mat* acquired = nullptr, const SearchHint* hint = nullptr) const;
 
   const DetectorParams& params() const { return params_; }
   void set_params(const DetectorParams& p) { params_ = p; }

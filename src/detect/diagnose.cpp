@@ -195,6 +195,18 @@ RegionReport explain(const FrameTrace& trace, cv::Rect2f region, bool advise) {
   }
 
   // No candidate here: find the earliest stage that had nothing.
+  if (!trace.search.whole) {
+    bool searched = false;
+    for (const cv::Rect& s : trace.search.regions)
+      searched = searched || overlaps(r, float(s.x), float(s.y), float(s.br().x), float(s.br().y));
+    if (!searched) {
+      rep.lost_at = Stage::search_regions;
+      rep.summary = "This frame was not searched here: in video only the regions around the last frame's markers "
+                    "are (" + trace.search.why + "). A marker here is found on the next whole search, within "
+                    "full_search_interval frames; lower it to find new markers sooner.";
+      return rep;
+    }
+  }
   const StageRecord* th = trace.stage(Stage::adaptive_threshold);
   if (trace.level != TraceLevel::full || !th || th->image.empty()) {
     rep.lost_at = Stage::size_filter;  // the latest it can have been: summary traces record from quad_fit on

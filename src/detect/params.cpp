@@ -20,6 +20,17 @@ using P = DetectorParams;
 #define ARWB_DBL(field, stage, unit, def, lo, hi, help) {#field, stage, unit, def, lo, hi, false, help, nullptr, &P::field}
 
 const ParamInfo kTable[] = {
+    ARWB_INT(full_search_interval, "search_regions", "frames", 5, 1, 100,
+             "In video, the whole frame is searched at least once in this many frames; between, only around the "
+             "markers of the previous frame, at their scale. Higher is faster and finds a marker that comes into "
+             "view later (at most this many frames); 1 searches the whole of every frame."),
+    ARWB_DBL(region_margin_rate, "search_regions", "rate", 1, 0.2, 4,
+             "How far around a known marker its search region reaches, in the marker's sides. Higher follows "
+             "faster motion between frames, costs time."),
+    ARWB_DBL(region_min_side_px, "search_regions", "px", 32, 8, 400,
+             "In video, the regions are searched at the decimation that keeps the smallest known marker at least "
+             "this many pixels a side (at most 4). Lower is faster and reads a blurred or tilted marker less "
+             "surely."),
     ARWB_INT(decimation_factor, "decimation", "", 1, 1, 4,
              "The search (adaptive_threshold to quad_fit) runs on the grey image shrunk this many times; candidates "
              "are still read and their corners placed on the full image. 2 halves the detection time and, its "

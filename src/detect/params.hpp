@@ -13,8 +13,12 @@ namespace arwb {
 // Acquisition's resize is not here: it is the source's acquisition setting (capture/source.hpp), one for the
 // workbench, the CLI and the detector.
 struct DetectorParams {
+  // search_regions (video: detect/video_search.hpp)
+  int full_search_interval = 0;      // filled from the table's defaults by the constructor
+  double region_margin_rate = 0;
+  double region_min_side_px = 0;
   // decimation
-  int decimation_factor = 0;         // filled from the table's defaults by the constructor
+  int decimation_factor = 0;
   // adaptive_threshold
   int threshold_window_px = 0;
   double threshold_offset = 0;

@@ -52,6 +52,69 @@ cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scal
 
 // [SECTION] decimation
 
+// [SECTION] search_regions
+
+SearchPlan plan_search(cv::Size grey, const std::vector<Quad>& known, const DetectorParams& p) {
+  SearchPlan plan;
+  const cv::Rect frame(0, 0, grey.width, grey.height);
+  plan.factor = decimation_used(grey, p);
+  plan.regions = {frame};
+  if (known.empty() || frame.empty()) return plan;
+  double smallest = 1e30;
+  std::vector<cv::Rect> regions;
+  for (const Quad& q : known) {
+    const double side = quad_perimeter(q) / 4;
+    if (!std::isfinite(side) || side <= 0) continue;
+    smallest = std::min(smallest, side);
+    const cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end()));
+    const int m = int(std::ceil(p.region_margin_rate * side));
+    const cv::Rect r = cv::Rect(box.x - m, box.y - m, box.width + 2 * m, box.height + 2 * m) & frame;
+    if (!r.empty()) regions.push_back(r);
+  }
+  if (regions.empty()) return plan;
+  const int f = std::clamp(int(smallest / std::max(1.0, p.region_min_side_px)), 1, 4);
+  // Whole decimated pixels, from the frame's origin, so that a region's blocks are the frame's blocks; and at least
+  // 16 decimated pixels a side, enough for the threshold's window to see past a marker.
+  const int min_side = 16 * f;
+  for (cv::Rect& r : regions) {
+    int x0 = r.x / f * f, y0 = r.y / f * f;
+    int x1 = std::max(r.br().x, x0 + min_side), y1 = std::max(r.br().y, y0 + min_side);
+    x1 = (x1 + f - 1) / f * f;
+    y1 = (y1 + f - 1) / f * f;
+    r = cv::Rect(cv::Point(x0, y0), cv::Point(x1, y1)) & frame;
+  }
+  // Overlapping regions become their bounding box, until none overlap: no contour is found twice.
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < regions.size() && !merged; ++i)
+      for (size_t j = i + 1; j < regions.size() && !merged; ++j)
+        if ((regions[i] & regions[j]).area() > 0) {
+          regions[i] |= regions[j];
+          regions.erase(regions.begin() + long(j));
+          merged = true;
+        }
+  }
+  double area = 0;
+  for (const cv::Rect& r : regions) area += r.area();
+  plan.whole = false;
+  plan.factor = f;
+  if (area > 0.7 * frame.area()) {
+    plan.regions = {frame};   // most of the frame: one search over it costs less than several
+  } else {
+    std::sort(regions.begin(), regions.end(),
+              [](const cv::Rect& a, const cv::Rect& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
+    plan.regions = std::move(regions);
+  }
+  return plan;
+}
+
+bool cut_by_region(const cv::Rect& box, const cv::Rect& region, cv::Size grey, int factor) {
+  const int reach = factor;   // a contour's points are block centres: within a block of the edge touches it
+  return (region.x > 0 && box.x - region.x < reach) || (region.y > 0 && box.y - region.y < reach) ||
+         (region.br().x < grey.width && region.br().x - box.br().x < reach) ||
+         (region.br().y < grey.height && region.br().y - box.br().y < reach);
+}
+
 int decimation_used(cv::Size grey, const DetectorParams& p) {
   int f = std::max(1, p.decimation_factor);
   while (f > 1 && std::min(grey.width, grey.height) / f < 64) --f;

@@ -20,6 +20,20 @@ namespace arwb::stages {
 cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x, double* scale_y,
                 cv::Mat* acquired = nullptr);
 
+// search_regions: where the search (decimation .. quad_fit) looks on this frame. Without known markers, the whole
+// frame at decimation_used. With the markers earlier frames found (`known`, working pixels), a region around each:
+// its bounding box widened by region_margin_rate of its side each way, overlapping regions merged, each a whole
+// number of decimated pixels; all searched at the decimation that keeps the smallest known marker at least
+// region_min_side_px a side (1 to 4). Regions that would cover most of the frame become the frame.
+struct SearchPlan {
+  bool whole = true;
+  std::vector<cv::Rect> regions;
+  int factor = 1;
+};
+SearchPlan plan_search(cv::Size grey, const std::vector<Quad>& known, const DetectorParams& p);
+// A contour found in `region` that reaches the region's edge where it is not the image's: its shape is cut there.
+bool cut_by_region(const cv::Rect& contour_box, const cv::Rect& region, cv::Size grey, int factor);
+
 // decimation: the search image, the grey image shrunk `factor` times (each pixel the mean of a factor x factor
 // block); the grey image itself when factor is 1. The factor used for a frame is decimation_factor, lowered so that
 // the search image keeps at least 64 pixels a side.

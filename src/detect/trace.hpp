@@ -22,6 +22,7 @@ namespace arwb {
 // trace, the UI, Lua, the tour and docs, always in this order.
 enum class Stage {
   acquisition,          // acquisition's resize (capture/source.hpp) and the grey conversion
+  search_regions,       // where the search looks: the whole frame, or (video) around the previous frame's markers
   decimation,           // the grey image shrunk for the search (adaptive_threshold .. quad_fit); candidates are read
                         // on the full grey
   adaptive_threshold,   // dark-against-neighbourhood binary image
@@ -98,6 +99,17 @@ struct CandidateRecord {
   DictMatch nearest() const { return best_rotation() < 0 ? DictMatch{} : per_rotation[size_t(best_rotation())]; }
 };
 
+// search_regions: where one frame's search looked. The whole frame at decimation_factor, or, in video
+// (detect/video_search.hpp), regions around the markers the previous frame found, at a decimation chosen from the
+// smallest of them.
+struct SearchRecord {
+  bool whole = true;               // the whole frame at decimation_factor
+  std::vector<cv::Rect> regions;   // working pixels; the frame's rectangle when whole
+  int factor = 1;                  // the decimation the regions were searched at
+  int known = 0;                   // markers the previous frames told of
+  std::string why;                 // e.g. "full search: every 5th frame (full_search_interval)"
+};
+
 struct FrameTrace {
   TraceLevel level = TraceLevel::off;
   int width = 0, height = 0;              // the input image
@@ -105,6 +117,7 @@ struct FrameTrace {
   double scale_x = 1, scale_y = 1;        // input pixels per working pixel
   double total_ms = 0;
   std::vector<StageRecord> stages;                  // in pipeline order (summary, full)
+  SearchRecord search;                              // summary, full
   std::vector<std::vector<cv::Point>> contours;     // full: every contour found
   std::vector<CandidateRecord> candidates;          // summary: quads and later; full: every contour
   std::vector<Marker> markers;                      // always

@@ -49,6 +49,10 @@ std::string trace_to_json(const FrameTrace& t) {
   for (const StageRecord& r : t.stages)
     stages.push_back({{"name", stage_name(r.stage)}, {"ms", round_decimals(r.ms, 3)}, {"in", r.in}, {"out", r.out},
                       {"image", size_or_null(r.image)}});
+  Json regions = Json::array();
+  for (const cv::Rect& r : t.search.regions) regions.push_back({r.x, r.y, r.width, r.height});
+  j["search"] = {{"whole", t.search.whole}, {"factor", t.search.factor}, {"known", t.search.known},
+                 {"why", t.search.why}, {"regions", std::move(regions)}};
   Json& markers = j["markers"] = Json::array();
   for (const Marker& m : t.markers)
     markers.push_back({{"id", m.id}, {"dict", m.dict}, {"corners", quad(m.corners)}, {"hamming", m.hamming},

@@ -189,6 +189,22 @@ cv::Mat view_contours(const FrameTrace& t, cv::Size size) {
   return img;
 }
 
+// search_regions: the frame, dimmed outside the regions searched, each region outlined (green: around known
+// markers; the whole frame is left as it is).
+cv::Mat view_search_regions(const FrameTrace& t, const cv::Mat& base, const cv::Mat& dim) {
+  if (t.search.whole || base.empty()) return base.empty() ? copy_of(dim) : to_bgr(base);
+  cv::Mat img = copy_of(dim);
+  const cv::Mat bright = base.type() == CV_8UC3 ? base : to_bgr(base);
+  const cv::Rect frame(0, 0, img.cols, img.rows);
+  for (const cv::Rect& r : t.search.regions) {
+    const cv::Rect in = r & frame;
+    if (in.empty()) continue;
+    bright(in).copyTo(img(in));
+    cv::rectangle(img, in, kGreen, 1, cv::LINE_8);
+  }
+  return img;
+}
+
 cv::Mat view_size_filter(const FrameTrace& t, const cv::Mat& dim) {
   cv::Mat img = copy_of(dim);
   PolyBatch passed, rejected;
@@ -462,6 +478,9 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
           cv::resize(dst, big, size, 0, 0, cv::INTER_NEAREST);
           dst = big;
         }
+        break;
+      case Stage::search_regions:
+        dst = view_search_regions(trace, base, dimmed());
         break;
       case Stage::contours:
         dst = view_contours(trace, size);

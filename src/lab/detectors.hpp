@@ -17,7 +17,9 @@ namespace arwb::lab {
 using DetectFn = std::function<std::vector<Marker>(const cv::Mat&)>;
 
 // A detector of kLabDetectors (run.hpp) for `dict`; an error naming it when unknown or when it cannot read
-// that dictionary ("apriltag reads the AprilTag families, not ARUCO_ORIGINAL").
-Result<DetectFn> make_detector(const std::string& name, const std::string& dict, const DetectorParams& params);
+// that dictionary ("apriltag reads the AprilTag families, not ARUCO_ORIGINAL"). `video`: the frames it is given are
+// one video's, in order; arwb then searches as video (detect/video_search.hpp), the peers as they always do.
+Result<DetectFn> make_detector(const std::string& name, const std::string& dict, const DetectorParams& params,
+                               bool video = false);
 
 }  // namespace arwb::lab

@@ -4,6 +4,7 @@
 #include "lab/stats.hpp"
 #include "base/decimals.hpp"
 #include "detect/detector.hpp"
+#include "detect/video_search.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/peers.hpp"
 #include "synth/marker_view.hpp"
@@ -125,11 +126,16 @@ void occlude(cv::Mat1f& levels, const Quad& corners, double share, int side) {
 
 }  // namespace
 
-Result<DetectFn> make_detector(const std::string& name, const std::string& dict, const DetectorParams& params) {
+Result<DetectFn> make_detector(const std::string& name, const std::string& dict, const DetectorParams& params,
+                               bool video) {
   if (name == "arwb") {
     auto d = dictionary_by_name(dict);
     if (!d) return fail("unknown dictionary " + dict);
     auto det = std::make_shared<Detector>(std::vector<Dictionary>{*d}, params);
+    if (video) {
+      auto search = std::make_shared<VideoSearch>();
+      return DetectFn([det, search](const cv::Mat& img) { return search->detect(*det, img); });
+    }
     return DetectFn([det](const cv::Mat& img) { return det->detect(img); });
   }
   if (name == "opencv" || name == "opencv-aruco3") {

@@ -191,18 +191,12 @@ Result<LabResults> run_videos(const std::string& dir, const std::vector<VideoRow
                               std::vector<std::string>* warnings, const std::function<void(int, int)>& progress) {
   (void)dir;
   const auto t0 = std::chrono::steady_clock::now();
-  // Detectors per dictionary, made before anything is decoded so that one that cannot run stops the run at once.
-  std::map<std::string, std::vector<DetectFn>> detectors;
-  for (const VideoRow& r : rows) {
-    if (detectors.count(r.dictionary)) continue;
-    std::vector<DetectFn> list;
-    for (const std::string& name : options.detectors) {
-      auto d = make_detector(name, r.dictionary, options.params);
-      if (!d) return fail("videos.csv:" + std::to_string(r.line) + ": " + d.error());
-      list.push_back(std::move(*d));
-    }
-    detectors.emplace(r.dictionary, std::move(list));
-  }
+  // Every detector is tried on every dictionary before anything is decoded, so that one that cannot run stops the
+  // run at once; each clip then gets its own.
+  for (const VideoRow& r : rows)
+    for (const std::string& name : options.detectors)
+      if (auto d = make_detector(name, r.dictionary, options.params); !d)
+        return fail("videos.csv:" + std::to_string(r.line) + ": " + d.error());
   LabResults out;
   out.options = options;
   out.plan.name = "videos";
@@ -245,7 +239,10 @@ Result<LabResults> run_videos(const std::string& dir, const std::vector<VideoRow
       continue;
     }
     CellResult& cell = cell_of(r);
-    const std::vector<DetectFn>& list = detectors.at(r.dictionary);
+    // Each clip is a video of its own: arwb searches it as video from its first frame (detect/video_search.hpp).
+    std::vector<DetectFn> list;
+    for (const std::string& name : options.detectors)
+      list.push_back(*make_detector(name, r.dictionary, options.params, true));
     int64_t index = 0, counted = 0;
     for (bool have = true; have; have = reader->read(&frame) == VideoReader::Read::frame, ++index) {
       if (index < r.first_frame) continue;

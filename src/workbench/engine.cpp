@@ -6,6 +6,7 @@
 #include "detect/peers.hpp"
 #include "workbench/scene_stage.hpp"
 #include "detect/trace_view.hpp"
+#include "detect/video_search.hpp"
 #include "calibration/calibration_file.hpp"
 #include "calibration/session.hpp"
 
@@ -82,6 +83,8 @@ struct Engine::Worker {
   Playback playback;
   SyntheticControls synthetic;
   std::optional<Detector> detector;
+  // Video mode: what the stream's last frames found, so that the next is searched around them (search_regions).
+  VideoSearch video;
   bool frozen = false;
   bool take_one = false;
   bool peer_opencv = false, peer_apriltag = false;
@@ -398,6 +401,7 @@ void Engine::State::run() {
           source_in_use_ = *p.source;
         }
         log_(0, "source: " + p.source->text());
+        w.video.reset();
       } else if (!w.source) {
         fall_back(err);
       } else {
@@ -449,6 +453,7 @@ void Engine::State::run() {
         w.source->seek(*p.seek);
         w.take_one = true;
       }
+      if (p.seek || !p.steps.empty()) w.video.reset();   // the next frame does not follow the last
       auto* syn = dynamic_cast<SyntheticSource*>(w.source.get());
       if (p.synthetic && syn) {
         syn->world().set_controls(*p.synthetic);
@@ -544,7 +549,10 @@ void Engine::State::run() {
       f->capture_ms = w.capture_ms;
       // Acquisition's resize is the detector's first stage, timed in the trace; the frame shows its result.
       const auto d0 = Clock::now();
-      w.detector->detect(w.raw, &f->trace, w.config.level, w.config.threads, &f->image);
+      // A new frame of the stream is searched as video; the same frame again (a slider moved, a frozen frame) is
+      // searched whole, so that what a parameter does shows over the whole frame.
+      if (!fresh) w.video.reset();
+      w.video.detect(*w.detector, w.raw, &f->trace, w.config.level, w.config.threads, &f->image);
       f->detect_ms = ms_between(d0, Clock::now());
       f->params = w.config.params;
       f->dictionaries = w.config.dictionaries;

@@ -1,0 +1,245 @@
+// arwb bench --video (bench_video.hpp says what is measured).
+#include "cli/bench_video.hpp"
+
+#include "base/decimals.hpp"
+#include "cli/bench_score.hpp"
+#include "cli/cli_common.hpp"
+#include "detect/detector.hpp"
+#include "detect/peers.hpp"
+#include "detect/video_search.hpp"
+#include "synth/synthetic_world.hpp"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <memory>
+
+namespace arwb {
+namespace {
+
+constexpr double kFps = 20;            // the paper's acquisition rate
+constexpr int kAppearAfter = 20;       // the covered marker comes into view this many frames (and up to 4 more) in
+const cv::Size kSizes[] = {{640, 480}, {1280, 720}, {1920, 1080}, {3840, 2160}};
+
+struct Seq {
+  cv::Size size;
+  int appear = 0;    // the frame the covered marker comes into view
+};
+
+// A detector over one sequence: `start` before its first frame, then `run` per frame.
+struct Contender {
+  std::string name;
+  std::function<void()> start;
+  std::function<PeerResult(const cv::Mat&, bool repeat)> run;   // repeat: the same frame again, for timing
+};
+
+struct Figures {
+  Tally tally;
+  std::vector<double> delays;   // per sequence: frames from coming into view to found (-1: never)
+};
+
+std::string res_name(cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }
+
+// The frame with `hidden` covered by a card of the mean grey (a hand, a sheet passing), and its truth without it.
+SyntheticFrame frame_of(const SyntheticWorld& world, int k, int hidden, bool cover) {
+  SyntheticFrame f = world.render(k / kFps);
+  if (!cover) return f;
+  for (auto it = f.markers.begin(); it != f.markers.end(); ++it) {
+    if (it->id != hidden) continue;
+    const cv::Point2f c = quad_centre(it->corners);
+    std::vector<cv::Point> card;
+    for (const cv::Point2f& p : it->corners) card.emplace_back(cv::Point2f(c + 1.5f * (p - c)));
+    cv::fillConvexPoly(f.image, card, cv::mean(f.image));
+    f.markers.erase(it);
+    break;
+  }
+  return f;
+}
+
+}  // namespace
+
+int bench_video(const VideoBenchOptions& o) {
+  cv::setNumThreads(1);
+  using Clock = std::chrono::steady_clock;
+  // dictionary -> resolution -> detector -> figures; "all" sums the resolutions.
+  std::map<std::string, std::map<std::string, std::map<std::string, Figures>>> figs;
+  std::vector<std::string> names;
+  int total_frames = 0;
+  for (const Dictionary& dict : o.dicts) {
+    const Detector det({dict}, o.params);
+    auto video = std::make_shared<VideoSearch>();
+    std::vector<Contender> contenders;
+    auto timed = [](auto&& f) {
+      PeerResult r;
+      const auto t0 = Clock::now();
+      r.markers = f();
+      r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      return r;
+    };
+    contenders.push_back({"arwb", [] {}, [&](const cv::Mat& img, bool) { return timed([&] { return det.detect(img); }); }});
+    // Video mode: a rerun of the same frame (for timing) starts from the state before it.
+    auto before = std::make_shared<VideoSearch>();
+    contenders.push_back({"arwb-video", [video] { video->reset(); },
+                          [&det, video, before, timed](const cv::Mat& img, bool repeat) {
+                            if (repeat) *video = *before;
+                            else *before = *video;
+                            return timed([&] { return video->detect(det, img); });
+                          }});
+    for (const std::string& peer : o.peers) {
+      if (peer == "apriltag") {
+        if (!AprilTagPeer::supports(dict.name())) continue;
+        auto p = std::make_shared<AprilTagPeer>(dict.name());
+        contenders.push_back({peer, [] {}, [p](const cv::Mat& img, bool) { return p->detect(img); }});
+      } else {
+        auto p = std::make_shared<OpenCvArucoPeer>(dict.name(), peer == "aruco3");
+        contenders.push_back({peer, [] {}, [p](const cv::Mat& img, bool) { return p->detect(img); }});
+      }
+    }
+    for (const Contender& c : contenders)
+      if (std::find(names.begin(), names.end(), c.name) == names.end()) names.push_back(c.name);
+
+    for (size_t si = 0; si < std::size(kSizes); ++si) {
+      const cv::Size size = kSizes[si];
+      for (int q = 0; q < o.sequences; ++q) {
+        SyntheticWorld world(size, 600.0 * size.width / 640, o.seed * 7919u + unsigned(si * 31 + size_t(q)));
+        SyntheticControls ctl = world.controls();
+        ctl.dict = dict.name();
+        ctl.markers = 4;
+        ctl.distance_m = 0.6 + 0.5 * q;
+        world.set_controls(ctl);
+        const Seq seq{size, kAppearAfter + int((si * 3 + size_t(q)) % 5)};
+        // The covered marker: the largest id in view when it comes in.
+        const SyntheticFrame at = world.render(seq.appear / kFps);
+        const int hidden = at.markers.empty() ? -1 : at.markers.back().id;
+        std::vector<SyntheticFrame> frames;
+        for (int k = 0; k < o.frames; ++k) frames.push_back(frame_of(world, k, hidden, k < seq.appear));
+        total_frames += int(frames.size());
+        for (const Contender& c : contenders) {
+          c.start();
+          int delay = -1;
+          for (int k = 0; k < int(frames.size()); ++k) {
+            PeerResult first;
+            double best = 1e18;
+            for (int r = 0; r < o.reps; ++r) {
+              PeerResult pr = c.run(frames[size_t(k)].image, r > 0);
+              best = std::min(best, pr.ms);
+              if (r == 0) first = std::move(pr);
+            }
+            if (delay < 0 && hidden >= 0 && k >= seq.appear)
+              for (const Marker& m : first.markers)
+                if (m.id == hidden) delay = k - seq.appear;
+            for (const char* res : {"all", ""}) {
+              Tally& t = figs[dict.name()][*res ? res : res_name(size)][c.name].tally;
+              t.ms.push_back(best);
+              score(first.markers, frames[size_t(k)].markers, t);
+            }
+          }
+          if (hidden >= 0 && seq.appear < int(frames.size()))
+            for (const char* res : {"all", ""}) figs[dict.name()][*res ? res : res_name(size)][c.name].delays.push_back(delay);
+        }
+      }
+    }
+  }
+
+  auto delay_text = [](const std::vector<double>& d, double* mean_out, double* max_out) {
+    double sum = 0, worst = 0;
+    int never = 0;
+    for (double v : d) {
+      if (v < 0) ++never;
+      else sum += v, worst = std::max(worst, v);
+    }
+    const int found = int(d.size()) - never;
+    *mean_out = found ? sum / found : -1;
+    *max_out = found ? worst : -1;
+    char buf[64];
+    if (d.empty()) return std::string("-");
+    std::snprintf(buf, sizeof buf, "%.1f / %.0f%s", found ? sum / found : 0.0, worst,
+                  never ? (" (" + std::to_string(never) + " never)").c_str() : "");
+    return std::string(buf);
+  };
+  std::vector<std::string> resolutions;
+  for (const cv::Size s : kSizes) resolutions.push_back(res_name(s));
+  resolutions.push_back("all");
+
+  if (o.json) {
+    using Json = nlohmann::ordered_json;
+    Json out = {{"threads", 1}, {"reps", o.reps}, {"fps", kFps}, {"frames_per_sequence", o.frames},
+                {"sequences_per_resolution", o.sequences}, {"full_search_interval", o.params.full_search_interval},
+                {"rows", Json::array()}};
+    for (const auto& [dict, by_res] : figs)
+      for (const std::string& res : resolutions) {
+        const auto it = by_res.find(res);
+        if (it == by_res.end()) continue;
+        for (const std::string& name : names) {
+          const auto f = it->second.find(name);
+          if (f == it->second.end()) continue;
+          const Tally& t = f->second.tally;
+          double dm = 0, dx = 0;
+          delay_text(f->second.delays, &dm, &dx);
+          Json row = {{"dictionary", dict}, {"resolution", res}, {"detector", name}, {"frames", t.ms.size()},
+                      {"median_ms", round_decimals(median(t.ms), 3)}, {"mean_ms", round_decimals(mean(t.ms), 3)},
+                      {"markers", t.truth}, {"found", t.found},
+                      {"recall", round_decimals(t.truth ? double(t.found) / t.truth : 1.0, 4)},
+                      {"false_positives", t.false_pos},
+                      {"corner_error_px", t.corner_n ? Json(round_decimals(t.corner_err / t.corner_n, 4)) : Json()},
+                      {"new_marker_sequences", f->second.delays.size()},
+                      {"new_marker_never_found",
+                       std::count(f->second.delays.begin(), f->second.delays.end(), -1.0)},
+                      {"new_marker_frames_mean", dm < 0 ? Json() : Json(round_decimals(dm, 2))},
+                      {"new_marker_frames_max", dx < 0 ? Json() : Json(dx)}};
+          if (name == "arwb-video")
+            for (const auto& [other, of] : it->second)
+              if (other != name) {
+                row["median_ratio_" + other] = round_decimals(median(t.ms) / median(of.tally.ms), 3);
+                row["mean_ratio_" + other] = round_decimals(mean(t.ms) / mean(of.tally.ms), 3);
+              }
+          out["rows"].push_back(std::move(row));
+        }
+      }
+    std::printf("%s\n", out.dump().c_str());
+    return 0;
+  }
+  std::printf("Video: %d frames in %d sequences per resolution and dictionary at %g fps (%d frames in all), one "
+              "thread, fastest of %d run%s per frame;\n"
+              "arwb-video searches around the last frame's markers, whole every %d frames (full_search_interval)\n",
+              o.frames, o.sequences, kFps, total_frames, o.reps, o.reps == 1 ? "" : "s",
+              o.params.full_search_interval);
+  for (const auto& [dict, by_res] : figs) {
+    std::printf("\n%s\n%-10s %-11s %9s %8s %8s %6s %9s %18s %s\n", dict.c_str(), "resolution", "detector",
+                "median_ms", "mean_ms", "recall", "FP", "corner_px", "new marker after", "arwb-video's time");
+    for (const std::string& res : resolutions) {
+      const auto it = by_res.find(res);
+      if (it == by_res.end()) continue;
+      for (const std::string& name : names) {
+        const auto f = it->second.find(name);
+        if (f == it->second.end()) continue;
+        const Tally& t = f->second.tally;
+        double dm = 0, dx = 0;
+        std::string ratio;
+        if (name == "arwb-video")
+          for (const std::string& other : names)
+            if (const auto of = it->second.find(other); other != name && of != it->second.end()) {
+              char buf[96];
+              std::snprintf(buf, sizeof buf, "%s%.2fx %s", ratio.empty() ? "" : ", ",
+                            median(t.ms) / median(of->second.tally.ms), other.c_str());
+              ratio += buf;
+            }
+        std::printf("%-10s %-11s %9.2f %8.2f %7.1f%% %6d %9s %18s %s\n", res.c_str(), name.c_str(), median(t.ms),
+                    mean(t.ms), t.truth ? 100.0 * t.found / t.truth : 100.0, t.false_pos,
+                    t.corner_n ? decimals_text(t.corner_err / t.corner_n, 3).c_str() : "-",
+                    delay_text(f->second.delays, &dm, &dx).c_str(), ratio.c_str());
+      }
+    }
+  }
+  std::printf("\n(new marker after: frames from a marker coming into view until found, mean / worst over the "
+              "sequences; median ratios)\n");
+  return 0;
+}
+
+}  // namespace arwb
