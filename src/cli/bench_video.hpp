@@ -1,8 +1,8 @@
 // `arwb bench --video`: detection over synthetic video sequences, arwb searching every frame whole against arwb in
 // video mode (detect/video_search.hpp) and the peers, one thread, the same frames. Each sequence is the synthetic
 // world (synth/synthetic_world.hpp: markers moving, turning, coming and going under changing light) at 20 frames
-// a second, with one of its markers covered by a flat card until a frame past the start: the frames until each
-// detector reports it are how soon a marker coming into view is found.
+// a second, and one more marker lying still in a corner, away from the group, shown from a frame past the start
+// on: the frames until each detector reports it are how soon a marker coming into view is found.
 #pragma once
 
 #include "detect/dictionary.hpp"

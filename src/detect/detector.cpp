@@ -88,7 +88,8 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   }
   close_stage(Stage::acquisition, 1, 1, grey);
 
-  // search_regions: the whole frame, or around the markers earlier frames found (working pixels).
+  // search_regions: the whole frame, or around the markers earlier frames found (working pixels). One frame in,
+  // its regions out; decimation .. contours take the regions in and give them out (contours: their black regions).
   std::vector<Quad> known;
   if (hint && hint->why_full.empty())
     for (const Quad& q : hint->known) {
@@ -111,7 +112,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
                                 : "around " + std::to_string(known.size()) + " marker" + (known.size() == 1 ? "" : "s") +
                                       " of the previous frame, decimated " + std::to_string(factor) + "x";
   }
-  close_stage(Stage::search_regions, int(known.size()), int(plan.regions.size()));
+  close_stage(Stage::search_regions, 1, int(plan.regions.size()));
 
   // decimation .. contours, once per region. The search's pictures are kept at the decimated size (the views
   // stretch them over the frame); with regions, the parts outside them are black.
@@ -171,9 +172,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   if (timed) {
     const Stage search_stages[] = {Stage::decimation, Stage::adaptive_threshold, Stage::contours};
     const cv::Mat pictures[] = {search_picture, binary_picture, {}};
-    const int outs[] = {1, 1, regions};
+    const int outs[] = {int(plan.regions.size()), int(plan.regions.size()), regions};
     for (int k = 0; k < 3; ++k)
-      t.stages.push_back(StageRecord{search_stages[k], search_ms[size_t(k)], k == 2 ? 1 : int(plan.regions.size()),
+      t.stages.push_back(StageRecord{search_stages[k], search_ms[size_t(k)], int(plan.regions.size()),
                                      outs[k], full ? pictures[k] : cv::Mat()});
     stage_start = Clock::now();
   }
@@ -211,7 +212,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   for (int i = 0; i < int(contours.size()); ++i) {
     if (cut[size_t(i)]) {
       if (full)
-        add_record(i, Rejection{Stage::search_regions, "region_margin_rate", 0, p.region_margin_rate,
+        add_record(i, Rejection{Stage::size_filter, "region_margin_rate", 0, p.region_margin_rate,
                                 "cut by the edge of its search region (region_margin_rate): a marker there is "
                                 "searched whole on the next full search"});
       continue;

@@ -207,7 +207,8 @@ TEST(VideoSearch, SameResultsForAnyThreadCount) {
 }
 
 // The full trace of a region frame: the stage's picture shows the frame bright in the regions and dimmed outside;
-// the search's pictures are black outside the regions; a contour cut by a region's edge stops at search_regions.
+// the search's pictures are black outside the regions; a contour cut by a region's edge stops at size_filter,
+// naming region_margin_rate.
 TEST(Trace, SearchRegionsPictureShowsWhereTheSearchLooked) {
   const Dictionary d = make_aruco_original();
   const Detector det({d});
@@ -237,9 +238,9 @@ TEST(Trace, SearchRegionsPictureShowsWhereTheSearchLooked) {
   EXPECT_EQ(cv::countNonZero(th->image(cv::Rect(400 / t.search.factor, 300 / t.search.factor, 40, 40))), 0);
   bool cut = false;
   for (const CandidateRecord& c : t.candidates)
-    if (c.fate.stage == Stage::search_regions) {
+    if (c.fate.param == "region_margin_rate") {
       cut = true;
-      EXPECT_EQ(c.fate.param, "region_margin_rate");
+      EXPECT_EQ(c.fate.stage, Stage::size_filter);
       EXPECT_GE(c.bbox.br().x, r.br().x - 2 * t.search.factor);
     }
   EXPECT_TRUE(cut);
