@@ -90,7 +90,9 @@ void parameter_tables(Context& ctx, ParametersState& st) {
       float name_w = 0;
       for (size_t k = i; k < j; ++k) name_w = std::max(name_w, text_width(table[k].name));
       name_w += style.ItemSpacing.x + text_width("(?)");
-      const float unit_w = text_width("grey"), reset_w = button_width("reset");
+      float unit_w = 0;
+      for (const ParamInfo& info : table) unit_w = std::max(unit_w, text_width(info.unit));
+      const float reset_w = button_width("reset");
       const float value_w = text_width("0000.000") + style.FramePadding.x * 2;
       const float need = name_w + value_w + unit_w + reset_w + style.CellPadding.x * 8;
       const bool narrow = need > ImGui::GetContentRegionAvail().x;

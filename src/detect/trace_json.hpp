@@ -10,6 +10,7 @@ namespace arwb {
 
 // {"level","width","height","work_width","work_height","scale_x","scale_y","total_ms","contours":N,
 //  "stages":[{"name","ms","in","out","image":[w,h]|null}],
+//  "search":{"whole","factor","known","why","regions":[[x,y,w,h]...]},
 //  "markers":[{"id","dict","corners":[[x,y]x4],"hamming","rotation"}],
 //  "candidates":[{"contour","bbox":[x,y,w,h],"perimeter","quad":[[x,y]x4]|null,"otsu_threshold","stddev",
 //                 "border_errors","border_cells","dict","per_rotation":[{"id","distance"}x4],"marker",

@@ -57,8 +57,14 @@ TEST(TraceJson, FullTraceIsValidJsonWithEveryStageMarkersAndCandidates) {
   std::vector<std::string> keys;
   for (const auto& [k, v] : j.items()) keys.push_back(k);
   EXPECT_EQ(keys, (std::vector<std::string>{"level", "width", "height", "work_width", "work_height", "scale_x",
-                                             "scale_y", "total_ms", "contours", "stages", "markers", "candidates"}));
+                                             "scale_y", "total_ms", "contours", "stages", "search", "markers",
+                                             "candidates"}));
   EXPECT_EQ(j["level"], "full");
+  // One image, no video: the whole frame was searched.
+  EXPECT_EQ(j["search"]["whole"], true);
+  ASSERT_EQ(j["search"]["regions"].size(), 1u);
+  EXPECT_EQ(j["search"]["regions"][0], Json::array({0, 0, 640, 480}));
+  EXPECT_EQ(j["search"]["factor"], 1);
   EXPECT_EQ(j["width"], 640);
   EXPECT_EQ(j["height"], 480);
   EXPECT_TRUE(j["total_ms"].is_number());

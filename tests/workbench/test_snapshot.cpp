@@ -65,7 +65,7 @@ TEST(Snapshot, WritesFrameStageImagesCandidatesAndTrace) {
     ++stage_files;
   }
   EXPECT_GE(stage_files, 2);
-  EXPECT_TRUE(listed(r, "02_adaptive_threshold.png"));
+  EXPECT_TRUE(listed(r, "03_adaptive_threshold.png"));
   // The accepted candidate's frontal view and bit grid.
   const int accepted = [&] {
     for (int i = 0; i < int(f.trace.candidates.size()); ++i)
