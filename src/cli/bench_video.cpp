@@ -242,7 +242,7 @@ int bench_video(const VideoBenchOptions& o) {
               o.frames, o.sequences, kFps, total_frames, o.reps, o.reps == 1 ? "" : "s",
               o.params.full_search_interval);
   for (const auto& [dict, by_res] : figs) {
-    std::printf("\n%s\n%-10s %-11s %9s %8s %8s %6s %9s %18s %s\n", dict.c_str(), "resolution", "detector",
+    std::printf("\n%s\n%-10s %-11s %9s %8s %8s %6s %9s %22s %s\n", dict.c_str(), "resolution", "detector",
                 "median_ms", "mean_ms", "recall", "FP", "corner_px", "new marker after", "arwb-video's time");
     for (const std::string& res : resolutions) {
       const auto it = by_res.find(res);
@@ -261,7 +261,7 @@ int bench_video(const VideoBenchOptions& o) {
                             median(t.ms) / median(of->second.tally.ms), other.c_str());
               ratio += buf;
             }
-        std::printf("%-10s %-11s %9.2f %8.2f %7.1f%% %6d %9s %18s %s\n", res.c_str(), name.c_str(), median(t.ms),
+        std::printf("%-10s %-11s %9.2f %8.2f %7.1f%% %6d %9s %22s %s\n", res.c_str(), name.c_str(), median(t.ms),
                     mean(t.ms), t.truth ? 100.0 * t.found / t.truth : 100.0, t.false_pos,
                     t.corner_n ? decimals_text(t.corner_err / t.corner_n, 3).c_str() : "-",
                     delay_text(f->second.delays, &dm, &dx).c_str(), ratio.c_str());

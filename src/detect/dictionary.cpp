@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <bit>
 #include <cctype>
 #include <map>
@@ -172,7 +173,14 @@ Dictionary from_opencv(const std::string& name, cv::aruco::PREDEFINED_DICTIONARY
   codes.reserve(static_cast<size_t>(d->bytesList.rows));
   for (int id = 0; id < d->bytesList.rows; ++id)
     codes.push_back(Dictionary::pack(cv::aruco::Dictionary::getBitsFromByteList(d->bytesList.row(id), d->markerSize)));
-  return Dictionary(name, d->markerSize, std::move(codes), d->maxCorrectionBits);
+  int correction = d->maxCorrectionBits;
+  // OpenCV gives the AprilTag families no correction at all, yet each is named for the smallest Hamming distance
+  // between its codes in any rotation (36h11: 11 bits), which lets (h - 1) / 2 bits be corrected unambiguously;
+  // AprilTag 3 itself corrects 2 by default. error_correction_rate takes its share of that, as for every
+  // dictionary: 3 bits of a blurred 20 px 36h11 tag's 36 may be read wrong and it is still found.
+  if (const size_t h = name.rfind('h'); correction == 0 && name.rfind("APRILTAG_", 0) == 0 && h != std::string::npos)
+    correction = (std::atoi(name.c_str() + h + 1) - 1) / 2;
+  return Dictionary(name, d->markerSize, std::move(codes), correction);
 }
 
 const std::vector<std::pair<std::string, cv::aruco::PREDEFINED_DICTIONARY_NAME>>& opencv_table() {

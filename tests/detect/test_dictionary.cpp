@@ -53,7 +53,14 @@ TEST(Dictionary, EveryPredefinedDictionaryMatchesOpenCv) {
     ASSERT_TRUE(d) << err;
     const auto cvd = cv::aruco::getPredefinedDictionary(which);
     ASSERT_EQ(d->size(), cvd->bytesList.rows) << name;
-    EXPECT_EQ(d->max_correction_bits(), cvd->maxCorrectionBits) << name;
+    // OpenCV's budget, except for the AprilTag families, to which OpenCV gives none: theirs is half their
+    // minimum distance (16h5: 2 bits, 36h11: 5), the most that stays unambiguous.
+    if (std::string(name).find("16h5") != std::string::npos)
+      EXPECT_EQ(d->max_correction_bits(), 2) << name;
+    else if (std::string(name).find("36h11") != std::string::npos)
+      EXPECT_EQ(d->max_correction_bits(), 5) << name;
+    else
+      EXPECT_EQ(d->max_correction_bits(), cvd->maxCorrectionBits) << name;
     for (int id = 0; id < d->size(); id += 7) {
       const cv::Mat b = cv::aruco::Dictionary::getBitsFromByteList(cvd->bytesList.row(id), cvd->markerSize);
       ASSERT_EQ(cv::countNonZero(d->bits(id) != b), 0) << name << " id " << id;
