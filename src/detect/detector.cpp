@@ -110,7 +110,8 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
                    : !hint->why_full.empty() ? "whole frame: " + hint->why_full
                    : plan.whole ? "whole frame: no marker known"
                                 : "around " + std::to_string(known.size()) + " marker" + (known.size() == 1 ? "" : "s") +
-                                      " of the previous frame, decimated " + std::to_string(factor) + "x";
+                                      " of the previous frame, " +
+                                      (factor == 1 ? std::string("every pixel") : "decimated " + std::to_string(factor) + "x");
   }
   close_stage(Stage::search_regions, 1, int(plan.regions.size()));
 
@@ -138,17 +139,19 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     const cv::Mat binary = stages::adaptive_threshold(search, p);
     search_lap(1);
     std::vector<stages::SmallRegion> region_small;
+    std::vector<stages::SmallRegion>* small_out = !full ? nullptr : one_region ? &small : &region_small;
     int region_count = 0;
     std::vector<std::vector<cv::Point>> found =
-        stages::find_contours(binary, p.min_perimeter_px, &region_count, full ? &region_small : nullptr, factor);
+        stages::find_contours(binary, p.min_perimeter_px, &region_count, small_out, factor);
     regions += region_count;
-    for (auto& c : found) {
-      if (!one_region) {
-        for (cv::Point& pt : c) pt += r.tl();
-        cut.push_back(stages::cut_by_region(cv::boundingRect(c), r, grey.size(), factor));
-      } else {
-        cut.push_back(0);
-      }
+    if (one_region) {
+      contours = std::move(found);
+      found.clear();
+      cut.assign(contours.size(), 0);
+    }
+    for (auto& c : found) {   // a region's contours, moved to the frame's pixels
+      for (cv::Point& pt : c) pt += r.tl();
+      cut.push_back(stages::cut_by_region(cv::boundingRect(c), r, grey.size(), factor));
       contours.push_back(std::move(c));
     }
     for (auto& sm : region_small) {
