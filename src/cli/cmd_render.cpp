@@ -7,6 +7,7 @@
 #include "base/text.hpp"
 #include "workbench/scene_stage.hpp"
 #include "detect/detector.hpp"
+#include "detect/video_search.hpp"
 #include "synth/synthetic_source.hpp"
 #include "detect/trace_view.hpp"
 #include "render/compositor.hpp"
@@ -247,6 +248,7 @@ int cmd_render(int argc, char** argv) {
   cv::Size size;
   std::string codec;
   cv::Mat raw;
+  VideoSearch video;   // the frames are one video's: each is searched around the last one's markers
   for (int i = 0; limit == 0 || i < limit; ++i) {
     if (i > 0) source->step(1);
     const double t = i / fps;
@@ -264,7 +266,7 @@ int cmd_render(int argc, char** argv) {
     f.time_s = t;
     f.params = params;   // the tracker's smoothing rows are in the preset too
     auto t0 = Clock::now();
-    detector.detect(raw, &f.trace, TraceLevel::full, 1, &f.image);   // acquisition's resize is its first stage
+    video.detect(detector, raw, &f.trace, TraceLevel::full, 1, &f.image);   // acquisition's resize: its first stage
     if (f.image.channels() == 1) cv::cvtColor(f.image, f.image, cv::COLOR_GRAY2BGR);
     render_stage_views(f.image, f.trace, f.views);
     if (calib && calib_size != f.image.size()) {
