@@ -197,42 +197,47 @@ int bench_video(const VideoBenchOptions& o) {
   std::vector<std::string> resolutions;
   for (const cv::Size s : kSizes) resolutions.push_back(res_name(s));
   resolutions.push_back("all");
+  // Every row in print order: fn(dictionary, resolution, detector, its figures, every detector's at that place).
+  auto each_row = [&](const std::string& only_dict, auto&& fn) {
+    for (const auto& [dict, by_res] : figs) {
+      if (!only_dict.empty() && dict != only_dict) continue;
+      for (const std::string& res : resolutions) {
+        const auto it = by_res.find(res);
+        if (it == by_res.end()) continue;
+        for (const std::string& name : names)
+          if (const auto f = it->second.find(name); f != it->second.end()) fn(dict, res, name, f->second, it->second);
+      }
+    }
+  };
 
   if (o.json) {
     using Json = nlohmann::ordered_json;
     Json out = {{"threads", 1}, {"reps", o.reps}, {"fps", kFps}, {"frames_per_sequence", o.frames},
                 {"sequences_per_resolution", o.sequences}, {"full_search_interval", o.params.full_search_interval},
                 {"rows", Json::array()}};
-    for (const auto& [dict, by_res] : figs)
-      for (const std::string& res : resolutions) {
-        const auto it = by_res.find(res);
-        if (it == by_res.end()) continue;
-        for (const std::string& name : names) {
-          const auto f = it->second.find(name);
-          if (f == it->second.end()) continue;
-          const Tally& t = f->second.tally;
-          double dm = 0, dx = 0;
-          delay_text(f->second.delays, &dm, &dx);
-          Json row = {{"dictionary", dict}, {"resolution", res}, {"detector", name}, {"frames", t.ms.size()},
-                      {"median_ms", round_decimals(median(t.ms), 3)}, {"mean_ms", round_decimals(mean(t.ms), 3)},
-                      {"markers", t.truth}, {"found", t.found},
-                      {"recall", round_decimals(t.truth ? double(t.found) / t.truth : 1.0, 4)},
-                      {"false_positives", t.false_pos},
-                      {"corner_error_px", t.corner_n ? Json(round_decimals(t.corner_err / t.corner_n, 4)) : Json()},
-                      {"new_marker_sequences", f->second.delays.size()},
-                      {"new_marker_never_found",
-                       std::count(f->second.delays.begin(), f->second.delays.end(), -1.0)},
-                      {"new_marker_frames_mean", dm < 0 ? Json() : Json(round_decimals(dm, 2))},
-                      {"new_marker_frames_max", dx < 0 ? Json() : Json(dx)}};
-          if (name == "arwb-video")
-            for (const auto& [other, of] : it->second)
-              if (other != name) {
-                row["median_ratio_" + other] = round_decimals(median(t.ms) / median(of.tally.ms), 3);
-                row["mean_ratio_" + other] = round_decimals(mean(t.ms) / mean(of.tally.ms), 3);
-              }
-          out["rows"].push_back(std::move(row));
-        }
-      }
+    each_row("", [&](const std::string& dict, const std::string& res, const std::string& name, const Figures& f,
+                     const std::map<std::string, Figures>& here) {
+      const Tally& t = f.tally;
+      double dm = 0, dx = 0;
+      delay_text(f.delays, &dm, &dx);
+      Json row = {{"dictionary", dict}, {"resolution", res}, {"detector", name}, {"frames", t.ms.size()},
+                  {"median_ms", round_decimals(median(t.ms), 3)}, {"mean_ms", round_decimals(mean(t.ms), 3)},
+                  {"markers", t.truth}, {"found", t.found},
+                  {"recall", round_decimals(t.truth ? double(t.found) / t.truth : 1.0, 4)},
+                  {"false_positives", t.false_pos},
+                  {"corner_error_px", t.corner_n ? Json(round_decimals(t.corner_err / t.corner_n, 4)) : Json()},
+                  {"new_marker_sequences", f.delays.size()},
+                  {"new_marker_never_found", std::count(f.delays.begin(), f.delays.end(), -1.0)},
+                  {"new_marker_frames_mean", dm < 0 ? Json() : Json(round_decimals(dm, 2))},
+                  {"new_marker_frames_max", dx < 0 ? Json() : Json(dx)}};
+      if (name == "arwb-video")
+        for (const auto& [other, of] : here)
+          if (other != name) {
+            row["median_ratio_" + other] = round_decimals(median(t.ms) / median(of.tally.ms), 3);
+            row["mean_ratio_" + other] = round_decimals(mean(t.ms) / mean(of.tally.ms), 3);
+          }
+      out["rows"].push_back(std::move(row));
+    });
     std::printf("%s\n", out.dump().c_str());
     return 0;
   }
@@ -241,32 +246,28 @@ int bench_video(const VideoBenchOptions& o) {
               "arwb-video searches around the last frame's markers, whole every %d frames (full_search_interval)\n",
               o.frames, o.sequences, kFps, total_frames, o.reps, o.reps == 1 ? "" : "s",
               o.params.full_search_interval);
-  for (const auto& [dict, by_res] : figs) {
+  for (const auto& entry : figs) {
+    const std::string& dict = entry.first;
     std::printf("\n%s\n%-10s %-11s %9s %8s %8s %6s %9s %22s %s\n", dict.c_str(), "resolution", "detector",
                 "median_ms", "mean_ms", "recall", "FP", "corner_px", "new marker after", "arwb-video's time");
-    for (const std::string& res : resolutions) {
-      const auto it = by_res.find(res);
-      if (it == by_res.end()) continue;
-      for (const std::string& name : names) {
-        const auto f = it->second.find(name);
-        if (f == it->second.end()) continue;
-        const Tally& t = f->second.tally;
-        double dm = 0, dx = 0;
-        std::string ratio;
-        if (name == "arwb-video")
-          for (const std::string& other : names)
-            if (const auto of = it->second.find(other); other != name && of != it->second.end()) {
-              char buf[96];
-              std::snprintf(buf, sizeof buf, "%s%.2fx %s", ratio.empty() ? "" : ", ",
-                            median(t.ms) / median(of->second.tally.ms), other.c_str());
-              ratio += buf;
-            }
-        std::printf("%-10s %-11s %9.2f %8.2f %7.1f%% %6d %9s %22s %s\n", res.c_str(), name.c_str(), median(t.ms),
-                    mean(t.ms), t.truth ? 100.0 * t.found / t.truth : 100.0, t.false_pos,
-                    t.corner_n ? decimals_text(t.corner_err / t.corner_n, 3).c_str() : "-",
-                    delay_text(f->second.delays, &dm, &dx).c_str(), ratio.c_str());
-      }
-    }
+    each_row(dict, [&](const std::string&, const std::string& res, const std::string& name, const Figures& f,
+                       const std::map<std::string, Figures>& here) {
+      const Tally& t = f.tally;
+      double dm = 0, dx = 0;
+      std::string ratio;
+      if (name == "arwb-video")
+        for (const std::string& other : names)
+          if (const auto of = here.find(other); other != name && of != here.end()) {
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "%s%.2fx %s", ratio.empty() ? "" : ", ",
+                          median(t.ms) / median(of->second.tally.ms), other.c_str());
+            ratio += buf;
+          }
+      std::printf("%-10s %-11s %9.2f %8.2f %7.1f%% %6d %9s %22s %s\n", res.c_str(), name.c_str(), median(t.ms),
+                  mean(t.ms), t.truth ? 100.0 * t.found / t.truth : 100.0, t.false_pos,
+                  t.corner_n ? decimals_text(t.corner_err / t.corner_n, 3).c_str() : "-",
+                  delay_text(f.delays, &dm, &dx).c_str(), ratio.c_str());
+    });
   }
   std::printf("\n(new marker after: frames from a marker coming into view until found, mean / worst over the "
               "sequences; median ratios)\n");

@@ -83,8 +83,10 @@ struct Engine::Worker {
   Playback playback;
   SyntheticControls synthetic;
   std::optional<Detector> detector;
-  // Video mode: what the stream's last frames found, so that the next is searched around them (search_regions).
-  VideoSearch video;
+  // Video mode: what the stream's last frames found, so that the next is searched around them (search_regions);
+  // and as it was before the frame shown, so that the same frame again (a slider moved, a frozen frame) is searched
+  // as it was the first time, its regions following the sliders.
+  VideoSearch video, video_before;
   bool frozen = false;
   bool take_one = false;
   bool peer_opencv = false, peer_apriltag = false;
@@ -402,6 +404,7 @@ void Engine::State::run() {
         }
         log_(0, "source: " + p.source->text());
         w.video.reset();
+        w.video_before.reset();
       } else if (!w.source) {
         fall_back(err);
       } else {
@@ -453,7 +456,10 @@ void Engine::State::run() {
         w.source->seek(*p.seek);
         w.take_one = true;
       }
-      if (p.seek || !p.steps.empty()) w.video.reset();   // the next frame does not follow the last
+      if (p.seek || !p.steps.empty()) {   // the next frame does not follow the last
+        w.video.reset();
+        w.video_before.reset();
+      }
       auto* syn = dynamic_cast<SyntheticSource*>(w.source.get());
       if (p.synthetic && syn) {
         syn->world().set_controls(*p.synthetic);
@@ -549,9 +555,8 @@ void Engine::State::run() {
       f->capture_ms = w.capture_ms;
       // Acquisition's resize is the detector's first stage, timed in the trace; the frame shows its result.
       const auto d0 = Clock::now();
-      // A new frame of the stream is searched as video; the same frame again (a slider moved, a frozen frame) is
-      // searched whole, so that what a parameter does shows over the whole frame.
-      if (!fresh) w.video.reset();
+      if (fresh) w.video_before = w.video;
+      else w.video = w.video_before;
       w.video.detect(*w.detector, w.raw, &f->trace, w.config.level, w.config.threads, &f->image);
       f->detect_ms = ms_between(d0, Clock::now());
       f->params = w.config.params;

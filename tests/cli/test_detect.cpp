@@ -265,6 +265,43 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
 
 // The hard set: a row per condition beside the rows per resolution, 4K frames among them; --peers chooses the
 // detectors compared, and a wrong name is a usage error naming it.
+// arwb bench --video: arwb searching every frame whole and in video mode over the same synthetic sequences, a row
+// per resolution and one over all; the marker coming into view at frame 20 to 24 is found within
+// full_search_interval frames by video mode, at once by the whole search.
+TEST(CliBench, VideoSequencesCompareWholeAndVideoSearch) {
+  const auto r = run_arwb("bench --video --count 1 --frames 28 --peers none --dict ARUCO_ORIGINAL --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  Json j = parse(r.out);
+  EXPECT_EQ(j["full_search_interval"], 5);
+  std::set<std::string> resolutions;
+  int all_rows = 0;
+  for (Json& row : j["rows"]) {
+    resolutions.insert(row["resolution"].get<std::string>());
+    EXPECT_EQ(row["dictionary"], "ARUCO_ORIGINAL");
+    EXPECT_EQ(row["false_positives"], 0) << row.dump();
+    EXPECT_GE(row["recall"].get<double>(), 0.95) << row.dump();
+    if (row["resolution"] != "all") continue;
+    ++all_rows;
+    EXPECT_EQ(row["frames"], 4 * 28);
+    EXPECT_EQ(row["new_marker_sequences"], 4);
+    EXPECT_EQ(row["new_marker_never_found"], 0) << row.dump();
+    if (row["detector"] == "arwb") {
+      EXPECT_EQ(row["new_marker_frames_max"], 0) << row.dump();
+    } else {
+      EXPECT_EQ(row["detector"], "arwb-video");
+      EXPECT_LE(row["new_marker_frames_max"].get<double>(), 4) << row.dump();
+      EXPECT_LT(row["median_ratio_arwb"].get<double>(), 1.0) << row.dump();   // the regions cost less
+    }
+  }
+  EXPECT_EQ(all_rows, 2);
+  EXPECT_EQ(resolutions, (std::set<std::string>{"640x480", "1280x720", "1920x1080", "3840x2160", "all"}));
+  const auto table = run_arwb("bench --video --count 1 --frames 3 --peers none --dict ARUCO_ORIGINAL");
+  ASSERT_EQ(table.status, 0) << table.err;
+  EXPECT_NE(table.out.find("\nall        arwb-video "), std::string::npos) << table.out;
+  EXPECT_EQ(run_arwb("bench --video --set hard").status, 2);
+  EXPECT_EQ(run_arwb("bench --video --pose").status, 2);
+}
+
 TEST(CliBench, TheHardSetHasARowPerConditionAndPeersAreChosen) {
   const auto r = run_arwb("bench --count 12 --reps 1 --json --set hard --peers aruco3 --dict ARUCO_ORIGINAL");
   ASSERT_EQ(r.status, 0) << r.err;

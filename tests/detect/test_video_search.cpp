@@ -28,6 +28,15 @@ cv::Mat page(const Dictionary& d, const std::vector<std::pair<int, Quad>>& marke
   return img;
 }
 
+// The synthetic world with `markers` markers moving, turning, coming and going.
+SyntheticWorld moving_markers(cv::Size size, double focal_px, uint64_t seed, int markers) {
+  SyntheticWorld world(size, focal_px, seed);
+  SyntheticControls c = world.controls();
+  c.markers = markers;
+  world.set_controls(c);
+  return world;
+}
+
 bool has_id(const std::vector<Marker>& found, int id) {
   for (const Marker& m : found)
     if (m.id == id) return true;
@@ -78,10 +87,7 @@ TEST(SearchRegions, RegionsAroundKnownMarkersAtTheirScale) {
 // On the synthetic world's moving markers, video mode finds what a whole search finds on every frame, with corners
 // as precise, while searching the whole frame only every full_search_interval frames.
 TEST(VideoSearch, FindsWhatAWholeSearchFindsAndSearchesWholeEveryInterval) {
-  SyntheticWorld world({640, 480}, 600, 3);
-  SyntheticControls c = world.controls();
-  c.markers = 3;
-  world.set_controls(c);
+  const SyntheticWorld world = moving_markers({640, 480}, 600, 3, 3);
   const Detector det({make_aruco_original()});
   ASSERT_EQ(det.params().full_search_interval, 5);
   VideoSearch video;
@@ -188,10 +194,7 @@ TEST(VideoSearch, IntervalOneAndANewSizeSearchWhole) {
 
 // The same sequence gives the same markers, to the bit, for any thread count.
 TEST(VideoSearch, SameResultsForAnyThreadCount) {
-  SyntheticWorld world({1280, 720}, 1200, 5);
-  SyntheticControls c = world.controls();
-  c.markers = 6;
-  world.set_controls(c);
+  const SyntheticWorld world = moving_markers({1280, 720}, 1200, 5, 6);
   const Detector det({make_aruco_original()});
   VideoSearch one, three;
   for (int k = 0; k < 12; ++k) {

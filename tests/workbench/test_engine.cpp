@@ -92,6 +92,45 @@ TEST(Engine, NewParametersRedetectTheFrozenFrame) {
   EXPECT_EQ(cv::norm(before->image, after->image, cv::NORM_INF), 0.0);   // the same frame, read again
 }
 
+// The stream is a video: most frames are searched around the last one's markers, the whole frame every
+// full_search_interval frames. A frozen frame read again is searched as it was when it came, its regions following
+// the sliders.
+TEST(Engine, TheStreamIsSearchedAsVideoAndAFrozenFrameAsItCame) {
+  Logged log;
+  Engine e(synthetic_config(), log.fn());
+  e.start();
+  int regions = 0, whole = 0;
+  uint64_t last = 0;
+  for (int k = 0; k < 15; ++k) {
+    const auto f = e.wait_newer(last, 5.0);
+    ASSERT_TRUE(f);
+    last = f->index;
+    ASSERT_NE(f->trace.stage(Stage::search_regions), nullptr);
+    (f->trace.search.whole ? whole : regions)++;
+  }
+  EXPECT_GE(regions, 6);
+  EXPECT_GE(whole, 2);
+  e.set_frozen(true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto before = e.latest();
+  DetectorParams p;
+  p.region_margin_rate = 2;
+  e.set_params(p);
+  const auto after = e.wait_newer(before->index, 5.0);
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->trace.search.whole, before->trace.search.whole);
+  EXPECT_EQ(after->trace.search.known, before->trace.search.known);
+  EXPECT_EQ(after->trace.markers.size(), before->trace.markers.size());
+  auto area = [](const SearchRecord& s) {
+    double a = 0;
+    for (const cv::Rect& r : s.regions) a += r.area();
+    return a;
+  };
+  if (!before->trace.search.whole) {
+    EXPECT_GE(area(after->trace.search), area(before->trace.search));
+  }
+}
+
 TEST(Engine, FramesRecordTheParametersTheyWereDetectedWith) {
   Logged log;
   Engine e(synthetic_config(), log.fn());
