@@ -50,8 +50,6 @@ cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scal
   return grey;
 }
 
-// [SECTION] decimation
-
 // [SECTION] search_regions
 
 SearchPlan plan_search(cv::Size grey, const std::vector<Quad>& known, const DetectorParams& p) {
@@ -114,6 +112,8 @@ bool cut_by_region(const cv::Rect& box, const cv::Rect& region, cv::Size grey, i
          (region.br().x < grey.width && region.br().x - box.br().x < reach) ||
          (region.br().y < grey.height && region.br().y - box.br().y < reach);
 }
+
+// [SECTION] decimation
 
 int decimation_used(cv::Size grey, const DetectorParams& p) {
   int f = std::max(1, p.decimation_factor);

@@ -28,13 +28,11 @@ void VideoSearch::record(const SearchHint& h, const std::vector<Marker>& found, 
 std::vector<Marker> VideoSearch::detect(const Detector& detector, const cv::Mat& image, FrameTrace* trace,
                                         TraceLevel level, int threads, cv::Mat* acquired) {
   // Markers come out in the acquired image's pixels when it is asked for, else in the input's: the hint is in the
-  // same pixels. The acquired size is known only after the frame, so a changed input size is checked on the input.
-  const cv::Size in_size = image.size();
-  const bool same_input = in_size == input_size_;
-  SearchHint h = hint(detector.params(), same_input ? size_ : cv::Size());
+  // same pixels, which stay the same while the input's size and acquisition's resize do.
+  // An input of another size starts again whole; so must a change of acquisition's resize (the caller resets).
+  SearchHint h = hint(detector.params(), image.size());
   std::vector<Marker> found = detector.detect(image, trace, level, threads, acquired, &h);
-  input_size_ = in_size;
-  record(h, found, acquired && !acquired->empty() ? acquired->size() : in_size);
+  record(h, found, image.size());
   return found;
 }
 

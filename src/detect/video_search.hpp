@@ -24,11 +24,11 @@ class VideoSearch {
   std::vector<Marker> detect(const Detector& detector, const cv::Mat& image, FrameTrace* trace = nullptr,
                              TraceLevel level = TraceLevel::summary, int threads = 1, cv::Mat* acquired = nullptr);
 
-  // The hint a frame whose markers come out in pixels of `size` gets now (see the rules above).
+  // The hint an input frame of `size` gets now (see the rules above).
   SearchHint hint(const DetectorParams& p, cv::Size size) const;
-  // What the frame searched with `h` found, in pixels of `size`.
+  // What the input frame of `size` searched with `h` found.
   void record(const SearchHint& h, const std::vector<Marker>& found, cv::Size size);
-  // Forget everything: the next frame is searched whole (a seek, another source).
+  // Forget everything: the next frame is searched whole (a seek, another source, another acquisition resize).
   void reset() { *this = VideoSearch{}; }
 
   // Frames searched since the last whole search (0: the last one was whole), -1 before any.
@@ -36,8 +36,7 @@ class VideoSearch {
 
  private:
   std::vector<Quad> known_;
-  cv::Size size_;         // the pixels known_ is in
-  cv::Size input_size_;   // the last input's size (detect)
+  cv::Size size_;   // the input's size known_ was found on
   int since_whole_ = -1;
   bool lost_ = false;
 };

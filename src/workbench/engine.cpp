@@ -436,6 +436,8 @@ void Engine::State::run() {
     if (p.acquisition) {
       w.config.acquisition = *p.acquisition;
       w.detector->set_acquisition(*p.acquisition);
+      w.video.reset();   // the known markers are in the old working image's pixels
+      w.video_before.reset();
       w.next_due = 0;
       w.redetect = true;
     }
