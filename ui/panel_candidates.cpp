@@ -307,7 +307,12 @@ void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
   if (!ImGui::BeginTable("ledger", col_count, flags, outer)) return;
   ImGui::TableSetupScrollFreeze(1, 1);
   ImGui::TableSetupColumn("#", ImGuiTableColumnFlags_DefaultSort | ImGuiTableColumnFlags_NoHide, 0, col_index);
-  ImGui::TableSetupColumn("bbox", ImGuiTableColumnFlags_PreferSortDescending, 0, col_bbox);
+  // As wide as the widest box this frame can have, for the same reason as the parameter's column.
+  char widest_box[64];
+  std::snprintf(widest_box, sizeof widest_box, "%dx%d at %d,%d", t.work_width, t.work_height, t.work_width,
+                t.work_height);
+  ImGui::TableSetupColumn("bbox", ImGuiTableColumnFlags_PreferSortDescending | ImGuiTableColumnFlags_WidthFixed,
+                          ImGui::CalcTextSize(widest_box).x, col_bbox);
   ImGui::TableSetupColumn("perimeter", ImGuiTableColumnFlags_PreferSortDescending, 0, col_perimeter);
   ImGui::TableSetupColumn("fate", 0, 0, col_fate);
   ImGui::TableSetupColumn("ID", 0, 0, col_id);

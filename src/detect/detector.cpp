@@ -1,7 +1,7 @@
 // Chains the stages of pipeline.hpp over one frame and fills the trace.
 // Step 1: find quads (acquisition .. nested_filter), whole-image work on the calling thread. The search
-// (adaptive_threshold .. quad_fit) runs on the decimated image; its contours and quads are mapped back at once, so
-// from contours on everything is in the grey image's pixels.
+// (adaptive_threshold .. quad_fit) runs on the decimated image, and coarse_search once more on a coarser one; their
+// contours and quads are mapped back at once, so from contours on everything is in the grey image's pixels.
 // Step 2: read each quad (corner_refinement .. identification), per candidate, spread over threads.
 // Step 3: resolve duplicates and map corners back to the input image.
 // Each stage's time and counts are its own: the trace lists the stages in the order they run here.
@@ -182,6 +182,27 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     stage_start = Clock::now();
   }
 
+  // coarse_search: the whole frame once more, coarser, for large markers (a frame searched by regions is already
+  // searched at its markers' scale). Its contours join the others; each contour keeps the factor it was found at.
+  std::vector<int> contour_factor(contours.size(), factor);
+  {
+    const int coarse = p.coarse_factor;
+    const int fine_regions = regions;
+    cv::Mat coarse_binary;
+    if (plan.whole && coarse > factor && std::min(grey.cols, grey.rows) / coarse >= 32) {
+      coarse_binary = stages::adaptive_threshold(stages::decimate(grey, coarse), p);
+      std::vector<std::vector<cv::Point>> found =
+          stages::find_contours(coarse_binary, p.coarse_min_perimeter_px, nullptr, nullptr, coarse);
+      for (auto& c : found) {
+        ++regions;
+        contours.push_back(std::move(c));
+        cut.push_back(0);
+        contour_factor.push_back(coarse);
+      }
+    }
+    close_stage(Stage::coarse_search, fine_regions, regions, coarse_binary);
+  }
+
   struct QuadCandidate {
     int record;   // index into t.candidates, or -1 when not traced
     int contour;
@@ -195,7 +216,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     const auto& c = contours[size_t(contour_index)];
     r.contour = full ? contour_index : -1;
     r.bbox = cv::boundingRect(c);
-    r.perimeter = stages::contour_length(c, factor);
+    r.perimeter = stages::contour_length(c, contour_factor[size_t(contour_index)]);
     if (fate) r.fate = std::move(*fate);
     t.candidates.push_back(std::move(r));
     return int(t.candidates.size()) - 1;
@@ -220,7 +241,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
                                 "searched whole on the next full search"});
       continue;
     }
-    if (auto why = stages::size_filter(contours[size_t(i)], work_size, p, full, factor)) {
+    if (auto why = stages::size_filter(contours[size_t(i)], work_size, p, full, contour_factor[size_t(i)])) {
       if (full) add_record(i, std::move(why));
       continue;
     }
@@ -228,9 +249,30 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   }
   close_stage(Stage::size_filter, regions, int(size_passed.size()));
 
+  // A quad of the coarse search that the first search found too (the same corners, to two coarse pixels) is not
+  // read twice.
+  auto found_before = [&](const Quad& q, int coarse) -> int {
+    const float tol = 2.0f * float(coarse);
+    for (const auto& other : quads) {
+      if (contour_factor[size_t(other.contour)] == coarse) continue;
+      for (int shift = 0; shift < 4; ++shift) {
+        bool same = true;
+        for (int j = 0; j < 4 && same; ++j) {
+          const cv::Point2f d = q[size_t(j)] - other.quad[size_t((j + shift) % 4)];
+          same = std::abs(d.x) <= tol && std::abs(d.y) <= tol;
+        }
+        if (same) return other.contour;
+      }
+    }
+    return -1;
+  };
   for (int i : size_passed) {
     Quad q;
-    auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q, factor);
+    auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q, contour_factor[size_t(i)]);
+    if (!why && contour_factor[size_t(i)] != factor)
+      if (const int twin = found_before(q, contour_factor[size_t(i)]); twin >= 0)
+        why = Rejection{Stage::quad_fit, "coarse_factor", 0, double(p.coarse_factor),
+                        "the same quad as contour " + std::to_string(twin) + ", found by the first search"};
     if (why) {
       if (timed) add_record(i, std::move(why));
       continue;
@@ -285,7 +327,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       };
       const int cells = n + 2;
       Quad q = quad;
-      stages::refine_corners(grey, q, cells, p, factor);
+      stages::refine_corners(grey, q, cells, p, contour_factor[size_t(quads[k].contour)]);
       lap(0);
       cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
       lap(1);

@@ -43,6 +43,14 @@ const ParamInfo kTable[] = {
     ARWB_DBL(threshold_offset, "adaptive_threshold", "grey", 7, 0, 100,
              "How much darker than its neighbourhood mean a pixel must be to count as black. Higher ignores faint "
              "texture and noise, lower finds low-contrast markers."),
+    ARWB_INT(coarse_factor, "coarse_search", "", 3, 0, 6,
+             "The whole frame is searched a second time on the grey image shrunk this many times, for large "
+             "markers: there the threshold's window spans a whole border and sensor noise averages out, so dim, "
+             "noisy and grey-on-grey markers under a shadow edge are found. 0 turns it off; it runs only when it is "
+             "coarser than the first search."),
+    ARWB_DBL(coarse_min_perimeter_px, "coarse_search", "px", 120, 48, 100000,
+             "Contours of the coarse search shorter than this (in the frame's pixels) are not traced: it looks for "
+             "large markers, the first search finds the small ones."),
     ARWB_DBL(min_perimeter_px, "size_filter", "px", 48, 4, 100000,
              "Contours shorter than this are dropped before fitting. Lower finds smaller markers, costs time."),
     ARWB_DBL(max_perimeter_rate, "size_filter", "rate", 4, 0.1, 8,

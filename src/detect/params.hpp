@@ -22,6 +22,9 @@ struct DetectorParams {
   // adaptive_threshold
   int threshold_window_px = 0;
   double threshold_offset = 0;
+  // coarse_search
+  int coarse_factor = 0;
+  double coarse_min_perimeter_px = 0;
   // size_filter
   double min_perimeter_px = 0;
   double max_perimeter_rate = 0;

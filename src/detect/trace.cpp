@@ -5,7 +5,7 @@
 namespace arwb {
 namespace {
 constexpr std::string_view kStageNames[] = {
-    "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "size_filter", "quad_fit", "nested_filter",
+    "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter", "quad_fit", "nested_filter",
     "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check", "identification",
     "duplicates", "accepted"};
 static_assert(std::size(kStageNames) == kStageCount + 1);

@@ -27,6 +27,7 @@ enum class Stage {
                         // on the full grey
   adaptive_threshold,   // dark-against-neighbourhood binary image
   contours,             // borders of the binary regions
+  coarse_search,        // the whole frame searched again, coarser, for large markers; its contours join the others
   size_filter,          // drop contours too short or too long
   quad_fit,             // approximate to convex quadrilaterals
   nested_filter,        // merge quads that trace the same border twice, keeping the outer one

@@ -467,6 +467,12 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
     if (si < 0 || si >= kStageCount) continue;
     cv::Mat& dst = out[size_t(si)];
     switch (rec.stage) {
+      case Stage::coarse_search:
+        if (rec.image.empty()) {   // off, or not coarser than the first search: nothing was searched again
+          dst = copy_of(dimmed());
+          break;
+        }
+        [[fallthrough]];
       case Stage::acquisition:
       case Stage::decimation:
       case Stage::adaptive_threshold:

@@ -65,7 +65,7 @@ int fates_at(const FrameTrace& t, Stage s) {
 // the corners are refined before the warp reads the cells.
 TEST(TraceTruth, StagesAreRecordedInTheOrderTheyRun) {
   const std::vector<std::string_view> expected = {
-      "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "size_filter", "quad_fit", "nested_filter",
+      "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter", "quad_fit", "nested_filter",
       "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check", "identification",
       "duplicates"};
   ASSERT_EQ(expected.size(), size_t(kStageCount));
