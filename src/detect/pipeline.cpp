@@ -123,9 +123,33 @@ int decimation_used(cv::Size grey, const DetectorParams& p) {
 
 cv::Mat decimate(const cv::Mat& grey, int factor) {
   if (factor <= 1) return grey;
-  // INTER_AREA at a whole factor is the block mean: noise averages out, and a marker's dark frame stays dark.
-  cv::Mat out;
-  cv::resize(grey, out, cv::Size(grey.cols / factor, grey.rows / factor), 0, 0, cv::INTER_AREA);
+  // The block mean: noise averages out, and a marker's dark frame stays dark.
+  CV_Assert(grey.type() == CV_8UC1 && factor <= 16);  // a 16x16 block's sum fits 16 bits
+  cv::Mat out(grey.rows / factor, grey.cols / factor, CV_8UC1);
+  if (factor == 2) {  // OpenCV's INTER_AREA has a vectorised path for halving
+    cv::resize(grey, out, out.size(), 0, 0, cv::INTER_AREA);
+    return out;
+  }
+  // Other factors: INTER_AREA takes its general path there, spreading the leftover columns over every block (0.40 ms
+  // for 640x480 at 3 on the bench machine, more than the threshold and contours of the shrunk image together).
+  // Here the leftover is dropped, as undecimate assumes, the block's rows are summed first, a loop the compiler
+  // vectorises, then each block's columns: 0.09 ms.
+  const int cols = out.cols * factor;
+  std::vector<uint16_t> sum(static_cast<size_t>(cols));
+  const uint32_t area = uint32_t(factor * factor);
+  for (int y = 0; y < out.rows; ++y) {
+    std::fill(sum.begin(), sum.end(), uint16_t(0));
+    for (int k = 0; k < factor; ++k) {
+      const uint8_t* row = grey.ptr<uint8_t>(y * factor + k);
+      for (int x = 0; x < cols; ++x) sum[size_t(x)] = uint16_t(sum[size_t(x)] + row[x]);
+    }
+    uint8_t* o = out.ptr<uint8_t>(y);
+    for (int x = 0; x < out.cols; ++x) {
+      uint32_t block = 0;
+      for (int k = 0; k < factor; ++k) block += sum[size_t(x * factor + k)];
+      o[x] = uint8_t((block + area / 2) / area);  // rounded to the nearest
+    }
+  }
   return out;
 }
 

@@ -261,6 +261,23 @@ TEST(Stages, DecimationShrinksTheSearchAndContoursComeBackInGreyPixels) {
   EXPECT_EQ(small.at<uint8_t>(0, 0), 0);        // the 2x2 block's mean
   EXPECT_EQ(small.at<uint8_t>(0, 1), 200);
   EXPECT_EQ(stages::decimate(grey, 1).data, grey.data);
+  // Any other factor: each pixel the rounded mean of its block; the leftover columns and rows are dropped.
+  cv::Mat noise(200, 301, CV_8UC1);
+  cv::randu(noise, 0, 256);
+  for (int f : {3, 4, 5}) {
+    const cv::Mat ours = stages::decimate(noise, f);
+    cv::Mat theirs;
+    // INTER_AREA on the whole blocks only: past them it would spread the leftover columns over every block.
+    cv::resize(noise(cv::Rect(0, 0, 301 / f * f, 200 / f * f)), theirs, cv::Size(301 / f, 200 / f), 0, 0,
+               cv::INTER_AREA);
+    ASSERT_EQ(ours.size(), theirs.size()) << f;
+    cv::Mat diff;
+    cv::absdiff(ours, theirs, diff);
+    double most = 0;
+    cv::minMaxLoc(diff, nullptr, &most);
+    EXPECT_LE(most, 1.0) << "factor " << f;  // a tie may round the other way
+    EXPECT_EQ(ours.at<uint8_t>(1, 2), uint8_t((cv::sum(noise(cv::Rect(2 * f, f, f, f)))[0] + f * f / 2) / (f * f)));
+  }
   DetectorParams p;
   p.decimation_factor = 4;
   EXPECT_EQ(stages::decimation_used(grey.size(), p), 3);  // 200 / 4 = 50 < 64 pixels
