@@ -352,6 +352,10 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         r.record.border_errors = stages::border_errors(bits);
         r.record.border_cells = 4 * (cells - 1);
         const int allowed = static_cast<int>(p.border_max_error_rate * r.record.border_cells);
+        // A black border inside a larger dark shape (a piece of some other pattern) has no light quiet zone.
+        const stages::QuietZone quiet = r.record.border_errors > allowed || p.quiet_zone_max_dark_rate >= 1
+                                            ? stages::QuietZone{}
+                                            : stages::quiet_zone(grey, q, cells, o);
         lap(4);
         if (r.record.border_errors > allowed) {
           r.reached = 3;
@@ -359,6 +363,18 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
                                     double(allowed),
                                     fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
                                             r.record.border_errors, r.record.border_cells, allowed)};
+        } else if (quiet.dark_share > p.quiet_zone_max_dark_rate) {
+          // The side as it lies on screen: where its middle is from the quad's centre.
+          const cv::Point2f mid = 0.5f * (q[size_t(quiet.side)] + q[size_t((quiet.side + 1) % 4)]);
+          const cv::Point2f off = mid - 0.25f * (q[0] + q[1] + q[2] + q[3]);
+          const char* where = std::abs(off.x) > std::abs(off.y) ? (off.x > 0 ? "right" : "left")
+                                                                : (off.y > 0 ? "bottom" : "top");
+          r.reached = 3;
+          r.record.fate = Rejection{
+              Stage::border_check, "quiet_zone_max_dark_rate", quiet.dark_share, p.quiet_zone_max_dark_rate,
+              fmt_msg("%.0f %% of the quiet zone dark > quiet_zone_max_dark_rate %.0f %%", 100 * quiet.dark_share,
+                      100 * p.quiet_zone_max_dark_rate) +
+                  " along its " + where + " side: part of a larger dark shape"};
         } else {
           r.reached = 4;
           const uint64_t code = stages::inner_code(bits);

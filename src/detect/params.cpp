@@ -83,6 +83,8 @@ const ParamInfo kTable[] = {
              "A frontal view whose grey levels vary less than this is uniform (all black or white), not a marker."),
     ARWB_DBL(border_max_error_rate, "border_check", "rate", 0.35, 0, 1,
              "Share of border cells allowed to be white. Higher tolerates occlusion and glare, and more clutter."),
+    ARWB_DBL(quiet_zone_max_dark_rate, "border_check", "rate", 0.6, 0, 1,
+             "Share of a side's quiet zone (half a cell outside the border) allowed to be dark. 1 turns it off."),
     ARWB_DBL(error_correction_rate, "identification", "rate", 0.6, 0, 1,
              "Share of the dictionary's correction budget used: bits that may be wrong = rate x max correction."),
     ARWB_INT(tracking_smoothing, kTrackingStage, "", 1, 0, 1,

@@ -46,6 +46,7 @@ struct DetectorParams {
   double otsu_min_stddev = 0;
   // border_check
   double border_max_error_rate = 0;
+  double quiet_zone_max_dark_rate = 0;
   // identification
   double error_correction_rate = 0;
   // tracking (after detection: the tracker's One Euro filter on each track's corners, track/tracker.hpp)

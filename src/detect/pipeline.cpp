@@ -517,6 +517,50 @@ cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, con
   return warp;
 }
 
+QuietZone quiet_zone(const cv::Mat& grey, const Quad& quad, int cells, const OtsuResult& otsu) {
+  // The step from the border up to its quiet zone, pair by pair: a shadow or gradient across the marker darkens
+  // both alike. A step under a quarter of the view's black-to-white gap (half of black to the threshold) is dark.
+  double black = 0, count = 0;
+  for (int v = 0; v < otsu.threshold; ++v) {
+    black += double(v) * otsu.histogram[size_t(v)];
+    count += otsu.histogram[size_t(v)];
+  }
+  const double min_step = count > 0 ? 0.25 * (otsu.threshold - black / count) : 0;
+  const float s = static_cast<float>(cells);
+  const cv::Point2f square[4] = {{0, 0}, {s, 0}, {s, s}, {0, s}};
+  const cv::Matx33d H = cv::getPerspectiveTransform(square, quad.data());
+  auto at = [&](double u, double v, double* value) {
+    const cv::Vec3d px = H * cv::Vec3d(u, v, 1);
+    const double x = px[0] / px[2], y = px[1] / px[2];
+    if (!(x >= 0 && y >= 0 && x <= grey.cols - 1 && y <= grey.rows - 1)) return false;
+    *value = sample_bilinear(grey, x, y);
+    return true;
+  };
+  QuietZone worst;
+  for (int side = 0; side < 4; ++side) {
+    int dark = 0, seen = 0;
+    for (int k = 0; k < cells; ++k) {
+      const double t = k + 0.5;
+      // (u, v) at depth d outside the side (negative: inside); side k runs from corner k to corner k + 1.
+      auto cell = [&](double d, double* value) {
+        switch (side) {
+          case 0: return at(t, -d, value);
+          case 1: return at(cells + d, t, value);
+          case 2: return at(cells - t, cells + d, value);
+          default: return at(-d, cells - t, value);
+        }
+      };
+      double quiet = 0, border = 0;
+      if (!cell(0.5, &quiet) || !cell(-0.5, &border)) continue;
+      ++seen;
+      if (quiet - border < min_step) ++dark;
+    }
+    const double share = seen > 0 ? double(dark) / seen : 0;
+    if (share > worst.dark_share) worst = {share, side};
+  }
+  return worst;
+}
+
 // [SECTION] otsu
 
 OtsuResult otsu(const cv::Mat& warp) {

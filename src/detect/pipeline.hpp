@@ -96,6 +96,16 @@ cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const Detecto
 // border_check: the number of white cells in the outer ring.
 int border_errors(const cv::Mat& bits);
 
+// border_check: a marker's black border has a light quiet zone around it. Along each side, one pair per cell: half
+// a cell outside the border and half a cell inside it (pairs off the image do not count). A pair is dark when the
+// quiet zone is less than a quarter of the frontal view's black-to-white gap lighter than the border. The darkest
+// side's share of dark pairs, and that side (k: from corner k to corner k + 1).
+struct QuietZone {
+  double dark_share = 0;
+  int side = 0;
+};
+QuietZone quiet_zone(const cv::Mat& grey, const Quad& quad, int cells, const OtsuResult& otsu);
+
 // identification: the inner bits as a packed code (see Dictionary).
 uint64_t inner_code(const cv::Mat& bits);
 // The largest Hamming distance accepted for a dictionary under these parameters.

@@ -135,6 +135,37 @@ TEST(Detector, ThinOutlinedFrameIsNoMarker) {
   EXPECT_TRUE(has_1023(Detector({d}, loose).detect(item.image)));
 }
 
+TEST(Detector, APieceOfALargerDarkShapeIsNoMarker) {
+  // Image 67 of the bench's ARUCO_ORIGINAL set (seed 1): inside a decoy's black pattern, a white hole and the black
+  // around it make a quad that reads as id 1023 with no bit wrong. To its right the decoy stays black: no quiet zone.
+  const Dictionary d = make_aruco_original();
+  const SetItem item = make_set_item({d}, mixed_sizes(), 1, 67);
+  auto ids = [](const std::vector<Marker>& ms) {
+    std::vector<int> out;
+    for (const auto& m : ms) out.push_back(m.id);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  std::vector<int> truth;
+  for (const auto& t : item.truth) truth.push_back(t.id);
+  std::sort(truth.begin(), truth.end());
+  ASSERT_EQ(std::count(truth.begin(), truth.end(), 1023), 0);
+  EXPECT_EQ(ids(Detector({d}).detect(item.image)), truth);
+  DetectorParams off;
+  off.quiet_zone_max_dark_rate = 1;
+  const std::vector<int> without = ids(Detector({d}, off).detect(item.image));
+  EXPECT_EQ(std::count(without.begin(), without.end(), 1023), 1);
+  // Its fate names the parameter and the side.
+  FrameTrace t;
+  Detector({d}).detect(item.image, &t, TraceLevel::full);
+  const auto it = std::find_if(t.candidates.begin(), t.candidates.end(), [](const CandidateRecord& c) {
+    return c.fate.param == "quiet_zone_max_dark_rate";
+  });
+  ASSERT_NE(it, t.candidates.end());
+  EXPECT_EQ(it->fate.stage, Stage::border_check);
+  EXPECT_NE(it->fate.message.find("its right side"), std::string::npos) << it->fate.message;
+}
+
 TEST(Detector, MoreBitErrorsThanTheBudgetGiveNoMarker) {
   // 4X4_50 corrects 1 bit at the default rate (max 1 x 0.6 rounds down to 0 ... so use rate 1).
   const Dictionary d = *dictionary_by_name("4X4_50");

@@ -153,6 +153,28 @@ TEST(Stages, PerspectiveOtsuBitsBorderAndIdentification) {
   EXPECT_EQ(stages::correction_budget(d, p), 0);
 }
 
+TEST(Stages, QuietZoneIsLightAroundAMarkerAndDarkWhereAShapeGoesOn) {
+  const Dictionary d = make_aruco_original();
+  cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
+  const Quad q{cv::Point2f(40, 50), {145, 50}, {145, 155}, {40, 155}};
+  DetectorParams p;
+  const auto o = stages::otsu(stages::remove_perspective(img, q, 7, p));
+  EXPECT_EQ(stages::quiet_zone(img, q, 7, o).dark_share, 0.0);
+  // The same under a shadow across it: border and quiet zone darken alike, the step between them stays.
+  cv::Mat shaded = img.clone();
+  shaded(cv::Rect(0, 100, 200, 100)) *= 0.5;
+  EXPECT_EQ(stages::quiet_zone(shaded, q, 7, o).dark_share, 0.0);
+  // A black bar from the left side outwards: that side's quiet zone is dark, along part of it.
+  cv::rectangle(img, cv::Rect(0, 50, 40, 60), cv::Scalar(0), -1);
+  const stages::QuietZone left = stages::quiet_zone(img, q, 7, o);
+  EXPECT_EQ(left.side, 3);
+  EXPECT_NEAR(left.dark_share, 4.0 / 7, 1e-9);  // 60 of 105 px: the four cells from the top
+  // Off the image, nothing counts: a marker at the frame's edge keeps its quiet zone.
+  const cv::Mat edge = canvas_with_marker(d, 321, 0, 50, 105);
+  const Quad at_edge{cv::Point2f(0, 50), {105, 50}, {105, 155}, {0, 155}};
+  EXPECT_EQ(stages::quiet_zone(edge, at_edge, 7, o).dark_share, 0.0);
+}
+
 TEST(Stages, CornerRefinementReachesTheTrueCorner) {
   const Dictionary d = make_aruco_original();
   const Quad truth{cv::Point2f(40.3f, 50.6f), {146.1f, 48.2f}, {150.7f, 151.9f}, {37.5f, 155.4f}};
