@@ -71,9 +71,20 @@ bool section(const char* title, const char* hint = nullptr) {
   return open;
 }
 
-// What a candidate that stopped early lacks, and why.
-const char* missing_after(Stage s) {
-  switch (s) {
+// What a candidate that stopped early lacks, and why: by the stage, and where one stage stops candidates for more
+// than one reason, by the parameter that decided.
+const char* missing_after(const Rejection& f) {
+  if (f.param == "region_margin_rate")
+    return "Stopped at size_filter: its outline runs into the edge of its search region, so it is not whole here. No "
+           "quad, no frontal view and no bits; a marker there is searched whole on the next full search.";
+  if (f.param == "coarse_factor")
+    return "Stopped at quad_fit: the coarse search found the same quad as the first search, which is read instead. "
+           "No frontal view and no bits for this one.";
+  if (f.param == "quiet_zone_max_dark_rate")
+    return "Stopped at border_check: the bits were read and the frame is black, but outside it, where a printed "
+           "marker is light, one side is as dark as the frame: a piece of some larger dark shape. The inner bits "
+           "were not looked up in the dictionary.";
+  switch (f.stage) {
     case Stage::size_filter:
       return "Stopped at size_filter: its border is too short or too long for a marker, so there is no quad, no "
              "frontal view, no histogram and no bits.";
@@ -139,7 +150,7 @@ void fate_section(const FrameTrace& t, const CandidateRecord& c) {
     if (!f.param.empty()) ImGui::TextUnformatted(number(f.limit).c_str());
     ImGui::EndTable();
   }
-  if (const char* missing = missing_after(f.stage)) ImGui::TextWrapped("%s", missing);
+  if (const char* missing = missing_after(f)) ImGui::TextWrapped("%s", missing);
 }
 
 // [SECTION] region: contour and quad over the frame
