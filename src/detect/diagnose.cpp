@@ -95,6 +95,11 @@ std::string suggestion(const Rejection& r) {
   if (p == "min_marker_distance_rate")
     return "The outer quad of the same border is read instead; lowering min_marker_distance_rate keeps both.";
   if (p == "min_perimeter_px") return "Lowering min_perimeter_px below " + num(r.value, 0) + " would let it through.";
+  if (p == "coarse_factor")
+    return "The first search's quad of the same outline is read instead; coarse_factor 0 turns the coarse search off.";
+  if (p == "region_margin_rate")
+    return "The next full search (within full_search_interval frames) looks here whole; raising region_margin_rate "
+           "widens the regions.";
   if (r.value < r.limit) return "Lowering " + p + " would let it through.";
   if (r.value > r.limit) return "Raising " + p + " would let it through.";
   return "";

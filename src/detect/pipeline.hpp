@@ -98,7 +98,7 @@ int border_errors(const cv::Mat& bits);
 
 // border_check: a marker's black border has a light quiet zone around it. Along each side, one pair per cell: half
 // a cell outside the border and half a cell inside it (pairs off the image do not count). A pair is dark when the
-// quiet zone is less than a quarter of the frontal view's black-to-white gap lighter than the border. The darkest
+// quiet zone is less than an eighth of the frontal view's black-to-white gap lighter than the border. The darkest
 // side's share of dark pairs, and that side (k: from corner k to corner k + 1).
 struct QuietZone {
   double dark_share = 0;

@@ -265,6 +265,16 @@ TEST(Params, OldPresetsWithResizeKeysLoadWithANote) {
         << name;
     EXPECT_TRUE(notes.empty()) << name;
   }
+  // default.yml undoes any tuning: every parameter of the table, at its default.
+  DetectorParams tuned;
+  for (const ParamInfo& info : param_table()) {
+    const double other = info.default_value == info.max_value ? info.min_value : info.max_value;
+    ASSERT_TRUE(set_param(tuned, info, other)) << info.name;
+  }
+  ASSERT_TRUE(load_params_yaml(std::string(ARWB_SOURCE_DIR) + "/assets/presets/default.yml", tuned, &errors));
+  for (const ParamInfo& info : param_table())
+    EXPECT_EQ(get_param(tuned, info), info.default_value) << info.name << " is not in default.yml";
+  EXPECT_EQ(tuned, DetectorParams{});
   // Still an unknown key elsewhere is an error, and nothing changes.
   test::write_file(dir.str("typo.yml"), "resize_width: 0\nthreshold_ofset: 3\n");
   const DetectorParams before = p;
@@ -283,10 +293,10 @@ TEST(Stages, DecimationShrinksTheSearchAndContoursComeBackInGreyPixels) {
   EXPECT_EQ(small.at<uint8_t>(0, 0), 0);        // the 2x2 block's mean
   EXPECT_EQ(small.at<uint8_t>(0, 1), 200);
   EXPECT_EQ(stages::decimate(grey, 1).data, grey.data);
-  // Any other factor: each pixel the rounded mean of its block; the leftover columns and rows are dropped.
+  // Every factor: each pixel the rounded mean of its block; the leftover columns and rows are dropped.
   cv::Mat noise(200, 301, CV_8UC1);
   cv::randu(noise, 0, 256);
-  for (int f : {3, 4, 5}) {
+  for (int f : {2, 3, 4, 5, 6}) {
     const cv::Mat ours = stages::decimate(noise, f);
     cv::Mat theirs;
     // INTER_AREA on the whole blocks only: past them it would spread the leftover columns over every block.
