@@ -166,6 +166,45 @@ TEST(Detector, APieceOfALargerDarkShapeIsNoMarker) {
   EXPECT_NE(it->fate.message.find("its right side"), std::string::npos) << it->fate.message;
 }
 
+TEST(Detector, TheCoarseSearchClosesALargeGreyOnGreyMarkerAndReadsNoQuadTwice) {
+  // Image 0 of the bench's hard 36h11 set (seed 1): a large marker printed grey on grey, a shadow's edge across it.
+  // On the first search the shadow's edge joins its outline; on the image shrunk coarse_factor times it closes.
+  const Dictionary d = *dictionary_by_name("APRILTAG_36h11");
+  const SetItem item = make_set_item({d}, hard_sizes(), 1, 0, SetKind::hard);
+  ASSERT_EQ(item.condition, "low_contrast");
+  DetectorParams off;
+  off.coarse_factor = 0;
+  EXPECT_TRUE(Detector({d}, off).detect(item.image).empty());
+  FrameTrace t;
+  const std::vector<Marker> found = Detector({d}).detect(item.image, &t, TraceLevel::full);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_TRUE(std::any_of(item.truth.begin(), item.truth.end(), [&](const auto& m) { return m.id == found[0].id; }));
+  // The stage: its picture is the coarse binary image; its contours join the first search's regions.
+  const StageRecord* coarse = t.stage(Stage::coarse_search);
+  const StageRecord* contours = t.stage(Stage::contours);
+  ASSERT_TRUE(coarse && contours);
+  EXPECT_EQ(coarse->in, contours->out);
+  EXPECT_GT(coarse->out, coarse->in);
+  EXPECT_EQ(coarse->image.size(), cv::Size(item.image.cols / 3, item.image.rows / 3));
+  // Whatever both searches fitted is read once: the coarse twin stops at quad_fit naming the first search's
+  // contour, and that contour's candidate has its quad.
+  int twins = 0;
+  for (const auto& c : t.candidates) {
+    if (c.fate.param != "coarse_factor") continue;
+    ++twins;
+    EXPECT_EQ(c.fate.stage, Stage::quad_fit);
+    const size_t at = c.fate.message.find("contour ");
+    ASSERT_NE(at, std::string::npos) << c.fate.message;
+    const int twin = std::atoi(c.fate.message.c_str() + at + 8);
+    const auto first = std::find_if(t.candidates.begin(), t.candidates.end(),
+                                    [&](const CandidateRecord& o) { return o.contour == twin; });
+    ASSERT_NE(first, t.candidates.end());
+    EXPECT_TRUE(first->has_quad);
+    EXPECT_LT(first->contour, c.contour);  // the first search's contours come first
+  }
+  EXPECT_GT(twins, 0);
+}
+
 TEST(Detector, MoreBitErrorsThanTheBudgetGiveNoMarker) {
   // 4X4_50 corrects 1 bit at the default rate (max 1 x 0.6 rounds down to 0 ... so use rate 1).
   const Dictionary d = *dictionary_by_name("4X4_50");
