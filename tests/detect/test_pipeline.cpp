@@ -153,6 +153,36 @@ TEST(Stages, PerspectiveOtsuBitsBorderAndIdentification) {
   EXPECT_EQ(stages::correction_budget(d, p), 0);
 }
 
+// The warp against OpenCV's own: cv::getPerspectiveTransform and cv::warpPerspective (bilinear, pixel centres, the
+// edge replicated) on a tilted quad inside the image, one that crosses the image's edge, and a bowtie that corner
+// refinement could bend a quad into. Within a grey level everywhere.
+TEST(Stages, PerspectiveRemovalMatchesOpenCVsWarpInsideAcrossTheEdgeAndOnABowtie) {
+  cv::Mat img(120, 160, CV_8UC1);   // smooth, so that OpenCV's 1/32 pixel steps cost under a grey level
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x)
+      img.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(128 + 100 * std::sin(x / 9.0) * std::cos(y / 7.0));
+  DetectorParams p;
+  const Quad quads[] = {Quad{cv::Point2f(30.3f, 20.7f), {101.2f, 31.9f}, {92.8f, 99.4f}, {25.1f, 84.6f}},
+                        Quad{cv::Point2f(-12.5f, 60.2f), {70.1f, 55.4f}, {75.3f, 131.8f}, {-8.4f, 125.0f}},
+                        Quad{cv::Point2f(20, 20), {90, 90}, {90, 20}, {20, 90}}};
+  for (const Quad& q : quads) {
+    const cv::Mat warp = stages::remove_perspective(img, q, 7, p);
+    const float s = float(warp.cols);
+    const cv::Point2f square[4] = {{0, 0}, {s, 0}, {s, s}, {0, s}};
+    // Ours samples (u + 0.5, v + 0.5) of the square; warpPerspective samples destination pixel centres at integers.
+    const cv::Matx33d H = cv::Matx33d(cv::getPerspectiveTransform(square, q.data())) *
+                          cv::Matx33d(1, 0, 0.5, 0, 1, 0.5, 0, 0, 1);
+    cv::Mat ref;
+    cv::warpPerspective(img, ref, cv::Mat(H), warp.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                        cv::BORDER_REPLICATE);
+    cv::Mat diff;
+    cv::absdiff(warp, ref, diff);
+    double worst = 0;
+    cv::minMaxLoc(diff, nullptr, &worst);
+    EXPECT_LE(worst, 1) << "quad " << q[0] << " " << q[1] << " " << q[2] << " " << q[3];
+  }
+}
+
 TEST(Stages, QuietZoneIsLightAroundAMarkerAndDarkWhereAShapeGoesOn) {
   const Dictionary d = make_aruco_original();
   cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
