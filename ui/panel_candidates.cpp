@@ -295,6 +295,17 @@ float widest_param_name() {
   return w;
 }
 
+// The widest stage name, for the fate column, for the same reason: a frame whose rows bring a longer fate into
+// view (fine_search after quad_fit) would otherwise cut it for a frame.
+float widest_stage_name() {
+  float w = 0;
+  for (int i = 0; i <= kStageCount; ++i) {
+    const std::string_view name = stage_name(Stage(i));
+    w = std::max(w, ImGui::CalcTextSize(name.data(), name.data() + name.size()).x);
+  }
+  return w;
+}
+
 void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
   const ImGuiTableFlags flags = ImGuiTableFlags_Sortable | ImGuiTableFlags_SortMulti | ImGuiTableFlags_Resizable |
                                 ImGuiTableFlags_Reorderable | ImGuiTableFlags_Hideable | ImGuiTableFlags_RowBg |
@@ -314,7 +325,7 @@ void table(Context& ctx, LedgerState& st, const FrameTrace& t) {
   ImGui::TableSetupColumn("bbox", ImGuiTableColumnFlags_PreferSortDescending | ImGuiTableColumnFlags_WidthFixed,
                           ImGui::CalcTextSize(widest_box).x, col_bbox);
   ImGui::TableSetupColumn("perimeter", ImGuiTableColumnFlags_PreferSortDescending, 0, col_perimeter);
-  ImGui::TableSetupColumn("fate", 0, 0, col_fate);
+  ImGui::TableSetupColumn("fate", ImGuiTableColumnFlags_WidthFixed, widest_stage_name(), col_fate);
   ImGui::TableSetupColumn("ID", 0, 0, col_id);
   ImGui::TableSetupColumn("parameter", ImGuiTableColumnFlags_WidthFixed, widest_param_name(), col_param);
   ImGui::TableSetupColumn("value vs limit", 0, 0, col_value);

@@ -109,6 +109,9 @@ const char* missing_after(const Rejection& f) {
       return "Stopped at corner_refinement: its corners could not be refined (the stage drops nothing today).";
     case Stage::duplicates:
       return "Identified, then dropped at duplicates: another candidate gave the same marker.";
+    case Stage::fine_search:
+      return "Dropped by fine_search: traced at full resolution around a small shape of the decimated search, its "
+             "outline did not make a quad of its own (the reason above), so there is no frontal view and no bits.";
     default: return nullptr;
   }
 }

@@ -17,6 +17,7 @@ ImU32 stage_colour(Stage s, float alpha) {
       {0.6f, 0.6f, 0.6f, 1}, {0.6f, 0.7f, 0.6f, 1}, {0.55f, 0.55f, 0.75f, 1}, {0.5f, 0.5f, 0.9f, 1}, {0.3f, 0.6f, 1.0f, 1}, {0.35f, 0.7f, 0.95f, 1}, {0.2f, 0.8f, 1.0f, 1},
       {0.2f, 0.9f, 0.8f, 1}, {0.6f, 0.9f, 0.3f, 1}, {0.9f, 0.9f, 0.2f, 1}, {1.0f, 0.75f, 0.2f, 1},
       {1.0f, 0.6f, 0.2f, 1}, {1.0f, 0.45f, 0.2f, 1}, {1.0f, 0.25f, 0.25f, 1}, {1.0f, 0.3f, 0.7f, 1},
+      {0.3f, 0.75f, 0.9f, 1},  // fine_search: a search again, the search's hue
       {0.8f, 0.4f, 1.0f, 1},
   };
   const int i = static_cast<int>(s);

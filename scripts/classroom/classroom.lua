@@ -5,8 +5,9 @@
 dictionary "ARUCO_ORIGINAL"
 
 local stages = {
-  "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter", "quad_fit", "nested_filter",
-  "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check", "identification", "duplicates",
+  "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter",
+  "quad_fit", "nested_filter", "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check",
+  "identification", "fine_search", "duplicates",
 }
 
 for i, name in ipairs(stages) do

@@ -2,7 +2,9 @@
 // Step 1: find quads (acquisition .. nested_filter), whole-image work on the calling thread. The search
 // (adaptive_threshold .. quad_fit) runs on the decimated image, and coarse_search once more on a coarser one; their
 // contours and quads are mapped back at once, so from contours on everything is in the grey image's pixels.
-// Step 2: read each quad (corner_refinement .. identification), per candidate, spread over threads.
+// Step 2: read each quad (corner_refinement .. identification), per candidate, spread over threads. On a decimated
+// search, fine_search then searches the small shapes that did not close or read again at full resolution, and its
+// quads are read the same way.
 // Step 3: resolve duplicates and map corners back to the input image.
 // Each stage's time and counts are its own: the trace lists the stages in the order they run here.
 #include "detect/detector.hpp"
@@ -237,20 +239,35 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
                              " px: border at most " + std::to_string(border) + " px < min_perimeter_px"};
     }
   }
-  for (int i = 0; i < int(contours.size()); ++i) {
+  // fine_search takes the decimated search's small shapes that size_filter finds too short or quad_fit cannot
+  // close: their boxes, in the grey image's pixels (a contour's points are block centres: its box covers whole
+  // blocks).
+  const bool fine_on = factor > 1 && p.fine_max_side_px > 0;
+  std::vector<cv::Rect> fine_shapes;
+  auto fine_shape = [&](int i) {
+    if (!fine_on || contour_factor[size_t(i)] != factor) return;
+    const cv::Rect b = cv::boundingRect(contours[size_t(i)]);
+    const int h = (factor - 1) / 2;
+    fine_shapes.emplace_back(b.x - h, b.y - h, b.width + factor - 1, b.height + factor - 1);
+  };
+  // size_filter, for contour i: true when it goes on to quad_fit.
+  auto size_ok = [&](int i) {
     if (cut[size_t(i)]) {
       if (full)
         add_record(i, Rejection{Stage::size_filter, "region_margin_rate", 0, p.region_margin_rate,
                                 "cut by the edge of its search region (region_margin_rate): a marker there is "
                                 "searched whole on the next full search"});
-      continue;
+      return false;
     }
     if (auto why = stages::size_filter(contours[size_t(i)], work_size, p, full, contour_factor[size_t(i)])) {
+      if (why->param == "min_perimeter_px") fine_shape(i);
       if (full) add_record(i, std::move(why));
-      continue;
+      return false;
     }
-    size_passed.push_back(i);
-  }
+    return true;
+  };
+  for (int i = 0; i < int(contours.size()); ++i)
+    if (size_ok(i)) size_passed.push_back(i);
   close_stage(Stage::size_filter, regions, int(size_passed.size()));
 
   // A quad of the coarse search that the first search found too (the same corners, to two coarse pixels) is not
@@ -270,16 +287,18 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     }
     return -1;
   };
-  for (int i : size_passed) {
+  // quad_fit, for contour i.
+  auto fit = [&](int i) {
     Quad q;
     auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q, contour_factor[size_t(i)]);
-    if (!why && contour_factor[size_t(i)] != factor)
+    if (why) fine_shape(i);
+    if (!why && contour_factor[size_t(i)] == p.coarse_factor && p.coarse_factor != factor)
       if (const int twin = found_before(q, contour_factor[size_t(i)]); twin >= 0)
         why = Rejection{Stage::quad_fit, "coarse_factor", 0, double(p.coarse_factor),
                         "the same quad as contour " + std::to_string(twin) + ", found by the first search"};
     if (why) {
       if (timed) add_record(i, std::move(why));
-      continue;
+      return;
     }
     const int rec = timed ? add_record(i, std::nullopt) : -1;
     if (rec >= 0) {
@@ -287,25 +306,35 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       t.candidates[size_t(rec)].quad = q;
     }
     quads.push_back({rec, i, q});
-  }
+  };
+  for (int i : size_passed) fit(i);
   close_stage(Stage::quad_fit, int(size_passed.size()), int(quads.size()));
 
-  std::vector<Quad> quad_list;
-  quad_list.reserve(quads.size());
-  for (const auto& q : quads) quad_list.push_back(q.quad);
-  const std::vector<int> replaced_by = stages::nested_filter(quad_list, p);
-  std::vector<int> live;
-  for (int i = 0; i < int(quads.size()); ++i) {
-    if (replaced_by[size_t(i)] < 0) {
-      live.push_back(i);
-    } else if (quads[size_t(i)].record >= 0) {
-      const int outer = replaced_by[size_t(i)];
-      t.candidates[size_t(quads[size_t(i)].record)].fate =
-          Rejection{Stage::nested_filter, "min_marker_distance_rate", 0, p.min_marker_distance_rate,
-                    "same border as the outer quad of contour " + std::to_string(quads[size_t(outer)].contour) +
-                        " (closer than min_marker_distance_rate)"};
+  // nested_filter over quads[from..]: the quads that stay (live), and per quad the one that replaced it or -1.
+  std::vector<int> replaced_by;
+  auto nest = [&](size_t from) {
+    std::vector<Quad> quad_list;
+    for (size_t i = from; i < quads.size(); ++i) quad_list.push_back(quads[i].quad);
+    const std::vector<int> by = stages::nested_filter(quad_list, p);
+    std::vector<int> live;
+    replaced_by.resize(quads.size(), -1);
+    for (size_t j = 0; j < by.size(); ++j) {
+      const size_t i = from + j;
+      if (by[j] < 0) {
+        live.push_back(int(i));
+        continue;
+      }
+      const int outer = int(from) + by[j];
+      replaced_by[i] = outer;
+      if (quads[i].record >= 0)
+        t.candidates[size_t(quads[i].record)].fate =
+            Rejection{Stage::nested_filter, "min_marker_distance_rate", 0, p.min_marker_distance_rate,
+                      "same border as the outer quad of contour " + std::to_string(quads[size_t(outer)].contour) +
+                          " (closer than min_marker_distance_rate)"};
     }
-  }
+    return live;
+  };
+  const std::vector<int> live = nest(0);
   close_stage(Stage::nested_filter, int(quads.size()), int(live.size()));
 
   // Step 2: read each quad, once per distinct marker size.
@@ -434,13 +463,61 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     worker();
     for (auto& th : pool) th.join();
   };
-  read_all(live);
-  std::vector<int> retry;
-  for (int i = 0; i < int(quads.size()); ++i)
-    if (replaced_by[size_t(i)] >= 0 && readings[size_t(replaced_by[size_t(i)])].reached != 5) retry.push_back(i);
-  read_all(retry);
-  std::vector<int> read = live;
-  read.insert(read.end(), retry.begin(), retry.end());
+  // The quads of `live` and then those of quads[from..] merged into one of them that is no marker.
+  std::vector<int> read;
+  auto read_live = [&](const std::vector<int>& kept_quads, size_t from) {
+    read_all(kept_quads);
+    std::vector<int> retry;
+    for (size_t i = from; i < quads.size(); ++i)
+      if (replaced_by[i] >= 0 && readings[size_t(replaced_by[i])].reached != 5) retry.push_back(int(i));
+    read_all(retry);
+    read.insert(read.end(), kept_quads.begin(), kept_quads.end());
+    read.insert(read.end(), retry.begin(), retry.end());
+  };
+  read_live(live, 0);
+
+  // fine_search: the decimated search's small shapes that quad_fit could not close or that did not read, searched
+  // again at full resolution, where a small marker's border and cells are sharp. The contours traced there (its
+  // `in`) go through size_filter, quad_fit and nested_filter, and the quads left (its `out`) are read as the others:
+  // the per-candidate stages count them too. A contour it drops has its fate here, with the parameter that decided.
+  // Its own time is the search, fit and filter.
+  StageRecord fine_record{Stage::fine_search, 0, 0, 0, {}};
+  if (fine_on) {
+    const auto fine_start = Clock::now();
+    for (int k : read)
+      if (readings[size_t(k)].reached != 5 && contour_factor[size_t(quads[size_t(k)].contour)] == factor) {
+        const Quad& q = quads[size_t(k)].quad;
+        fine_shapes.push_back(cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end())));
+      }
+    const std::vector<cv::Rect> fine = stages::plan_fine_search(fine_shapes, grey.size(), p);
+    if (full && !fine.empty()) fine_record.image = cv::Mat::zeros(grey.size(), CV_8UC1);
+    const size_t quads_before = quads.size(), records_before = t.candidates.size();
+    for (const cv::Rect& r : fine) {
+      const cv::Mat binary = stages::adaptive_threshold(grey(r), p);
+      std::vector<std::vector<cv::Point>> found = stages::find_contours(binary, p.min_perimeter_px);
+      fine_record.in += int(found.size());
+      for (auto& c : found) {
+        for (cv::Point& pt : c) pt += r.tl();
+        cut.push_back(stages::cut_by_region(cv::boundingRect(c), r, grey.size(), 1));
+        contours.push_back(std::move(c));
+        contour_factor.push_back(1);
+        const int i = int(contours.size()) - 1;
+        if (size_ok(i)) fit(i);
+      }
+      if (full) binary.copyTo(fine_record.image(r));
+    }
+    const std::vector<int> fine_live = nest(quads_before);
+    for (size_t k = records_before; k < t.candidates.size(); ++k) {
+      Rejection& f = t.candidates[k].fate;
+      if (f.stage == Stage::accepted) continue;   // a quad, read next
+      f.stage = Stage::fine_search;
+      if (f.param == "region_margin_rate") f.message = "cut by the edge of its region of the fine search";
+    }
+    fine_record.out = int(fine_live.size());
+    fine_record.ms = ms_since(fine_start);
+    readings.resize(quads.size());
+    read_live(fine_live, quads_before);
+  }
 
   if (timed) {
     // Counts: how many readings entered each per-candidate stage and how many left it (the next one's entry).
@@ -460,6 +537,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     for (int s = 0; s < kCandidateStageCount; ++s)
       t.stages.push_back(StageRecord{kCandidateStages[s], ms[size_t(s)], entered[size_t(s)],
                                      entered[size_t(s + 1)], {}});
+    t.stages.push_back(std::move(fine_record));
     stage_start = Clock::now();
   }
 

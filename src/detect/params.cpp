@@ -87,6 +87,11 @@ const ParamInfo kTable[] = {
              "Share of a side's quiet zone (half a cell outside the border) allowed to be dark. 1 turns it off."),
     ARWB_DBL(error_correction_rate, "identification", "rate", 0.6, 0, 1,
              "Share of the dictionary's correction budget used: bits that may be wrong = rate x max correction."),
+    ARWB_DBL(fine_max_side_px, "fine_search", "px", 64, 0, 400,
+             "A decimated search's shapes up to this size (the longer side of their box) that it could not close "
+             "into a quad or read are searched again at full resolution, where a small marker's border and cells "
+             "are sharp. Higher rescues larger blurred markers, costs time; 0 turns it off. It runs only when the "
+             "search is decimated."),
     ARWB_INT(tracking_smoothing, kTrackingStage, "", 1, 0, 1,
              "1 smooths each tracked marker's corners over time (One Euro filter); 0 shows them as detected."),
     ARWB_DBL(tracking_min_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,

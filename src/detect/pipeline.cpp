@@ -53,6 +53,38 @@ cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scal
 
 // [SECTION] search_regions
 
+void merge_overlapping(std::vector<cv::Rect>& rects) {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < rects.size() && !merged; ++i)
+      for (size_t j = i + 1; j < rects.size() && !merged; ++j)
+        if ((rects[i] & rects[j]).area() > 0) {
+          rects[i] |= rects[j];
+          rects.erase(rects.begin() + long(j));
+          merged = true;
+        }
+  }
+  std::sort(rects.begin(), rects.end(),
+            [](const cv::Rect& a, const cv::Rect& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
+}
+std::vector<cv::Rect> plan_fine_search(const std::vector<cv::Rect>& shapes, cv::Size grey, const DetectorParams& p) {
+  std::vector<cv::Rect> regions;
+  if (p.fine_max_side_px <= 0) return regions;
+  const cv::Rect frame(0, 0, grey.width, grey.height);
+  // Half a side of margin: a decimated shape may hold only part of a blurred marker. And at least half the
+  // threshold's window and two pixels, so that the marker's quiet zone is thresholded against its surroundings.
+  const int min_margin = p.threshold_window_px / 2 + 2;
+  for (const cv::Rect& b : shapes) {
+    const int longer = std::max(b.width, b.height), shorter = std::min(b.width, b.height);
+    if (longer > p.fine_max_side_px || 3 * shorter < longer || 2.0 * (b.width + b.height) < 0.75 * p.min_perimeter_px)
+      continue;
+    const int m = std::max(longer / 2, min_margin);
+    const cv::Rect r = cv::Rect(b.x - m, b.y - m, b.width + 2 * m, b.height + 2 * m) & frame;
+    if (r.width >= 32 && r.height >= 32) regions.push_back(r);   // less is in the frame's corner: too little to search
+  }
+  merge_overlapping(regions);
+  return regions;
+}
 SearchPlan plan_search(cv::Size grey, const std::vector<Quad>& known, const DetectorParams& p) {
   SearchPlan plan;
   const cv::Rect frame(0, 0, grey.width, grey.height);
@@ -82,17 +114,7 @@ SearchPlan plan_search(cv::Size grey, const std::vector<Quad>& known, const Dete
     y1 = (y1 + f - 1) / f * f;
     r = cv::Rect(cv::Point(x0, y0), cv::Point(x1, y1)) & frame;
   }
-  // Overlapping regions become their bounding box, until none overlap: no contour is found twice.
-  for (bool merged = true; merged;) {
-    merged = false;
-    for (size_t i = 0; i < regions.size() && !merged; ++i)
-      for (size_t j = i + 1; j < regions.size() && !merged; ++j)
-        if ((regions[i] & regions[j]).area() > 0) {
-          regions[i] |= regions[j];
-          regions.erase(regions.begin() + long(j));
-          merged = true;
-        }
-  }
+  merge_overlapping(regions);   // no contour is found twice
   double area = 0;
   for (const cv::Rect& r : regions) area += r.area();
   plan.whole = false;
@@ -100,8 +122,6 @@ SearchPlan plan_search(cv::Size grey, const std::vector<Quad>& known, const Dete
   if (area > 0.7 * frame.area()) {
     plan.regions = {frame};   // most of the frame: one search over it costs less than several
   } else {
-    std::sort(regions.begin(), regions.end(),
-              [](const cv::Rect& a, const cv::Rect& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
     plan.regions = std::move(regions);
   }
   return plan;

@@ -34,6 +34,9 @@ SearchPlan plan_search(cv::Size grey, const std::vector<Quad>& known, const Dete
 // A contour found in `region` that reaches the region's edge where it is not the image's: its shape is cut there.
 bool cut_by_region(const cv::Rect& contour_box, const cv::Rect& region, cv::Size grey, int factor);
 
+// Overlapping rectangles become their bounding box, until none overlap (sorted top to bottom, left to right).
+void merge_overlapping(std::vector<cv::Rect>& rects);
+
 // decimation: the search image, the grey image shrunk `factor` times (each pixel the mean of a factor x factor
 // block); the grey image itself when factor is 1. The factor used for a frame is decimation_factor, lowered so that
 // the search image keeps at least 64 pixels a side.
@@ -75,6 +78,12 @@ std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::
 // quad_fit: a convex quad, clockwise on screen, or the rejection.
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
                                   Quad* quad, int factor = 1);
+
+// fine_search: where a decimated search is searched again at full resolution. `shapes`: the boxes (grey image's
+// pixels) of its contours that size_filter found too short or quad_fit could not close. Those at most
+// fine_max_side_px on their longer side and at least a third as wide as long are searched again, with a margin of
+// their side and at least the threshold's window each way; overlapping regions are merged.
+std::vector<cv::Rect> plan_fine_search(const std::vector<cv::Rect>& shapes, cv::Size grey, const DetectorParams& p);
 
 // nested_filter: for each quad, -1 to keep it or the index of the quad that replaces it (same border, outer kept).
 std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p);

@@ -5,9 +5,9 @@
 namespace arwb {
 namespace {
 constexpr std::string_view kStageNames[] = {
-    "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter", "quad_fit", "nested_filter",
-    "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check", "identification",
-    "duplicates", "accepted"};
+    "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter",
+    "quad_fit", "nested_filter", "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check",
+    "identification", "fine_search", "duplicates", "accepted"};
 static_assert(std::size(kStageNames) == kStageCount + 1);
 }  // namespace
 

@@ -37,6 +37,7 @@ enum class Stage {
   bit_grid,             // one bit per cell
   border_check,         // the outer ring of cells must be black
   identification,       // inner bits against the dictionary in 4 rotations, within a Hamming budget
+  fine_search,          // small shapes a decimated search could not close or read, searched again at full resolution
   duplicates,           // one marker per id and place
   accepted,             // not a stage: the fate of a candidate that became a marker
 };

@@ -468,6 +468,7 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
     cv::Mat& dst = out[size_t(si)];
     switch (rec.stage) {
       case Stage::coarse_search:
+      case Stage::fine_search:
         if (rec.image.empty()) {   // off, or not coarser than the first search: nothing was searched again
           dst = copy_of(dimmed());
           break;

@@ -118,6 +118,31 @@ TEST(Stages, QuadFitAcceptsSquaresAndRejectsOtherShapes) {
   EXPECT_EQ(why->param, "min_border_distance_px");
 }
 
+TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
+  DetectorParams p;   // fine_max_side_px 64, threshold_window_px 17, min_perimeter_px 48
+  const cv::Size frame(640, 480);
+  // A 30 px shape: half a side (15 px) of margin each way.
+  std::vector<cv::Rect> r = stages::plan_fine_search({cv::Rect(100, 100, 30, 30)}, frame, p);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0], cv::Rect(85, 85, 60, 60));
+  // A 12 px shape: at least half the threshold's window and 2 px (10 px).
+  r = stages::plan_fine_search({cv::Rect(200, 200, 12, 12)}, frame, p);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0], cv::Rect(190, 190, 32, 32));
+  // Too long, too thin, too small to hold 3/4 of min_perimeter_px: not searched again.
+  EXPECT_TRUE(stages::plan_fine_search({cv::Rect(0, 0, 65, 60), cv::Rect(300, 300, 40, 10), cv::Rect(50, 50, 8, 8)},
+                                       frame, p).empty());
+  // Overlapping regions are merged, and clipped to the frame; less than 32 px a side left in a corner is dropped.
+  r = stages::plan_fine_search({cv::Rect(100, 100, 30, 30), cv::Rect(140, 100, 30, 30), cv::Rect(610, 440, 30, 30),
+                                cv::Rect(626, 466, 12, 12)},
+                               frame, p);
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0], cv::Rect(85, 85, 100, 60));
+  EXPECT_EQ(r[1], cv::Rect(595, 425, 45, 55));
+  p.fine_max_side_px = 0;
+  EXPECT_TRUE(stages::plan_fine_search({cv::Rect(100, 100, 30, 30)}, frame, p).empty()) << "off";
+}
+
 TEST(Stages, NestedFilterKeepsTheOuterOfTwoTracesOfOneBorder) {
   DetectorParams p;
   const Quad outer{cv::Point2f(10, 10), {110, 10}, {110, 110}, {10, 110}};

@@ -65,9 +65,9 @@ int fates_at(const FrameTrace& t, Stage s) {
 // the corners are refined before the warp reads the cells.
 TEST(TraceTruth, StagesAreRecordedInTheOrderTheyRun) {
   const std::vector<std::string_view> expected = {
-      "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter", "quad_fit", "nested_filter",
-      "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check", "identification",
-      "duplicates"};
+      "acquisition", "search_regions", "decimation", "adaptive_threshold", "contours", "coarse_search", "size_filter",
+      "quad_fit", "nested_filter", "corner_refinement", "perspective_removal", "otsu", "bit_grid", "border_check",
+      "identification", "fine_search", "duplicates"};
   ASSERT_EQ(expected.size(), size_t(kStageCount));
   const Dictionary d = make_aruco_original();
   FrameTrace t;
@@ -156,14 +156,17 @@ TEST(TraceTruth, AcquisitionTimeCoversTheResize) {
 
 // Counts: each stage's `in` is the previous stage's `out` (corner_refinement also re-reads inner quads of merged
 // pairs whose outer quad was no marker), and every item a stage drops is a candidate whose fate names that stage.
+// On a decimated search, fine_search's quads are read by the per-candidate stages listed before it.
 TEST(TraceTruth, CountsChainAndDropsMatchFates) {
   const Dictionary d = make_aruco_original();
   SynthOptions opt;
   opt.dictionaries = {d};
   opt.size = {640, 480};
-  const Detector det({d});
-  int checked = 0, drops_seen = 0;
-  for (int i = 0; i < 16; ++i) {
+  DetectorParams decimated;
+  decimated.decimation_factor = 2;
+  int checked = 0, drops_seen = 0, fine_drops = 0, fine_quads = 0;
+  for (int i = 0; i < 32; ++i) {
+    const Detector det({d}, i < 16 ? DetectorParams{} : decimated);
     const SynthImage s = synth_photo(opt, 3, i);
     FrameTrace t;
     const auto markers = det.detect(s.image, &t, TraceLevel::full);
@@ -174,8 +177,9 @@ TEST(TraceTruth, CountsChainAndDropsMatchFates) {
     for (int k = 1; k < kStageCount; ++k) {
       const StageRecord& prev = t.stages[size_t(k - 1)];
       const StageRecord& cur = t.stages[size_t(k)];
-      if (cur.stage == Stage::contours) continue;  // one binary image in, its regions out
-      if (cur.stage == Stage::corner_refinement) EXPECT_GE(cur.in, prev.out) << "image " << i;
+      if (cur.stage == Stage::contours || cur.stage == Stage::fine_search) continue;  // their own searches
+      if (cur.stage == Stage::duplicates) EXPECT_EQ(cur.in, rec(Stage::identification).out) << "image " << i;
+      else if (cur.stage == Stage::corner_refinement) EXPECT_GE(cur.in, prev.out) << "image " << i;
       else EXPECT_EQ(cur.in, prev.out) << "image " << i << ": " << stage_name(cur.stage);
     }
     EXPECT_EQ(rec(Stage::corner_refinement).in, rec(Stage::corner_refinement).out) << "it drops nothing";
@@ -185,14 +189,24 @@ TEST(TraceTruth, CountsChainAndDropsMatchFates) {
       EXPECT_EQ(fates_at(t, st), rec(st).in - rec(st).out) << "image " << i << ": " << stage_name(st);
       drops_seen += rec(st).in - rec(st).out;
     }
-    // Merged inner quads that were not re-read keep the nested_filter fate.
-    EXPECT_EQ(fates_at(t, Stage::nested_filter), rec(Stage::nested_filter).in - rec(Stage::corner_refinement).in);
+    // Merged inner quads that were not re-read keep the nested_filter fate; fine_search's contours that made no
+    // quad to read keep its own.
+    EXPECT_EQ(fates_at(t, Stage::nested_filter) + fates_at(t, Stage::fine_search),
+              rec(Stage::nested_filter).in + rec(Stage::fine_search).in - rec(Stage::corner_refinement).in)
+        << "image " << i;
+    if (i < 16) {
+      EXPECT_EQ(rec(Stage::fine_search).in, 0) << "it runs only on a decimated search";
+    }
+    fine_drops += fates_at(t, Stage::fine_search);
+    fine_quads += rec(Stage::fine_search).out;
     EXPECT_EQ(fates_at(t, Stage::accepted), rec(Stage::duplicates).out);
     EXPECT_EQ(int(markers.size()), rec(Stage::duplicates).out);
     ++checked;
   }
-  EXPECT_EQ(checked, 16);
+  EXPECT_EQ(checked, 32);
   EXPECT_GT(drops_seen, 100) << "the set should exercise the drops";
+  EXPECT_GT(fine_drops, 0) << "and the fine search's";
+  EXPECT_GT(fine_quads, 0);
 }
 
 // Nothing is left out: the stages' times add up to most of the detector's own total.
