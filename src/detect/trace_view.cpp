@@ -469,7 +469,7 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
     switch (rec.stage) {
       case Stage::coarse_search:
       case Stage::fine_search:
-        if (rec.image.empty()) {   // off, or not coarser than the first search: nothing was searched again
+        if (rec.image.empty()) {   // off, not coarser, not decimated or no region: none searched
           dst = copy_of(dimmed());
           break;
         }
