@@ -63,6 +63,43 @@ TEST(Stages, AdaptiveThresholdMarksDarkAgainstItsNeighbourhood) {
   EXPECT_EQ(cv::countNonZero(flat), 0);
 }
 
+// From a window of 9 up, the mean is the box mean of the 2x2 block means brought back to every pixel bilinearly
+// (as cv::resize's INTER_LINEAR, computed exactly: a pixel may differ only where the two are within a grey level
+// of each other), the blocks are the whole ones, and an odd last column or row is compared with the mean before it.
+TEST(Stages, AdaptiveThresholdIsTheBilinearBlockMeanOnAnySide) {
+  cv::Mat img(161, 213, CV_8UC1);
+  cv::randu(img, 60, 200);
+  cv::GaussianBlur(img, img, cv::Size(0, 0), 2.0);
+  cv::rectangle(img, cv::Rect(40, 30, 60, 60), cv::Scalar(30), cv::FILLED);
+  DetectorParams p;
+  const int offset = int(p.threshold_offset);
+  for (const cv::Size size : {cv::Size(212, 160), cv::Size(213, 161), cv::Size(33, 47)}) {
+    const cv::Mat grey = img(cv::Rect({0, 0}, size));
+    const cv::Mat bin = stages::adaptive_threshold(grey, p);
+    ASSERT_EQ(bin.size(), size);
+    const cv::Size whole(size.width / 2, size.height / 2);
+    cv::Mat blocks, mean, up;
+    cv::resize(grey(cv::Rect({0, 0}, whole * 2)), blocks, whole, 0, 0, cv::INTER_AREA);
+    const int half = (p.threshold_window_px / 2) | 1;
+    cv::boxFilter(blocks, mean, CV_8U, cv::Size(half, half), cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
+    cv::resize(mean, up, whole * 2, 0, 0, cv::INTER_LINEAR);
+    int differ = 0;
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        const int m = up.at<uint8_t>(std::min(y, up.rows - 1), std::min(x, up.cols - 1));
+        const int lifted = std::min(grey.at<uint8_t>(y, x) + offset, 255);
+        if (bin.at<uint8_t>(y, x) == (lifted <= m ? 255 : 0)) continue;
+        ++differ;
+        EXPECT_LE(std::abs(lifted - m), 1) << size << " at " << x << "," << y;
+      }
+    EXPECT_LT(differ, int(grey.total()) / 200) << size;
+  }
+  // An odd side adds a column and a row; the pixels before them are thresholded as without them.
+  const cv::Mat even = stages::adaptive_threshold(img(cv::Rect(0, 0, 212, 160)), p);
+  const cv::Mat odd = stages::adaptive_threshold(img, p);
+  EXPECT_EQ(cv::countNonZero(odd(cv::Rect(0, 0, 212, 160)) != even), 0);
+}
+
 TEST(Stages, ContoursTraceOuterBordersClockwiseAndSkipSpecks) {
   cv::Mat bin = cv::Mat::zeros(50, 50, CV_8UC1);
   cv::rectangle(bin, cv::Rect(10, 10, 20, 15), cv::Scalar(255), -1);  // a block
