@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -293,10 +294,21 @@ void unite(std::vector<Run>& runs, int a, int b) {
   else runs[size_t(a)].parent = b;
 }
 
-uint64_t load64(const uint8_t* p) {
-  uint64_t v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
+// Bit k set where pixel x + k of the row is on (nonzero), for the up to 64 pixels from x; none past w.
+uint64_t row_mask(const uint8_t* row, int x, int w) {
+  uint64_t m = 0;
+  int k = 0;
+#if CV_SIMD128
+  if (x + 64 <= w) {
+    // A binary image's on pixels are 255: their sign bits are the mask.
+    const cv::v_uint8x16 zero = cv::v_setzero_u8();
+    for (; k < 64; k += 16)
+      m |= uint64_t(uint32_t(cv::v_signmask(cv::v_load(row + x + k) > zero))) << k;
+    return m;
+  }
+#endif
+  for (; k < 64 && x + k < w; ++k) m |= uint64_t(row[x + k] != 0) << k;
+  return m;
 }
 
 // Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start`.
@@ -365,16 +377,30 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
   for (int y = 0; y < h; ++y) {
     const uint8_t* row = binary.ptr<uint8_t>(y);
     const int begin = int(runs.size());
-    int x = 0;
-    while (x < w) {
-      while (x + 8 <= w && load64(row + x) == 0) x += 8;
-      while (x < w && !row[x]) ++x;
-      if (x >= w) break;
-      const int x0 = x;
-      while (x + 8 <= w && load64(row + x) == ~uint64_t(0)) x += 8;
-      while (x < w && row[x]) ++x;
+    // The row 64 pixels at a time as a bit mask (one bit a pixel, set where it is on); a run begins or ends where a
+    // bit differs from the one before it, and those bits are visited by counting trailing zeros. Scanning byte by
+    // byte mispredicted a branch at every edge and was a third of the stage on a noisy threshold.
+    bool on = false;  // the pixel before the current 64 is on
+    int x0 = 0;
+    for (int x = 0; x < w; x += 64) {
+      const uint64_t m = row_mask(row, x, w);
+      uint64_t edges = m ^ ((m << 1) | uint64_t(on));
+      while (edges) {
+        const int at = x + std::countr_zero(edges);
+        edges &= edges - 1;
+        if (!on) {
+          x0 = at;
+        } else {
+          const int id = int(runs.size());
+          runs.push_back({x0, at, y, id});
+        }
+        on = !on;
+      }
+      on = (m >> 63) != 0;
+    }
+    if (on) {
       const int id = int(runs.size());
-      runs.push_back({x0, x, y, id});
+      runs.push_back({x0, w, y, id});
     }
     // 8-connected: [a0,a1) and [b0,b1) on neighbouring rows touch when a0 <= b1 and b0 <= a1.
     int i = prev_begin, j = begin;

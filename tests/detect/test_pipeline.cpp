@@ -100,6 +100,33 @@ TEST(Stages, AdaptiveThresholdIsTheBilinearBlockMeanOnAnySide) {
   EXPECT_EQ(cv::countNonZero(odd(cv::Rect(0, 0, 212, 160)) != even), 0);
 }
 
+// The regions contours finds are OpenCV's 8-connected components, on any width (rows are scanned 64 pixels at a
+// time, the last part pixel by pixel) and whatever nonzero value marks a pixel on.
+TEST(Stages, ContourRegionsAreTheEightConnectedComponents) {
+  for (const int width : {64, 131, 200, 257}) {
+    cv::Mat noise(97, width, CV_8UC1), bin;
+    cv::randu(noise, 0, 256);
+    cv::threshold(noise, bin, 150, 255, cv::THRESH_BINARY);
+    cv::rectangle(bin, cv::Rect(width / 3, 20, width / 3, 40), cv::Scalar(255), cv::FILLED);  // runs over 64
+    bin.col(width - 1).setTo(255);                                                          // to the row's end
+    bin.at<uint8_t>(5, 7) = 1;
+    cv::Mat labels, stats, centroids;
+    const int components = cv::connectedComponentsWithStats(bin, labels, stats, centroids, 8) - 1;
+    int regions = 0;
+    std::vector<stages::SmallRegion> small;
+    stages::find_contours(bin, 1e9, &regions, &small);   // every region too short: each one's box in `small`
+    EXPECT_EQ(regions, components) << width;
+    std::vector<std::array<int, 4>> ours, theirs;
+    for (const auto& r : small) ours.push_back({r.bbox.x, r.bbox.y, r.bbox.width, r.bbox.height});
+    for (int k = 1; k <= components; ++k)
+      theirs.push_back({stats.at<int>(k, cv::CC_STAT_LEFT), stats.at<int>(k, cv::CC_STAT_TOP),
+                        stats.at<int>(k, cv::CC_STAT_WIDTH), stats.at<int>(k, cv::CC_STAT_HEIGHT)});
+    std::sort(ours.begin(), ours.end());
+    std::sort(theirs.begin(), theirs.end());
+    EXPECT_EQ(ours, theirs) << width;
+  }
+}
+
 TEST(Stages, ContoursTraceOuterBordersClockwiseAndSkipSpecks) {
   cv::Mat bin = cv::Mat::zeros(50, 50, CV_8UC1);
   cv::rectangle(bin, cv::Rect(10, 10, 20, 15), cv::Scalar(255), -1);  // a block
