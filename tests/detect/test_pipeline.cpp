@@ -454,6 +454,22 @@ TEST(Stages, DecimationShrinksTheSearchAndContoursComeBackInGreyPixels) {
   for (size_t k = 0; k < 4; ++k) EXPECT_LE(cv::norm(q[k] - expected[k]), 1.0) << k;
 }
 
+// Every possible block sum of the factors with a vectorised path (3: 0 to 2295, 4: 0 to 4080) comes out as the
+// block's mean rounded to the nearest, as the plain division gives it.
+TEST(Stages, DecimationRoundsEveryBlockSumToTheNearest) {
+  for (const int f : {3, 4, 5}) {
+    const int area = f * f, sums = 255 * area + 1;
+    cv::Mat grey(f, f * sums, CV_8UC1);
+    for (int s = 0; s < sums; ++s)   // the sum s spread over the block's pixels, none over 255
+      for (int k = 0; k < area; ++k)
+        grey.at<uint8_t>(k / f, s * f + k % f) = uint8_t(s / area + (k < s % area ? 1 : 0));
+    const cv::Mat out = stages::decimate(grey, f);
+    ASSERT_EQ(out.size(), cv::Size(sums, 1));
+    for (int s = 0; s < sums; ++s)
+      ASSERT_EQ(out.at<uint8_t>(0, s), (s + area / 2) / area) << "factor " << f << ", block sum " << s;
+  }
+}
+
 // quad_fit places each corner where the lines of its two sides meet, not on the contour point nearest it: a corner
 // rounded by blur puts the contour's vertex inside the true corner.
 TEST(Stages, QuadFitCornersAreWhereTheSidesMeetWhenBlurRoundsThem) {
