@@ -155,7 +155,7 @@ void decimate_rows(const cv::Mat& grey, cv::Mat& out, int factor) {
   const int f = F > 0 ? F : factor;
   const int cols = out.cols * f;
   thread_local std::vector<uint16_t> sum_buf;
-  sum_buf.resize(static_cast<size_t>(cols) + 32);   // room for the vector loads' last columns
+  sum_buf.resize(static_cast<size_t>(cols));
   uint16_t* sum = sum_buf.data();
   const uint32_t area = uint32_t(f * f);
   for (int y = 0; y < out.rows; ++y) {
@@ -328,7 +328,7 @@ uint64_t row_mask(const uint8_t* row, int x, int w) {
   int k = 0;
 #if CV_SIMD128
   if (x + 64 <= w) {
-    // A binary image's on pixels are 255: their sign bits are the mask.
+    // Compared with zero, a lane is all ones where its pixel is on (any nonzero value): the sign bits are the mask.
     const cv::v_uint8x16 zero = cv::v_setzero_u8();
     for (; k < 64; k += 16)
       m |= uint64_t(uint32_t(cv::v_signmask(cv::v_load(row + x + k) > zero))) << k;

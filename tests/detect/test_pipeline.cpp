@@ -107,8 +107,10 @@ TEST(Stages, ContourRegionsAreTheEightConnectedComponents) {
     cv::Mat noise(97, width, CV_8UC1), bin;
     cv::randu(noise, 0, 256);
     cv::threshold(noise, bin, 150, 255, cv::THRESH_BINARY);
-    cv::rectangle(bin, cv::Rect(width / 3, 20, width / 3, 40), cv::Scalar(255), cv::FILLED);  // runs over 64
-    bin.col(width - 1).setTo(255);                                                          // to the row's end
+    cv::rectangle(bin, cv::Rect(width / 3, 20, width / 3, 40), cv::Scalar(255), cv::FILLED);  // long runs
+    bin.rowRange(70, 73).setTo(255);   // whole rows: 64-pixel chunks all on, a run carried across them
+    bin.rowRange(80, 83).setTo(0);     // and all off
+    bin.col(width - 1).setTo(255);     // runs to the row's end
     bin.at<uint8_t>(5, 7) = 1;
     cv::Mat labels, stats, centroids;
     const int components = cv::connectedComponentsWithStats(bin, labels, stats, centroids, 8) - 1;
