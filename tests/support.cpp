@@ -38,23 +38,24 @@ RunResult run_arwb_window(const std::string& args) {
   // -a picks a free display number, so GUI tests can run in parallel. The screen holds the largest window the
   // tests open (--size 1920x1080); the default window is 1600x900.
   const std::string prefix = "xvfb-run -a -s '-screen 0 1920x1080x24' ";
+  // A run that says nothing about arwb is run again, up to twice:
+  // - Xvfb resets when its last client leaves; a window that closes at once (the player's error window) can race
+  //   xvfb-run's own clean-up of its folder, and xvfb-run then exits 5 with the line below instead of arwb's status
+  //   (4 in 60 runs here; arwb itself never exits 5). Xvfb's -noreset avoids the race, but under the sanitizers
+  //   LeakSanitizer's tracer then crashed at arwb's exit in 3 of 3 runs of a workbench test, against 1 of 3 without.
+  // - In the sanitizer tree, LeakSanitizer's own tracer can crash as it stops the world at arwb's exit while a
+  //   thread of the window (Mesa's, GLFW's) is ending: it says so and exits 1 without having checked for leaks (1 run
+  //   in 3 of Workbench.KeepsTheLayoutBetweenRuns on 2026-11-27). A leak found ("detected memory leaks") is not
+  //   retried.
+  auto says_nothing = [](const RunResult& r) {
+    const char* cleanup = "xvfb-run: error: problem while cleaning up temporary directory";
+    const bool xvfb_cleanup = r.status == 5 && r.err.find(cleanup) != std::string::npos;
+    const bool tracer_crash = r.status != 0 && r.err.find("Tracer caught signal") != std::string::npos &&
+                              r.err.find("LeakSanitizer has encountered a fatal error") != std::string::npos;
+    return xvfb_cleanup || tracer_crash;
+  };
   RunResult r = run_arwb_with_prefix(prefix, args);
-  // Xvfb resets when its last client leaves; a window that closes at once (the player's error window) can race
-  // xvfb-run's own clean-up of its folder, and xvfb-run then exits 5 with this line instead of arwb's status (4 in
-  // 60 runs here). arwb itself never exits 5, so that run says nothing about arwb: run it again. (Xvfb's -noreset
-  // avoids the race, but under the sanitizers LeakSanitizer's tracer then crashed at arwb's exit in 3 of 3 runs of
-  // a workbench test, against 1 of 3 without it.)
-  const char* cleanup = "xvfb-run: error: problem while cleaning up temporary directory";
-  if (r.status == 5 && r.err.find(cleanup) != std::string::npos) r = run_arwb_with_prefix(prefix, args);
-  // In the sanitizer tree, LeakSanitizer's own tracer can crash as it stops the world at arwb's exit while a thread
-  // of the window (Mesa's, GLFW's) is ending: it then says so and exits 1 without having checked for leaks (1 run
-  // in 3 of Workbench.KeepsTheLayoutBetweenRuns on 2026-11-27). That run says nothing about arwb either: run it
-  // again, up to twice. A leak found is reported as "detected memory leaks" and is not retried.
-  const char* tracer = "LeakSanitizer has encountered a fatal error";
-  for (int again = 0; again < 2 && r.status != 0 && r.err.find("Tracer caught signal") != std::string::npos &&
-                      r.err.find(tracer) != std::string::npos;
-       ++again)
-    r = run_arwb_with_prefix(prefix, args);
+  for (int again = 0; again < 2 && says_nothing(r); ++again) r = run_arwb_with_prefix(prefix, args);
   return r;
 }
 

@@ -7,7 +7,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 
 namespace arwb::stages {
 namespace {
