@@ -135,6 +135,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   int regions = 0;
   std::vector<std::vector<cv::Point>> contours;
   std::vector<char> cut;   // per contour: cut by its region's edge
+  std::vector<cv::Rect> holes;   // for fine_search: quad-shaped holes of the decimated search's dark regions
   for (const cv::Rect& r : plan.regions) {
     const cv::Mat search = stages::decimate(grey(r), factor);
     search_lap(0);
@@ -146,6 +147,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     std::vector<std::vector<cv::Point>> found =
         stages::find_contours(binary, p.min_perimeter_px, &region_count, small_out, factor);
     regions += region_count;
+    if (factor > 1 && p.fine_max_side_px > 0)
+      for (const cv::Rect& b : stages::quad_holes(binary, r.tl(), grey.size(), p, factor))
+        if (!stages::cut_by_region(b, r, grey.size(), factor)) holes.push_back(b);
     if (one_region) {
       contours = std::move(found);
       found.clear();
@@ -489,6 +493,16 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         const Quad& q = quads[size_t(k)].quad;
         fine_shapes.push_back(cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end())));
       }
+    // A hole inside a marker read is that marker's inside.
+    for (const cv::Rect& h : holes) {
+      const cv::Point2f centre(float(h.x) + 0.5f * float(h.width), float(h.y) + 0.5f * float(h.height));
+      const bool in_marker = std::any_of(read.begin(), read.end(), [&](int k) {
+        const Quad& q = quads[size_t(k)].quad;
+        return readings[size_t(k)].reached == 5 &&
+               cv::pointPolygonTest(std::vector<cv::Point2f>(q.begin(), q.end()), centre, false) >= 0;
+      });
+      if (!in_marker) fine_shapes.push_back(h);
+    }
     const std::vector<cv::Rect> fine = stages::plan_fine_search(fine_shapes, grey.size(), p);
     if (full && !fine.empty()) fine_record.image = cv::Mat::zeros(grey.size(), CV_8UC1);
     const size_t quads_before = quads.size(), records_before = t.candidates.size();

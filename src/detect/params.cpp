@@ -31,11 +31,12 @@ const ParamInfo kTable[] = {
              "In video, the regions are searched at the decimation that keeps the smallest known marker at least "
              "this many pixels a side (at most 4). Lower is faster and reads a blurred or tilted marker less "
              "surely."),
-    ARWB_INT(decimation_factor, "decimation", "", 1, 1, 4,
+    ARWB_INT(decimation_factor, "decimation", "", 0, 0, 4,
              "The search (adaptive_threshold to quad_fit) runs on the grey image shrunk this many times; candidates "
-             "are still read and their corners placed on the full image. 2 halves the detection time and, its "
-             "threshold window covering twice the pixels, finds more large markers at low contrast and in dim "
-             "light, but loses some markers under about 40 px; 1 searches every pixel."),
+             "are still read and their corners placed on the full image. 0 chooses by the frame: 2 when its shorter "
+             "side is 720 px or more, else 1. 2 halves the search's time and, its threshold window covering twice "
+             "the pixels, finds more large markers at low contrast and in dim light; fine_search searches the small "
+             "shapes it could not read again at full resolution. 1 searches every pixel."),
     ARWB_INT(threshold_window_px, "adaptive_threshold", "px", 17, 3, 201,
              "Side of the square whose mean each pixel is compared with (odd), in the decimated image's pixels; "
              "from 9 up the mean is taken over 2x2 block means. Larger keeps thick borders whole, "
@@ -87,11 +88,11 @@ const ParamInfo kTable[] = {
              "Share of a side's quiet zone (half a cell outside the border) allowed to be dark. 1 turns it off."),
     ARWB_DBL(error_correction_rate, "identification", "rate", 0.6, 0, 1,
              "Share of the dictionary's correction budget used: bits that may be wrong = rate x max correction."),
-    ARWB_DBL(fine_max_side_px, "fine_search", "px", 64, 0, 400,
+    ARWB_DBL(fine_max_side_px, "fine_search", "px", 80, 0, 400,
              "A decimated search's shapes up to this size (the longer side of their box) that it could not close "
-             "into a quad or read are searched again at full resolution, where a small marker's border and cells "
-             "are sharp. Higher rescues larger blurred markers, costs time; 0 turns it off. It runs only when the "
-             "search is decimated."),
+             "into a quad or read, and its quad-shaped holes up to this size that are inside no marker it read, are "
+             "searched again at full resolution, where a small marker's border and cells are sharp. Higher rescues "
+             "larger blurred markers, costs time; 0 turns it off. It runs only when the search is decimated."),
     ARWB_INT(tracking_smoothing, kTrackingStage, "", 1, 0, 1,
              "1 smooths each tracked marker's corners over time (One Euro filter); 0 shows them as detected."),
     ARWB_DBL(tracking_min_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,

@@ -137,7 +137,7 @@ bool cut_by_region(const cv::Rect& box, const cv::Rect& region, cv::Size grey, i
 // [SECTION] decimation
 
 int decimation_used(cv::Size grey, const DetectorParams& p) {
-  int f = std::max(1, p.decimation_factor);
+  int f = p.decimation_factor > 0 ? p.decimation_factor : std::min(grey.width, grey.height) >= 720 ? 2 : 1;
   while (f > 1 && std::min(grey.width, grey.height) / f < 64) --f;
   return f;
 }
@@ -393,7 +393,8 @@ void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::
 }  // namespace
 
 std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
-                                                  int* region_count, std::vector<SmallRegion>* small, int factor) {
+                                                  int* region_count, std::vector<SmallRegion>* small, int factor,
+                                                  int max_side_px) {
   factor = std::max(factor, 1);
   min_perimeter_px /= factor;
   CV_Assert(binary.type() == CV_8UC1);
@@ -466,6 +467,7 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
       if (small) small->push_back({cv::Rect(b.x0 * factor, b.y0 * factor, bw * factor, bh * factor)});
       continue;
     }
+    if (max_side_px > 0 && std::max(bw, bh) * factor > max_side_px) continue;
     contours.emplace_back();
     trace_outer_border(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
     if (factor > 1)
@@ -473,6 +475,25 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
   }
   if (region_count) *region_count = regions;
   return contours;
+}
+
+std::vector<cv::Rect> quad_holes(const cv::Mat& binary, cv::Point origin, cv::Size grey, const DetectorParams& p,
+                                 int factor) {
+  std::vector<cv::Rect> boxes;
+  if (p.fine_max_side_px <= 0) return boxes;
+  // A marker's inside is 5/7 of its side (ARUCO_ORIGINAL; more for larger grids): half of min_perimeter_px keeps
+  // the insides of the smallest markers the search is for.
+  DetectorParams hole = p;
+  hole.min_perimeter_px = p.min_perimeter_px / 2;
+  const cv::Mat light = binary == 0;
+  std::vector<std::vector<cv::Point>> contours =
+      find_contours(light, hole.min_perimeter_px, nullptr, nullptr, factor, int(p.fine_max_side_px));
+  Quad q;
+  for (auto& c : contours) {
+    for (cv::Point& pt : c) pt += origin;
+    if (!fit_quad(c, grey, hole, &q, factor)) boxes.push_back(cv::boundingRect(c));
+  }
+  return boxes;
 }
 
 // [SECTION] size_filter

@@ -38,8 +38,8 @@ bool cut_by_region(const cv::Rect& contour_box, const cv::Rect& region, cv::Size
 void merge_overlapping(std::vector<cv::Rect>& rects);
 
 // decimation: the search image, the grey image shrunk `factor` times (each pixel the mean of a factor x factor
-// block); the grey image itself when factor is 1. The factor used for a frame is decimation_factor, lowered so that
-// the search image keeps at least 64 pixels a side.
+// block); the grey image itself when factor is 1. The factor used for a frame is decimation_factor (0: 2 when the
+// frame's shorter side is at least 720 px, else 1), lowered so that the search image keeps at least 64 pixels a side.
 int decimation_used(cv::Size grey, const DetectorParams& p);
 cv::Mat decimate(const cv::Mat& grey, int factor);
 // A point of the search image in the grey image's pixels (the centre of its block, rounded down), and back.
@@ -62,9 +62,11 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p);
 struct SmallRegion {
   cv::Rect bbox;
 };
+// Regions whose box is longer than max_side_px (the grey image's pixels; 0: no limit) are counted, not traced.
 std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
                                                   int* region_count = nullptr,
-                                                  std::vector<SmallRegion>* small = nullptr, int factor = 1);
+                                                  std::vector<SmallRegion>* small = nullptr, int factor = 1,
+                                                  int max_side_px = 0);
 // A contour's length in the grey image's pixels: its points, each a step of `factor` pixels.
 inline double contour_length(const std::vector<cv::Point>& contour, int factor) {
   return double(contour.size()) * factor;
@@ -79,8 +81,16 @@ std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
                                   Quad* quad, int factor = 1);
 
+// fine_search's holes: the light insides of the dark regions of a decimated search's binary image (`origin`: where
+// it lies in the grey image) that are quads at most fine_max_side_px on their longer side, as boxes in the grey
+// image's pixels. A small marker whose quiet zone the decimation closed is part of a larger dark shape that no quad
+// fits, but its inside, within the black border, is still a quad-shaped hole.
+std::vector<cv::Rect> quad_holes(const cv::Mat& binary, cv::Point origin, cv::Size grey, const DetectorParams& p,
+                                 int factor);
+
 // fine_search: where a decimated search is searched again at full resolution. `shapes`: the boxes (grey image's
-// pixels) of its contours that size_filter found too short or quad_fit could not close. Those at most
+// pixels) of its contours that size_filter found too short or quad_fit could not close, of the quads that did not
+// read, and of the quad-shaped holes (quad_holes) not inside a marker it read. Those at most
 // fine_max_side_px on their longer side and at least a third as wide as long are searched again, with a margin of
 // their side and at least the threshold's window each way; overlapping regions are merged.
 std::vector<cv::Rect> plan_fine_search(const std::vector<cv::Rect>& shapes, cv::Size grey, const DetectorParams& p);

@@ -185,7 +185,7 @@ TEST(Stages, QuadFitAcceptsSquaresAndRejectsOtherShapes) {
 }
 
 TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
-  DetectorParams p;   // fine_max_side_px 64, threshold_window_px 17, min_perimeter_px 48
+  DetectorParams p;   // fine_max_side_px 80, threshold_window_px 17, min_perimeter_px 48
   const cv::Size frame(640, 480);
   // A 30 px shape: half a side (15 px) of margin each way.
   std::vector<cv::Rect> r = stages::plan_fine_search({cv::Rect(100, 100, 30, 30)}, frame, p);
@@ -196,7 +196,7 @@ TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
   ASSERT_EQ(r.size(), 1u);
   EXPECT_EQ(r[0], cv::Rect(190, 190, 32, 32));
   // Too long, too thin, too small to hold 3/4 of min_perimeter_px: not searched again.
-  EXPECT_TRUE(stages::plan_fine_search({cv::Rect(0, 0, 65, 60), cv::Rect(300, 300, 40, 10), cv::Rect(50, 50, 8, 8)},
+  EXPECT_TRUE(stages::plan_fine_search({cv::Rect(0, 0, 81, 76), cv::Rect(300, 300, 40, 10), cv::Rect(50, 50, 8, 8)},
                                        frame, p).empty());
   // Overlapping regions are merged, and clipped to the frame; less than 32 px a side left in a corner is dropped.
   r = stages::plan_fine_search({cv::Rect(100, 100, 30, 30), cv::Rect(140, 100, 30, 30), cv::Rect(610, 440, 30, 30),
@@ -207,6 +207,28 @@ TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
   EXPECT_EQ(r[1], cv::Rect(595, 425, 45, 55));
   p.fine_max_side_px = 0;
   EXPECT_TRUE(stages::plan_fine_search({cv::Rect(100, 100, 30, 30)}, frame, p).empty()) << "off";
+}
+
+// A binary image of a half-size search (factor 2): a dark ring whose quiet zone closed into a larger dark shape
+// still holds a light quad, and quad_holes gives its box in the grey image's pixels; a round hole, a quad hole
+// larger than fine_max_side_px and the light background are not given.
+TEST(Stages, QuadHolesFindTheInsideOfARingMergedIntoALargerShape) {
+  DetectorParams p;   // fine_max_side_px 80, min_perimeter_px 48
+  cv::Mat bin(200, 300, CV_8UC1, cv::Scalar(0));
+  cv::rectangle(bin, cv::Rect(20, 20, 60, 150), cv::Scalar(255), -1);    // the larger shape
+  cv::rectangle(bin, cv::Rect(80, 60, 16, 16), cv::Scalar(255), -1);     // the ring, touching it
+  cv::rectangle(bin, cv::Rect(83, 63, 10, 10), cv::Scalar(0), -1);       // its inside
+  bin(cv::Rect(86, 66, 2, 3)).setTo(255);                                  // a cell inside, apart from the ring
+  cv::circle(bin, cv::Point(160, 100), 16, cv::Scalar(255), -1);         // a round hole in a disc
+  cv::circle(bin, cv::Point(160, 100), 9, cv::Scalar(0), -1);
+  cv::rectangle(bin, cv::Rect(200, 40, 60, 60), cv::Scalar(255), -1);    // a quad hole 2 x 50 px a side
+  cv::rectangle(bin, cv::Rect(205, 45, 50, 50), cv::Scalar(0), -1);
+  const std::vector<cv::Rect> holes = stages::quad_holes(bin, cv::Point(10, 0), cv::Size(620, 400), p, 2);
+  ASSERT_EQ(holes.size(), 1u);
+  // The inside's pixels 83..92 are the blocks' centres 2 x 83 + 10 (the origin) .. 2 x 92 + 10 in the grey image.
+  EXPECT_EQ(holes[0], cv::Rect(176, 126, 19, 19));
+  p.fine_max_side_px = 0;
+  EXPECT_TRUE(stages::quad_holes(bin, cv::Point(10, 0), cv::Size(620, 400), p, 2).empty()) << "off";
 }
 
 TEST(Stages, NestedFilterKeepsTheOuterOfTwoTracesOfOneBorder) {
@@ -437,6 +459,12 @@ TEST(Stages, DecimationShrinksTheSearchAndContoursComeBackInGreyPixels) {
   p.decimation_factor = 2;
   EXPECT_EQ(stages::decimation_used(grey.size(), p), 2);
   EXPECT_EQ(stages::decimation_used({100, 100}, p), 1);
+  p.decimation_factor = 0;   // by the frame: 2 from a shorter side of 720 px
+  EXPECT_EQ(stages::decimation_used({640, 480}, p), 1);
+  EXPECT_EQ(stages::decimation_used({1280, 719}, p), 1);
+  EXPECT_EQ(stages::decimation_used({1280, 720}, p), 2);
+  EXPECT_EQ(stages::decimation_used({720, 1280}, p), 2);
+  EXPECT_EQ(stages::decimation_used({3840, 2160}, p), 2);
 
   cv::Mat bin(small.size(), CV_8UC1, cv::Scalar(0));
   cv::rectangle(bin, cv::Rect(50, 30, 40, 40), cv::Scalar(255), -1);
