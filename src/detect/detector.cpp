@@ -126,6 +126,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     stage_start = Clock::now();
   };
   cv::Mat search_picture, binary_picture;
+  cv::Mat whole_search;   // the first search's image of the whole frame, when it searched the whole frame
   const bool one_region = plan.regions.size() == 1 && plan.regions[0].size() == grey.size();
   if (full && !one_region) {
     search_picture = cv::Mat::zeros(grey.rows / factor, grey.cols / factor, CV_8UC1);
@@ -165,6 +166,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       small.push_back(sm);
     }
     search_lap(2);
+    if (one_region) whole_search = search;
     if (full) {
       if (one_region) {
         search_picture = search;
@@ -188,15 +190,17 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     stage_start = Clock::now();
   }
 
-  // coarse_search: the whole frame once more, coarser, for large markers (a frame searched by regions is already
-  // searched at its markers' scale). Its contours join the others; each contour keeps the factor it was found at.
+  // coarse_search: the whole frame once more, coarse_factor times coarser than the first search, for large markers
+  // (a frame searched by regions is already searched at its markers' scale). It shrinks the first search's image,
+  // a quarter of the grey image's pixels on a half-size search. Its contours join the others; each contour keeps the
+  // factor it was found at (`coarse`: the grey image's pixels a coarse one spans).
   std::vector<int> contour_factor(contours.size(), factor);
+  const int coarse = p.coarse_factor > 1 ? factor * p.coarse_factor : 0;
   {
-    const int coarse = p.coarse_factor;
     const int fine_regions = regions;
     cv::Mat coarse_binary;
-    if (plan.whole && coarse > factor && std::min(grey.cols, grey.rows) / coarse >= 32) {
-      coarse_binary = stages::adaptive_threshold(stages::decimate(grey, coarse), p);
+    if (plan.whole && coarse > 0 && std::min(grey.cols, grey.rows) / coarse >= 32) {
+      coarse_binary = stages::adaptive_threshold(stages::decimate(whole_search, p.coarse_factor), p);
       std::vector<std::vector<cv::Point>> found =
           stages::find_contours(coarse_binary, p.coarse_min_perimeter_px, nullptr, nullptr, coarse);
       for (auto& c : found) {
@@ -276,7 +280,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
 
   // A quad of the coarse search that the first search found too (the same corners, to two coarse pixels) is not
   // read twice.
-  auto found_before = [&](const Quad& q, int coarse) -> int {
+  auto found_before = [&](const Quad& q) -> int {
     const float tol = 2.0f * float(coarse);
     for (const auto& other : quads) {
       if (contour_factor[size_t(other.contour)] == coarse) continue;
@@ -296,8 +300,8 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     Quad q;
     auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q, contour_factor[size_t(i)]);
     if (why) fine_shape(i);
-    if (!why && contour_factor[size_t(i)] == p.coarse_factor && p.coarse_factor != factor)
-      if (const int twin = found_before(q, contour_factor[size_t(i)]); twin >= 0)
+    if (!why && coarse > 0 && contour_factor[size_t(i)] == coarse)
+      if (const int twin = found_before(q); twin >= 0)
         why = Rejection{Stage::quad_fit, "coarse_factor", 0, double(p.coarse_factor),
                         "the same quad as contour " + std::to_string(twin) + ", found by the first search"};
     if (why) {
@@ -318,8 +322,12 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   std::vector<int> replaced_by;
   auto nest = [&](size_t from) {
     std::vector<Quad> quad_list;
-    for (size_t i = from; i < quads.size(); ++i) quad_list.push_back(quads[i].quad);
-    const std::vector<int> by = stages::nested_filter(quad_list, p);
+    std::vector<int> factors;
+    for (size_t i = from; i < quads.size(); ++i) {
+      quad_list.push_back(quads[i].quad);
+      factors.push_back(contour_factor[size_t(quads[i].contour)]);
+    }
+    const std::vector<int> by = stages::nested_filter(quad_list, p, &factors);
     std::vector<int> live;
     replaced_by.resize(quads.size(), -1);
     for (size_t j = 0; j < by.size(); ++j) {
@@ -333,8 +341,8 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       if (quads[i].record >= 0)
         t.candidates[size_t(quads[i].record)].fate =
             Rejection{Stage::nested_filter, "min_marker_distance_rate", 0, p.min_marker_distance_rate,
-                      "same border as the outer quad of contour " + std::to_string(quads[size_t(outer)].contour) +
-                          " (closer than min_marker_distance_rate)"};
+                      "same border as the quad of contour " + std::to_string(quads[size_t(outer)].contour) +
+                          " (closer than min_marker_distance_rate), kept as the outer one or the finer search's"};
     }
     return live;
   };
@@ -555,7 +563,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     stage_start = Clock::now();
   }
 
-  // Step 3: duplicates. The same id seen twice, or a marker inside another marker, keeps the larger one.
+  // Step 3: duplicates. A marker inside another marker keeps the larger one. The same id seen twice in one place
+  // keeps the reading of the finer search (its quad started nearer the corners: the coarse search's blocks of six
+  // pixels can start a low-contrast quad on a shadow's edge), or of the two from one search the larger.
   std::vector<size_t> accepted;
   for (int k : read)
     if (readings[size_t(k)].reached == 5) accepted.push_back(size_t(k));
@@ -569,15 +579,20 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     const Reading& r = readings[k];
     const cv::Point2f centre = quad_centre(r.corners);
     bool drop = false;
-    for (size_t o : kept) {
+    for (size_t& o : kept) {
       const Reading& big = readings[o];
       std::vector<cv::Point2f> poly(big.corners.begin(), big.corners.end());
       const bool inside = cv::pointPolygonTest(poly, centre, false) >= 0;
       if (inside) {
         drop = true;
-        dup_reason[k] = (r.dict_index == big.dict_index && r.match.id == big.match.id)
-                            ? "id " + std::to_string(r.match.id) + " already found here"
-                            : "inside marker " + std::to_string(big.match.id);
+        const bool same = r.dict_index == big.dict_index && r.match.id == big.match.id;
+        if (same && contour_factor[size_t(quads[k].contour)] < contour_factor[size_t(quads[o].contour)]) {
+          dup_reason[o] = "id " + std::to_string(r.match.id) + " read by a finer search here";
+          o = k;
+          break;
+        }
+        dup_reason[k] = same ? "id " + std::to_string(r.match.id) + " already found here"
+                             : "inside marker " + std::to_string(big.match.id);
         break;
       }
     }

@@ -631,7 +631,8 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
 
 // [SECTION] nested_filter
 
-std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p) {
+std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p,
+                               const std::vector<int>* factors) {
   // Thick borders give two contours for one marker (outer and inner edge of the thresholded line); keep the
   // outer one. Two quads are the same when, for some cyclic pairing of corners, their mean corner distance is
   // below min_marker_distance_rate times the smaller perimeter.
@@ -654,7 +655,9 @@ std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorPar
         best = std::min(best, d / 4);
       }
       if (best >= limit) continue;
-      const size_t inner = perim[i] < perim[j] ? i : j, outer = inner == i ? j : i;
+      size_t inner = perim[i] < perim[j] ? i : j, outer = inner == i ? j : i;
+      if (factors && (*factors)[inner] != (*factors)[outer] && (*factors)[inner] < (*factors)[outer])
+        std::swap(inner, outer);   // the finer one stays
       if (replaced_by[inner] < 0) replaced_by[inner] = static_cast<int>(outer);
     }
   return replaced_by;
@@ -965,10 +968,17 @@ void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const Detecto
   // it stops when no corner moves more than subpix_epsilon_px (usually after two or three passes). A quad found on
   // the decimated image starts up to about `factor` pixels off: the first pass reaches that far, and one more
   // pass follows with the usual reach.
-  const int passes = p.subpix_max_iterations + (factor > 1 ? 1 : 0);
+  // When that first reach is longer than the usual one (0.6 of a cell: a small marker), its profiles can take in
+  // an inner cell's edge, and it takes two more passes to settle (tiny markers on the hard set: 0.2-0.6 px off
+  // after one, 0.05-0.3 after two); a large marker's noisy edges only wander with more.
+  double min_side = 1e18;
+  for (size_t i = 0; i < 4; ++i) min_side = std::min(min_side, double(cv::norm(corners[i] - corners[(i + 1) % 4])));
+  const double slack = factor > 1 ? factor + 1.5 : 0;
+  const bool far = slack > std::clamp(0.6 * min_side / cells, 2.5, double(p.subpix_window_px) + 1.0);
+  const int passes = p.subpix_max_iterations + (factor > 1 ? 1 : 0) + (far ? 1 : 0);
   for (int it = 0; it < passes; ++it) {
     const Quad before = corners;
-    if (!refine_corners_once(grey, corners, cells, p, it == 0 && factor > 1 ? factor + 1.5 : 0)) return;
+    if (!refine_corners_once(grey, corners, cells, p, it == 0 ? slack : 0)) return;
     double moved = 0;
     for (size_t k = 0; k < 4; ++k) moved = std::max(moved, double(cv::norm(corners[k] - before[k])));
     if (moved < p.subpix_epsilon_px) return;

@@ -96,7 +96,10 @@ std::vector<cv::Rect> quad_holes(const cv::Mat& binary, cv::Point origin, cv::Si
 std::vector<cv::Rect> plan_fine_search(const std::vector<cv::Rect>& shapes, cv::Size grey, const DetectorParams& p);
 
 // nested_filter: for each quad, -1 to keep it or the index of the quad that replaces it (same border, outer kept).
-std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p);
+// `factors` (optional, per quad): the decimation it was found at. Of two quads of one border found at different
+// factors the finer is kept: a coarse search's blocks can bloat a low-contrast quad past the marker's edge.
+std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p,
+                               const std::vector<int>* factors = nullptr);
 
 // perspective_removal: the quad seen from the front, `cells` cells of warp_cell_px pixels a side, bilinear.
 cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, const DetectorParams& p);
