@@ -30,7 +30,7 @@ enum class Stage {
   coarse_search,        // the whole frame searched again, coarser, for large markers; its contours join the others
   size_filter,          // drop contours too short or too long
   quad_fit,             // approximate to convex quadrilaterals
-  nested_filter,        // merge quads that trace the same border twice, keeping the outer one
+  nested_filter,        // merge quads that trace the same border twice, keeping the outer (or finer) one
   corner_refinement,    // subpixel corners, before the warp so that the cell grid lines up with the printed cells
   perspective_removal,  // homography to a frontal view
   otsu,                 // global threshold of the frontal view
