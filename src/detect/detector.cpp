@@ -108,12 +108,12 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     t.search.regions = plan.regions;
     t.search.factor = plan.factor;
     t.search.known = hint ? int(hint->known.size()) : 0;
-    const std::string scale = factor == 1 ? std::string("every pixel") : "decimated " + std::to_string(factor) + "x";
-    t.search.why = !hint ? "whole frame: a single image, " + scale
-                   : !hint->why_full.empty() ? "whole frame: " + hint->why_full + ", " + scale
-                   : plan.whole ? "whole frame: no marker known, " + scale
+    t.search.why = !hint ? "whole frame: a single image"
+                   : !hint->why_full.empty() ? "whole frame: " + hint->why_full
+                   : plan.whole ? "whole frame: no marker known"
                                 : "around " + std::to_string(known.size()) + " marker" + (known.size() == 1 ? "" : "s") +
-                                      " of the previous frame, " + scale;
+                                      " of the previous frame, " +
+                                      (factor == 1 ? std::string("every pixel") : "decimated " + std::to_string(factor) + "x");
   }
   close_stage(Stage::search_regions, 1, int(plan.regions.size()));
 
@@ -563,7 +563,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     stage_start = Clock::now();
   }
 
-  // Step 3: duplicates. The same id seen twice, or a marker inside another marker, keeps the larger one.
+  // Step 3: duplicates. A marker inside another marker keeps the larger one. The same id seen twice in one place
+  // keeps the reading of the finer search (its quad started nearer the corners: the coarse search's blocks of six
+  // pixels can start a low-contrast quad on a shadow's edge), or of the two from one search the larger.
   std::vector<size_t> accepted;
   for (int k : read)
     if (readings[size_t(k)].reached == 5) accepted.push_back(size_t(k));
@@ -577,15 +579,20 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     const Reading& r = readings[k];
     const cv::Point2f centre = quad_centre(r.corners);
     bool drop = false;
-    for (size_t o : kept) {
+    for (size_t& o : kept) {
       const Reading& big = readings[o];
       std::vector<cv::Point2f> poly(big.corners.begin(), big.corners.end());
       const bool inside = cv::pointPolygonTest(poly, centre, false) >= 0;
       if (inside) {
         drop = true;
-        dup_reason[k] = (r.dict_index == big.dict_index && r.match.id == big.match.id)
-                            ? "id " + std::to_string(r.match.id) + " already found here"
-                            : "inside marker " + std::to_string(big.match.id);
+        const bool same = r.dict_index == big.dict_index && r.match.id == big.match.id;
+        if (same && contour_factor[size_t(quads[k].contour)] < contour_factor[size_t(quads[o].contour)]) {
+          dup_reason[o] = "id " + std::to_string(r.match.id) + " read by a finer search here";
+          o = k;
+          break;
+        }
+        dup_reason[k] = same ? "id " + std::to_string(r.match.id) + " already found here"
+                             : "inside marker " + std::to_string(big.match.id);
         break;
       }
     }
