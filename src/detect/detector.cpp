@@ -108,12 +108,12 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     t.search.regions = plan.regions;
     t.search.factor = plan.factor;
     t.search.known = hint ? int(hint->known.size()) : 0;
-    t.search.why = !hint ? "whole frame: a single image"
-                   : !hint->why_full.empty() ? "whole frame: " + hint->why_full
-                   : plan.whole ? "whole frame: no marker known"
+    const std::string scale = factor == 1 ? std::string("every pixel") : "decimated " + std::to_string(factor) + "x";
+    t.search.why = !hint ? "whole frame: a single image, " + scale
+                   : !hint->why_full.empty() ? "whole frame: " + hint->why_full + ", " + scale
+                   : plan.whole ? "whole frame: no marker known, " + scale
                                 : "around " + std::to_string(known.size()) + " marker" + (known.size() == 1 ? "" : "s") +
-                                      " of the previous frame, " +
-                                      (factor == 1 ? std::string("every pixel") : "decimated " + std::to_string(factor) + "x");
+                                      " of the previous frame, " + scale;
   }
   close_stage(Stage::search_regions, 1, int(plan.regions.size()));
 

@@ -483,15 +483,13 @@ std::vector<cv::Rect> quad_holes(const cv::Mat& binary, cv::Point origin, cv::Si
   if (p.fine_max_side_px <= 0) return boxes;
   // A marker's inside is 5/7 of its side (ARUCO_ORIGINAL; more for larger grids): half of min_perimeter_px keeps
   // the insides of the smallest markers the search is for.
-  DetectorParams hole = p;
-  hole.min_perimeter_px = p.min_perimeter_px / 2;
   const cv::Mat light = binary == 0;
   std::vector<std::vector<cv::Point>> contours =
-      find_contours(light, hole.min_perimeter_px, nullptr, nullptr, factor, int(p.fine_max_side_px));
+      find_contours(light, p.min_perimeter_px / 2, nullptr, nullptr, factor, int(p.fine_max_side_px));
   Quad q;
   for (auto& c : contours) {
     for (cv::Point& pt : c) pt += origin;
-    if (!fit_quad(c, grey, hole, &q, factor)) boxes.push_back(cv::boundingRect(c));
+    if (!fit_quad(c, grey, p, &q, factor)) boxes.push_back(cv::boundingRect(c));
   }
   return boxes;
 }
@@ -656,7 +654,7 @@ std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorPar
       }
       if (best >= limit) continue;
       size_t inner = perim[i] < perim[j] ? i : j, outer = inner == i ? j : i;
-      if (factors && (*factors)[inner] != (*factors)[outer] && (*factors)[inner] < (*factors)[outer])
+      if (factors && (*factors)[inner] < (*factors)[outer])
         std::swap(inner, outer);   // the finer one stays
       if (replaced_by[inner] < 0) replaced_by[inner] = static_cast<int>(outer);
     }
