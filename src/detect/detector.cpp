@@ -79,7 +79,10 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   };
 
   // Step 1: find quads.
-  const cv::Mat grey = stages::acquire(image, acquisition_, &t.scale_x, &t.scale_y, acquired);
+  // A colour frame is made grey where the stages look (GreyOnDemand); the full trace shows all of it.
+  stages::GreyOnDemand on_demand = stages::acquire_on_demand(image, acquisition_, &t.scale_x, &t.scale_y, acquired);
+  if (full) on_demand.need_all();
+  const cv::Mat& grey = on_demand.image();
   t.work_width = grey.cols;
   t.work_height = grey.rows;
   if (acquired) {
@@ -89,6 +92,19 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     t.scale_x = t.scale_y = 1;
   }
   close_stage(Stage::acquisition, 1, 1, grey);
+  // The grey pixels a later stage looks at, converted when it asks: acquisition's time (its record is the first),
+  // not the asking stage's. Returns the time spent.
+  auto need = [&](const cv::Rect& r) {
+    if (on_demand.colour().empty()) return 0.0;
+    const auto t0 = Clock::now();
+    on_demand.need(r);
+    if (!timed) return 0.0;
+    const auto spent = Clock::now() - t0;
+    stage_start += spent;
+    const double ms = std::chrono::duration<double, std::milli>(spent).count();
+    t.stages.front().ms += ms;
+    return ms;
+  };
 
   // search_regions: the whole frame, or around the markers earlier frames found (working pixels). One frame in,
   // its regions out; decimation .. contours take the regions in and give them out (contours: their black regions).
@@ -138,7 +154,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   std::vector<char> cut;   // per contour: cut by its region's edge
   std::vector<cv::Rect> holes;   // for fine_search: quad-shaped holes of the decimated search's dark regions
   for (const cv::Rect& r : plan.regions) {
-    const cv::Mat search = stages::decimate(grey(r), factor);
+    const cv::Mat search = stages::search_image(on_demand, r, factor);
     search_lap(0);
     const cv::Mat binary = stages::adaptive_threshold(search, p);
     search_lap(1);
@@ -486,6 +502,18 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     read.insert(read.end(), kept_quads.begin(), kept_quads.end());
     read.insert(read.end(), retry.begin(), retry.end());
   };
+  // What reading a quad looks at: its corners' refinement reaches out (subpix_window_px + 1 a pass, a decimated
+  // quad's first pass its factor), the quiet zone half a cell outside.
+  auto need_around = [&](size_t from) {
+    const int reach = (p.subpix_window_px + 1) * (p.subpix_max_iterations + 2) + 2 * factor + 4;
+    for (size_t i = from; i < quads.size(); ++i) {
+      const Quad& q = quads[i].quad;
+      const cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end()));
+      const int margin = std::max(box.width, box.height) / 8 + reach;
+      need(cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin));
+    }
+  };
+  need_around(0);
   read_live(live, 0);
 
   // fine_search: the decimated search's small shapes that quad_fit could not close or that did not read, searched
@@ -514,7 +542,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     const std::vector<cv::Rect> fine = stages::plan_fine_search(fine_shapes, grey.size(), p);
     if (full && !fine.empty()) fine_record.image = cv::Mat::zeros(grey.size(), CV_8UC1);
     const size_t quads_before = quads.size(), records_before = t.candidates.size();
+    double converting = 0;
     for (const cv::Rect& r : fine) {
+      converting += need(r);
       const cv::Mat binary = stages::adaptive_threshold(grey(r), p);
       std::vector<std::vector<cv::Point>> found = stages::find_contours(binary, p.min_perimeter_px);
       fine_record.in += int(found.size());
@@ -536,8 +566,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       if (f.param == "region_margin_rate") f.message = "cut by the edge of its region of the fine search";
     }
     fine_record.out = int(fine_live.size());
-    fine_record.ms = ms_since(fine_start);
+    fine_record.ms = ms_since(fine_start) - converting;
     readings.resize(quads.size());
+    need_around(quads_before);
     read_live(fine_live, quads_before);
   }
 

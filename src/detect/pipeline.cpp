@@ -3,6 +3,10 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -49,6 +53,68 @@ cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scal
   cv::Mat grey = to_grey(input);
   if (size != grey.size()) arwb::acquire(grey, a, grey);
   return grey;
+}
+
+GreyOnDemand::GreyOnDemand(const cv::Mat& frame) {
+  if (frame.depth() != CV_8U || (frame.channels() != 3 && frame.channels() != 4)) {
+    grey_ = frame.empty() ? cv::Mat() : to_grey(frame);
+    return;
+  }
+  colour_ = frame;
+  grey_.create(frame.size(), CV_8UC1);
+  tiles_x_ = (frame.cols + kTile - 1) / kTile;
+  tiles_y_ = (frame.rows + kTile - 1) / kTile;
+  done_.assign(size_t(tiles_x_) * size_t(tiles_y_), 0);
+}
+
+void GreyOnDemand::need(const cv::Rect& r) {
+  if (colour_.empty()) return;
+  const cv::Rect in = r & cv::Rect(0, 0, grey_.cols, grey_.rows);
+  if (in.empty()) return;
+  const int code = colour_.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY;
+  const int tx0 = in.x / kTile, tx1 = (in.x + in.width - 1) / kTile;
+  const int ty0 = in.y / kTile, ty1 = (in.y + in.height - 1) / kTile;
+  const cv::Rect frame(0, 0, grey_.cols, grey_.rows);
+  bool fresh = true;   // none of r's tiles converted yet: one conversion for all (a call costs a microsecond or two)
+  for (int ty = ty0; ty <= ty1 && fresh; ++ty)
+    for (int tx = tx0; tx <= tx1 && fresh; ++tx) fresh = !done_[size_t(ty) * size_t(tiles_x_) + size_t(tx)];
+  if (fresh) {
+    const cv::Rect tiles =
+        cv::Rect(tx0 * kTile, ty0 * kTile, (tx1 - tx0 + 1) * kTile, (ty1 - ty0 + 1) * kTile) & frame;
+    cv::Mat out = grey_(tiles);   // converted in place: cvtColor keeps a destination of the right size
+    cv::cvtColor(colour_(tiles), out, code);
+    for (int ty = ty0; ty <= ty1; ++ty)
+      std::fill_n(done_.begin() + ptrdiff_t(ty) * tiles_x_ + tx0, tx1 - tx0 + 1, uint8_t(1));
+    return;
+  }
+  for (int ty = ty0; ty <= ty1; ++ty) {
+    uint8_t* row = done_.data() + size_t(ty) * size_t(tiles_x_);
+    for (int tx = tx0; tx <= tx1;) {
+      if (row[tx]) {
+        ++tx;
+        continue;
+      }
+      int end = tx;   // one conversion for each run of tiles not yet converted
+      while (end <= tx1 && !row[end]) row[end++] = 1;
+      const cv::Rect tiles = cv::Rect(tx * kTile, ty * kTile, (end - tx) * kTile, kTile) & frame;
+      cv::Mat out = grey_(tiles);
+      cv::cvtColor(colour_(tiles), out, code);
+      tx = end;
+    }
+  }
+}
+
+GreyOnDemand acquire_on_demand(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x,
+                               double* scale_y, cv::Mat* acquired) {
+  const cv::Size size = acquisition_size(input.size(), a);
+  if (acquired || size == input.size()) {
+    *scale_x = double(input.cols) / size.width;
+    *scale_y = double(input.rows) / size.height;
+    if (!acquired) return GreyOnDemand(input);
+    arwb::acquire(input, a, *acquired);
+    return GreyOnDemand(*acquired);
+  }
+  return GreyOnDemand(acquire(input, a, scale_x, scale_y));
 }
 
 // [SECTION] search_regions
@@ -217,6 +283,81 @@ cv::Mat decimate(const cv::Mat& grey, int factor) {
     default: decimate_rows<0>(grey, out, factor); break;
   }
   return out;
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+namespace {
+// half_grey with SSSE3: eight output pixels from 48 bytes of each of two rows. The rows are averaged (pavgb), each
+// byte weighed by its channel's weight, adjacent bytes summed in pairs (pmaddubsw: 8 sums of 16 bytes), and each
+// output pixel is the sum of three pairs (its six bytes: two pixels' B, G, R), gathered from the three vectors
+// with byte shuffles.
+__attribute__((target("ssse3"))) void half_grey_ssse3(const cv::Mat& bgr, cv::Mat& out) {
+  static constexpr int8_t kWeight[3] = {15, 75, 38};   // B, G, R to 1/128: 0.114, 0.587, 0.299
+  alignas(16) int8_t weights[3][16];
+  alignas(16) uint8_t gather[3][3][16];   // [s][k]: the pairs of vector k that are pair s of an output pixel
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 16; ++j) weights[k][j] = kWeight[(16 * k + j) % 3];
+  for (int s = 0; s < 3; ++s)
+    for (int k = 0; k < 3; ++k)
+      for (int o = 0; o < 8; ++o) {
+        const int pair = 3 * o + s, in = pair / 8, at = pair % 8;
+        gather[s][k][2 * o] = in == k ? uint8_t(2 * at) : 0x80;   // 0x80: zero
+        gather[s][k][2 * o + 1] = in == k ? uint8_t(2 * at + 1) : 0x80;
+      }
+  __m128i w[3], g[3][3];
+  for (int k = 0; k < 3; ++k) {
+    w[k] = _mm_load_si128(reinterpret_cast<const __m128i*>(weights[k]));
+    for (int s = 0; s < 3; ++s) g[s][k] = _mm_load_si128(reinterpret_cast<const __m128i*>(gather[s][k]));
+  }
+  const __m128i round = _mm_set1_epi16(128);
+  for (int y = 0; y < out.rows; ++y) {
+    const uint8_t* a = bgr.ptr<uint8_t>(2 * y);
+    const uint8_t* b = bgr.ptr<uint8_t>(2 * y + 1);
+    uint8_t* o = out.ptr<uint8_t>(y);
+    int x = 0;
+    for (; x + 8 <= out.cols; x += 8) {
+      __m128i pairs[3];
+      for (int k = 0; k < 3; ++k) {
+        const __m128i ra = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a + 6 * x + 16 * k));
+        const __m128i rb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + 6 * x + 16 * k));
+        pairs[k] = _mm_maddubs_epi16(_mm_avg_epu8(ra, rb), w[k]);
+      }
+      __m128i sum = round;   // at most 2 x 255 x 128: unsigned 16 bit
+      for (int s = 0; s < 3; ++s)
+        sum = _mm_add_epi16(sum, _mm_or_si128(_mm_or_si128(_mm_shuffle_epi8(pairs[0], g[s][0]),
+                                                           _mm_shuffle_epi8(pairs[1], g[s][1])),
+                                              _mm_shuffle_epi8(pairs[2], g[s][2])));
+      const __m128i grey = _mm_srli_epi16(sum, 8);
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(o + x), _mm_packus_epi16(grey, grey));
+    }
+    for (; x < out.cols; ++x) {
+      int sum = 128;
+      for (int j = 0; j < 6; ++j) sum += ((a[6 * x + j] + b[6 * x + j] + 1) >> 1) * kWeight[j % 3];
+      o[x] = uint8_t(sum >> 8);
+    }
+  }
+}
+}  // namespace
+#endif
+
+cv::Mat half_grey(const cv::Mat& bgr) {
+  CV_Assert(bgr.type() == CV_8UC3);
+#if defined(__x86_64__) || defined(__i386__)
+  if (__builtin_cpu_supports("ssse3") && bgr.cols >= 2 && bgr.rows >= 2) {
+    cv::Mat out(bgr.rows / 2, bgr.cols / 2, CV_8UC1);
+    half_grey_ssse3(bgr, out);
+    return out;
+  }
+#endif
+  return decimate(to_grey(bgr), 2);
+}
+
+cv::Mat search_image(GreyOnDemand& grey, const cv::Rect& region, int factor) {
+  const cv::Mat& colour = grey.colour();
+  if (factor == 2 && colour.type() == CV_8UC3 && region == cv::Rect(0, 0, colour.cols, colour.rows))
+    return half_grey(colour);
+  grey.need(region);
+  return decimate(grey.image()(region), factor);
 }
 
 // [SECTION] adaptive_threshold

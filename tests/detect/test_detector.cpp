@@ -447,6 +447,35 @@ TEST(Detector, HalfSizeSearchFindsASmallMarkerMergedIntoADarkShapeByItsInside) {
   EXPECT_TRUE(std::none_of(without.begin(), without.end(), [](const Marker& k) { return k.id == 263; }));
 }
 
+// A colour frame searched at half size converts its grey image only around the candidates and in fine_search's
+// regions; the full trace converts all of it (the acquisition stage's picture). Both read every marker the same,
+// to the last bit of each corner: what the readings look at was converted. Standard and hard frames, 1280x720 up.
+TEST(Detector, AColourFrameReadsTheSameWithItsGreyConvertedWhereLooked) {
+  const Dictionary d = *dictionary_by_name("ARUCO_ORIGINAL");
+  const Detector det({d});
+  int frames = 0, markers = 0;
+  for (const SetKind kind : {SetKind::standard, SetKind::hard})
+    for (int index = 0; index < 12; ++index) {
+      const SetItem item =
+          make_set_item({d}, kind == SetKind::hard ? hard_sizes() : mixed_sizes(), 1, index, kind);
+      if (std::min(item.image.cols, item.image.rows) < 720 || item.image.cols > 1920) continue;
+      ASSERT_EQ(item.image.type(), CV_8UC3);
+      FrameTrace t;
+      const std::vector<Marker> all = det.detect(item.image, &t, TraceLevel::full);
+      ASSERT_EQ(t.search.factor, 2);
+      const std::vector<Marker> looked = det.detect(item.image);
+      ASSERT_EQ(looked.size(), all.size()) << "image " << index;
+      for (size_t i = 0; i < all.size(); ++i) {
+        EXPECT_EQ(looked[i].id, all[i].id);
+        for (size_t j = 0; j < 4; ++j) EXPECT_EQ(looked[i].corners[j], all[i].corners[j]) << "image " << index;
+      }
+      ++frames;
+      markers += int(all.size());
+    }
+  EXPECT_GE(frames, 8);
+  EXPECT_GE(markers, 20);
+}
+
 // The decimation stage is in the trace with its time, and at full level its picture (and the threshold's) is the
 // search image; the views stretch both back to the working size, so they line up with the frame. Contours and
 // quads are in the frame's pixels.

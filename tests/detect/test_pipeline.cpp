@@ -51,6 +51,74 @@ TEST(Stages, AcquisitionMakesGreyAndResizes) {
   EXPECT_NE(colour.data, bgr.data);
 }
 
+// A colour frame's grey image is converted where the stages ask, by tiles; what is converted is the conversion's.
+TEST(Stages, GreyOnDemandConvertsOnlyTheTilesAskedFor) {
+  cv::Mat bgr(70, 100, CV_8UC3);   // 4 x 3 tiles of 32, the last column and row cut
+  cv::randu(bgr, 0, 256);
+  cv::Mat expected;
+  cv::cvtColor(bgr, expected, cv::COLOR_BGR2GRAY);
+  stages::GreyOnDemand g(bgr);
+  EXPECT_EQ(g.image().size(), bgr.size());
+  EXPECT_DOUBLE_EQ(g.converted(), 0.0);
+  g.need(cv::Rect(-10, -10, 5, 5));   // outside: nothing
+  EXPECT_DOUBLE_EQ(g.converted(), 0.0);
+  g.need(cv::Rect(40, 10, 5, 5));   // inside tile (1, 0)
+  EXPECT_DOUBLE_EQ(g.converted(), 1.0 / 12);
+  EXPECT_EQ(cv::norm(g.image()(cv::Rect(32, 0, 32, 32)), expected(cv::Rect(32, 0, 32, 32)), cv::NORM_INF), 0);
+  g.need(cv::Rect(20, 20, 60, 30));   // tiles (0..2, 0..1): five more, around the one done
+  EXPECT_DOUBLE_EQ(g.converted(), 6.0 / 12);
+  EXPECT_EQ(cv::norm(g.image()(cv::Rect(0, 0, 96, 64)), expected(cv::Rect(0, 0, 96, 64)), cv::NORM_INF), 0);
+  g.need(cv::Rect(90, 60, 100, 100));   // tiles (2..3, 1..2), clipped: three more, the corner one cut
+  EXPECT_DOUBLE_EQ(g.converted(), 9.0 / 12);
+  EXPECT_EQ(cv::norm(g.image()(cv::Rect(64, 32, 36, 38)), expected(cv::Rect(64, 32, 36, 38)), cv::NORM_INF), 0);
+  g.need_all();
+  EXPECT_DOUBLE_EQ(g.converted(), 1.0);
+  EXPECT_EQ(cv::norm(g.image(), expected, cv::NORM_INF), 0);
+  // BGRA the same; a grey frame is the grey image itself.
+  cv::Mat bgra;
+  cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);
+  stages::GreyOnDemand a(bgra);
+  a.need_all();
+  EXPECT_EQ(cv::norm(a.image(), expected, cv::NORM_INF), 0);
+  stages::GreyOnDemand grey(expected);
+  EXPECT_TRUE(grey.colour().empty());
+  EXPECT_DOUBLE_EQ(grey.converted(), 1.0);
+  EXPECT_EQ(grey.image().data, expected.data);
+}
+
+// half_grey is the grey image's 2x2 block means from the colour frame in one pass, on any side: within two levels,
+// on average within one (saturated blue is a level off everywhere: its weight is 15/128 for 0.114).
+TEST(Stages, HalfGreyIsTheDecimatedGreyImageWithinALevelOrTwo) {
+  cv::RNG rng(7);
+  for (const cv::Size size : {cv::Size(2, 2), cv::Size(37, 23), cv::Size(641, 361), cv::Size(1920, 1080)}) {
+    cv::Mat bgr(size, CV_8UC3);
+    rng.fill(bgr, cv::RNG::UNIFORM, 0, 256);
+    // Saturated colours too: the weights' rounding shows most there.
+    cv::rectangle(bgr, cv::Rect(0, 0, size.width / 2, size.height), cv::Scalar(255, 0, 0), -1);
+    cv::Mat grey;
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    const cv::Mat expected = stages::decimate(grey, 2), half = stages::half_grey(bgr);
+    ASSERT_EQ(half.size(), expected.size()) << size;
+    EXPECT_LE(cv::norm(half, expected, cv::NORM_INF), 2) << size;
+    if (size.width > 2) {
+      EXPECT_LT(cv::norm(half, expected, cv::NORM_L1) / double(half.total()), 0.7) << size;
+    }
+  }
+  // The search image of a whole colour frame at 2 is half_grey, without converting the grey image; of a region, the
+  // region's grey pixels decimated.
+  cv::Mat bgr(200, 300, CV_8UC3);
+  rng.fill(bgr, cv::RNG::UNIFORM, 0, 256);
+  stages::GreyOnDemand g(bgr);
+  EXPECT_EQ(cv::norm(stages::search_image(g, cv::Rect(0, 0, 300, 200), 2), stages::half_grey(bgr), cv::NORM_INF), 0);
+  EXPECT_DOUBLE_EQ(g.converted(), 0.0);
+  const cv::Rect region(64, 32, 64, 64);
+  const cv::Mat part = stages::search_image(g, region, 2);
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  EXPECT_EQ(cv::norm(part, stages::decimate(grey(region), 2), cv::NORM_INF), 0);
+  EXPECT_LT(g.converted(), 0.2);
+}
+
 TEST(Stages, AdaptiveThresholdMarksDarkAgainstItsNeighbourhood) {
   cv::Mat grey(60, 60, CV_8UC1, cv::Scalar(200));
   cv::rectangle(grey, cv::Rect(20, 20, 20, 20), cv::Scalar(40), -1);
