@@ -688,21 +688,107 @@ bool meet_sides(const std::array<cv::Vec3d, 4>& sides, Quad* corners) {
   return true;
 }
 
+// quad_fit's polygon: the Douglas-Peucker approximation of a closed contour within `epsilon` px as cv::approxPolyDP
+// makes it, as indices into the contour in contour order. The first split is at an approximately farthest pair
+// (from the first point, the farthest point three times over); each piece is split at its point farthest from its
+// chord while that is more than epsilon away; at the end a vertex within epsilon / sqrt 2 of the line through its
+// neighbours, and between them, is dropped. The vertices start at the first of the farthest pair. It gives up once
+// there are more than kMaxVertices (a quad has four):
+// a shape of many corners costs only its first splits, and no polygon is written. approxPolyDP was 4.3 us for a
+// contour of 254 points on the bench's 640x480 frames, most of quad_fit's time; this is about a third of that.
+constexpr int kMaxVertices = 8;
+int approx_polygon(const std::vector<cv::Point>& c, double epsilon, std::array<int, kMaxVertices + 1>* out) {
+  const int n = int(c.size());
+  if (n < 3) return n;
+  auto farthest_from = [&](int a) {
+    int best = a;
+    int64_t best_d = -1;
+    for (int j = 0; j < n; ++j) {
+      const int64_t dx = c[size_t(j)].x - c[size_t(a)].x, dy = c[size_t(j)].y - c[size_t(a)].y;
+      const int64_t d = dx * dx + dy * dy;
+      if (d > best_d) best_d = d, best = j;
+    }
+    return best;
+  };
+  int a = farthest_from(0);
+  a = farthest_from(a);
+  const int b = farthest_from(a);
+  const double eps2 = epsilon * epsilon;
+  {
+    const double dx = c[size_t(b)].x - c[size_t(a)].x, dy = c[size_t(b)].y - c[size_t(a)].y;
+    if (dx * dx + dy * dy <= eps2) return 1;   // a blob within epsilon of one point
+  }
+  // Pieces [from, to] along the contour (indices taken modulo n, to > from), split depth first.
+  std::array<std::pair<int, int>, 64> stack;
+  int top = 0;
+  stack[size_t(top++)] = {a, b > a ? b : b + n};
+  stack[size_t(top++)] = {b, a > b ? a : a + n};
+  std::array<int, kMaxVertices + 1> split{};
+  int count = 0;
+  split[size_t(count++)] = a;
+  split[size_t(count++)] = b;
+  while (top > 0) {
+    const auto [from, to] = stack[size_t(--top)];
+    const cv::Point p0 = c[size_t(from % n)], p1 = c[size_t(to % n)];
+    const double dx = p1.x - p0.x, dy = p1.y - p0.y;
+    // The farthest point from the chord, as integers (the cross product of whole pixels), in up to two runs of
+    // the contour (a piece may wrap past its end).
+    const int ix = p1.x - p0.x, iy = p1.y - p0.y;
+    int64_t best = -1;
+    int at = -1;
+    auto scan = [&](int k0, int k1, int shift) {
+      for (int k = k0; k < k1; ++k) {
+        const cv::Point& q = c[size_t(k)];
+        const int64_t d = std::abs(int64_t(q.y - p0.y) * ix - int64_t(q.x - p0.x) * iy);
+        if (d > best) best = d, at = k + shift;
+      }
+    };
+    scan(from + 1, std::min(to, n), 0);
+    if (to > n) scan(std::max(from + 1, n) - n, to - n, n);
+    if (at < 0 || double(best) * double(best) <= eps2 * (dx * dx + dy * dy)) continue;
+    if (count == kMaxVertices + 1 || top + 2 > int(stack.size())) return kMaxVertices + 1;
+    split[size_t(count++)] = at % n;
+    stack[size_t(top++)] = {at, to};
+    stack[size_t(top++)] = {from, at};
+  }
+  std::sort(split.begin(), split.begin() + count);
+  // The last pass: drop a vertex nearly on the line through its neighbours and between them.
+  int kept = 0;
+  std::array<int, kMaxVertices + 1> v{};
+  for (int i = 0; i < count; ++i) {
+    if (count - (i - kept) <= 2) {   // keep at least three
+      v[size_t(kept++)] = split[size_t(i)];
+      continue;
+    }
+    const cv::Point u = kept > 0 ? c[size_t(v[size_t(kept - 1)])] : c[size_t(split[size_t(count - 1)])];
+    const cv::Point p = c[size_t(split[size_t(i)])], w = c[size_t(split[size_t((i + 1) % count)])];
+    const double dx = w.x - u.x, dy = w.y - u.y;
+    const double d = std::abs((p.x - u.x) * dy - (p.y - u.y) * dx);
+    const double between = double(p.x - u.x) * (w.x - p.x) + double(p.y - u.y) * (w.y - p.y);
+    if (d * d <= 0.5 * eps2 * (dx * dx + dy * dy) && dx != 0 && dy != 0 && between >= 0) continue;
+    v[size_t(kept++)] = split[size_t(i)];
+  }
+  // From the first of the farthest pair (or the vertex after it along the contour, if the last pass dropped it),
+  // as approxPolyDP starts.
+  int first = 0;
+  while (first < kept && v[size_t(first)] < a) ++first;
+  for (int i = 0; i < kept; ++i) (*out)[size_t(i)] = v[size_t((first + i) % kept)];
+  return kept;
+}
+
 // The corners where lines fitted to each side's contour points meet. approxPolyDP's vertices are contour points,
 // and a corner that blur or decimation rounded off puts its vertex a pixel or more inside the true corner; the
 // sides stay straight. Each side uses the contour between its two vertices, less a fifth at each end (the
 // rounding). A side with too few points, or a corner that lands implausibly far from its vertex, keeps the
 // vertices as they are. `shift`: what the contour points lack of their block's centre on a decimated search.
-Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::vector<cv::Point>& poly, double shift) {
+Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::array<int, 4>& at, double shift) {
   Quad out;
-  for (size_t i = 0; i < 4; ++i) out[i] = cv::Point2f(float(poly[i].x + shift), float(poly[i].y + shift));
-  const int n = int(contour.size());
-  std::array<int, 4> at{};
+  std::array<cv::Point, 4> poly;
   for (size_t i = 0; i < 4; ++i) {
-    const auto it = std::find(contour.begin(), contour.end(), poly[i]);
-    if (it == contour.end()) return out;
-    at[i] = int(it - contour.begin());
+    poly[i] = contour[size_t(at[i])];
+    out[i] = cv::Point2f(float(poly[i].x + shift), float(poly[i].y + shift));
   }
+  const int n = int(contour.size());
   std::array<cv::Vec3d, 4> lines;  // a x + b y = c, (a, b) unit
   std::vector<cv::Point2f> pts;
   for (size_t i = 0; i < 4; ++i) {
@@ -728,21 +814,34 @@ Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::vector
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
                                   Quad* quad, int factor) {
   const double perimeter = contour_length(contour, factor);
-  std::vector<cv::Point> poly;
   const double epsilon = p.polygon_epsilon_rate * perimeter;
-  cv::approxPolyDP(contour, poly, epsilon, true);
-  if (poly.size() > 4 && contour.size() < 100) {
+  std::array<int, kMaxVertices + 1> at{};
+  int vertices = approx_polygon(contour, epsilon, &at);
+  std::vector<cv::Point> poly;
+  auto polygon = [&] {
+    poly.resize(4);
+    for (size_t i = 0; i < 4; ++i) poly[i] = contour[size_t(at[i])];
+  };
+  if (vertices > 4 && contour.size() < 100) {
     // A small contour (under 100 steps) is jagged by whole pixels of the search image, and a corner rounded by blur
     // or decimation can take two vertices. One more try at twice the tolerance, kept only when the polygon still
     // covers the region (a blob is no quad).
-    std::vector<cv::Point> coarse;
-    cv::approxPolyDP(contour, coarse, 2 * epsilon, true);
-    if (coarse.size() == 4 && cv::contourArea(coarse) >= 0.85 * cv::contourArea(contour)) poly = std::move(coarse);
+    std::array<int, kMaxVertices + 1> coarse{};
+    if (approx_polygon(contour, 2 * epsilon, &coarse) == 4) {
+      std::swap(at, coarse);
+      polygon();
+      if (cv::contourArea(poly) >= 0.85 * cv::contourArea(contour)) vertices = 4;
+      else std::swap(at, coarse);
+    }
   }
-  if (poly.size() != 4)
-    return reject(Stage::quad_fit, "polygon_epsilon_rate", double(poly.size()), 4,
-                  fmt("polygon has %.0f corners, not 4 (polygon_epsilon_rate %g)", double(poly.size()),
-                      p.polygon_epsilon_rate));
+  if (vertices != 4)
+    return reject(Stage::quad_fit, "polygon_epsilon_rate", double(vertices), 4,
+                  vertices > kMaxVertices
+                      ? fmt("polygon has more than %.0f corners, not 4 (polygon_epsilon_rate %g)", kMaxVertices,
+                            p.polygon_epsilon_rate)
+                      : fmt("polygon has %.0f corners, not 4 (polygon_epsilon_rate %g)", double(vertices),
+                            p.polygon_epsilon_rate));
+  polygon();
   if (!cv::isContourConvex(poly)) return reject(Stage::quad_fit, "", 0, 0, "quad is not convex");
   double min_side = 1e18;
   for (int i = 0; i < 4; ++i) {
@@ -760,7 +859,7 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
     return reject(Stage::quad_fit, "min_border_distance_px", edge, p.min_border_distance_px,
                   fmt("corner %.0f px from the image edge < min_border_distance_px %.0f px", edge,
                       p.min_border_distance_px));
-  Quad q = corners_from_sides(contour, poly, (factor - 1) / 2.0 - (factor - 1) / 2);
+  Quad q = corners_from_sides(contour, {at[0], at[1], at[2], at[3]}, (factor - 1) / 2.0 - (factor - 1) / 2);
   // Clockwise on screen (y down): the cross product of the first two edges is positive.
   const cv::Point2f a = q[1] - q[0], b = q[2] - q[0];
   if (double(a.x) * b.y - double(a.y) * b.x < 0) std::swap(q[1], q[3]);

@@ -252,6 +252,50 @@ TEST(Stages, QuadFitAcceptsSquaresAndRejectsOtherShapes) {
   EXPECT_EQ(why->param, "min_border_distance_px");
 }
 
+// quad_fit's own Douglas-Peucker polygon (it stops early on shapes of many corners) closes a quad exactly where
+// cv::approxPolyDP's polygon has four vertices: regular polygons of 3 to 9 corners, turned, and random quads.
+TEST(Stages, QuadFitClosesAQuadWhereApproxPolyDPHasFourVertices) {
+  DetectorParams p;
+  cv::RNG rng(3);
+  int quads = 0, shapes = 0;
+  for (int corners = 3; corners <= 9; ++corners)
+    for (int turn = 0; turn < 12; ++turn) {
+      std::vector<cv::Point> poly;
+      const double radius = rng.uniform(40.0, 90.0);
+      for (int k = 0; k < corners; ++k) {
+        const double angle = 2 * CV_PI * k / corners + turn * 0.13;
+        // Random quads: each corner pushed about; other polygons regular.
+        const double r = corners == 4 ? radius * rng.uniform(0.7, 1.0) : radius;
+        poly.emplace_back(int(100 + r * std::cos(angle)), int(100 + r * std::sin(angle)));
+      }
+      cv::Mat bin = cv::Mat::zeros(200, 200, CV_8UC1);
+      cv::fillConvexPoly(bin, poly, cv::Scalar(255));
+      const auto contours = stages::find_contours(bin, p.min_perimeter_px);
+      ASSERT_EQ(contours.size(), 1u);
+      const std::vector<cv::Point>& c = contours[0];
+      ASSERT_GE(c.size(), 100u);   // no second try at twice the tolerance
+      std::vector<cv::Point> expected;
+      cv::approxPolyDP(c, expected, p.polygon_epsilon_rate * double(c.size()), true);
+      Quad q;
+      const auto why = stages::fit_quad(c, bin.size(), p, &q);
+      const bool closed = !why || why->param != "polygon_epsilon_rate";
+      EXPECT_EQ(closed, expected.size() == 4) << corners << " corners, turn " << turn << ": approxPolyDP "
+                                              << expected.size() << (why ? ", " + why->message : "");
+      ++shapes;
+      if (!why) {
+        ++quads;
+        // Each corner within a few pixels of a vertex of approxPolyDP's (the corners are where the sides meet).
+        for (const cv::Point2f& corner : q) {
+          double nearest = 1e9;
+          for (const cv::Point& v : expected) nearest = std::min(nearest, cv::norm(corner - cv::Point2f(v)));
+          EXPECT_LT(nearest, 3.0) << corners << " corners, turn " << turn;
+        }
+      }
+    }
+  EXPECT_EQ(shapes, 84);
+  EXPECT_GE(quads, 10);
+}
+
 TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
   DetectorParams p;   // fine_max_side_px 80, threshold_window_px 17, min_perimeter_px 48
   const cv::Size frame(640, 480);
