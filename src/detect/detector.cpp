@@ -165,7 +165,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         stages::find_contours(binary, p.min_perimeter_px, &region_count, small_out, factor);
     regions += region_count;
     if (factor > 1 && p.fine_max_side_px > 0)
-      for (const cv::Rect& b : stages::quad_holes(binary, r.tl(), grey.size(), p, factor))
+      for (const cv::Rect& b : stages::quad_holes(binary, found, r.tl(), grey.size(), p, factor))
         if (!stages::cut_by_region(b, r, grey.size(), factor)) holes.push_back(b);
     if (one_region) {
       contours = std::move(found);

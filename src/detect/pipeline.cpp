@@ -618,19 +618,37 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
   return contours;
 }
 
-std::vector<cv::Rect> quad_holes(const cv::Mat& binary, cv::Point origin, cv::Size grey, const DetectorParams& p,
-                                 int factor) {
+std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<std::vector<cv::Point>>& contours,
+                                 cv::Point origin, cv::Size grey, const DetectorParams& p, int factor) {
   std::vector<cv::Rect> boxes;
   if (p.fine_max_side_px <= 0) return boxes;
+  factor = std::max(factor, 1);
+  const cv::Rect image(0, 0, binary.cols, binary.rows);
+  std::vector<cv::Rect> shapes;   // in the binary's pixels
+  for (const auto& c : contours) {
+    const cv::Rect box = cv::boundingRect(c);
+    if (std::max(box.width, box.height) <= p.fine_max_side_px) continue;
+    const cv::Point tl(box.x / factor, box.y / factor);
+    shapes.push_back(cv::Rect(tl, cv::Point((box.x + box.width - 1) / factor + 1, (box.y + box.height - 1) / factor + 1)) &
+                     image);
+  }
+  merge_overlapping(shapes);
   // A marker's inside is 5/7 of its side (ARUCO_ORIGINAL; more for larger grids): half of min_perimeter_px keeps
   // the insides of the smallest markers the search is for.
-  const cv::Mat light = binary == 0;
-  std::vector<std::vector<cv::Point>> contours =
-      find_contours(light, p.min_perimeter_px / 2, nullptr, nullptr, factor, int(p.fine_max_side_px));
-  Quad q;
-  for (auto& c : contours) {
-    for (cv::Point& pt : c) pt += origin;
-    if (!fit_quad(c, grey, p, &q, factor)) boxes.push_back(cv::boundingRect(c));
+  for (const cv::Rect& s : shapes) {
+    const cv::Mat light = binary(s) == 0;
+    std::vector<std::vector<cv::Point>> found =
+        find_contours(light, p.min_perimeter_px / 2, nullptr, nullptr, factor, int(p.fine_max_side_px));
+    for (auto& c : found) {
+      const cv::Rect in = cv::boundingRect(c);
+      // A light region at the box's edge is not inside the shape (a hole lies within its region's box).
+      if (in.x < factor || in.y < factor || in.x + in.width > (s.width - 1) * factor ||
+          in.y + in.height > (s.height - 1) * factor)
+        continue;
+      for (cv::Point& pt : c) pt += origin + s.tl() * factor;
+      Quad q;
+      if (!fit_quad(c, grey, p, &q, factor)) boxes.push_back(cv::boundingRect(c));
+    }
   }
   return boxes;
 }

@@ -335,12 +335,21 @@ TEST(Stages, QuadHolesFindTheInsideOfARingMergedIntoALargerShape) {
   cv::circle(bin, cv::Point(160, 100), 9, cv::Scalar(0), -1);
   cv::rectangle(bin, cv::Rect(200, 40, 60, 60), cv::Scalar(255), -1);    // a quad hole 2 x 50 px a side
   cv::rectangle(bin, cv::Rect(205, 45, 50, 50), cv::Scalar(0), -1);
-  const std::vector<cv::Rect> holes = stages::quad_holes(bin, cv::Point(10, 0), cv::Size(620, 400), p, 2);
+  const auto dark = stages::find_contours(bin, p.min_perimeter_px, nullptr, nullptr, 2);
+  const std::vector<cv::Rect> holes = stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2);
   ASSERT_EQ(holes.size(), 1u);
   // The inside's pixels 83..92 are the blocks' centres 2 x 83 + 10 (the origin) .. 2 x 92 + 10 in the grey image.
   EXPECT_EQ(holes[0], cv::Rect(176, 126, 19, 19));
+  // Only shapes longer than fine_max_side_px are looked into: a ring of 60 px (30 decimated) on its own is searched
+  // again whole if it does not read.
+  cv::Mat alone(200, 300, CV_8UC1, cv::Scalar(0));
+  cv::rectangle(alone, cv::Rect(80, 60, 30, 30), cv::Scalar(255), -1);
+  cv::rectangle(alone, cv::Rect(85, 65, 20, 20), cv::Scalar(0), -1);
+  EXPECT_TRUE(stages::quad_holes(alone, stages::find_contours(alone, p.min_perimeter_px, nullptr, nullptr, 2),
+                                 cv::Point(10, 0), cv::Size(620, 400), p, 2)
+                  .empty());
   p.fine_max_side_px = 0;
-  EXPECT_TRUE(stages::quad_holes(bin, cv::Point(10, 0), cv::Size(620, 400), p, 2).empty()) << "off";
+  EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2).empty()) << "off";
 }
 
 TEST(Stages, NestedFilterKeepsTheOuterOfTwoTracesOfOneBorder) {
