@@ -40,21 +40,6 @@ cv::Mat to_grey(const cv::Mat& input) {
 }
 }  // namespace
 
-cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x, double* scale_y,
-                cv::Mat* acquired) {
-  const cv::Size size = acquisition_size(input.size(), a);
-  *scale_x = double(input.cols) / size.width;
-  *scale_y = double(input.rows) / size.height;
-  if (acquired) {
-    arwb::acquire(input, a, *acquired);
-    return to_grey(*acquired);
-  }
-  // Nobody shows the resized colour frame: resizing the grey one is the same step with a third of the work.
-  cv::Mat grey = to_grey(input);
-  if (size != grey.size()) arwb::acquire(grey, a, grey);
-  return grey;
-}
-
 GreyOnDemand::GreyOnDemand(const cv::Mat& frame) {
   if (frame.depth() != CV_8U || (frame.channels() != 3 && frame.channels() != 4)) {
     grey_ = frame.empty() ? cv::Mat() : to_grey(frame);
@@ -63,58 +48,63 @@ GreyOnDemand::GreyOnDemand(const cv::Mat& frame) {
   colour_ = frame;
   grey_.create(frame.size(), CV_8UC1);
   tiles_x_ = (frame.cols + kTile - 1) / kTile;
-  tiles_y_ = (frame.rows + kTile - 1) / kTile;
-  done_.assign(size_t(tiles_x_) * size_t(tiles_y_), 0);
+  done_.assign(size_t(tiles_x_) * size_t((frame.rows + kTile - 1) / kTile), 0);
 }
 
 void GreyOnDemand::need(const cv::Rect& r) {
   if (colour_.empty()) return;
-  const cv::Rect in = r & cv::Rect(0, 0, grey_.cols, grey_.rows);
+  const cv::Rect frame(0, 0, grey_.cols, grey_.rows);
+  const cv::Rect in = r & frame;
   if (in.empty()) return;
-  const int code = colour_.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY;
   const int tx0 = in.x / kTile, tx1 = (in.x + in.width - 1) / kTile;
   const int ty0 = in.y / kTile, ty1 = (in.y + in.height - 1) / kTile;
-  const cv::Rect frame(0, 0, grey_.cols, grey_.rows);
-  bool fresh = true;   // none of r's tiles converted yet: one conversion for all (a call costs a microsecond or two)
+  // Tiles [x0, x1] x [y0, y1] converted in one cvtColor (a call costs a microsecond or two) and marked.
+  auto convert = [&](int x0, int y0, int x1, int y1) {
+    const cv::Rect px = cv::Rect(x0 * kTile, y0 * kTile, (x1 - x0 + 1) * kTile, (y1 - y0 + 1) * kTile) & frame;
+    cv::Mat out = grey_(px);   // converted in place: cvtColor keeps a destination of the right size
+    cv::cvtColor(colour_(px), out, colour_.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+    for (int ty = y0; ty <= y1; ++ty)
+      std::fill_n(done_.begin() + ptrdiff_t(ty) * tiles_x_ + x0, x1 - x0 + 1, uint8_t(1));
+  };
+  auto done = [&](int tx, int ty) { return done_[size_t(ty) * size_t(tiles_x_) + size_t(tx)] != 0; };
+  bool fresh = true;   // none of r's tiles converted yet: all at once
   for (int ty = ty0; ty <= ty1 && fresh; ++ty)
-    for (int tx = tx0; tx <= tx1 && fresh; ++tx) fresh = !done_[size_t(ty) * size_t(tiles_x_) + size_t(tx)];
-  if (fresh) {
-    const cv::Rect tiles =
-        cv::Rect(tx0 * kTile, ty0 * kTile, (tx1 - tx0 + 1) * kTile, (ty1 - ty0 + 1) * kTile) & frame;
-    cv::Mat out = grey_(tiles);   // converted in place: cvtColor keeps a destination of the right size
-    cv::cvtColor(colour_(tiles), out, code);
-    for (int ty = ty0; ty <= ty1; ++ty)
-      std::fill_n(done_.begin() + ptrdiff_t(ty) * tiles_x_ + tx0, tx1 - tx0 + 1, uint8_t(1));
-    return;
-  }
-  for (int ty = ty0; ty <= ty1; ++ty) {
-    uint8_t* row = done_.data() + size_t(ty) * size_t(tiles_x_);
+    for (int tx = tx0; tx <= tx1 && fresh; ++tx) fresh = !done(tx, ty);
+  if (fresh) return convert(tx0, ty0, tx1, ty1);
+  for (int ty = ty0; ty <= ty1; ++ty)   // else each row's runs of tiles not yet converted
     for (int tx = tx0; tx <= tx1;) {
-      if (row[tx]) {
+      if (done(tx, ty)) {
         ++tx;
         continue;
       }
-      int end = tx;   // one conversion for each run of tiles not yet converted
-      while (end <= tx1 && !row[end]) row[end++] = 1;
-      const cv::Rect tiles = cv::Rect(tx * kTile, ty * kTile, (end - tx) * kTile, kTile) & frame;
-      cv::Mat out = grey_(tiles);
-      cv::cvtColor(colour_(tiles), out, code);
-      tx = end;
+      int end = tx;
+      while (end + 1 <= tx1 && !done(end + 1, ty)) ++end;
+      convert(tx, ty, end, ty);
+      tx = end + 1;
     }
-  }
 }
 
 GreyOnDemand acquire_on_demand(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x,
                                double* scale_y, cv::Mat* acquired) {
   const cv::Size size = acquisition_size(input.size(), a);
-  if (acquired || size == input.size()) {
-    *scale_x = double(input.cols) / size.width;
-    *scale_y = double(input.rows) / size.height;
-    if (!acquired) return GreyOnDemand(input);
+  *scale_x = double(input.cols) / size.width;
+  *scale_y = double(input.rows) / size.height;
+  if (acquired) {
     arwb::acquire(input, a, *acquired);
     return GreyOnDemand(*acquired);
   }
-  return GreyOnDemand(acquire(input, a, scale_x, scale_y));
+  if (size == input.size()) return GreyOnDemand(input);
+  // Nobody shows the resized colour frame: resizing the grey one is the same step with a third of the work.
+  cv::Mat grey = to_grey(input);
+  arwb::acquire(grey, a, grey);
+  return GreyOnDemand(grey);
+}
+
+cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x, double* scale_y,
+                cv::Mat* acquired) {
+  GreyOnDemand grey = acquire_on_demand(input, a, scale_x, scale_y, acquired);
+  grey.need_all();
+  return grey.image();
 }
 
 // [SECTION] search_regions
@@ -629,8 +619,8 @@ std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<std::v
     const cv::Rect box = cv::boundingRect(c);
     if (std::max(box.width, box.height) <= p.fine_max_side_px) continue;
     const cv::Point tl(box.x / factor, box.y / factor);
-    shapes.push_back(cv::Rect(tl, cv::Point((box.x + box.width - 1) / factor + 1, (box.y + box.height - 1) / factor + 1)) &
-                     image);
+    const cv::Point br((box.x + box.width - 1) / factor + 1, (box.y + box.height - 1) / factor + 1);
+    shapes.push_back(cv::Rect(tl, br) & image);
   }
   merge_overlapping(shapes);
   // A marker's inside is 5/7 of its side (ARUCO_ORIGINAL; more for larger grids): half of min_perimeter_px keeps
@@ -645,9 +635,10 @@ std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<std::v
       if (in.x < factor || in.y < factor || in.x + in.width > (s.width - 1) * factor ||
           in.y + in.height > (s.height - 1) * factor)
         continue;
-      for (cv::Point& pt : c) pt += origin + s.tl() * factor;
+      const cv::Point shift = origin + s.tl() * factor;
+      for (cv::Point& pt : c) pt += shift;
       Quad q;
-      if (!fit_quad(c, grey, p, &q, factor)) boxes.push_back(cv::boundingRect(c));
+      if (!fit_quad(c, grey, p, &q, factor)) boxes.push_back(in + shift);
     }
   }
   return boxes;
@@ -748,7 +739,6 @@ int approx_polygon(const std::vector<cv::Point>& c, double epsilon, std::array<i
   while (top > 0) {
     const auto [from, to] = stack[size_t(--top)];
     const cv::Point p0 = c[size_t(from % n)], p1 = c[size_t(to % n)];
-    const double dx = p1.x - p0.x, dy = p1.y - p0.y;
     // The farthest point from the chord, as integers (the cross product of whole pixels), in up to two runs of
     // the contour (a piece may wrap past its end).
     const int ix = p1.x - p0.x, iy = p1.y - p0.y;
@@ -763,7 +753,7 @@ int approx_polygon(const std::vector<cv::Point>& c, double epsilon, std::array<i
     };
     scan(from + 1, std::min(to, n), 0);
     if (to > n) scan(std::max(from + 1, n) - n, to - n, n);
-    if (at < 0 || double(best) * double(best) <= eps2 * (dx * dx + dy * dy)) continue;
+    if (at < 0 || double(best) * double(best) <= eps2 * (double(ix) * ix + double(iy) * iy)) continue;
     if (count == kMaxVertices + 1 || top + 2 > int(stack.size())) return kMaxVertices + 1;
     split[size_t(count++)] = at % n;
     stack[size_t(top++)] = {at, to};
@@ -835,21 +825,19 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
   const double epsilon = p.polygon_epsilon_rate * perimeter;
   std::array<int, kMaxVertices + 1> at{};
   int vertices = approx_polygon(contour, epsilon, &at);
-  std::vector<cv::Point> poly;
-  auto polygon = [&] {
-    poly.resize(4);
-    for (size_t i = 0; i < 4; ++i) poly[i] = contour[size_t(at[i])];
+  auto polygon = [&](const std::array<int, kMaxVertices + 1>& idx) {
+    return std::vector<cv::Point>{contour[size_t(idx[0])], contour[size_t(idx[1])], contour[size_t(idx[2])],
+                                  contour[size_t(idx[3])]};
   };
   if (vertices > 4 && contour.size() < 100) {
     // A small contour (under 100 steps) is jagged by whole pixels of the search image, and a corner rounded by blur
     // or decimation can take two vertices. One more try at twice the tolerance, kept only when the polygon still
     // covers the region (a blob is no quad).
     std::array<int, kMaxVertices + 1> coarse{};
-    if (approx_polygon(contour, 2 * epsilon, &coarse) == 4) {
-      std::swap(at, coarse);
-      polygon();
-      if (cv::contourArea(poly) >= 0.85 * cv::contourArea(contour)) vertices = 4;
-      else std::swap(at, coarse);
+    if (approx_polygon(contour, 2 * epsilon, &coarse) == 4 &&
+        cv::contourArea(polygon(coarse)) >= 0.85 * cv::contourArea(contour)) {
+      at = coarse;
+      vertices = 4;
     }
   }
   if (vertices != 4)
@@ -859,7 +847,7 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
                             p.polygon_epsilon_rate)
                       : fmt("polygon has %.0f corners, not 4 (polygon_epsilon_rate %g)", double(vertices),
                             p.polygon_epsilon_rate));
-  polygon();
+  const std::vector<cv::Point> poly = polygon(at);
   if (!cv::isContourConvex(poly)) return reject(Stage::quad_fit, "", 0, 0, "quad is not convex");
   double min_side = 1e18;
   for (int i = 0; i < 4; ++i) {

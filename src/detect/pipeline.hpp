@@ -43,7 +43,7 @@ class GreyOnDemand {
 
  private:
   cv::Mat colour_, grey_;
-  int tiles_x_ = 0, tiles_y_ = 0;
+  int tiles_x_ = 0;
   std::vector<uint8_t> done_;   // per tile, row by row
 };
 
