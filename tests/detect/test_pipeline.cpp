@@ -86,6 +86,32 @@ TEST(Stages, GreyOnDemandConvertsOnlyTheTilesAskedFor) {
   EXPECT_EQ(grey.image().data, expected.data);
 }
 
+// The grey levels are cvtColor's to the level for every colour (the stages' own conversion is vectorised apart from
+// OpenCV's), in a whole frame and in tiles whose rows end off the vector width.
+TEST(Stages, GreyConversionIsCvtColorsForEveryColour) {
+  cv::Mat all(4096, 4096, CV_8UC3);   // all 2^24 colours, each once
+  for (int i = 0; i < 1 << 24; ++i) {
+    uint8_t* p = all.data + 3 * size_t(i);
+    p[0] = uint8_t(i), p[1] = uint8_t(i >> 8), p[2] = uint8_t(i >> 16);
+  }
+  cv::Mat expected;
+  cv::cvtColor(all, expected, cv::COLOR_BGR2GRAY);
+  stages::GreyOnDemand whole(all);
+  whole.need_all();
+  EXPECT_EQ(cv::countNonZero(whole.image() != expected), 0);
+  const cv::Mat odd = all(cv::Rect(3, 5, 1001, 77));   // a view: its rows are not contiguous
+  stages::GreyOnDemand tiles(odd);
+  tiles.need(cv::Rect(7, 1, 50, 9));
+  tiles.need(cv::Rect(500, 40, 501, 37));
+  const cv::Rect a(0, 0, 64, 32), b(480, 32, 521, 45);
+  EXPECT_EQ(cv::countNonZero(tiles.image()(a) != expected(cv::Rect(3, 5, 1001, 77))(a)), 0);
+  EXPECT_EQ(cv::countNonZero(tiles.image()(b) != expected(cv::Rect(3, 5, 1001, 77))(b)), 0);
+  double sx = 0, sy = 0;
+  EXPECT_EQ(cv::countNonZero(stages::acquire(odd, AcquisitionSettings{.resize = false}, &sx, &sy) !=
+                             expected(cv::Rect(3, 5, 1001, 77))),
+            0);
+}
+
 // half_grey is the grey image's 2x2 block means from the colour frame in one pass, on any side: within two levels,
 // on average within one (saturated blue is a level off everywhere: its weight is 15/128 for 0.114).
 TEST(Stages, HalfGreyIsTheDecimatedGreyImageWithinALevelOrTwo) {
