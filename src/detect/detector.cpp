@@ -152,7 +152,13 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   int regions = 0;
   std::vector<std::vector<cv::Point>> contours;
   std::vector<char> cut;   // per contour: cut by its region's edge
-  std::vector<cv::Rect> holes;   // for fine_search: quad-shaped holes of the decimated search's dark regions
+  // For fine_search's holes: each region's binary image and its contours (indices into `contours`).
+  struct Searched {
+    cv::Rect region;
+    cv::Mat binary;
+    size_t first, last;
+  };
+  std::vector<Searched> searched;
   for (const cv::Rect& r : plan.regions) {
     const cv::Mat search = stages::search_image(on_demand, r, factor);
     search_lap(0);
@@ -164,9 +170,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     std::vector<std::vector<cv::Point>> found =
         stages::find_contours(binary, p.min_perimeter_px, &region_count, small_out, factor);
     regions += region_count;
-    if (factor > 1 && p.fine_max_side_px > 0)
-      for (const cv::Rect& b : stages::quad_holes(binary, found, r.tl(), grey.size(), p, factor))
-        if (!stages::cut_by_region(b, r, grey.size(), factor)) holes.push_back(b);
+    const size_t first = contours.size();
     if (one_region) {
       contours = std::move(found);
       found.clear();
@@ -177,6 +181,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       cut.push_back(stages::cut_by_region(cv::boundingRect(c), r, grey.size(), factor));
       contours.push_back(std::move(c));
     }
+    if (factor > 1 && p.fine_max_side_px > 0) searched.push_back({r, binary, first, contours.size()});
     for (auto& sm : region_small) {
       sm.bbox += r.tl();
       small.push_back(sm);
@@ -529,15 +534,21 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         const Quad& q = quads[size_t(k)].quad;
         fine_shapes.push_back(cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end())));
       }
-    // A hole inside a marker read is that marker's inside.
-    for (const cv::Rect& h : holes) {
-      const cv::Point2f centre(float(h.x) + 0.5f * float(h.width), float(h.y) + 0.5f * float(h.height));
-      const bool in_marker = std::any_of(read.begin(), read.end(), [&](int k) {
-        const Quad& q = quads[size_t(k)].quad;
-        return readings[size_t(k)].reached == 5 &&
-               cv::pointPolygonTest(std::vector<cv::Point2f>(q.begin(), q.end()), centre, false) >= 0;
-      });
-      if (!in_marker) fine_shapes.push_back(h);
+    // The quad-shaped holes of the first search's dark shapes, outside the markers read (their cells are their
+    // holes): looked for now that those are known.
+    std::vector<Quad> markers;
+    std::vector<char> is_marker(contours.size(), 0);
+    for (int k : read)
+      if (readings[size_t(k)].reached == 5) {
+        markers.push_back(quads[size_t(k)].quad);
+        is_marker[size_t(quads[size_t(k)].contour)] = 1;
+      }
+    for (const Searched& s : searched) {
+      std::vector<cv::Rect> dark;
+      for (size_t i = s.first; i < s.last; ++i)
+        if (!is_marker[i]) dark.push_back(cv::boundingRect(contours[i]));
+      for (const cv::Rect& b : stages::quad_holes(s.binary, dark, s.region.tl(), grey.size(), p, factor, markers))
+        if (!stages::cut_by_region(b, s.region, grey.size(), factor)) fine_shapes.push_back(b);
     }
     const std::vector<cv::Rect> fine = stages::plan_fine_search(fine_shapes, grey.size(), p);
     if (full && !fine.empty()) fine_record.image = cv::Mat::zeros(grey.size(), CV_8UC1);

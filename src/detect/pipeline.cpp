@@ -11,6 +11,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 namespace arwb::stages {
 namespace {
@@ -507,7 +508,9 @@ void unite(std::vector<Run>& runs, int a, int b) {
   else runs[size_t(a)].parent = b;
 }
 
-// Bit k set where pixel x + k of the row is on (nonzero), for the up to 64 pixels from x; none past w.
+// Bit k set where pixel x + k of the row is on (nonzero; zero when Light), for the up to 64 pixels from x; none
+// past w.
+template <bool Light>
 uint64_t row_mask(const uint8_t* row, int x, int w) {
   uint64_t m = 0;
   int k = 0;
@@ -517,19 +520,23 @@ uint64_t row_mask(const uint8_t* row, int x, int w) {
     const cv::v_uint8x16 zero = cv::v_setzero_u8();
     for (; k < 64; k += 16)
       m |= uint64_t(uint32_t(cv::v_signmask(cv::v_load(row + x + k) > zero))) << k;
-    return m;
+    return Light ? ~m : m;
   }
 #endif
-  for (; k < 64 && x + k < w; ++k) m |= uint64_t(row[x + k] != 0) << k;
+  for (; k < 64 && x + k < w; ++k) m |= uint64_t((row[x + k] != 0) != Light) << k;
   return m;
 }
 
-// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start`.
+// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start` (a region of nonzero
+// pixels; of zero pixels when Light).
+template <bool Light>
 void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::Point>& out) {
   static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
   static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
   const int w = binary.cols, h = binary.rows;
-  auto on = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && binary.ptr<uint8_t>(y)[x] != 0; };
+  auto on = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && (binary.ptr<uint8_t>(y)[x] != 0) != Light;
+  };
   out.clear();
   out.push_back(start);
   // The pixel to the west of the top-left pixel is background: the first scan starts there.
@@ -543,7 +550,7 @@ void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::
       const uint8_t* centre = data + p.y * stride + p.x;
       for (int k = 0; k < 8; ++k) {
         const int d = (from + k) & 7;
-        if (centre[offset[d]]) {
+        if ((centre[offset[d]] != 0) != Light) {
           *dir = d;
           return true;
         }
@@ -576,11 +583,13 @@ void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::
   }
 }
 
-}  // namespace
-
-std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
-                                                  int* region_count, std::vector<SmallRegion>* small, int factor,
-                                                  int max_side_px) {
+// find_contours of the nonzero regions, or when Light of the zero ones. `keep`, when given, is asked about each
+// region about to be traced, with its box in the grey image's pixels: false leaves it untraced.
+template <bool Light>
+std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, double min_perimeter_px,
+                                                    int* region_count, std::vector<SmallRegion>* small, int factor,
+                                                    int max_side_px,
+                                                    const std::function<bool(const cv::Rect&)>& keep = {}) {
   factor = std::max(factor, 1);
   min_perimeter_px /= factor;
   CV_Assert(binary.type() == CV_8UC1);
@@ -597,7 +606,7 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
     bool on = false;  // the pixel before the current 64 is on
     int x0 = 0;
     for (int x = 0; x < w; x += 64) {
-      const uint64_t m = row_mask(row, x, w);
+      const uint64_t m = row_mask<Light>(row, x, w);
       uint64_t edges = m ^ ((m << 1) | uint64_t(on));
       while (edges) {
         const int at = x + std::countr_zero(edges);
@@ -654,8 +663,12 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
       continue;
     }
     if (max_side_px > 0 && std::max(bw, bh) * factor > max_side_px) continue;
+    if (keep) {
+      const cv::Point tl = undecimate(cv::Point(b.x0, b.y0), factor), br = undecimate(cv::Point(b.x1, b.y1), factor);
+      if (!keep(cv::Rect(tl, br + cv::Point(1, 1)))) continue;
+    }
     contours.emplace_back();
-    trace_outer_border(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
+    trace_outer_border<Light>(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
     if (factor > 1)
       for (cv::Point& p : contours.back()) p = undecimate(p, factor);
   }
@@ -663,34 +676,50 @@ std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double 
   return contours;
 }
 
-std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<std::vector<cv::Point>>& contours,
-                                 cv::Point origin, cv::Size grey, const DetectorParams& p, int factor) {
+}  // namespace
+
+std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
+                                                  int* region_count, std::vector<SmallRegion>* small, int factor,
+                                                  int max_side_px) {
+  return region_contours<false>(binary, min_perimeter_px, region_count, small, factor, max_side_px);
+}
+
+std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<cv::Rect>& dark, cv::Point origin,
+                                 cv::Size grey, const DetectorParams& p, int factor, const std::vector<Quad>& markers) {
   std::vector<cv::Rect> boxes;
   if (p.fine_max_side_px <= 0) return boxes;
   factor = std::max(factor, 1);
   const cv::Rect image(0, 0, binary.cols, binary.rows);
   std::vector<cv::Rect> shapes;   // in the binary's pixels
-  for (const auto& c : contours) {
-    const cv::Rect box = cv::boundingRect(c);
-    if (std::max(box.width, box.height) <= p.fine_max_side_px) continue;
+  for (const cv::Rect& d : dark) {
+    if (std::max(d.width, d.height) <= p.fine_max_side_px) continue;
+    const cv::Rect box = d - origin;
     const cv::Point tl(box.x / factor, box.y / factor);
     const cv::Point br((box.x + box.width - 1) / factor + 1, (box.y + box.height - 1) / factor + 1);
     shapes.push_back(cv::Rect(tl, br) & image);
   }
   merge_overlapping(shapes);
+  // A light region whose centre lies in a marker read is the marker's: one of its cells, or its quiet zone on a
+  // dark ground. It is not traced (at 1920x1080 the cells of the frame's large markers had been most of this work).
+  auto outside_markers = [&](const cv::Rect& hole) {
+    const cv::Point2f centre(float(hole.x) + 0.5f * float(hole.width), float(hole.y) + 0.5f * float(hole.height));
+    return std::none_of(markers.begin(), markers.end(), [&](const Quad& q) {
+      return cv::pointPolygonTest(std::vector<cv::Point2f>(q.begin(), q.end()), centre, false) >= 0;
+    });
+  };
   // A marker's inside is 5/7 of its side (ARUCO_ORIGINAL; more for larger grids): half of min_perimeter_px keeps
   // the insides of the smallest markers the search is for.
   for (const cv::Rect& s : shapes) {
-    const cv::Mat light = binary(s) == 0;
+    const cv::Point shift = origin + s.tl() * factor;
     std::vector<std::vector<cv::Point>> found =
-        find_contours(light, p.min_perimeter_px / 2, nullptr, nullptr, factor, int(p.fine_max_side_px));
+        region_contours<true>(binary(s), p.min_perimeter_px / 2, nullptr, nullptr, factor, int(p.fine_max_side_px),
+                              [&](const cv::Rect& in) { return outside_markers(in + shift); });
     for (auto& c : found) {
       const cv::Rect in = cv::boundingRect(c);
       // A light region at the box's edge is not inside the shape (a hole lies within its region's box).
       if (in.x < factor || in.y < factor || in.x + in.width > (s.width - 1) * factor ||
           in.y + in.height > (s.height - 1) * factor)
         continue;
-      const cv::Point shift = origin + s.tl() * factor;
       for (cv::Point& pt : c) pt += shift;
       Quad q;
       if (!fit_quad(c, grey, p, &q, factor)) boxes.push_back(in + shift);

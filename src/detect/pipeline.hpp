@@ -126,12 +126,14 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
 // it lies in the grey image) that are quads at most fine_max_side_px on their longer side, as boxes in the grey
 // image's pixels. A small marker whose quiet zone the decimation closed is part of a larger dark shape that no quad
 // fits (or a quad that the small marker bumps by less than polygon_epsilon_rate), but its inside, within the black
-// border, is still a quad-shaped hole. Only the dark regions longer than fine_max_side_px are looked into
-// (`contours`: the binary's, as find_contours gave them; a smaller shape is searched again whole), each within its
-// bounding box, where its holes lie: at 1920x1080 the light regions of the whole image had cost as much as the dark
-// ones.
-std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<std::vector<cv::Point>>& contours,
-                                 cv::Point origin, cv::Size grey, const DetectorParams& p, int factor);
+// border, is still a quad-shaped hole. Only the dark regions longer than fine_max_side_px are looked into (`dark`:
+// their bounding boxes in the grey image's pixels; a smaller shape is searched again whole), each within its box,
+// where its holes lie: at 1920x1080 the light regions of the whole image had cost as much as the dark ones.
+// `markers`: the quads (grey image's pixels) that read as markers; nothing inside them is a hole, nor a hole whose
+// centre is inside one (the quiet zone of a marker on a dark ground).
+std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<cv::Rect>& dark, cv::Point origin,
+                                 cv::Size grey, const DetectorParams& p, int factor,
+                                 const std::vector<Quad>& markers = {});
 
 // fine_search: where a decimated search is searched again at full resolution. `shapes`: the boxes (grey image's
 // pixels) of its contours that size_filter found too short or quad_fit could not close, of the quads that did not

@@ -349,7 +349,7 @@ TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
 
 // A binary image of a half-size search (factor 2): a dark ring whose quiet zone closed into a larger dark shape
 // still holds a light quad, and quad_holes gives its box in the grey image's pixels; a round hole, a quad hole
-// larger than fine_max_side_px and the light background are not given.
+// larger than fine_max_side_px and the light background are not given, nor the holes inside a marker read.
 TEST(Stages, QuadHolesFindTheInsideOfARingMergedIntoALargerShape) {
   DetectorParams p;   // fine_max_side_px 80, min_perimeter_px 48
   cv::Mat bin(200, 300, CV_8UC1, cv::Scalar(0));
@@ -361,18 +361,33 @@ TEST(Stages, QuadHolesFindTheInsideOfARingMergedIntoALargerShape) {
   cv::circle(bin, cv::Point(160, 100), 9, cv::Scalar(0), -1);
   cv::rectangle(bin, cv::Rect(200, 40, 60, 60), cv::Scalar(255), -1);    // a quad hole 2 x 50 px a side
   cv::rectangle(bin, cv::Rect(205, 45, 50, 50), cv::Scalar(0), -1);
-  const auto dark = stages::find_contours(bin, p.min_perimeter_px, nullptr, nullptr, 2);
+  // The dark shapes' boxes in the grey image's pixels (the binary lies at (10, 0)).
+  auto boxes = [](const cv::Mat& b, int min_perimeter) {
+    std::vector<cv::Rect> out;
+    for (const auto& c : stages::find_contours(b, min_perimeter, nullptr, nullptr, 2))
+      out.push_back(cv::boundingRect(c) + cv::Point(10, 0));
+    return out;
+  };
+  const std::vector<cv::Rect> dark = boxes(bin, int(p.min_perimeter_px));
   const std::vector<cv::Rect> holes = stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2);
   ASSERT_EQ(holes.size(), 1u);
   // The inside's pixels 83..92 are the blocks' centres 2 x 83 + 10 (the origin) .. 2 x 92 + 10 in the grey image.
   EXPECT_EQ(holes[0], cv::Rect(176, 126, 19, 19));
+  // Inside a marker read, a hole is the marker's: a quad around the ring (grey image's pixels), or one around its
+  // inside only (its centre in the marker), leaves none; a marker beside it leaves it.
+  const Quad ring{cv::Point2f(170, 120), {201, 120}, {201, 151}, {170, 151}};
+  EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {ring}).empty());
+  const Quad centre{cv::Point2f(182, 132), {189, 132}, {189, 139}, {182, 139}};
+  EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {centre}).empty());
+  const Quad beside{cv::Point2f(420, 90), {520, 90}, {520, 190}, {420, 190}};
+  EXPECT_EQ(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {beside}).size(), 1u);
   // Only shapes longer than fine_max_side_px are looked into: a ring of 60 px (30 decimated) on its own is searched
   // again whole if it does not read.
   cv::Mat alone(200, 300, CV_8UC1, cv::Scalar(0));
   cv::rectangle(alone, cv::Rect(80, 60, 30, 30), cv::Scalar(255), -1);
   cv::rectangle(alone, cv::Rect(85, 65, 20, 20), cv::Scalar(0), -1);
-  EXPECT_TRUE(stages::quad_holes(alone, stages::find_contours(alone, p.min_perimeter_px, nullptr, nullptr, 2),
-                                 cv::Point(10, 0), cv::Size(620, 400), p, 2)
+  EXPECT_TRUE(stages::quad_holes(alone, boxes(alone, int(p.min_perimeter_px)), cv::Point(10, 0), cv::Size(620, 400),
+                                 p, 2)
                   .empty());
   p.fine_max_side_px = 0;
   EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2).empty()) << "off";
