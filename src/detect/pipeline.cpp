@@ -36,41 +36,68 @@ namespace {
 // colours by the tests).
 constexpr int kGreyB = 3735, kGreyG = 19235, kGreyR = 9798, kGreyShift = 15;
 
+inline uint8_t grey_of(const uint8_t* bgr) {
+  return uint8_t((kGreyB * bgr[0] + kGreyG * bgr[1] + kGreyR * bgr[2] + (1 << (kGreyShift - 1))) >> kGreyShift);
+}
+
 #if defined(__x86_64__) || defined(__i386__)
-// SSSE3: 16 pixels from 48 bytes. Four pixels (12 bytes, brought to a vector's start by palignr) at a time: one
-// byte shuffle makes their B and G 16-bit pairs, another their R with a 1 beside it (the rounding's weight), and
-// two pmaddwd sum the weighed pairs. 1.35-1.45x cvtColor's speed on the bench machine (1920x1080: 0.59 against
-// 0.79 ms), which gathers the channels apart first.
-__attribute__((target("ssse3"))) void bgr_to_grey_ssse3(const cv::Mat& bgr, cv::Mat& grey) {
+// SSSE3: n pixels of a row, 16 from 48 bytes at a time. Four pixels (12 bytes, brought to a vector's start by
+// palignr) at a time: one byte shuffle makes their B and G 16-bit pairs, another their R with a 1 beside it (the
+// rounding's weight), and two pmaddwd sum the weighed pairs. 1.35-1.45x cvtColor's speed on the bench machine
+// (1920x1080: 0.59 against 0.79 ms), which gathers the channels apart first.
+__attribute__((target("ssse3"))) void grey_row_ssse3(const uint8_t* s, uint8_t* o, int n) {
   const __m128i bg = _mm_setr_epi8(0, -128, 1, -128, 3, -128, 4, -128, 6, -128, 7, -128, 9, -128, 10, -128);
   const __m128i r = _mm_setr_epi8(2, -128, -128, -128, 5, -128, -128, -128, 8, -128, -128, -128, 11, -128, -128, -128);
   const __m128i one = _mm_set1_epi32(1 << 16);
   const __m128i w_bg = _mm_set1_epi32((kGreyG << 16) | kGreyB);
   const __m128i w_r = _mm_set1_epi32((1 << (kGreyShift - 1) << 16) | kGreyR);
-  for (int y = 0; y < grey.rows; ++y) {
-    const uint8_t* s = bgr.ptr<uint8_t>(y);
-    uint8_t* o = grey.ptr<uint8_t>(y);
-    int x = 0;
-    for (; x + 16 <= grey.cols; x += 16) {
-      const uint8_t* p = s + 3 * x;
-      const __m128i v0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
-      const __m128i v1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16));
-      const __m128i v2 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 32));
-      const __m128i four[4] = {v0, _mm_alignr_epi8(v1, v0, 12), _mm_alignr_epi8(v2, v1, 8), _mm_srli_si128(v2, 4)};
-      __m128i sum[4];
-      for (int q = 0; q < 4; ++q) {
-        const __m128i pairs_bg = _mm_shuffle_epi8(four[q], bg);
-        const __m128i pairs_r = _mm_or_si128(_mm_shuffle_epi8(four[q], r), one);
-        sum[q] = _mm_srli_epi32(_mm_add_epi32(_mm_madd_epi16(pairs_bg, w_bg), _mm_madd_epi16(pairs_r, w_r)),
-                                kGreyShift);
-      }
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(o + x),
-                       _mm_packus_epi16(_mm_packs_epi32(sum[0], sum[1]), _mm_packs_epi32(sum[2], sum[3])));
+  int x = 0;
+  for (; x + 16 <= n; x += 16) {
+    const uint8_t* p = s + 3 * x;
+    const __m128i v0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+    const __m128i v1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16));
+    const __m128i v2 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 32));
+    const __m128i four[4] = {v0, _mm_alignr_epi8(v1, v0, 12), _mm_alignr_epi8(v2, v1, 8), _mm_srli_si128(v2, 4)};
+    __m128i sum[4];
+    for (int q = 0; q < 4; ++q) {
+      const __m128i pairs_bg = _mm_shuffle_epi8(four[q], bg);
+      const __m128i pairs_r = _mm_or_si128(_mm_shuffle_epi8(four[q], r), one);
+      sum[q] = _mm_srli_epi32(_mm_add_epi32(_mm_madd_epi16(pairs_bg, w_bg), _mm_madd_epi16(pairs_r, w_r)), kGreyShift);
     }
-    for (; x < grey.cols; ++x)
-      o[x] = uint8_t((kGreyB * s[3 * x] + kGreyG * s[3 * x + 1] + kGreyR * s[3 * x + 2] + (1 << (kGreyShift - 1))) >>
-                     kGreyShift);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(o + x),
+                     _mm_packus_epi16(_mm_packs_epi32(sum[0], sum[1]), _mm_packs_epi32(sum[2], sum[3])));
   }
+  for (; x < n; ++x) o[x] = grey_of(s + 3 * x);
+}
+
+// AVX2: as SSSE3, four pixels a 128-bit lane: a dword permutation puts bytes 12..27 of a 32-byte load in its high
+// lane, where the same shuffles find them; the packed results come out with the lanes' dwords interleaved, and one
+// more permutation puts them in order. 1920x1080: 0.41 ms against SSSE3's 0.59.
+__attribute__((target("avx2"))) void grey_row_avx2(const uint8_t* s, uint8_t* o, int n) {
+  const __m256i bg = _mm256_broadcastsi128_si256(
+      _mm_setr_epi8(0, -128, 1, -128, 3, -128, 4, -128, 6, -128, 7, -128, 9, -128, 10, -128));
+  const __m256i r = _mm256_broadcastsi128_si256(
+      _mm_setr_epi8(2, -128, -128, -128, 5, -128, -128, -128, 8, -128, -128, -128, 11, -128, -128, -128));
+  const __m256i one = _mm256_set1_epi32(1 << 16);
+  const __m256i w_bg = _mm256_set1_epi32((kGreyG << 16) | kGreyB);
+  const __m256i w_r = _mm256_set1_epi32((1 << (kGreyShift - 1) << 16) | kGreyR);
+  const __m256i spread = _mm256_setr_epi32(0, 1, 2, 3, 3, 4, 5, 6), order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+  int x = 0;
+  // 32 pixels from four 32-byte loads 24 bytes apart: the last one reads 8 bytes past them, kept inside the row.
+  for (; 3 * x + 104 <= 3 * n; x += 32) {
+    __m256i sum[4];   // sum[q]: pixels 8q..8q+3 in the low lane, 8q+4..8q+7 in the high one
+    for (int q = 0; q < 4; ++q) {
+      const __m256i v =
+          _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(s + 3 * x + 24 * q)), spread);
+      const __m256i pairs_bg = _mm256_shuffle_epi8(v, bg);
+      const __m256i pairs_r = _mm256_or_si256(_mm256_shuffle_epi8(v, r), one);
+      sum[q] = _mm256_srli_epi32(_mm256_add_epi32(_mm256_madd_epi16(pairs_bg, w_bg), _mm256_madd_epi16(pairs_r, w_r)),
+                                 kGreyShift);
+    }
+    const __m256i packed = _mm256_packus_epi16(_mm256_packs_epi32(sum[0], sum[1]), _mm256_packs_epi32(sum[2], sum[3]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(o + x), _mm256_permutevar8x32_epi32(packed, order));
+  }
+  grey_row_ssse3(s + 3 * x, o + x, n - x);
 }
 #endif
 
@@ -78,10 +105,20 @@ __attribute__((target("ssse3"))) void bgr_to_grey_ssse3(const cv::Mat& bgr, cv::
 // place).
 void bgr_to_grey(const cv::Mat& bgr, cv::Mat& grey) {
   grey.create(bgr.size(), CV_8UC1);
+  void (*row)(const uint8_t*, uint8_t*, int) = nullptr;
 #if defined(__x86_64__) || defined(__i386__)
-  if (__builtin_cpu_supports("ssse3")) return bgr_to_grey_ssse3(bgr, grey);
+  if (__builtin_cpu_supports("avx2")) row = grey_row_avx2;
+  else if (__builtin_cpu_supports("ssse3")) row = grey_row_ssse3;
 #endif
-  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  for (int y = 0; y < grey.rows; ++y) {
+    const uint8_t* s = bgr.ptr<uint8_t>(y);
+    uint8_t* o = grey.ptr<uint8_t>(y);
+    if (row) {
+      row(s, o, grey.cols);
+    } else {
+      for (int x = 0; x < grey.cols; ++x) o[x] = grey_of(s + 3 * x);
+    }
+  }
 }
 
 cv::Mat to_grey(const cv::Mat& input) {
