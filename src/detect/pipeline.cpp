@@ -445,6 +445,35 @@ cv::Mat search_image(GreyOnDemand& grey, const cv::Rect& region, int factor) {
 
 // [SECTION] adaptive_threshold
 
+namespace {
+#if defined(__x86_64__) || defined(__i386__)
+// adaptive_threshold's comparison with AVX2, 32 pixels (16 block means) at a time, the same arithmetic as the
+// universal intrinsics' 16 below (which OpenCV's headers give 128 bits here): the unpacks and packs work within
+// each 128-bit lane, and the means of lane k are pixels 16k..16k+15, so the bytes come out in order. Returns how
+// many block means it did (a multiple of 16). The stage at 640x480: 0.125 -> 0.10 ms; 1920x1080's half-size
+// search: 0.21 -> 0.17 ms.
+__attribute__((target("avx2"))) int threshold_row_avx2(const uint16_t* v, int mw, const uint8_t* g, uint8_t* b,
+                                                     int offset) {
+  const __m256i lift = _mm256_set1_epi8(char(offset)), round = _mm256_set1_epi16(8);
+  int i = 0;
+  for (; i + 16 <= mw; i += 16) {
+    const __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i));
+    const __m256i c3 = _mm256_add_epi16(_mm256_add_epi16(_mm256_slli_epi16(c, 1), c), round);
+    const __m256i even = _mm256_srli_epi16(
+        _mm256_add_epi16(c3, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i - 1))), 4);
+    const __m256i odd = _mm256_srli_epi16(
+        _mm256_add_epi16(c3, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i + 1))), 4);
+    const __m256i mean = _mm256_packus_epi16(_mm256_unpacklo_epi16(even, odd), _mm256_unpackhi_epi16(even, odd));
+    const __m256i lifted = _mm256_adds_epu8(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(g + 2 * i)), lift);
+    // lifted <= mean: their maximum is the mean.
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(b + 2 * i),
+                        _mm256_cmpeq_epi8(_mm256_max_epu8(lifted, mean), mean));
+  }
+  return i;
+}
+#endif
+}  // namespace
+
 cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
   cv::Mat binary;
   const int window = p.threshold_window_px | 1;  // the mean needs an odd window
@@ -478,6 +507,9 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
   thread_local std::vector<uint16_t> vbuf;   // one row of vertically blended means, clamped one past each end
   vbuf.resize(size_t(mw) + 2);
   uint16_t* v = vbuf.data() + 1;
+#if defined(__x86_64__) || defined(__i386__)
+  const bool avx2 = __builtin_cpu_supports("avx2");
+#endif
   for (int y = 0; y < grey.rows; ++y) {
     const int yy = std::min(y, 2 * mh - 1);   // an odd last row: the row before it
     const int j = yy / 2;
@@ -497,6 +529,9 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
     const uint8_t* g = grey.ptr<uint8_t>(y);
     uint8_t* b = binary.ptr<uint8_t>(y);
     i = 0;
+#if defined(__x86_64__) || defined(__i386__)
+    if (avx2) i = threshold_row_avx2(v, mw, g, b, offset);
+#endif
 #if CV_SIMD
     // + on 8-bit lanes saturates, <= gives 0xFF or 0; v_pack saturates (the means are at most 255 anyway).
     const cv::v_uint8 lift = cv::vx_setall_u8(uint8_t(offset));
