@@ -8,6 +8,7 @@
 #endif
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -471,7 +472,97 @@ __attribute__((target("avx2"))) int threshold_row_avx2(const uint16_t* v, int mw
   }
   return i;
 }
+
+// The box filter's mean of k x k pixels (k odd, border replicated), rounded to the nearest as cv::boxFilter's (a
+// k x k sum over an odd count is never halfway), with AVX2: each row's sums of k along it (k shifted loads a vector),
+// then a running sum of k rows down each column, divided by a 16-bit multiply-high and a shift. For windows up to
+// 15 (the sums fit 16 bits); false leaves it to cv::boxFilter. 320x240 at 9 (the 640x480 threshold's): 0.05 -> 0.025
+// ms.
+__attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& dst, int k) {
+  const int w = src.cols, h = src.rows, r = k / 2, d = k * k;
+  if (k % 2 == 0 || k > 15 || w < 16 || h < 1) return false;
+  // (sum + d / 2) / d as (x * m) >> (16 + shift), checked once per window over every sum it can have.
+  const int shift = std::bit_width(unsigned(d)) - 1;
+  const uint32_t m = uint32_t(((uint64_t(1) << (16 + shift)) + uint64_t(d) - 1) / uint64_t(d));
+  static const std::array<bool, 16> exact = [] {
+    std::array<bool, 16> ok{};
+    for (int n = 1; n < 16; n += 2) {
+      const uint32_t dn = uint32_t(n * n), sn = uint32_t(std::bit_width(dn) - 1);
+      const uint32_t mn = uint32_t(((uint64_t(1) << (16 + sn)) + dn - 1) / dn);
+      ok[size_t(n)] = mn <= 0xFFFF;
+      for (uint32_t sum = 0; sum <= 255 * dn && ok[size_t(n)]; ++sum)
+        ok[size_t(n)] = ((sum + dn / 2) * mn) >> (16 + sn) == (sum + dn / 2) / dn;
+    }
+    return ok;
+  }();
+  if (!exact[size_t(k)]) return false;
+  dst.create(src.size(), CV_8UC1);
+  thread_local std::vector<uint8_t> pad;
+  thread_local std::vector<uint16_t> rows, column;
+  pad.resize(size_t(w + 2 * r));
+  const size_t stride = size_t(w);
+  rows.resize(stride * size_t(h));
+  column.resize(stride);
+  for (int y = 0; y < h; ++y) {   // the sums along each row
+    const uint8_t* in = src.ptr<uint8_t>(y);
+    std::fill_n(pad.begin(), r, in[0]);
+    std::copy_n(in, w, pad.begin() + r);
+    std::fill_n(pad.begin() + r + w, r, in[w - 1]);
+    uint16_t* out = rows.data() + size_t(y) * stride;
+    int x = 0;
+    for (; x + 16 <= w; x += 16) {
+      __m256i sum = _mm256_setzero_si256();
+      for (int j = 0; j < k; ++j)
+        sum = _mm256_add_epi16(sum, _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(
+                                        pad.data() + x + j))));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), sum);
+    }
+    for (; x < w; ++x) {
+      int sum = 0;
+      for (int j = 0; j < k; ++j) sum += pad[size_t(x + j)];
+      out[x] = uint16_t(sum);
+    }
+  }
+  auto row = [&](int y) { return rows.data() + size_t(std::clamp(y, 0, h - 1)) * stride; };
+  std::fill(column.begin(), column.end(), uint16_t(0));
+  for (int y = -r; y <= r; ++y) {
+    const uint16_t* in = row(y);
+    for (int x = 0; x < w; ++x) column[size_t(x)] = uint16_t(column[size_t(x)] + in[x]);
+  }
+  const __m256i mul = _mm256_set1_epi16(short(m)), half = _mm256_set1_epi16(short(d / 2));
+  const __m128i bits = _mm_cvtsi32_si128(shift);
+  for (int y = 0; y < h; ++y) {
+    uint8_t* out = dst.ptr<uint8_t>(y);
+    const uint16_t* add = row(y + r + 1);
+    const uint16_t* drop = row(y - r);
+    uint16_t* c = column.data();
+    int x = 0;
+    for (; x + 16 <= w; x += 16) {
+      const __m256i sum = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + x));
+      const __m256i mean = _mm256_srl_epi16(_mm256_mulhi_epu16(_mm256_add_epi16(sum, half), mul), bits);
+      const __m256i packed = _mm256_permute4x64_epi64(_mm256_packus_epi16(mean, mean), 0x08);   // qwords 0, 2
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + x), _mm256_castsi256_si128(packed));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(c + x),
+                          _mm256_sub_epi16(_mm256_add_epi16(sum, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(
+                                                                    add + x))),
+                                           _mm256_loadu_si256(reinterpret_cast<const __m256i*>(drop + x))));
+    }
+    for (; x < w; ++x) {
+      out[x] = uint8_t(((uint32_t(c[x]) + uint32_t(d / 2)) * m) >> (16 + shift));
+      c[x] = uint16_t(c[x] + add[x] - drop[x]);
+    }
+  }
+  return true;
+}
 #endif
+
+// adaptive_threshold's window mean: box_mean_avx2 where it can, else cv::boxFilter.
+void box_mean(const cv::Mat& src, cv::Mat& dst, int k) {
+#if defined(__x86_64__) || defined(__i386__)
+  if (__builtin_cpu_supports("avx2") && box_mean_avx2(src, dst, k)) return;
+#endif
+  cv::boxFilter(src, dst, CV_8U, cv::Size(k, k), cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
+}
 }  // namespace
 
 cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
@@ -494,7 +585,7 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
   cv::Mat blocks, mean;
   cv::resize(grey(cv::Rect(0, 0, 2 * whole.width, 2 * whole.height)), blocks, whole, 0, 0, cv::INTER_AREA);
   const int half = (window / 2) | 1;
-  cv::boxFilter(blocks, mean, CV_8U, cv::Size(half, half), cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
+  box_mean(blocks, mean, half);
   // Brought back to the full size bilinearly and compared there, in one pass: black where grey + offset <= mean
   // (saturating, as cv::add would). At twice the size, bilinear weighs the two nearest block means 3:1 along each
   // axis (OpenCV's INTER_LINEAR, clamped at the edges the same way; here exact, where its fixed point may round a
