@@ -151,7 +151,7 @@ void GreyOnDemand::need(const cv::Rect& r) {
   if (in.empty()) return;
   const int tx0 = in.x / kTile, tx1 = (in.x + in.width - 1) / kTile;
   const int ty0 = in.y / kTile, ty1 = (in.y + in.height - 1) / kTile;
-  // Tiles [x0, x1] x [y0, y1] converted in one call (a cvtColor costs a microsecond or two) and marked.
+  // Tiles [x0, x1] x [y0, y1] converted in one call (a call has a fixed cost: a block at once) and marked.
   auto convert = [&](int x0, int y0, int x1, int y1) {
     const cv::Rect px = cv::Rect(x0 * kTile, y0 * kTile, (x1 - x0 + 1) * kTile, (y1 - y0 + 1) * kTile) & frame;
     cv::Mat out = grey_(px);   // converted in place: a destination of the right size is kept
@@ -482,20 +482,27 @@ __attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& 
   const int w = src.cols, h = src.rows, r = k / 2, d = k * k;
   if (k % 2 == 0 || k > 15 || w < 16 || h < 1) return false;
   // (sum + d / 2) / d as (x * m) >> (16 + shift), checked once per window over every sum it can have.
-  const int shift = std::bit_width(unsigned(d)) - 1;
-  const uint32_t m = uint32_t(((uint64_t(1) << (16 + shift)) + uint64_t(d) - 1) / uint64_t(d));
-  static const std::array<bool, 16> exact = [] {
+  struct Division {
+    uint32_t m;
+    int shift;
+  };
+  auto division_by = [](uint32_t divisor) {
+    const int shift = std::bit_width(divisor) - 1;
+    return Division{uint32_t(((uint64_t(1) << (16 + shift)) + divisor - 1) / divisor), shift};
+  };
+  static const std::array<bool, 16> exact = [division_by] {
     std::array<bool, 16> ok{};
-    for (int n = 1; n < 16; n += 2) {
-      const uint32_t dn = uint32_t(n * n), sn = uint32_t(std::bit_width(dn) - 1);
-      const uint32_t mn = uint32_t(((uint64_t(1) << (16 + sn)) + dn - 1) / dn);
-      ok[size_t(n)] = mn <= 0xFFFF;
-      for (uint32_t sum = 0; sum <= 255 * dn && ok[size_t(n)]; ++sum)
-        ok[size_t(n)] = ((sum + dn / 2) * mn) >> (16 + sn) == (sum + dn / 2) / dn;
+    for (uint32_t n = 1; n < 16; n += 2) {
+      const uint32_t dn = n * n;
+      const Division q = division_by(dn);
+      ok[n] = q.m <= 0xFFFF;
+      for (uint32_t sum = 0; sum <= 255 * dn && ok[n]; ++sum)
+        ok[n] = ((sum + dn / 2) * q.m) >> (16 + q.shift) == (sum + dn / 2) / dn;
     }
     return ok;
   }();
   if (!exact[size_t(k)]) return false;
+  const auto [m, shift] = division_by(uint32_t(d));
   dst.create(src.size(), CV_8UC1);
   thread_local std::vector<uint8_t> pad;
   thread_local std::vector<uint16_t> rows, column;
