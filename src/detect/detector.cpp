@@ -319,7 +319,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   // quad_fit, for contour i.
   auto fit = [&](int i) {
     Quad q;
-    auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q, contour_factor[size_t(i)]);
+    auto why = stages::fit_quad(contours[size_t(i)], work_size, p, &q, contour_factor[size_t(i)], timed);
     if (why) fine_shape(i);
     if (!why && coarse > 0 && contour_factor[size_t(i)] == coarse)
       if (const int twin = found_before(q); twin >= 0)

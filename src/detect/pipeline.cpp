@@ -837,7 +837,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       const cv::Point tl = undecimate(cv::Point(b.x0, b.y0), factor), br = undecimate(cv::Point(b.x1, b.y1), factor);
       if (!keep(cv::Rect(tl, br + cv::Point(1, 1)))) continue;
     }
-    contours.emplace_back();
+    contours.emplace_back().reserve(size_t(2 * (bw + bh)));   // a convex border's length: one allocation, mostly
     trace_outer_border<Light>(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
     if (factor > 1)
       for (cv::Point& p : contours.back()) p = undecimate(p, factor);
@@ -892,7 +892,7 @@ std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<cv::Re
         continue;
       for (cv::Point& pt : c) pt += shift;
       Quad q;
-      if (!fit_quad(c, grey, p, &q, factor)) boxes.push_back(in + shift);
+      if (!fit_quad(c, grey, p, &q, factor, false)) boxes.push_back(in + shift);
     }
   }
   return boxes;
@@ -1074,7 +1074,7 @@ Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::array<
 }  // namespace
 
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
-                                  Quad* quad, int factor) {
+                                  Quad* quad, int factor, bool explain) {
   const double perimeter = contour_length(contour, factor);
   const double epsilon = p.polygon_epsilon_rate * perimeter;
   std::array<int, kMaxVertices + 1> at{};
@@ -1094,13 +1094,15 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
       vertices = 4;
     }
   }
-  if (vertices != 4)
-    return reject(Stage::quad_fit, "polygon_epsilon_rate", double(vertices), 4,
-                  vertices > kMaxVertices
-                      ? fmt("polygon has more than %.0f corners, not 4 (polygon_epsilon_rate %g)", kMaxVertices,
-                            p.polygon_epsilon_rate)
-                      : fmt("polygon has %.0f corners, not 4 (polygon_epsilon_rate %g)", double(vertices),
-                            p.polygon_epsilon_rate));
+  if (vertices != 4) {
+    std::string why;
+    if (explain)
+      why = vertices > kMaxVertices ? fmt("polygon has more than %.0f corners, not 4 (polygon_epsilon_rate %g)",
+                                          kMaxVertices, p.polygon_epsilon_rate)
+                                    : fmt("polygon has %.0f corners, not 4 (polygon_epsilon_rate %g)",
+                                          double(vertices), p.polygon_epsilon_rate);
+    return reject(Stage::quad_fit, "polygon_epsilon_rate", double(vertices), 4, std::move(why));
+  }
   const std::vector<cv::Point> poly = polygon(at);
   if (!cv::isContourConvex(poly)) return reject(Stage::quad_fit, "", 0, 0, "quad is not convex");
   double min_side = 1e18;
@@ -1111,14 +1113,16 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
   const double min_allowed = p.min_side_rate * perimeter;
   if (min_side < min_allowed)
     return reject(Stage::quad_fit, "min_side_rate", min_side, min_allowed,
-                  fmt("shortest side %.1f px < min_side_rate x perimeter = %.1f px", min_side, min_allowed));
+                  explain ? fmt("shortest side %.1f px < min_side_rate x perimeter = %.1f px", min_side, min_allowed)
+                          : "");
   int edge = 1 << 30;
   for (const auto& pt : poly)
     edge = std::min({edge, pt.x, pt.y, image.width - 1 - pt.x, image.height - 1 - pt.y});
   if (edge < p.min_border_distance_px)
     return reject(Stage::quad_fit, "min_border_distance_px", edge, p.min_border_distance_px,
-                  fmt("corner %.0f px from the image edge < min_border_distance_px %.0f px", edge,
-                      p.min_border_distance_px));
+                  explain ? fmt("corner %.0f px from the image edge < min_border_distance_px %.0f px", edge,
+                                p.min_border_distance_px)
+                          : "");
   Quad q = corners_from_sides(contour, {at[0], at[1], at[2], at[3]}, (factor - 1) / 2.0 - (factor - 1) / 2);
   // Clockwise on screen (y down): the cross product of the first two edges is positive.
   const cv::Point2f a = q[1] - q[0], b = q[2] - q[0];

@@ -118,9 +118,10 @@ inline double contour_length(const std::vector<cv::Point>& contour, int factor) 
 std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
                                      bool explain = true, int factor = 1);
 
-// quad_fit: a convex quad, clockwise on screen, or the rejection.
+// quad_fit: a convex quad, clockwise on screen, or the rejection (its message only when `explain` asks: most
+// contours of a frame stop here too).
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
-                                  Quad* quad, int factor = 1);
+                                  Quad* quad, int factor = 1, bool explain = true);
 
 // fine_search's holes: the light insides of the dark regions of a decimated search's binary image (`origin`: where
 // it lies in the grey image) that are quads at most fine_max_side_px on their longer side, as boxes in the grey
