@@ -1427,8 +1427,11 @@ bool refine_corners_once(const cv::Mat& grey, Quad& corners, int cells, const De
     cv::Point2d normal(dir.y, -dir.x);
     if (normal.dot(cv::Point2d(centre) - a) > 0) normal = -normal;  // outward
     const int count = std::clamp(static_cast<int>(cv::norm(b - a) / 2), 8, 32);
-    std::vector<cv::Point2d> pts;
-    std::vector<int> profile(static_cast<size_t>(samples));   // grey levels times 65536
+    // Kept from side to side and quad to quad (per thread): no allocation a side.
+    thread_local std::vector<cv::Point2d> pts;
+    thread_local std::vector<int> profile;   // grey levels times 65536
+    pts.clear();
+    profile.resize(static_cast<size_t>(samples));
     for (int k = 0; k < count; ++k) {
       const double t = 0.12 + 0.76 * (k + 0.5) / count;  // away from the corners
       const cv::Point2d base = a + (b - a) * t;
