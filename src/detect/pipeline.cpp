@@ -764,7 +764,10 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   min_perimeter_px /= factor;
   CV_Assert(binary.type() == CV_8UC1);
   const int w = binary.cols, h = binary.rows;
-  std::vector<Run> runs;
+  // The runs and boxes of one call, kept per thread from call to call: a noisy 640x480 frame has 28000 runs, and
+  // growing and zeroing fresh buffers that large every frame cost more than the scan.
+  thread_local std::vector<Run> runs;
+  runs.clear();
   runs.reserve(size_t(h) * 8);
   int prev_begin = 0, prev_end = 0;
   for (int y = 0; y < h; ++y) {
@@ -811,7 +814,8 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   struct Box {
     int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
   };
-  std::vector<Box> boxes(runs.size());
+  thread_local std::vector<Box> boxes;
+  boxes.assign(runs.size(), Box{});
   for (int i = 0; i < int(runs.size()); ++i) {
     const int r = find_root(runs, i);
     Box& b = boxes[size_t(r)];
