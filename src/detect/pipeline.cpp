@@ -481,28 +481,14 @@ __attribute__((target("avx2"))) int threshold_row_avx2(const uint16_t* v, int mw
 __attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& dst, int k) {
   const int w = src.cols, h = src.rows, r = k / 2, d = k * k;
   if (k % 2 == 0 || k > 15 || w < 16 || h < 1) return false;
-  // (sum + d / 2) / d as (x * m) >> (16 + shift), checked once per window over every sum it can have.
-  struct Division {
-    uint32_t m;
-    int shift;
-  };
-  auto division_by = [](uint32_t divisor) {
-    const int shift = std::bit_width(divisor) - 1;
-    return Division{uint32_t(((uint64_t(1) << (16 + shift)) + divisor - 1) / divisor), shift};
-  };
-  static const std::array<bool, 16> exact = [division_by] {
-    std::array<bool, 16> ok{};
-    for (uint32_t n = 1; n < 16; n += 2) {
-      const uint32_t dn = n * n;
-      const Division q = division_by(dn);
-      ok[n] = q.m <= 0xFFFF;
-      for (uint32_t sum = 0; sum <= 255 * dn && ok[n]; ++sum)
-        ok[n] = ((sum + dn / 2) * q.m) >> (16 + q.shift) == (sum + dn / 2) / dn;
-    }
-    return ok;
-  }();
-  if (!exact[size_t(k)]) return false;
-  const auto [m, shift] = division_by(uint32_t(d));
+  // (sum + d / 2) / d as (x * m) >> (16 + shift), m = ceil(2^(16 + shift) / d) below 2^16. With e = m d - 2^(16 +
+  // shift), x m / 2^(16 + shift) = x / d + x e / (d 2^(16 + shift)): the floor is x / d's for every x up to the
+  // largest sum when that largest x times e is below 2^(16 + shift) (x / d's fraction is at most (d - 1) / d).
+  const int shift = std::bit_width(unsigned(d)) - 1;
+  const uint64_t power = uint64_t(1) << (16 + shift);
+  const uint32_t m = uint32_t((power + uint64_t(d) - 1) / uint64_t(d));
+  const uint64_t largest = 255 * uint64_t(d) + uint64_t(d / 2);
+  if (m > 0xFFFF || largest * (uint64_t(m) * uint64_t(d) - power) >= power) return false;
   dst.create(src.size(), CV_8UC1);
   thread_local std::vector<uint8_t> pad;
   thread_local std::vector<uint16_t> rows, column;
