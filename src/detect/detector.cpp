@@ -535,18 +535,14 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         fine_shapes.push_back(cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end())));
       }
     // The quad-shaped holes of the first search's dark shapes, outside the markers read (their cells are their
-    // holes): looked for now that those are known.
+    // holes): looked for now that those are known. A marker's own shape is looked into too: a small marker whose
+    // quiet zone closed may have joined it, its inside a hole outside the marker.
     std::vector<Quad> markers;
-    std::vector<char> is_marker(contours.size(), 0);
     for (int k : read)
-      if (readings[size_t(k)].reached == 5) {
-        markers.push_back(quads[size_t(k)].quad);
-        is_marker[size_t(quads[size_t(k)].contour)] = 1;
-      }
+      if (readings[size_t(k)].reached == 5) markers.push_back(quads[size_t(k)].quad);
     for (const Searched& s : searched) {
       std::vector<cv::Rect> dark;
-      for (size_t i = s.first; i < s.last; ++i)
-        if (!is_marker[i]) dark.push_back(cv::boundingRect(contours[i]));
+      for (size_t i = s.first; i < s.last; ++i) dark.push_back(cv::boundingRect(contours[i]));
       for (const cv::Rect& b : stages::quad_holes(s.binary, dark, s.region.tl(), grey.size(), p, factor, markers))
         if (!stages::cut_by_region(b, s.region, grey.size(), factor)) fine_shapes.push_back(b);
     }

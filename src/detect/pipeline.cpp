@@ -740,7 +740,8 @@ void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::
 }
 
 // find_contours of the nonzero regions, or when Light of the zero ones. `keep`, when given, is asked about each
-// region about to be traced, with its box in the grey image's pixels: false leaves it untraced.
+// region about to be traced, with its box undecimated (the grey image's scale, from the binary's origin): false
+// leaves it untraced.
 template <bool Light>
 std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, double min_perimeter_px,
                                                     int* region_count, std::vector<SmallRegion>* small, int factor,
