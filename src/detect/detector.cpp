@@ -143,6 +143,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   };
   cv::Mat search_picture, binary_picture;
   cv::Mat whole_search;   // the first search's image of the whole frame, when it searched the whole frame
+  cv::Mat whole_blocks;   // and its 2x2 block means, the threshold's (empty when its window took none)
   const bool one_region = plan.regions.size() == 1 && plan.regions[0].size() == grey.size();
   if (full && !one_region) {
     search_picture = cv::Mat::zeros(grey.rows / factor, grey.cols / factor, CV_8UC1);
@@ -162,7 +163,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   for (const cv::Rect& r : plan.regions) {
     const cv::Mat search = stages::search_image(on_demand, r, factor);
     search_lap(0);
-    const cv::Mat binary = stages::adaptive_threshold(search, p);
+    const cv::Mat binary = stages::adaptive_threshold(search, p, one_region ? &whole_blocks : nullptr);
     search_lap(1);
     std::vector<stages::SmallRegion> region_small;
     std::vector<stages::SmallRegion>* small_out = !full ? nullptr : one_region ? &small : &region_small;
@@ -212,16 +213,20 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   }
 
   // coarse_search: the whole frame once more, coarse_factor times coarser than the first search, for large markers
-  // (a frame searched by regions is already searched at its markers' scale). It shrinks the first search's image,
-  // a quarter of the grey image's pixels on a half-size search. Its contours join the others; each contour keeps the
-  // factor it was found at (`coarse`: the grey image's pixels a coarse one spans).
+  // (a frame searched by regions is already searched at its markers' scale). It shrinks the first search's image;
+  // at an even factor, the threshold's 2x2 block means of it, a quarter of its pixels (at 640x480 the decimation
+  // was a third of the stage). Its contours join the others; each contour keeps the factor it was found at
+  // (`coarse`: the grey image's pixels a coarse one spans).
   std::vector<int> contour_factor(contours.size(), factor);
   const int coarse = p.coarse_factor > 1 ? factor * p.coarse_factor : 0;
   {
     const int fine_regions = regions;
     cv::Mat coarse_binary;
     if (plan.whole && coarse > 0 && std::min(grey.cols, grey.rows) / coarse >= 32) {
-      coarse_binary = stages::adaptive_threshold(stages::decimate(whole_search, p.coarse_factor), p);
+      const bool from_blocks = p.coarse_factor % 2 == 0 && !whole_blocks.empty();
+      coarse_binary = stages::adaptive_threshold(
+          from_blocks ? stages::decimate(whole_blocks, p.coarse_factor / 2) : stages::decimate(whole_search, p.coarse_factor),
+          p);
       std::vector<std::vector<cv::Point>> found =
           stages::find_contours(coarse_binary, p.coarse_min_perimeter_px, nullptr, nullptr, coarse);
       for (auto& c : found) {
@@ -602,7 +607,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   }
 
   // Step 3: duplicates. A marker inside another marker keeps the larger one. The same id seen twice in one place
-  // keeps the reading of the finer search (its quad started nearer the corners: the coarse search's blocks of six
+  // keeps the reading of the finer search (its quad started nearer the corners: the coarse search's blocks of eight
   // pixels can start a low-contrast quad on a shadow's edge), or of the two from one search the larger.
   std::vector<size_t> accepted;
   for (int k : read)

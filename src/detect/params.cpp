@@ -44,9 +44,9 @@ const ParamInfo kTable[] = {
     ARWB_DBL(threshold_offset, "adaptive_threshold", "grey", 7, 0, 100,
              "How much darker than its neighbourhood mean a pixel must be to count as black. Higher ignores faint "
              "texture and noise, lower finds low-contrast markers."),
-    ARWB_INT(coarse_factor, "coarse_search", "", 3, 0, 6,
+    ARWB_INT(coarse_factor, "coarse_search", "", 4, 0, 6,
              "The whole frame is searched a second time on the first search's image shrunk this many times (the "
-             "grey image's at decimation 1, 6 times the grey image's on a half-size search), for large markers: "
+             "grey image's at decimation 1, 8 times the grey image's on a half-size search), for large markers: "
              "there the threshold's window spans a whole border and sensor noise averages out, so dim, noisy and "
              "grey-on-grey markers under a shadow edge are found. 0 or 1 turns it off."),
     ARWB_DBL(coarse_min_perimeter_px, "coarse_search", "px", 120, 48, 100000,

@@ -558,8 +558,9 @@ void box_mean(const cv::Mat& src, cv::Mat& dst, int k) {
 }
 }  // namespace
 
-cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
+cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat* block_means) {
   cv::Mat binary;
+  if (block_means) block_means->release();
   const int window = p.threshold_window_px | 1;  // the mean needs an odd window
   if (window < 9 || grey.cols < 32 || grey.rows < 32) {
     cv::adaptiveThreshold(grey, binary, 255, cv::ADAPTIVE_THRESH_MEAN_C, cv::THRESH_BINARY_INV, window,
@@ -579,6 +580,7 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p) {
   cv::resize(grey(cv::Rect(0, 0, 2 * whole.width, 2 * whole.height)), blocks, whole, 0, 0, cv::INTER_AREA);
   const int half = (window / 2) | 1;
   box_mean(blocks, mean, half);
+  if (block_means) *block_means = blocks;
   // Brought back to the full size bilinearly and compared there, in one pass: black where grey + offset <= mean
   // (saturating, as cv::add would). At twice the size, bilinear weighs the two nearest block means 3:1 along each
   // axis (OpenCV's INTER_LINEAR, clamped at the edges the same way; here exact, where its fixed point may round a

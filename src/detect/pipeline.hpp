@@ -89,8 +89,9 @@ inline cv::Point undecimate(cv::Point p, int factor) {
 }
 
 // adaptive_threshold: 255 where a pixel is darker than its window mean by more than threshold_offset. Windows of 9
-// pixels and more take their mean over 2x2 block means (half the window), brought back to each pixel bilinearly.
-cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p);
+// pixels and more take their mean over 2x2 block means (half the window), brought back to each pixel bilinearly;
+// `block_means`, when given, receives those (the image halved, its whole 2x2 blocks), or is left empty.
+cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat* block_means = nullptr);
 
 // contours: the outer border of every connected region (8-connected) of the binary image, all points kept,
 // clockwise on screen from the region's top-left pixel. A marker's black frame is a region of its own (the quiet

@@ -185,7 +185,18 @@ TEST(Detector, TheCoarseSearchClosesALargeGreyOnGreyMarkerAndReadsNoQuadTwice) {
   ASSERT_TRUE(coarse && contours);
   EXPECT_EQ(coarse->in, contours->out);
   EXPECT_GT(coarse->out, coarse->in);
-  EXPECT_EQ(coarse->image.size(), cv::Size(item.image.cols / 3, item.image.rows / 3));
+  const int k = DetectorParams{}.coarse_factor;   // even: shrunk from the threshold's block means
+  ASSERT_EQ(k % 2, 0);
+  EXPECT_EQ(coarse->image.size(), cv::Size(item.image.cols / k, item.image.rows / k));
+  // An odd factor shrinks the first search's image itself, and closes it too.
+  DetectorParams odd;
+  odd.coarse_factor = 3;
+  FrameTrace t3;
+  const std::vector<Marker> found3 = Detector({d}, odd).detect(item.image, &t3, TraceLevel::full);
+  ASSERT_EQ(found3.size(), 1u);
+  EXPECT_EQ(found3[0].id, found[0].id);
+  ASSERT_TRUE(t3.stage(Stage::coarse_search));
+  EXPECT_EQ(t3.stage(Stage::coarse_search)->image.size(), cv::Size(item.image.cols / 3, item.image.rows / 3));
   // Whatever both searches fitted is read once: the coarse twin stops at quad_fit naming the first search's
   // contour, and that contour's candidate has its quad.
   int twins = 0;
