@@ -262,6 +262,30 @@ TEST(Stages, ContourRegionsAreTheEightConnectedComponents) {
     std::sort(ours.begin(), ours.end());
     std::sort(theirs.begin(), theirs.end());
     EXPECT_EQ(ours, theirs) << width;
+    // Without `small`, one-pixel regions (specks) are counted, not made runs: the same count and the same contours.
+    // Pixels that touch only across a 64-pixel word's end are no specks.
+    cv::Mat sparse = cv::Mat::zeros(bin.size(), CV_8UC1);
+    bin(cv::Rect(0, 0, width, 30)).copyTo(sparse(cv::Rect(0, 0, width, 30)));
+    cv::Mat dots = noise > 245;   // scattered single pixels, some touching
+    dots.rowRange(30, bin.rows).copyTo(sparse.rowRange(30, bin.rows));
+    if (width > 65) {
+      sparse.at<uint8_t>(90, 63) = sparse.at<uint8_t>(91, 64) = 255;   // a pair, diagonal across the word's end
+      sparse.at<uint8_t>(94, 64) = sparse.at<uint8_t>(94, 63) = 0;
+      sparse.at<uint8_t>(93, 64) = 255;                                 // and a speck beside it on the next word
+      for (int y = 92; y <= 94; ++y)
+        for (int x = 62; x <= 66; ++x)
+          if (y != 93 || x != 64) sparse.at<uint8_t>(y, x) = 0;
+    }
+    for (const double min_perimeter : {8.0, 20.0}) {
+      int with_small = 0, without = 0;
+      std::vector<stages::SmallRegion> boxes;
+      const auto a = stages::find_contours(sparse, min_perimeter, &with_small, &boxes);
+      const auto b = stages::find_contours(sparse, min_perimeter, &without);
+      EXPECT_EQ(with_small, cv::connectedComponents(sparse, labels, 8) - 1) << width;
+      EXPECT_EQ(without, with_small) << width;
+      EXPECT_EQ(a, b) << width;
+      EXPECT_GT(std::count_if(boxes.begin(), boxes.end(), [](const auto& r) { return r.bbox.area() == 1; }), 5);
+    }
   }
 }
 
