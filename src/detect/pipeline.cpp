@@ -122,6 +122,47 @@ void bgr_to_grey(const cv::Mat& bgr, cv::Mat& grey) {
   }
 }
 
+#if defined(__x86_64__) || defined(__i386__)
+// Two grey rows' 2x2 block means, 16 a step: each row's byte pairs summed by pmaddubsw with ones, the two rows
+// added, rounded. Returns how many it did.
+__attribute__((target("avx2"))) int halve_rows_avx2(const uint8_t* a, const uint8_t* b, uint8_t* o, int n) {
+  const __m256i ones = _mm256_set1_epi8(1), two = _mm256_set1_epi16(2);
+  int x = 0;
+  for (; x + 16 <= n; x += 16) {
+    const __m256i pa = _mm256_maddubs_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(a + 2 * x)), ones);
+    const __m256i pb = _mm256_maddubs_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(b + 2 * x)), ones);
+    const __m256i mean = _mm256_srli_epi16(_mm256_add_epi16(_mm256_add_epi16(pa, pb), two), 2);
+    const __m256i packed = _mm256_permute4x64_epi64(_mm256_packus_epi16(mean, mean), 0x08);   // qwords 0, 2
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(o + x), _mm256_castsi256_si128(packed));
+  }
+  return x;
+}
+#endif
+
+// bgr_to_grey, and the grey image's 2x2 block means (its whole blocks) into `half` as each pair of rows is done,
+// while they are in the cache: decimate(grey, 2) exactly, (a + b + c + d + 2) / 4.
+void bgr_to_grey_and_half(const cv::Mat& bgr, cv::Mat& grey, cv::Mat& half) {
+  grey.create(bgr.size(), CV_8UC1);
+  half.create(bgr.rows / 2, bgr.cols / 2, CV_8UC1);
+#if defined(__x86_64__) || defined(__i386__)
+  const bool avx2 = __builtin_cpu_supports("avx2");
+#endif
+  for (int y = 0; y < bgr.rows; y += 2) {
+    const int rows = std::min(2, bgr.rows - y);
+    cv::Mat strip = grey.rowRange(y, y + rows);
+    bgr_to_grey(bgr.rowRange(y, y + rows), strip);
+    if (rows < 2) break;
+    const uint8_t* a = grey.ptr<uint8_t>(y);
+    const uint8_t* b = grey.ptr<uint8_t>(y + 1);
+    uint8_t* o = half.ptr<uint8_t>(y / 2);
+    int x = 0;
+#if defined(__x86_64__) || defined(__i386__)
+    if (avx2) x = halve_rows_avx2(a, b, o, half.cols);
+#endif
+    for (; x < half.cols; ++x) o[x] = uint8_t((a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1] + 2) >> 2);
+  }
+}
+
 cv::Mat to_grey(const cv::Mat& input) {
   cv::Mat grey;
   if (input.channels() == 3 && input.depth() == CV_8U) bgr_to_grey(input, grey);
@@ -142,6 +183,17 @@ GreyOnDemand::GreyOnDemand(const cv::Mat& frame) {
   grey_.create(frame.size(), CV_8UC1);
   tiles_x_ = (frame.cols + kTile - 1) / kTile;
   done_.assign(size_t(tiles_x_) * size_t((frame.rows + kTile - 1) / kTile), 0);
+}
+
+cv::Mat GreyOnDemand::convert_all_and_halve() {
+  cv::Mat half;
+  if (colour_.type() != CV_8UC3) {
+    need_all();
+    return decimate(grey_, 2);
+  }
+  bgr_to_grey_and_half(colour_, grey_, half);
+  std::fill(done_.begin(), done_.end(), uint8_t(1));
+  return half;
 }
 
 void GreyOnDemand::need(const cv::Rect& r) {
@@ -369,77 +421,10 @@ cv::Mat decimate(const cv::Mat& grey, int factor) {
   return out;
 }
 
-#if defined(__x86_64__) || defined(__i386__)
-namespace {
-// half_grey with SSSE3: eight output pixels from 48 bytes of each of two rows. The rows are averaged (pavgb), each
-// byte weighed by its channel's weight, adjacent bytes summed in pairs (pmaddubsw: 8 sums of 16 bytes), and each
-// output pixel is the sum of three pairs (its six bytes: two pixels' B, G, R), gathered from the three vectors
-// with byte shuffles.
-__attribute__((target("ssse3"))) void half_grey_ssse3(const cv::Mat& bgr, cv::Mat& out) {
-  static constexpr int8_t kWeight[3] = {15, 75, 38};   // B, G, R to 1/128: 0.114, 0.587, 0.299
-  alignas(16) int8_t weights[3][16];
-  alignas(16) uint8_t gather[3][3][16];   // [s][k]: the pairs of vector k that are pair s of an output pixel
-  for (int k = 0; k < 3; ++k)
-    for (int j = 0; j < 16; ++j) weights[k][j] = kWeight[(16 * k + j) % 3];
-  for (int s = 0; s < 3; ++s)
-    for (int k = 0; k < 3; ++k)
-      for (int o = 0; o < 8; ++o) {
-        const int pair = 3 * o + s, in = pair / 8, at = pair % 8;
-        gather[s][k][2 * o] = in == k ? uint8_t(2 * at) : 0x80;   // 0x80: zero
-        gather[s][k][2 * o + 1] = in == k ? uint8_t(2 * at + 1) : 0x80;
-      }
-  __m128i w[3], g[3][3];
-  for (int k = 0; k < 3; ++k) {
-    w[k] = _mm_load_si128(reinterpret_cast<const __m128i*>(weights[k]));
-    for (int s = 0; s < 3; ++s) g[s][k] = _mm_load_si128(reinterpret_cast<const __m128i*>(gather[s][k]));
-  }
-  const __m128i round = _mm_set1_epi16(128);
-  for (int y = 0; y < out.rows; ++y) {
-    const uint8_t* a = bgr.ptr<uint8_t>(2 * y);
-    const uint8_t* b = bgr.ptr<uint8_t>(2 * y + 1);
-    uint8_t* o = out.ptr<uint8_t>(y);
-    int x = 0;
-    for (; x + 8 <= out.cols; x += 8) {
-      __m128i pairs[3];
-      for (int k = 0; k < 3; ++k) {
-        const __m128i ra = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a + 6 * x + 16 * k));
-        const __m128i rb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + 6 * x + 16 * k));
-        pairs[k] = _mm_maddubs_epi16(_mm_avg_epu8(ra, rb), w[k]);
-      }
-      __m128i sum = round;   // at most 2 x 255 x 128: unsigned 16 bit
-      for (int s = 0; s < 3; ++s)
-        sum = _mm_add_epi16(sum, _mm_or_si128(_mm_or_si128(_mm_shuffle_epi8(pairs[0], g[s][0]),
-                                                           _mm_shuffle_epi8(pairs[1], g[s][1])),
-                                              _mm_shuffle_epi8(pairs[2], g[s][2])));
-      const __m128i grey = _mm_srli_epi16(sum, 8);
-      _mm_storel_epi64(reinterpret_cast<__m128i*>(o + x), _mm_packus_epi16(grey, grey));
-    }
-    for (; x < out.cols; ++x) {
-      int sum = 128;
-      for (int j = 0; j < 6; ++j) sum += ((a[6 * x + j] + b[6 * x + j] + 1) >> 1) * kWeight[j % 3];
-      o[x] = uint8_t(sum >> 8);
-    }
-  }
-}
-}  // namespace
-#endif
-
-cv::Mat half_grey(const cv::Mat& bgr) {
-  CV_Assert(bgr.type() == CV_8UC3);
-#if defined(__x86_64__) || defined(__i386__)
-  if (__builtin_cpu_supports("ssse3") && bgr.cols >= 2 && bgr.rows >= 2) {
-    cv::Mat out(bgr.rows / 2, bgr.cols / 2, CV_8UC1);
-    half_grey_ssse3(bgr, out);
-    return out;
-  }
-#endif
-  return decimate(to_grey(bgr), 2);
-}
-
 cv::Mat search_image(GreyOnDemand& grey, const cv::Rect& region, int factor) {
   const cv::Mat& colour = grey.colour();
   if (factor == 2 && colour.type() == CV_8UC3 && region == cv::Rect(0, 0, colour.cols, colour.rows))
-    return half_grey(colour);
+    return grey.convert_all_and_halve();
   grey.need(region);
   return decimate(grey.image()(region), factor);
 }

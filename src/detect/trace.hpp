@@ -21,11 +21,12 @@ namespace arwb {
 // The pipeline's stages in the order the detector runs them. Their names (stage_name) are used unchanged in the
 // trace, the UI, Lua, the tour and docs, always in this order.
 enum class Stage {
-  acquisition,          // acquisition's resize (capture/source.hpp) and the grey conversion; of a colour frame
-                        // searched at half size, only where later stages look (its time is acquisition's)
+  acquisition,          // acquisition's resize (capture/source.hpp) and the grey conversion; of a colour video
+                        // frame searched by regions, only where later stages look (its time is acquisition's)
   search_regions,       // where the search looks: the whole frame, or (video) around the previous frame's markers
-  decimation,           // the grey image shrunk for the search (adaptive_threshold .. quad_fit), from the colour
-                        // frame in one pass at 2; candidates are read on the full grey
+  decimation,           // the grey image shrunk for the search (adaptive_threshold .. quad_fit); a whole colour
+                        // frame at 2 is made grey in the same pass (its time is decimation's); candidates are read
+                        // on the full grey
   adaptive_threshold,   // dark-against-neighbourhood binary image
   contours,             // borders of the binary regions
   coarse_search,        // the whole frame searched again, coarser, for large markers; its contours join the others

@@ -458,9 +458,10 @@ TEST(Detector, HalfSizeSearchFindsASmallMarkerMergedIntoADarkShapeByItsInside) {
   EXPECT_TRUE(std::none_of(without.begin(), without.end(), [](const Marker& k) { return k.id == 263; }));
 }
 
-// A colour frame searched at half size converts its grey image only around the candidates and in fine_search's
-// regions; the full trace converts all of it (the acquisition stage's picture). Both read every marker the same,
-// to the last bit of each corner: what the readings look at was converted. Standard and hard frames, 1280x720 up.
+// A colour video frame searched around its known markers converts its grey image only in those regions, around the
+// candidates and in fine_search's regions; the full trace converts all of it (the acquisition stage's picture).
+// Both read every marker the same, to the last bit of each corner: what the readings look at was converted.
+// Standard and hard frames, 1280x720 up; the whole frame searched at half size is converted whole.
 TEST(Detector, AColourFrameReadsTheSameWithItsGreyConvertedWhereLooked) {
   const Dictionary d = *dictionary_by_name("ARUCO_ORIGINAL");
   const Detector det({d});
@@ -479,6 +480,20 @@ TEST(Detector, AColourFrameReadsTheSameWithItsGreyConvertedWhereLooked) {
       for (size_t i = 0; i < all.size(); ++i) {
         EXPECT_EQ(looked[i].id, all[i].id);
         for (size_t j = 0; j < 4; ++j) EXPECT_EQ(looked[i].corners[j], all[i].corners[j]) << "image " << index;
+      }
+      // The next frame, searched around these markers.
+      SearchHint hint;
+      for (const Marker& m : all) hint.known.push_back(m.corners);
+      if (hint.known.empty()) continue;
+      FrameTrace regions;
+      const std::vector<Marker> around = det.detect(item.image, &regions, TraceLevel::full, 1, nullptr, &hint);
+      ASSERT_FALSE(regions.search.whole) << "image " << index;
+      FrameTrace summary;
+      const std::vector<Marker> lazily = det.detect(item.image, &summary, TraceLevel::summary, 1, nullptr, &hint);
+      ASSERT_EQ(lazily.size(), around.size()) << "image " << index;
+      for (size_t i = 0; i < around.size(); ++i) {
+        EXPECT_EQ(lazily[i].id, around[i].id);
+        for (size_t j = 0; j < 4; ++j) EXPECT_EQ(lazily[i].corners[j], around[i].corners[j]) << "image " << index;
       }
       ++frames;
       markers += int(all.size());
