@@ -111,6 +111,11 @@ inline double contour_length(const std::vector<cv::Point>& contour, int factor) 
   return double(contour.size()) * factor;
 }
 
+// corner_refinement's profiles: profile.size() samples from `from` in steps of `step`, bilinear, as grey levels times
+// 65536. Inside the image, positions step in 1/65536 pixel and each sample is the fixed-point blend of its four
+// pixels with weights in 1/256 (bilinear_q8); where the line leaves the image, clamped floating point.
+void sample_line(const cv::Mat& grey, cv::Point2d from, cv::Point2d step, std::vector<int>& profile);
+
 // size_filter: nullopt when the contour may go on, else the rejection. Most contours of a frame stop here, so the
 // message is only written when `explain` asks for it.
 std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,

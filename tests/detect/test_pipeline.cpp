@@ -143,6 +143,49 @@ TEST(Stages, HalfSizeSearchImageIsTheDecimatedGreyImageMadeInOnePass) {
   EXPECT_LT(g.converted(), 0.2);
 }
 
+// The refinement's profiles are the fixed-point bilinear blend, to the integer, whichever way they are computed (eight
+// samples at a time with AVX2 where the line stays 3 pixels inside the row's end, one at a time elsewhere): random
+// lines of every length in every direction, in a view whose rows are not contiguous, up to the image's last column.
+TEST(Stages, ProfileSamplesAreTheFixedPointBilinearBlend) {
+  cv::RNG rng(11);
+  cv::Mat frame(230, 331, CV_8UC1);
+  rng.fill(frame, cv::RNG::UNIFORM, 0, 256);
+  const cv::Mat grey = frame(cv::Rect(5, 3, 317, 211));
+  auto expected = [&](cv::Point2d from, cv::Point2d step, int j) {
+    const int64_t x = std::llround(from.x * 65536) + j * std::llround(step.x * 65536);
+    const int64_t y = std::llround(from.y * 65536) + j * std::llround(step.y * 65536);
+    const int qx = int(x >> 8), qy = int(y >> 8), fx = qx & 255, fy = qy & 255;
+    const uint8_t* r0 = grey.ptr<uint8_t>(qy >> 8) + (qx >> 8);
+    const uint8_t* r1 = grey.ptr<uint8_t>((qy >> 8) + 1) + (qx >> 8);
+    const int top = r0[0] * (256 - fx) + r0[1] * fx, bottom = r1[0] * (256 - fx) + r1[1] * fx;
+    return top * (256 - fy) + bottom * fy;
+  };
+  int lines = 0, near_end = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const int n = 1 + k % 40;
+    const double angle = rng.uniform(0.0, 2 * CV_PI);
+    const cv::Point2d step(0.5 * std::cos(angle), 0.5 * std::sin(angle));
+    const cv::Point2d from(rng.uniform(0.0, grey.cols - 1.01), rng.uniform(0.0, grey.rows - 1.01));
+    const cv::Point2d to = from + step * double(n - 1);
+    if (to.x < 0 || to.y < 0 || to.x > grey.cols - 1.001 || to.y > grey.rows - 1.001) continue;
+    std::vector<int> profile(static_cast<size_t>(n), 0);
+    stages::sample_line(grey, from, step, profile);
+    ++lines;
+    if (std::max(from.x, to.x) >= grey.cols - 4) ++near_end;
+    for (int j = 0; j < n; ++j) {
+      ASSERT_EQ(profile[size_t(j)], expected(from, step, j)) << "line " << k << " sample " << j;
+      const cv::Point2d at = from + step * double(j);
+      cv::Mat one;
+      cv::getRectSubPix(grey, cv::Size(1, 1), cv::Point2f(at), one, CV_32F);
+      // Positions rounded down to 1/256 pixel, on noise that changes by up to 255 levels a pixel: within 3 levels of
+      // OpenCV's bilinear value.
+      EXPECT_NEAR(profile[size_t(j)] / 65536.0, one.at<float>(0, 0), 3.0);
+    }
+  }
+  EXPECT_GT(lines, 2000);
+  EXPECT_GT(near_end, 10);
+}
+
 TEST(Stages, AdaptiveThresholdMarksDarkAgainstItsNeighbourhood) {
   cv::Mat grey(60, 60, CV_8UC1, cv::Scalar(200));
   cv::rectangle(grey, cv::Rect(20, 20, 20, 20), cv::Scalar(40), -1);
