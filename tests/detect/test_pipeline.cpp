@@ -565,6 +565,30 @@ TEST(Stages, PerspectiveRemovalMatchesOpenCVsWarpInsideAcrossTheEdgeAndOnABowtie
   }
 }
 
+// The warp's samples are the same integers whichever way they are taken: four at a time with AVX2, or one at a time
+// where a sample lies within 3 pixels of the image's last column. Quads reaching into those columns of a noisy
+// image, warped there and in a wider copy of it (where every sample is taken four at a time), are equal.
+TEST(Stages, PerspectiveRemovalIsTheSameBySamplesOneOrFourAtATime) {
+  cv::RNG rng(5);
+  cv::Mat wide(120, 200, CV_8UC1);
+  rng.fill(wide, cv::RNG::UNIFORM, 0, 256);
+  const cv::Mat narrow = wide(cv::Rect(0, 0, 160, 120)).clone();
+  DetectorParams p;
+  for (int k = 0; k < 300; ++k) {
+    Quad q;
+    const float cx = rng.uniform(120.f, 150.f), cy = rng.uniform(30.f, 90.f), r = rng.uniform(5.f, 25.f);
+    const float turn = rng.uniform(0.f, 6.28f);
+    for (int j = 0; j < 4; ++j)
+      q[size_t(j)] = cv::Point2f(cx + r * std::cos(turn + 1.5708f * float(j)), cy + r * std::sin(turn + 1.5708f * float(j)));
+    float right = 0;
+    for (const auto& c : q) right = std::max(right, c.x);
+    const float shift = rng.uniform(156.5f, 158.8f) - right;   // into the last 4 columns, inside the last centre
+    for (auto& c : q) c.x += shift;
+    const cv::Mat a = stages::remove_perspective(narrow, q, 7, p), b = stages::remove_perspective(wide, q, 7, p);
+    ASSERT_EQ(cv::norm(a, b, cv::NORM_INF), 0) << "quad " << k;
+  }
+}
+
 TEST(Stages, QuietZoneIsLightAroundAMarkerAndDarkWhereAShapeGoesOn) {
   const Dictionary d = make_aruco_original();
   cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
