@@ -565,10 +565,10 @@ TEST(Stages, PerspectiveRemovalMatchesOpenCVsWarpInsideAcrossTheEdgeAndOnABowtie
   }
 }
 
-// The warp's samples are the same integers whichever way they are taken: four at a time with AVX2, or one at a time
+// The warp's samples are the same integers whichever way they are taken: eight at a time with AVX2, or one at a time
 // where a sample lies within 3 pixels of the image's last column. Quads reaching into those columns of a noisy
-// image, warped there and in a wider copy of it (where every sample is taken four at a time), are equal.
-TEST(Stages, PerspectiveRemovalIsTheSameBySamplesOneOrFourAtATime) {
+// image, warped there and in a wider copy of it (where those samples are taken eight at a time), are equal.
+TEST(Stages, PerspectiveRemovalIsTheSameBySamplesOneOrEightAtATime) {
   cv::RNG rng(5);
   cv::Mat wide(120, 200, CV_8UC1);
   rng.fill(wide, cv::RNG::UNIFORM, 0, 256);
