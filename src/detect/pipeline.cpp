@@ -633,23 +633,25 @@ namespace {
 struct Run {
   int x0, x1;  // [x0, x1) on its row
   int y;
-  int parent;  // union-find; a root is the first run of its region in raster order
 };
 
-int find_root(std::vector<Run>& runs, int i) {
-  while (runs[size_t(i)].parent != i) {
-    runs[size_t(i)].parent = runs[size_t(runs[size_t(i)].parent)].parent;  // path halving
-    i = runs[size_t(i)].parent;
+// Union-find over the runs, in an array of its own (dense for the walks): a run's parent is never after it, so a
+// root is the first run of its region in raster order, which holds the region's top-left pixel.
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[size_t(i)] != i) {
+    parent[size_t(i)] = parent[size_t(parent[size_t(i)])];  // path halving
+    i = parent[size_t(i)];
   }
   return i;
 }
 
-void unite(std::vector<Run>& runs, int a, int b) {
-  a = find_root(runs, a);
-  b = find_root(runs, b);
-  if (a == b) return;
-  if (a < b) runs[size_t(b)].parent = a;  // the earlier run stays root: it holds the region's top-left pixel
-  else runs[size_t(a)].parent = b;
+// The number of bits set, without a call: x86-64's baseline has no POPCNT instruction, and std::popcount there is
+// a call into libgcc (at 640x480, for each of a few thousand words a frame).
+inline int bits_set(uint64_t x) {
+  x -= (x >> 1) & 0x5555555555555555ull;
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return int((x * 0x0101010101010101ull) >> 56);
 }
 
 // Bit k set where pixel x + k of the row is on (nonzero; zero when Light), for the up to 64 pixels from x; none
@@ -742,8 +744,9 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   // The runs and boxes of one call, kept per thread from call to call: a noisy 640x480 frame has 28000 runs, and
   // growing and zeroing fresh buffers that large every frame cost more than the scan.
   thread_local std::vector<Run> runs;
+  thread_local std::vector<int> parent;
   runs.clear();
-  runs.reserve(size_t(h) * 8);
+  parent.clear();
   // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row.
   const int words = (w + 63) / 64;
   thread_local std::vector<uint64_t> masks;
@@ -762,16 +765,18 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   const bool drop_specks = !small && 4.0 < min_perimeter_px;
   int specks = 0;
   int prev_begin = 0, prev_end = 0;
+  thread_local std::vector<int> edge;   // one row's run ends, alternately where a run begins and where it ends
+  edge.resize(size_t(w) + 2);
   for (int y = 0; y < h; ++y) {
     const int begin = int(runs.size());
     const uint64_t* up = masks.data() + size_t(words) * size_t(y);
     const uint64_t* mid = up + words;
     const uint64_t* down = mid + words;
-    // A run begins or ends where a bit differs from the one before it, and those bits are visited by counting
-    // trailing zeros. Scanning byte by byte mispredicted a branch at every edge and was a third of the stage on a
-    // noisy threshold.
-    bool on = false;  // the pixel before the current 64 is on
-    int x0 = 0;
+    // A run begins or ends where a bit differs from the one before it; those bits are visited by counting trailing
+    // zeros and written in turn, and the runs are their pairs. Scanning byte by byte mispredicted a branch at every
+    // edge and was a third of the stage on a noisy threshold.
+    int edges = 0;
+    uint64_t before_word = 0;  // the pixel before the current 64, as bit 0
     for (int c = 0, x = 0; c < words; ++c, x += 64) {
       uint64_t m = mid[c];
       if (drop_specks && m) {
@@ -781,58 +786,75 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
         const uint64_t before = c > 0 ? (up[c - 1] | mid[c - 1] | down[c - 1]) >> 63 : 0;
         const uint64_t after = c + 1 < words ? (up[c + 1] | mid[c + 1] | down[c + 1]) << 63 : 0;
         const uint64_t alone = m & ~(column | (around << 1) | before | (around >> 1) | after);
-        specks += std::popcount(alone);
-        m &= ~alone;
-      }
-      uint64_t edges = m ^ ((m << 1) | uint64_t(on));
-      while (edges) {
-        const int at = x + std::countr_zero(edges);
-        edges &= edges - 1;
-        if (!on) {
-          x0 = at;
-        } else {
-          const int id = int(runs.size());
-          runs.push_back({x0, at, y, id});
+        if (alone) {
+          specks += bits_set(alone);
+          m &= ~alone;
         }
-        on = !on;
       }
-      on = (m >> 63) != 0;
+      for (uint64_t e = m ^ ((m << 1) | before_word); e; e &= e - 1) edge[size_t(edges++)] = x + std::countr_zero(e);
+      before_word = m >> 63;
     }
-    if (on) {
-      const int id = int(runs.size());
-      runs.push_back({x0, w, y, id});
+    if (edges % 2) edge[size_t(edges++)] = w;   // a run to the row's end
+    runs.resize(size_t(begin + edges / 2));
+    parent.resize(runs.size());
+    for (int k = 0; k < edges / 2; ++k) {
+      runs[size_t(begin + k)] = {edge[size_t(2 * k)], edge[size_t(2 * k + 1)], y};
+      parent[size_t(begin + k)] = begin + k;
     }
-    // 8-connected: [a0,a1) and [b0,b1) on neighbouring rows touch when a0 <= b1 and b0 <= a1.
+    // 8-connected: [a0,a1) and [b0,b1) on neighbouring rows touch when a0 <= b1 and b0 <= a1. A run of this row
+    // joins the region of the first run above it that it touches (its root is earlier); a second one it touches
+    // unites the two regions under the earlier root.
     int i = prev_begin, j = begin;
+    int joined = -1;   // the root of run j's region once it has joined one above, else -1
     const int end = int(runs.size());
     while (i < prev_end && j < end) {
       const Run &a = runs[size_t(i)], &b = runs[size_t(j)];
-      if (a.x0 <= b.x1 && b.x0 <= a.x1) unite(runs, i, j);
-      if (a.x1 < b.x1) ++i;
-      else ++j;
+      if (a.x0 <= b.x1 && b.x0 <= a.x1) {
+        const int r = find_root(parent, i);
+        if (joined < 0) {
+          parent[size_t(j)] = joined = r;
+        } else if (r < joined) {
+          parent[size_t(joined)] = r;
+          joined = r;
+        } else if (r > joined) {
+          parent[size_t(r)] = joined;
+        }
+      }
+      if (a.x1 < b.x1) {
+        ++i;
+      } else {
+        ++j;
+        joined = -1;
+      }
     }
     prev_begin = begin;
     prev_end = end;
   }
-  // Bounding box of each region, gathered at its root.
+  // Every run points at its root, in one pass (a run's parent is before it, so already points at its root), and
+  // the bounding box of each region gathers at its root: the root is its first run in raster order, so it starts
+  // the box and the last run seen ends it.
   struct Box {
-    int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+    int x0, y0, x1, y1;
   };
   thread_local std::vector<Box> boxes;
-  boxes.assign(runs.size(), Box{});
+  boxes.resize(runs.size());
   for (int i = 0; i < int(runs.size()); ++i) {
-    const int r = find_root(runs, i);
-    Box& b = boxes[size_t(r)];
+    const int r = parent[size_t(parent[size_t(i)])];
+    parent[size_t(i)] = r;
     const Run& run = runs[size_t(i)];
-    b.x0 = std::min(b.x0, run.x0);
-    b.x1 = std::max(b.x1, run.x1 - 1);
-    b.y0 = std::min(b.y0, run.y);
-    b.y1 = std::max(b.y1, run.y);
+    Box& b = boxes[size_t(r)];
+    if (r == i) {
+      b = {run.x0, run.y, run.x1 - 1, run.y};
+    } else {
+      b.x0 = std::min(b.x0, run.x0);
+      b.x1 = std::max(b.x1, run.x1 - 1);
+      b.y1 = run.y;
+    }
   }
   std::vector<std::vector<cv::Point>> contours;
   int regions = 0;
   for (int i = 0; i < int(runs.size()); ++i) {
-    if (runs[size_t(i)].parent != i) continue;
+    if (parent[size_t(i)] != i) continue;
     ++regions;
     const Box& b = boxes[size_t(i)];
     const int bw = b.x1 - b.x0 + 1, bh = b.y1 - b.y0 + 1;
@@ -959,6 +981,70 @@ bool meet_sides(const std::array<cv::Vec3d, 4>& sides, Quad* corners) {
   return true;
 }
 
+#if defined(__x86_64__) || defined(__i386__)
+// farthest_point's scan four points at a time with AVX2: each point a 64-bit lane (x low, y high), the measure in
+// 64-bit integers from pmuldq, and per lane the first largest with its index. Returns how many points it did (a
+// multiple of 4) and leaves `best`, `at` as the scan one at a time would.
+template <bool Line>
+__attribute__((target("avx2"))) int farthest_point_avx2(const cv::Point* c, int n, cv::Point p0, cv::Point dir,
+                                                        int64_t* best, int* at) {
+  if (n < 8) return 0;
+  const __m256i origin = _mm256_set1_epi64x(int64_t(uint64_t(uint32_t(p0.y)) << 32 | uint32_t(p0.x)));
+  const __m256i ix = _mm256_set1_epi64x(dir.x), iy = _mm256_set1_epi64x(dir.y), zero = _mm256_setzero_si256();
+  __m256i top = _mm256_set1_epi64x(-1), where = _mm256_set1_epi64x(-1);
+  __m256i index = _mm256_setr_epi64x(0, 1, 2, 3);
+  const __m256i four = _mm256_set1_epi64x(4);
+  int k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const __m256i d = _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + k)), origin);
+    const __m256i dy = _mm256_srli_epi64(d, 32);
+    __m256i m;
+    if constexpr (Line) {
+      const __m256i cross = _mm256_sub_epi64(_mm256_mul_epi32(dy, ix), _mm256_mul_epi32(d, iy));
+      m = _mm256_blendv_epi8(cross, _mm256_sub_epi64(zero, cross), _mm256_cmpgt_epi64(zero, cross));
+    } else {
+      m = _mm256_add_epi64(_mm256_mul_epi32(d, d), _mm256_mul_epi32(dy, dy));
+    }
+    const __m256i more = _mm256_cmpgt_epi64(m, top);
+    top = _mm256_blendv_epi8(top, m, more);
+    where = _mm256_blendv_epi8(where, index, more);
+    index = _mm256_add_epi64(index, four);
+  }
+  alignas(32) int64_t tops[4], wheres[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(tops), top);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(wheres), where);
+  // The first of the largest: the largest of the lanes, the lowest index among equals.
+  for (int l = 0; l < 4; ++l)
+    if (tops[l] > *best || (tops[l] == *best && tops[l] >= 0 && wheres[l] < *at)) *best = tops[l], *at = int(wheres[l]);
+  return k;
+}
+#endif
+
+}  // namespace
+
+Farthest farthest_point(const cv::Point* c, int n, cv::Point p0, cv::Point dir, bool from_line) {
+  Farthest f;
+  int k = 0;
+#if defined(__x86_64__) || defined(__i386__)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) {
+    int64_t best = -1;
+    int at = -1;
+    k = from_line ? farthest_point_avx2<true>(c, n, p0, dir, &best, &at)
+                  : farthest_point_avx2<false>(c, n, p0, dir, &best, &at);
+    f = {best, at};
+  }
+#endif
+  for (; k < n; ++k) {
+    const int64_t dx = c[k].x - p0.x, dy = c[k].y - p0.y;
+    const int64_t m = from_line ? std::abs(dy * dir.x - dx * dir.y) : dx * dx + dy * dy;
+    if (m > f.measure) f = {m, k};
+  }
+  return f;
+}
+
+namespace {
+
 // quad_fit's polygon: the Douglas-Peucker approximation of a closed contour within `epsilon` px as cv::approxPolyDP
 // makes it, as indices into the contour in contour order. The first split is at an approximately farthest pair
 // (from the first point, the farthest point three times over); each piece is split at its point farthest from its
@@ -971,16 +1057,7 @@ constexpr int kMaxVertices = 8;
 int approx_polygon(const std::vector<cv::Point>& c, double epsilon, std::array<int, kMaxVertices + 1>* out) {
   const int n = int(c.size());
   if (n < 3) return n;
-  auto farthest_from = [&](int a) {
-    int best = a;
-    int64_t best_d = -1;
-    for (int j = 0; j < n; ++j) {
-      const int64_t dx = c[size_t(j)].x - c[size_t(a)].x, dy = c[size_t(j)].y - c[size_t(a)].y;
-      const int64_t d = dx * dx + dy * dy;
-      if (d > best_d) best_d = d, best = j;
-    }
-    return best;
-  };
+  auto farthest_from = [&](int a) { return farthest_point(c.data(), n, c[size_t(a)], {}, false).at; };
   int a = farthest_from(0);
   a = farthest_from(a);
   const int b = farthest_from(a);
@@ -1007,11 +1084,9 @@ int approx_polygon(const std::vector<cv::Point>& c, double epsilon, std::array<i
     int64_t best = -1;
     int at = -1;
     auto scan = [&](int k0, int k1, int shift) {
-      for (int k = k0; k < k1; ++k) {
-        const cv::Point& q = c[size_t(k)];
-        const int64_t d = std::abs(int64_t(q.y - p0.y) * ix - int64_t(q.x - p0.x) * iy);
-        if (d > best) best = d, at = k + shift;
-      }
+      if (k1 <= k0) return;
+      const Farthest f = farthest_point(c.data() + k0, k1 - k0, p0, {ix, iy}, true);
+      if (f.measure > best) best = f.measure, at = k0 + f.at + shift;
     };
     scan(from + 1, std::min(to, n), 0);
     if (to > n) scan(std::max(from + 1, n) - n, to - n, n);

@@ -116,6 +116,15 @@ inline double contour_length(const std::vector<cv::Point>& contour, int factor) 
 // pixels with weights in 1/256 (bilinear_q8); where the line leaves the image, clamped floating point.
 void sample_line(const cv::Mat& grey, cv::Point2d from, cv::Point2d step, std::vector<int>& profile);
 
+// quad_fit's search, in the polygon approximation: the first of the points c[0, n) farthest from p0, or when
+// `from_line` from the line through p0 along `dir` (as |cross product|: the distance times dir's length), in
+// integers; at -1 when n is 0. Four points at a time where the processor has AVX2.
+struct Farthest {
+  int64_t measure = -1;
+  int at = -1;
+};
+Farthest farthest_point(const cv::Point* c, int n, cv::Point p0, cv::Point dir, bool from_line);
+
 // size_filter: nullopt when the contour may go on, else the rejection. Most contours of a frame stop here, so the
 // message is only written when `explain` asks for it.
 std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
