@@ -673,50 +673,50 @@ uint64_t row_mask(const uint8_t* row, int x, int w) {
   return m;
 }
 
-// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start` (a region of nonzero
-// pixels; of zero pixels when Light).
-template <bool Light>
-void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::Point>& out) {
+// The eight neighbours of a pixel as bits in the tracing's direction order (E SE S SW W NW N NE), from its 3x3
+// window: bits 0-2 the row above (x - 1, x, x + 1), 3-5 its own row, 6-8 the row below.
+constexpr std::array<uint8_t, 512> make_neighbour_table() {
+  std::array<uint8_t, 512> t{};
+  constexpr int window_bit[8] = {5, 8, 7, 6, 3, 0, 1, 2};   // E SE S SW W NW N NE
+  for (int w = 0; w < 512; ++w)
+    for (int d = 0; d < 8; ++d)
+      if (w >> window_bit[d] & 1) t[size_t(w)] = uint8_t(t[size_t(w)] | 1 << d);
+  return t;
+}
+constexpr std::array<uint8_t, 512> kNeighbours = make_neighbour_table();
+
+// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start`, on the bit masks of
+// region_contours (a row of nothing above and below the image, no bit past its width). Each step reads the
+// pixel's 3x3 window from three rows of bits, and the first neighbour on clockwise from where the scan starts is
+// the lowest bit of the neighbours turned to start there: no branch per neighbour.
+void trace_outer_border(const uint64_t* masks, int words, int rows, cv::Point start, std::vector<cv::Point>& out) {
   static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
   static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
-  const int w = binary.cols, h = binary.rows;
-  auto on = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < w && y < h && (binary.ptr<uint8_t>(y)[x] != 0) != Light;
+  // Bits x - 1, x and x + 1 of a row of masks (pixel -1 is off).
+  auto three = [&](const uint64_t* row, int x) -> unsigned {
+    if (x == 0) return unsigned(row[0] << 1) & 7u;
+    const int at = x - 1, c = at >> 6, b = at & 63;
+    uint64_t v = row[c] >> b;
+    if (b > 61 && c + 1 < words) v |= row[c + 1] << (64 - b);
+    return unsigned(v) & 7u;
+  };
+  auto next = [&](cv::Point p, int from, int* dir) -> bool {
+    const uint64_t* above = masks + size_t(words) * size_t(p.y);   // masks' row p.y + 1 is the image's row p.y
+    const unsigned window = three(above, p.x) | three(above + words, p.x) << 3 | three(above + 2 * words, p.x) << 6;
+    const unsigned n = kNeighbours[window];
+    const unsigned turned = ((n >> from) | (n << (8 - from))) & 0xffu;
+    if (!turned) return false;
+    *dir = (from + std::countr_zero(turned)) & 7;
+    return true;
   };
   out.clear();
   out.push_back(start);
   // The pixel to the west of the top-left pixel is background: the first scan starts there.
-  // Away from the image's edge (nearly every step) the neighbours are read through fixed offsets, unchecked.
-  const uint8_t* data = binary.data;
-  const ptrdiff_t stride = ptrdiff_t(binary.step);
-  ptrdiff_t offset[8];
-  for (int k = 0; k < 8; ++k) offset[k] = dy[k] * stride + dx[k];
-  auto next = [&](cv::Point p, int from, int* dir) -> bool {
-    if (p.x > 0 && p.y > 0 && p.x < w - 1 && p.y < h - 1) {
-      const uint8_t* centre = data + p.y * stride + p.x;
-      for (int k = 0; k < 8; ++k) {
-        const int d = (from + k) & 7;
-        if ((centre[offset[d]] != 0) != Light) {
-          *dir = d;
-          return true;
-        }
-      }
-      return false;
-    }
-    for (int k = 0; k < 8; ++k) {
-      const int d = (from + k) & 7;
-      if (on(p.x + dx[d], p.y + dy[d])) {
-        *dir = d;
-        return true;
-      }
-    }
-    return false;
-  };
   int d = 0;
   if (!next(start, 4, &d)) return;  // a single pixel
   const cv::Point second(start.x + dx[d], start.y + dy[d]);
   cv::Point p = second;
-  for (size_t guard = 0; guard < size_t(4) * size_t(w) * size_t(h) + 8; ++guard) {
+  for (size_t guard = 0; guard < size_t(4) * size_t(64 * words) * size_t(rows) + 8; ++guard) {
     // The background pixel examined just before the step, seen from the new pixel.
     const int from = (d & 1) ? (d + 5) & 7 : (d + 6) & 7;
     int nd = 0;
@@ -868,7 +868,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       if (!keep(cv::Rect(tl, br + cv::Point(1, 1)))) continue;
     }
     contours.emplace_back().reserve(size_t(2 * (bw + bh)));   // a convex border's length: one allocation, mostly
-    trace_outer_border<Light>(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
+    trace_outer_border(masks.data(), words, h, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
     if (factor > 1)
       for (cv::Point& p : contours.back()) p = undecimate(p, factor);
   }

@@ -330,6 +330,55 @@ TEST(Stages, ContourRegionsAreTheEightConnectedComponents) {
   }
 }
 
+// Each contour is the Moore-neighbour trace of its region's outer border (from the top-left pixel, clockwise,
+// stopping when the first step repeats) as the plain tracing reads it one neighbour at a time on the image: on
+// random shapes across the 64-pixel words of the bit masks the tracing reads, and along the image's four edges.
+TEST(Stages, ContoursAreTheMooreTraceOfEachOuterBorder) {
+  auto moore = [](const cv::Mat& bin, cv::Point start) {
+    const int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1}, dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+    auto on = [&](int x, int y) { return x >= 0 && y >= 0 && x < bin.cols && y < bin.rows && bin.at<uint8_t>(y, x); };
+    auto next = [&](cv::Point p, int from) {
+      for (int k = 0; k < 8; ++k)
+        if (on(p.x + dx[(from + k) & 7], p.y + dy[(from + k) & 7])) return (from + k) & 7;
+      return -1;
+    };
+    std::vector<cv::Point> out{start};
+    int d = next(start, 4);
+    if (d < 0) return out;
+    const cv::Point second(start.x + dx[d], start.y + dy[d]);
+    cv::Point p = second;
+    for (;;) {
+      const int nd = next(p, (d & 1) ? (d + 5) & 7 : (d + 6) & 7);
+      const cv::Point q(p.x + dx[nd], p.y + dy[nd]);
+      if (p == start && q == second) break;
+      out.push_back(p);
+      p = q;
+      d = nd;
+    }
+    return out;
+  };
+  cv::RNG rng(23);
+  int traced = 0;
+  for (const int width : {40, 64, 65, 127, 128, 190}) {
+    cv::Mat bin = cv::Mat::zeros(70, width, CV_8UC1);
+    for (int k = 0; k < 25; ++k) {   // blobs, some across a word's end, some over an edge of the image
+      const cv::Point c(rng.uniform(-4, width + 4), rng.uniform(-4, 74));
+      const cv::Size axes(rng.uniform(2, 14), rng.uniform(2, 14));
+      cv::ellipse(bin, c, axes, rng.uniform(0.0, 180.0), 0, 360, cv::Scalar(255), cv::FILLED);
+    }
+    cv::Mat speckle(bin.size(), CV_8UC1);
+    rng.fill(speckle, cv::RNG::UNIFORM, 0, 256);
+    bin.setTo(0, speckle > 235);   // ragged borders and holes
+    bin.setTo(255, speckle < 12);
+    const auto contours = stages::find_contours(bin, 8);
+    for (const auto& c : contours) {
+      ASSERT_EQ(c, moore(bin, c.front())) << "width " << width << " from " << c.front();
+      ++traced;
+    }
+  }
+  EXPECT_GT(traced, 60);
+}
+
 TEST(Stages, ContoursTraceOuterBordersClockwiseAndSkipSpecks) {
   cv::Mat bin = cv::Mat::zeros(50, 50, CV_8UC1);
   cv::rectangle(bin, cv::Rect(10, 10, 20, 15), cv::Scalar(255), -1);  // a block
