@@ -718,9 +718,9 @@ void trace_outer_border(const uint64_t* masks, int words, int rows, cv::Point st
   cv::Point p = second;
   for (size_t guard = 0; guard < size_t(4) * size_t(64 * words) * size_t(rows) + 8; ++guard) {
     // The background pixel examined just before the step, seen from the new pixel.
-    const int from = (d & 1) ? (d + 5) & 7 : (d + 6) & 7;
+    static constexpr int kFrom[8] = {6, 6, 0, 0, 2, 2, 4, 4};   // (d + 5) & 7 after a diagonal step, else (d + 6) & 7
     int nd = 0;
-    next(p, from, &nd);
+    next(p, kFrom[d], &nd);
     const cv::Point q(p.x + dx[nd], p.y + dy[nd]);
     if (p == start && q == second) break;  // back where we began, going the same way
     out.push_back(p);
@@ -809,7 +809,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     const int end = int(runs.size());
     while (i < prev_end && j < end) {
       const Run &a = runs[size_t(i)], &b = runs[size_t(j)];
-      if (a.x0 <= b.x1 && b.x0 <= a.x1) {
+      if ((a.x0 <= b.x1) & (b.x0 <= a.x1)) {   // one branch, not two
         const int r = find_root(parent, i);
         if (joined < 0) {
           parent[size_t(j)] = joined = r;
