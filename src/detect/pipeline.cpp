@@ -837,25 +837,28 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     int x0, y0, x1, y1;
   };
   thread_local std::vector<Box> boxes;
+  thread_local std::vector<int> roots;   // the roots in order: the regions
   boxes.resize(runs.size());
+  roots.resize(runs.size());
+  int root_count = 0;
   for (int i = 0; i < int(runs.size()); ++i) {
     const int r = parent[size_t(parent[size_t(i)])];
     parent[size_t(i)] = r;
     const Run& run = runs[size_t(i)];
     Box& b = boxes[size_t(r)];
-    if (r == i) {
-      b = {run.x0, run.y, run.x1 - 1, run.y};
-    } else {
-      b.x0 = std::min(b.x0, run.x0);
-      b.x1 = std::max(b.x1, run.x1 - 1);
-      b.y1 = run.y;
-    }
+    // Without a branch (a root is a coin toss on a noisy frame): a root starts its box, another run widens it.
+    const bool root = r == i;
+    b.x0 = root ? run.x0 : std::min(b.x0, run.x0);
+    b.x1 = root ? run.x1 - 1 : std::max(b.x1, run.x1 - 1);
+    b.y0 = root ? run.y : b.y0;
+    b.y1 = run.y;
+    roots[size_t(root_count)] = i;
+    root_count += root;
   }
   std::vector<std::vector<cv::Point>> contours;
-  int regions = 0;
-  for (int i = 0; i < int(runs.size()); ++i) {
-    if (parent[size_t(i)] != i) continue;
-    ++regions;
+  const int regions = root_count;
+  for (int k = 0; k < root_count; ++k) {
+    const int i = roots[size_t(k)];
     const Box& b = boxes[size_t(i)];
     const int bw = b.x1 - b.x0 + 1, bh = b.y1 - b.y0 + 1;
     if (2.0 * (bw + bh) < min_perimeter_px) {
