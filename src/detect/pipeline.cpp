@@ -686,23 +686,26 @@ constexpr std::array<uint8_t, 512> make_neighbour_table() {
 constexpr std::array<uint8_t, 512> kNeighbours = make_neighbour_table();
 
 // Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start`, on the bit masks of
-// region_contours (a row of nothing above and below the image, no bit past its width). Each step reads the
-// pixel's 3x3 window from three rows of bits, and the first neighbour on clockwise from where the scan starts is
-// the lowest bit of the neighbours turned to start there: no branch per neighbour.
-void trace_outer_border(const uint64_t* masks, int words, int rows, cv::Point start, std::vector<cv::Point>& out) {
+// region_contours (`stride` words a row: a word of nothing, the row's words, a word of nothing; a row of nothing
+// above and below the image). Each step reads the pixel's 3x3 window, three bits from each of three rows (two
+// bytes read at the bit before it: the words are little-endian), and the first neighbour on clockwise from where
+// the scan starts is the lowest bit of the neighbours turned to start there: no branch per neighbour.
+static_assert(std::endian::native == std::endian::little, "the tracing reads the bit masks' words as bytes");
+void trace_outer_border(const uint64_t* masks, int stride, int rows, cv::Point start, std::vector<cv::Point>& out) {
   static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
   static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
-  // Bits x - 1, x and x + 1 of a row of masks (pixel -1 is off).
-  auto three = [&](const uint64_t* row, int x) -> unsigned {
-    if (x == 0) return unsigned(row[0] << 1) & 7u;
-    const int at = x - 1, c = at >> 6, b = at & 63;
-    uint64_t v = row[c] >> b;
-    if (b > 61 && c + 1 < words) v |= row[c + 1] << (64 - b);
-    return unsigned(v) & 7u;
-  };
+  const uint8_t* bytes = reinterpret_cast<const uint8_t*>(masks) + sizeof(uint64_t);   // pixel 0 of row -1
+  const ptrdiff_t row_bytes = ptrdiff_t(stride) * ptrdiff_t(sizeof(uint64_t));
   auto next = [&](cv::Point p, int from, int* dir) -> bool {
-    const uint64_t* above = masks + size_t(words) * size_t(p.y);   // masks' row p.y + 1 is the image's row p.y
-    const unsigned window = three(above, p.x) | three(above + words, p.x) << 3 | three(above + 2 * words, p.x) << 6;
+    // Bits x - 1 .. x + 1 of rows y - 1 .. y + 1 (pixel -1 is the word of nothing's last bit).
+    const int at = p.x - 1, shift = at & 7;
+    const uint8_t* b = bytes + ptrdiff_t(p.y) * row_bytes + (at >> 3);
+    uint16_t above, own, below;
+    std::memcpy(&above, b, 2);
+    std::memcpy(&own, b + row_bytes, 2);
+    std::memcpy(&below, b + 2 * row_bytes, 2);
+    const unsigned window =
+        (unsigned(above) >> shift & 7u) | (unsigned(own) >> shift & 7u) << 3 | (unsigned(below) >> shift & 7u) << 6;
     const unsigned n = kNeighbours[window];
     const unsigned turned = ((n >> from) | (n << (8 - from))) & 0xffu;
     if (!turned) return false;
@@ -716,7 +719,7 @@ void trace_outer_border(const uint64_t* masks, int words, int rows, cv::Point st
   if (!next(start, 4, &d)) return;  // a single pixel
   const cv::Point second(start.x + dx[d], start.y + dy[d]);
   cv::Point p = second;
-  for (size_t guard = 0; guard < size_t(4) * size_t(64 * words) * size_t(rows) + 8; ++guard) {
+  for (size_t guard = 0; guard < size_t(4) * size_t(64 * stride) * size_t(rows) + 8; ++guard) {
     // The background pixel examined just before the step, seen from the new pixel.
     static constexpr int kFrom[8] = {6, 6, 0, 0, 2, 2, 4, 4};   // (d + 5) & 7 after a diagonal step, else (d + 6) & 7
     int nd = 0;
@@ -747,16 +750,18 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   thread_local std::vector<int> parent;
   runs.clear();
   parent.clear();
-  // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row.
-  const int words = (w + 63) / 64;
+  // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row, each row between
+  // two words of nothing and the rows between two rows of nothing: what lies beside a pixel is read unchecked.
+  const int words = (w + 63) / 64, stride = words + 2;
   thread_local std::vector<uint64_t> masks;
-  masks.resize(size_t(words) * size_t(h + 2));
-  std::fill_n(masks.begin(), words, 0);                                    // a row of nothing above
-  std::fill_n(masks.begin() + ptrdiff_t(words) * (h + 1), words, 0);       // and below
+  masks.resize(size_t(stride) * size_t(h + 2));
+  std::fill_n(masks.begin(), stride, 0);                                    // a row of nothing above
+  std::fill_n(masks.begin() + ptrdiff_t(stride) * (h + 1), stride, 0);      // and below
   for (int y = 0; y < h; ++y) {
     const uint8_t* row = binary.ptr<uint8_t>(y);
-    uint64_t* out = masks.data() + size_t(words) * size_t(y + 1);
-    for (int c = 0; c < words; ++c) out[c] = row_mask<Light>(row, 64 * c, w);
+    uint64_t* out = masks.data() + size_t(stride) * size_t(y + 1);
+    out[0] = out[words + 1] = 0;
+    for (int c = 0; c < words; ++c) out[c + 1] = row_mask<Light>(row, 64 * c, w);
   }
   // Specks: pixels with no neighbour on, regions of one pixel, too small to trace when a 1x1 box's border is
   // shorter than min_perimeter_px. On a noisy frame they are two thirds of the regions (640x480: 2900 of 4300) and
@@ -769,9 +774,9 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   edge.resize(size_t(w) + 2);
   for (int y = 0; y < h; ++y) {
     const int begin = int(runs.size());
-    const uint64_t* up = masks.data() + size_t(words) * size_t(y);
-    const uint64_t* mid = up + words;
-    const uint64_t* down = mid + words;
+    const uint64_t* up = masks.data() + size_t(stride) * size_t(y) + 1;   // the row above's first word
+    const uint64_t* mid = up + stride;
+    const uint64_t* down = mid + stride;
     // A run begins or ends where a bit differs from the one before it; those bits are visited by counting trailing
     // zeros and written in turn, and the runs are their pairs. Scanning byte by byte mispredicted a branch at every
     // edge and was a third of the stage on a noisy threshold.
@@ -781,10 +786,10 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       uint64_t m = mid[c];
       if (drop_specks && m) {
         // The on pixels around each bit: its column above and below, and the three columns beside it (the words
-        // beside this one give the bits at its ends).
+        // beside this one give the bits at its ends; beside the row, the words of nothing).
         const uint64_t column = up[c] | down[c], around = column | m;
-        const uint64_t before = c > 0 ? (up[c - 1] | mid[c - 1] | down[c - 1]) >> 63 : 0;
-        const uint64_t after = c + 1 < words ? (up[c + 1] | mid[c + 1] | down[c + 1]) << 63 : 0;
+        const uint64_t before = (up[c - 1] | mid[c - 1] | down[c - 1]) >> 63;
+        const uint64_t after = (up[c + 1] | mid[c + 1] | down[c + 1]) << 63;
         const uint64_t alone = m & ~(column | (around << 1) | before | (around >> 1) | after);
         if (alone) {
           specks += bits_set(alone);
@@ -871,7 +876,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       if (!keep(cv::Rect(tl, br + cv::Point(1, 1)))) continue;
     }
     contours.emplace_back().reserve(size_t(2 * (bw + bh)));   // a convex border's length: one allocation, mostly
-    trace_outer_border(masks.data(), words, h, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
+    trace_outer_border(masks.data(), stride, h, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
     if (factor > 1)
       for (cv::Point& p : contours.back()) p = undecimate(p, factor);
   }
