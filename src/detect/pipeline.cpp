@@ -673,57 +673,54 @@ uint64_t row_mask(const uint8_t* row, int x, int w) {
   return m;
 }
 
-// The eight neighbours of a pixel as bits in the tracing's direction order (E SE S SW W NW N NE), from its 3x3
-// window: bits 0-2 the row above (x - 1, x, x + 1), 3-5 its own row, 6-8 the row below.
-constexpr std::array<uint8_t, 512> make_neighbour_table() {
-  std::array<uint8_t, 512> t{};
-  constexpr int window_bit[8] = {5, 8, 7, 6, 3, 0, 1, 2};   // E SE S SW W NW N NE
-  for (int w = 0; w < 512; ++w)
-    for (int d = 0; d < 8; ++d)
-      if (w >> window_bit[d] & 1) t[size_t(w)] = uint8_t(t[size_t(w)] | 1 << d);
-  return t;
-}
-constexpr std::array<uint8_t, 512> kNeighbours = make_neighbour_table();
-
-// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start`, on the bit masks of
-// region_contours (`stride` words a row: a word of nothing, the row's words, a word of nothing; a row of nothing
-// above and below the image). Each step reads the pixel's 3x3 window, three bits from each of three rows (two
-// bytes read at the bit before it: the words are little-endian), and the first neighbour on clockwise from where
-// the scan starts is the lowest bit of the neighbours turned to start there: no branch per neighbour.
-static_assert(std::endian::native == std::endian::little, "the tracing reads the bit masks' words as bytes");
-void trace_outer_border(const uint64_t* masks, int stride, int rows, cv::Point start, std::vector<cv::Point>& out) {
+// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start` (a region of nonzero
+// pixels; of zero pixels when Light).
+template <bool Light>
+void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::Point>& out) {
   static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
   static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
-  const uint8_t* bytes = reinterpret_cast<const uint8_t*>(masks) + sizeof(uint64_t);   // pixel 0 of row -1
-  const ptrdiff_t row_bytes = ptrdiff_t(stride) * ptrdiff_t(sizeof(uint64_t));
-  auto next = [&](cv::Point p, int from, int* dir) -> bool {
-    // Bits x - 1 .. x + 1 of rows y - 1 .. y + 1 (pixel -1 is the word of nothing's last bit).
-    const int at = p.x - 1, shift = at & 7;
-    const uint8_t* b = bytes + ptrdiff_t(p.y) * row_bytes + (at >> 3);
-    uint16_t above, own, below;
-    std::memcpy(&above, b, 2);
-    std::memcpy(&own, b + row_bytes, 2);
-    std::memcpy(&below, b + 2 * row_bytes, 2);
-    const unsigned window =
-        (unsigned(above) >> shift & 7u) | (unsigned(own) >> shift & 7u) << 3 | (unsigned(below) >> shift & 7u) << 6;
-    const unsigned n = kNeighbours[window];
-    const unsigned turned = ((n >> from) | (n << (8 - from))) & 0xffu;
-    if (!turned) return false;
-    *dir = (from + std::countr_zero(turned)) & 7;
-    return true;
+  const int w = binary.cols, h = binary.rows;
+  auto on = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && (binary.ptr<uint8_t>(y)[x] != 0) != Light;
   };
   out.clear();
   out.push_back(start);
   // The pixel to the west of the top-left pixel is background: the first scan starts there.
+  // Away from the image's edge (nearly every step) the neighbours are read through fixed offsets, unchecked.
+  const uint8_t* data = binary.data;
+  const ptrdiff_t stride = ptrdiff_t(binary.step);
+  ptrdiff_t offset[8];
+  for (int k = 0; k < 8; ++k) offset[k] = dy[k] * stride + dx[k];
+  auto next = [&](cv::Point p, int from, int* dir) -> bool {
+    if (p.x > 0 && p.y > 0 && p.x < w - 1 && p.y < h - 1) {
+      const uint8_t* centre = data + p.y * stride + p.x;
+      for (int k = 0; k < 8; ++k) {
+        const int d = (from + k) & 7;
+        if ((centre[offset[d]] != 0) != Light) {
+          *dir = d;
+          return true;
+        }
+      }
+      return false;
+    }
+    for (int k = 0; k < 8; ++k) {
+      const int d = (from + k) & 7;
+      if (on(p.x + dx[d], p.y + dy[d])) {
+        *dir = d;
+        return true;
+      }
+    }
+    return false;
+  };
   int d = 0;
   if (!next(start, 4, &d)) return;  // a single pixel
   const cv::Point second(start.x + dx[d], start.y + dy[d]);
   cv::Point p = second;
-  for (size_t guard = 0; guard < size_t(4) * size_t(64 * stride) * size_t(rows) + 8; ++guard) {
+  for (size_t guard = 0; guard < size_t(4) * size_t(w) * size_t(h) + 8; ++guard) {
     // The background pixel examined just before the step, seen from the new pixel.
-    static constexpr int kFrom[8] = {6, 6, 0, 0, 2, 2, 4, 4};   // (d + 5) & 7 after a diagonal step, else (d + 6) & 7
+    const int from = (d & 1) ? (d + 5) & 7 : (d + 6) & 7;
     int nd = 0;
-    next(p, kFrom[d], &nd);
+    next(p, from, &nd);
     const cv::Point q(p.x + dx[nd], p.y + dy[nd]);
     if (p == start && q == second) break;  // back where we began, going the same way
     out.push_back(p);
@@ -750,18 +747,16 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   thread_local std::vector<int> parent;
   runs.clear();
   parent.clear();
-  // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row, each row between
-  // two words of nothing and the rows between two rows of nothing: what lies beside a pixel is read unchecked.
-  const int words = (w + 63) / 64, stride = words + 2;
+  // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row.
+  const int words = (w + 63) / 64;
   thread_local std::vector<uint64_t> masks;
-  masks.resize(size_t(stride) * size_t(h + 2));
-  std::fill_n(masks.begin(), stride, 0);                                    // a row of nothing above
-  std::fill_n(masks.begin() + ptrdiff_t(stride) * (h + 1), stride, 0);      // and below
+  masks.resize(size_t(words) * size_t(h + 2));
+  std::fill_n(masks.begin(), words, 0);                                    // a row of nothing above
+  std::fill_n(masks.begin() + ptrdiff_t(words) * (h + 1), words, 0);       // and below
   for (int y = 0; y < h; ++y) {
     const uint8_t* row = binary.ptr<uint8_t>(y);
-    uint64_t* out = masks.data() + size_t(stride) * size_t(y + 1);
-    out[0] = out[words + 1] = 0;
-    for (int c = 0; c < words; ++c) out[c + 1] = row_mask<Light>(row, 64 * c, w);
+    uint64_t* out = masks.data() + size_t(words) * size_t(y + 1);
+    for (int c = 0; c < words; ++c) out[c] = row_mask<Light>(row, 64 * c, w);
   }
   // Specks: pixels with no neighbour on, regions of one pixel, too small to trace when a 1x1 box's border is
   // shorter than min_perimeter_px. On a noisy frame they are two thirds of the regions (640x480: 2900 of 4300) and
@@ -774,9 +769,9 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   edge.resize(size_t(w) + 2);
   for (int y = 0; y < h; ++y) {
     const int begin = int(runs.size());
-    const uint64_t* up = masks.data() + size_t(stride) * size_t(y) + 1;   // the row above's first word
-    const uint64_t* mid = up + stride;
-    const uint64_t* down = mid + stride;
+    const uint64_t* up = masks.data() + size_t(words) * size_t(y);
+    const uint64_t* mid = up + words;
+    const uint64_t* down = mid + words;
     // A run begins or ends where a bit differs from the one before it; those bits are visited by counting trailing
     // zeros and written in turn, and the runs are their pairs. Scanning byte by byte mispredicted a branch at every
     // edge and was a third of the stage on a noisy threshold.
@@ -786,10 +781,10 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       uint64_t m = mid[c];
       if (drop_specks && m) {
         // The on pixels around each bit: its column above and below, and the three columns beside it (the words
-        // beside this one give the bits at its ends; beside the row, the words of nothing).
+        // beside this one give the bits at its ends).
         const uint64_t column = up[c] | down[c], around = column | m;
-        const uint64_t before = (up[c - 1] | mid[c - 1] | down[c - 1]) >> 63;
-        const uint64_t after = (up[c + 1] | mid[c + 1] | down[c + 1]) << 63;
+        const uint64_t before = c > 0 ? (up[c - 1] | mid[c - 1] | down[c - 1]) >> 63 : 0;
+        const uint64_t after = c + 1 < words ? (up[c + 1] | mid[c + 1] | down[c + 1]) << 63 : 0;
         const uint64_t alone = m & ~(column | (around << 1) | before | (around >> 1) | after);
         if (alone) {
           specks += bits_set(alone);
@@ -814,7 +809,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     const int end = int(runs.size());
     while (i < prev_end && j < end) {
       const Run &a = runs[size_t(i)], &b = runs[size_t(j)];
-      if ((a.x0 <= b.x1) & (b.x0 <= a.x1)) {   // one branch, not two
+      if (a.x0 <= b.x1 && b.x0 <= a.x1) {
         const int r = find_root(parent, i);
         if (joined < 0) {
           parent[size_t(j)] = joined = r;
@@ -842,28 +837,25 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     int x0, y0, x1, y1;
   };
   thread_local std::vector<Box> boxes;
-  thread_local std::vector<int> roots;   // the roots in order: the regions
   boxes.resize(runs.size());
-  roots.resize(runs.size());
-  int root_count = 0;
   for (int i = 0; i < int(runs.size()); ++i) {
     const int r = parent[size_t(parent[size_t(i)])];
     parent[size_t(i)] = r;
     const Run& run = runs[size_t(i)];
     Box& b = boxes[size_t(r)];
-    // Without a branch (a root is a coin toss on a noisy frame): a root starts its box, another run widens it.
-    const bool root = r == i;
-    b.x0 = root ? run.x0 : std::min(b.x0, run.x0);
-    b.x1 = root ? run.x1 - 1 : std::max(b.x1, run.x1 - 1);
-    b.y0 = root ? run.y : b.y0;
-    b.y1 = run.y;
-    roots[size_t(root_count)] = i;
-    root_count += root;
+    if (r == i) {
+      b = {run.x0, run.y, run.x1 - 1, run.y};
+    } else {
+      b.x0 = std::min(b.x0, run.x0);
+      b.x1 = std::max(b.x1, run.x1 - 1);
+      b.y1 = run.y;
+    }
   }
   std::vector<std::vector<cv::Point>> contours;
-  const int regions = root_count;
-  for (int k = 0; k < root_count; ++k) {
-    const int i = roots[size_t(k)];
+  int regions = 0;
+  for (int i = 0; i < int(runs.size()); ++i) {
+    if (parent[size_t(i)] != i) continue;
+    ++regions;
     const Box& b = boxes[size_t(i)];
     const int bw = b.x1 - b.x0 + 1, bh = b.y1 - b.y0 + 1;
     if (2.0 * (bw + bh) < min_perimeter_px) {
@@ -876,7 +868,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       if (!keep(cv::Rect(tl, br + cv::Point(1, 1)))) continue;
     }
     contours.emplace_back().reserve(size_t(2 * (bw + bh)));   // a convex border's length: one allocation, mostly
-    trace_outer_border(masks.data(), stride, h, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
+    trace_outer_border<Light>(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
     if (factor > 1)
       for (cv::Point& p : contours.back()) p = undecimate(p, factor);
   }
