@@ -169,7 +169,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     std::vector<stages::SmallRegion>* small_out = !full ? nullptr : one_region ? &small : &region_small;
     int region_count = 0;
     std::vector<std::vector<cv::Point>> found =
-        stages::find_contours(binary, p.min_perimeter_px, &region_count, small_out, factor);
+        stages::find_contours(binary, p.min_perimeter_px, timed ? &region_count : nullptr, small_out, factor);
     regions += region_count;
     const size_t first = contours.size();
     if (one_region) {

@@ -645,15 +645,6 @@ int find_root(std::vector<int>& parent, int i) {
   return i;
 }
 
-// The number of bits set, without a call: x86-64's baseline has no POPCNT instruction, and std::popcount there is
-// a call into libgcc (at 640x480, for each of a few thousand words a frame).
-inline int bits_set(uint64_t x) {
-  x -= (x >> 1) & 0x5555555555555555ull;
-  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
-  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
-  return int((x * 0x0101010101010101ull) >> 56);
-}
-
 // Bit k set where pixel x + k of the row is on (nonzero; zero when Light), for the up to 64 pixels from x; none
 // past w.
 template <bool Light>
@@ -671,6 +662,182 @@ uint64_t row_mask(const uint8_t* row, int x, int w) {
 #endif
   for (; k < 64 && x + k < w; ++k) m |= uint64_t((row[x + k] != 0) != Light) << k;
   return m;
+}
+
+// A buffer kept from call to call grows to n and never shrinks: growing it again, for the next frame after a smaller
+// image (coarse_search's), would zero its new part.
+template <typename T>
+void at_least(std::vector<T>& buffer, size_t n) {
+  if (buffer.size() < n) buffer.resize(n);
+}
+
+// A binary image as bit masks: row y's `words` words at row(y), bit k of word c the pixel 64c + k. Rows of nothing
+// above and below it and a word of nothing at each end of a row let the neighbours of any pixel be read unchecked.
+// Read as one array from the first row's first word (its left end's), the rows and their ends follow one another
+// `stride` apart: a pass along that array does every row at once, and for a word at a row's end it takes the
+// pixels beside the image, which are off.
+struct BitRows {
+  static constexpr int kPad = 3;   // rows of nothing above and below
+  uint64_t* base;
+  int words, h;
+  ptrdiff_t stride() const { return ptrdiff_t(words) + 2; }
+  // and three words more, for a pass four words a step that ends past the padding below
+  size_t size() const { return size_t(stride()) * size_t(h + 2 * kPad) + 3; }
+  uint64_t* row(int y) const { return base + stride() * (y + kPad) + 1; }
+  uint64_t* first() const { return row(0) - 1; }      // the array of the image's rows, with their ends
+  size_t length() const { return size_t(stride()) * size_t(h); }
+  void clear_padding() const {
+    std::fill(base, first(), 0);
+    std::fill(first() + length(), base + size(), 0);
+  }
+};
+
+// GCC and clang note that a function taking or returning Four::V outside AVX2 code would pass it differently;
+// they are all inlined into AVX2 code (GCC's note comes at the file's end, so it is silenced from here on).
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpsabi"
+#elif defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+// drop_small_regions' words, one at a time (Scalar) or four (Four), with the same operators (|, &, ^, ~).
+struct Scalar {
+  using V = uint64_t;
+  static constexpr int kWords = 1;
+  static V load(const uint64_t* at) { return *at; }
+  static void store(uint64_t* at, V v) { *at = v; }
+  template <int S> static V left(V v) { return v << S; }
+  template <int S> static V right(V v) { return v >> S; }
+  static int bits(V v) { return std::popcount(v); }
+};
+// Four words in GCC's vector extension, with the same operators: in drop_small_regions_avx2 one AVX2 instruction
+// each (its helpers are always inlined there, so no AVX vector crosses a call and -Wpsabi's ABI note is moot).
+struct Four {
+  typedef uint64_t V __attribute__((vector_size(32)));
+  static constexpr int kWords = 4;
+  [[gnu::always_inline]] static V load(const uint64_t* at) {
+    V v;
+    std::memcpy(&v, at, sizeof v);
+    return v;
+  }
+  [[gnu::always_inline]] static void store(uint64_t* at, V v) { std::memcpy(at, &v, sizeof v); }
+  template <int S> [[gnu::always_inline]] static V left(V v) { return v << S; }
+  template <int S> [[gnu::always_inline]] static V right(V v) { return v >> S; }
+  [[gnu::always_inline]] static int bits(V v) {
+    return std::popcount(v[0]) + std::popcount(v[1]) + std::popcount(v[2]) + std::popcount(v[3]);
+  }
+};
+
+// Bit x of the result: pixel x - S (S > 0, from the left) or x + |S| (S < 0) of the word(s) at `at`, with the
+// word before or after.
+template <typename W, int S>
+[[gnu::always_inline]] inline typename W::V moved(const uint64_t* at) {
+  if constexpr (S > 0) return W::template left<S>(W::load(at)) | W::template right<64 - S>(W::load(at - 1));
+  else return W::template right<-S>(W::load(at)) | W::template left<64 + S>(W::load(at + 1));
+}
+
+// Each pixel set where a pixel within R of it along the row is.
+template <typename W, int R>
+[[gnu::always_inline]] inline typename W::V spread_along(const uint64_t* at) {
+  if constexpr (R == 0) return W::load(at);
+  else return spread_along<W, R - 1>(at) | moved<W, R>(at) | moved<W, -R>(at);
+}
+
+// The pixels of rows y - R .. y + R, at the word(s) of row y at `at`.
+template <typename W, int R>
+[[gnu::always_inline]] inline typename W::V rows_around(const uint64_t* at, ptrdiff_t stride) {
+  typename W::V v = W::load(at);
+  for (int dy = 1; dy <= R; ++dy) v = v | W::load(at - dy * stride) | W::load(at + dy * stride);
+  return v;
+}
+
+// Takes out of `bits` every region that fits in a K x K window (K odd) with no pixel on in the ring of pixels just
+// outside it, and returns how many it took when Count (else 0). Such a region is a whole region (a step out of the
+// window lands on the ring), and a region that fits in K x K pixels has such a window: so exactly the regions whose
+// box is at most K x K go, without labelling a pixel. Per window centre the ring is read as whole words: its rows
+// above and below, spread along the row, and its columns at each side, from the rows beside the centre's. The
+// pixels within r = K / 2 of a centre whose ring is empty are the ones taken. A centre beside the image is as good
+// as one in it (the pixels there are off). Each pass runs along the whole array of rows, W::kWords words a step
+// (the arrays' padding takes the last step's overrun).
+// The count: for K = 1 the pixels taken. For K = 3, Gray's bit-quad Euler number of the pixels taken (for
+// 8-connected regions: the number of 2x2 blocks with one pixel on, less those with three, less twice the diagonal
+// pairs, over 4) is their regions less their holes, and a region in 3x3 pixels has a hole only at its centre, an off
+// pixel with its four neighbours on.
+template <typename W, int K, bool Count>
+[[gnu::always_inline]] inline int drop_small_regions_body(const BitRows& bits) {
+  static_assert(K % 2 == 1 && K / 2 + 1 <= BitRows::kPad, "the ring's rows must lie within the masks' padding");
+  static_assert(K <= 3 || !Count, "the count knows the holes of regions in 3x3 pixels only");
+  constexpr int r = K / 2, d = r + 1, step = W::kWords;
+  const ptrdiff_t s = bits.stride(), n = ptrdiff_t(bits.length());
+  thread_local std::vector<uint64_t> spread_buf, column_buf, free_buf;
+  for (auto* buf : {&spread_buf, &column_buf, &free_buf}) at_least(*buf, bits.size());
+  const BitRows spread{spread_buf.data(), bits.words, bits.h}, column{column_buf.data(), bits.words, bits.h},
+      empty_ring{free_buf.data(), bits.words, bits.h};
+  spread.clear_padding();
+  column.clear_padding();
+  empty_ring.clear_padding();
+  uint64_t* on = bits.first();
+  uint64_t *sp = spread.first(), *v = column.first(), *f = empty_ring.first();
+  for (ptrdiff_t i = 0; i < n; i += step) {
+    W::store(sp + i, spread_along<W, d>(on + i));    // the ring's rows above and below
+    W::store(v + i, rows_around<W, r>(on + i, s));   // its columns, before they are moved aside
+  }
+  for (ptrdiff_t i = 0; i < n; i += step)
+    W::store(f + i, ~(W::load(sp + i - d * s) | W::load(sp + i + d * s) | moved<W, d>(v + i) | moved<W, -d>(v + i)));
+  // The pixels near a centre whose ring is empty: those centres spread along their rows (into `spread`, its rings'
+  // rows no longer needed) and over the rows around.
+  for (ptrdiff_t i = 0; i < n; i += step) W::store(sp + i, spread_along<W, r>(f + i));
+  uint64_t* taken = v;   // the pixels taken, for the count (`column` no longer needed)
+  int count = 0;
+  for (ptrdiff_t i = 0; i < n; i += step) {
+    const typename W::V m = W::load(on + i), t = m & rows_around<W, r>(sp + i, s);
+    W::store(on + i, m & ~t);
+    if constexpr (Count && K == 1) count += W::bits(t);
+    if constexpr (Count && K > 1) W::store(taken + i, t);
+  }
+  if constexpr (Count && K > 1) {
+    // The last step's overrun wrote past the rows: the count reads the padding below them.
+    std::fill(taken + n, column.base + column.size(), 0);
+    int one = 0, three = 0, diagonal = 0, holes = 0;
+    // The 2x2 blocks of pixels x - 1 and x of rows y and y + 1, from y = -1.
+    for (ptrdiff_t i = -s; i < n; i += step) {
+      const typename W::V tl = moved<W, 1>(taken + i), tr = W::load(taken + i), bl = moved<W, 1>(taken + i + s),
+                          br = W::load(taken + i + s);
+      const typename W::V odd = tl ^ tr ^ bl ^ br, two = (tl & tr) | (bl & br) | ((tl | tr) & (bl | br));
+      one += W::bits(odd & ~two);
+      three += W::bits(odd & two);
+      diagonal += W::bits((tl & br & ~tr & ~bl) | (tr & bl & ~tl & ~br));
+    }
+    for (ptrdiff_t i = 0; i < n; i += step)
+      holes += W::bits(~W::load(taken + i) & W::load(taken + i - s) & W::load(taken + i + s) &
+                       moved<W, 1>(taken + i) & moved<W, -1>(taken + i));
+    count = (one - three - 2 * diagonal) / 4 + holes;
+  }
+  return count;
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+template <int K, bool Count>
+__attribute__((target("avx2,popcnt"))) int drop_small_regions_avx2(const BitRows& bits) {
+  return drop_small_regions_body<Four, K, Count>(bits);
+}
+template <int K, bool Count>
+int drop_small_regions(const BitRows& bits) {
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+  return avx2 ? drop_small_regions_avx2<K, Count>(bits) : drop_small_regions_body<Scalar, K, Count>(bits);
+}
+#else
+template <int K, bool Count>
+int drop_small_regions(const BitRows& bits) {
+  return drop_small_regions_body<Scalar, K, Count>(bits);
+}
+#endif
+
+// The small regions a border of min_perimeter_px leaves out, taken out of `bits`; their number when `count`.
+int drop_small_regions(const BitRows& bits, double min_perimeter_px, bool count) {
+  if (20.0 < min_perimeter_px && !count) return drop_small_regions<5, false>(bits);
+  if (12.0 < min_perimeter_px) return count ? drop_small_regions<3, true>(bits) : drop_small_regions<3, false>(bits);
+  if (4.0 < min_perimeter_px) return count ? drop_small_regions<1, true>(bits) : drop_small_regions<1, false>(bits);
+  return 0;
 }
 
 // Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start` (a region of nonzero
@@ -745,58 +912,47 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   // growing and zeroing fresh buffers that large every frame cost more than the scan.
   thread_local std::vector<Run> runs;
   thread_local std::vector<int> parent;
-  runs.clear();
-  parent.clear();
-  // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row.
+  int run_count = 0;   // the runs so far (the buffers only grow: resizing them row by row zeroed each new part)
+  // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row, with rows of
+  // nothing above and below and a word of nothing at each end of a row.
   const int words = (w + 63) / 64;
   thread_local std::vector<uint64_t> masks;
-  masks.resize(size_t(words) * size_t(h + 2));
-  std::fill_n(masks.begin(), words, 0);                                    // a row of nothing above
-  std::fill_n(masks.begin() + ptrdiff_t(words) * (h + 1), words, 0);       // and below
+  BitRows bits{nullptr, words, h};
+  at_least(masks, bits.size());
+  bits.base = masks.data();
+  bits.clear_padding();
   for (int y = 0; y < h; ++y) {
     const uint8_t* row = binary.ptr<uint8_t>(y);
-    uint64_t* out = masks.data() + size_t(words) * size_t(y + 1);
+    uint64_t* out = bits.row(y);
+    out[-1] = out[words] = 0;
     for (int c = 0; c < words; ++c) out[c] = row_mask<Light>(row, 64 * c, w);
   }
-  // Specks: pixels with no neighbour on, regions of one pixel, too small to trace when a 1x1 box's border is
-  // shorter than min_perimeter_px. On a noisy frame they are two thirds of the regions (640x480: 2900 of 4300) and
-  // a third of the runs; they are counted here and left out of the runs. Not when `small` lists the small regions:
-  // it keeps them in the regions' order.
-  const bool drop_specks = !small && 4.0 < min_perimeter_px;
-  int specks = 0;
+  // Small regions: on a noisy frame nearly all regions are a few pixels (640x480: 4200 of 4300 fit in a 3x3 box),
+  // and they made most of the runs. Those whose box could not hold a border of min_perimeter_px are taken out of the
+  // masks and only counted (the region count stays exact), never made runs: the regions that fit in 5x5 pixels
+  // when a 5x5 box's border, 20 pixels, is short and they need no count, else in 3x3 pixels (12), else the one-pixel
+  // ones (specks). Not when `small` lists the small regions: it keeps them in the regions' order.
+  const int dropped = small ? 0 : drop_small_regions(bits, min_perimeter_px, region_count != nullptr);
   int prev_begin = 0, prev_end = 0;
   thread_local std::vector<int> edge;   // one row's run ends, alternately where a run begins and where it ends
-  edge.resize(size_t(w) + 2);
+  at_least(edge, size_t(w) + 2);
   for (int y = 0; y < h; ++y) {
-    const int begin = int(runs.size());
-    const uint64_t* up = masks.data() + size_t(words) * size_t(y);
-    const uint64_t* mid = up + words;
-    const uint64_t* down = mid + words;
+    const int begin = run_count;
+    const uint64_t* mid = bits.row(y);
     // A run begins or ends where a bit differs from the one before it; those bits are visited by counting trailing
     // zeros and written in turn, and the runs are their pairs. Scanning byte by byte mispredicted a branch at every
     // edge and was a third of the stage on a noisy threshold.
     int edges = 0;
     uint64_t before_word = 0;  // the pixel before the current 64, as bit 0
     for (int c = 0, x = 0; c < words; ++c, x += 64) {
-      uint64_t m = mid[c];
-      if (drop_specks && m) {
-        // The on pixels around each bit: its column above and below, and the three columns beside it (the words
-        // beside this one give the bits at its ends).
-        const uint64_t column = up[c] | down[c], around = column | m;
-        const uint64_t before = c > 0 ? (up[c - 1] | mid[c - 1] | down[c - 1]) >> 63 : 0;
-        const uint64_t after = c + 1 < words ? (up[c + 1] | mid[c + 1] | down[c + 1]) << 63 : 0;
-        const uint64_t alone = m & ~(column | (around << 1) | before | (around >> 1) | after);
-        if (alone) {
-          specks += bits_set(alone);
-          m &= ~alone;
-        }
-      }
+      const uint64_t m = mid[c];
       for (uint64_t e = m ^ ((m << 1) | before_word); e; e &= e - 1) edge[size_t(edges++)] = x + std::countr_zero(e);
       before_word = m >> 63;
     }
     if (edges % 2) edge[size_t(edges++)] = w;   // a run to the row's end
-    runs.resize(size_t(begin + edges / 2));
-    parent.resize(runs.size());
+    run_count = begin + edges / 2;
+    at_least(runs, size_t(run_count));
+    at_least(parent, size_t(run_count));
     for (int k = 0; k < edges / 2; ++k) {
       runs[size_t(begin + k)] = {edge[size_t(2 * k)], edge[size_t(2 * k + 1)], y};
       parent[size_t(begin + k)] = begin + k;
@@ -806,7 +962,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     // unites the two regions under the earlier root.
     int i = prev_begin, j = begin;
     int joined = -1;   // the root of run j's region once it has joined one above, else -1
-    const int end = int(runs.size());
+    const int end = run_count;
     while (i < prev_end && j < end) {
       const Run &a = runs[size_t(i)], &b = runs[size_t(j)];
       if (a.x0 <= b.x1 && b.x0 <= a.x1) {
@@ -837,8 +993,8 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     int x0, y0, x1, y1;
   };
   thread_local std::vector<Box> boxes;
-  boxes.resize(runs.size());
-  for (int i = 0; i < int(runs.size()); ++i) {
+  at_least(boxes, size_t(run_count));
+  for (int i = 0; i < run_count; ++i) {
     const int r = parent[size_t(parent[size_t(i)])];
     parent[size_t(i)] = r;
     const Run& run = runs[size_t(i)];
@@ -853,7 +1009,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   }
   std::vector<std::vector<cv::Point>> contours;
   int regions = 0;
-  for (int i = 0; i < int(runs.size()); ++i) {
+  for (int i = 0; i < run_count; ++i) {
     if (parent[size_t(i)] != i) continue;
     ++regions;
     const Box& b = boxes[size_t(i)];
@@ -872,7 +1028,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     if (factor > 1)
       for (cv::Point& p : contours.back()) p = undecimate(p, factor);
   }
-  if (region_count) *region_count = regions + specks;
+  if (region_count) *region_count = regions + dropped;
   return contours;
 }
 

@@ -333,6 +333,51 @@ TEST(Stages, ContourRegionsAreTheEightConnectedComponents) {
 // Each contour is the Moore-neighbour trace of its region's outer border (from the top-left pixel, clockwise,
 // stopping when the first step repeats) as the plain tracing reads it one neighbour at a time on the image: on
 // random shapes across the 64-pixel words of the bit masks the tracing reads, and along the image's four edges.
+// Small regions, which contours takes out of its bit masks without labelling them (those within a 3x3 or 5x5 box
+// whose border is below min_perimeter_px), are exactly the regions it would not trace: the same contours and the
+// same region count as when every region is listed, on clusters of every shape up to 7x7 (rings with holes among
+// them), packed closer than the ring around a window, at the image's edges and across the 64-pixel words.
+TEST(Stages, SmallRegionsAreTakenOutWholeAndCountedExactly) {
+  cv::RNG rng(7);
+  for (const int width : {64, 131, 200, 257}) {
+    for (const double density : {0.3, 0.6, 0.9}) {
+      cv::Mat bin = cv::Mat::zeros(90, width, CV_8UC1);
+      for (int k = 0; k < width * 3; ++k) {   // clusters of random pixels in random boxes of 1x1 to 7x7
+        const int bw = rng.uniform(1, 8), bh = rng.uniform(1, 8);
+        const int x0 = rng.uniform(-2, width), y0 = rng.uniform(-2, bin.rows);
+        for (int y = y0; y < y0 + bh; ++y)
+          for (int x = x0; x < x0 + bw; ++x)
+            if (x >= 0 && y >= 0 && x < width && y < bin.rows && rng.uniform(0.0, 1.0) < density)
+              bin.at<uint8_t>(y, x) = 255;
+      }
+      // Rings with holes: a 3x3 one (its hole the centre) and a 5x5 one, by a word's end; a long bar for a contour.
+      const int at = std::min(width - 6, 61);
+      for (const cv::Rect& clear : {cv::Rect(at - 2, 38, 7, 7), cv::Rect(at - 1, 59, 7, 7)})
+        bin(clear & cv::Rect(0, 0, width, bin.rows)) = 0;
+      cv::Mat five = bin(cv::Rect(at, 60, 5, 5));
+      bin(cv::Rect(at, 40, 3, 3)).setTo(255);
+      bin.at<uint8_t>(41, at + 1) = 0;
+      five.setTo(255);
+      five(cv::Rect(1, 1, 3, 3)).setTo(0);
+      bin(cv::Rect(0, 80, width, 2)).setTo(255);
+      cv::Mat labels;
+      const int components = cv::connectedComponents(bin, labels, 8) - 1;
+      for (const double min_perimeter : {8.0, 13.0, 20.0, 21.0, 48.0}) {
+        int listed = 0, counted = 0;
+        std::vector<stages::SmallRegion> small;
+        const auto all = stages::find_contours(bin, min_perimeter, &listed, &small);   // nothing taken out
+        const auto with_count = stages::find_contours(bin, min_perimeter, &counted);
+        const auto without = stages::find_contours(bin, min_perimeter);
+        EXPECT_EQ(listed, components) << width << " " << density << " " << min_perimeter;
+        EXPECT_EQ(counted, components) << width << " " << density << " " << min_perimeter;
+        EXPECT_EQ(with_count, all) << width << " " << density << " " << min_perimeter;
+        EXPECT_EQ(without, all) << width << " " << density << " " << min_perimeter;
+        EXPECT_FALSE(all.empty());
+      }
+    }
+  }
+}
+
 TEST(Stages, ContoursAreTheMooreTraceOfEachOuterBorder) {
   auto moore = [](const cv::Mat& bin, cv::Point start) {
     const int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1}, dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
