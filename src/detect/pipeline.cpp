@@ -652,13 +652,13 @@ uint64_t row_mask(const uint8_t* row, int x, int w) {
   uint64_t m = 0;
   int k = 0;
 #if CV_SIMD128
-  if (x + 64 <= w) {
-    // Compared with zero, a lane is all ones where its pixel is on (any nonzero value): the sign bits are the mask.
-    const cv::v_uint8x16 zero = cv::v_setzero_u8();
-    for (; k < 64; k += 16)
-      m |= uint64_t(uint32_t(cv::v_signmask(cv::v_load(row + x + k) > zero))) << k;
-    return Light ? ~m : m;
-  }
+  // Compared with zero, a lane is all ones where its pixel is nonzero: the sign bits are the mask, 16 pixels at a
+  // time while they are inside the row (a row's last word too: coarse_search's 160-pixel rows end half-way through
+  // one, and pixel by pixel it was a sixth of that stage).
+  const cv::v_uint8x16 zero = cv::v_setzero_u8();
+  for (; k < 64 && x + k + 16 <= w; k += 16)
+    m |= uint64_t(uint32_t(cv::v_signmask(cv::v_load(row + x + k) > zero))) << k;
+  if (Light) m = ~m & (k == 64 ? ~uint64_t(0) : (uint64_t(1) << k) - 1);
 #endif
   for (; k < 64 && x + k < w; ++k) m |= uint64_t((row[x + k] != 0) != Light) << k;
   return m;
