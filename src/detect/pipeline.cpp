@@ -757,7 +757,8 @@ template <typename W, int R>
 // above and below, spread along the row, and its columns at each side, from the rows beside the centre's. The
 // pixels within r = K / 2 of a centre whose ring is empty are the ones taken. A centre beside the image is as good
 // as one in it (the pixels there are off). Each pass runs along the whole array of rows, W::kWords words a step
-// (the arrays' padding takes the last step's overrun).
+// (the arrays' padding takes the last step's overrun). A region with another region's pixel in every ring around
+// it stays, and is counted and left untraced as before.
 // The count: for K = 1 the pixels taken. For K = 3, Gray's bit-quad Euler number of the pixels taken (for
 // 8-connected regions: the number of 2x2 blocks with one pixel on, less those with three, less twice the diagonal
 // pairs, over 4) is their regions less their holes, and a region in 3x3 pixels has a hole only at its centre, an off
@@ -783,6 +784,10 @@ template <typename W, int K, bool Count>
   }
   for (ptrdiff_t i = 0; i < n; i += step)
     W::store(f + i, ~(W::load(sp + i - d * s) | W::load(sp + i + d * s) | moved<W, d>(v + i) | moved<W, -d>(v + i)));
+  // A last step past the rows found centres below the image whose ring's columns it could not read (the word after
+  // it was never written): they certify nothing. Every other word the passes read past the rows is zero, as the
+  // pixels there are (`Stages.SmallRegionsLeaveALongBarOnTheLastRowWhole`).
+  std::fill(f + n, empty_ring.base + empty_ring.size(), 0);
   // The pixels near a centre whose ring is empty: those centres spread along their rows (into `spread`, its rings'
   // rows no longer needed) and over the rows around.
   for (ptrdiff_t i = 0; i < n; i += step) W::store(sp + i, spread_along<W, r>(f + i));

@@ -330,9 +330,6 @@ TEST(Stages, ContourRegionsAreTheEightConnectedComponents) {
   }
 }
 
-// Each contour is the Moore-neighbour trace of its region's outer border (from the top-left pixel, clockwise,
-// stopping when the first step repeats) as the plain tracing reads it one neighbour at a time on the image: on
-// random shapes across the 64-pixel words of the bit masks the tracing reads, and along the image's four edges.
 // Small regions, which contours takes out of its bit masks without labelling them (those within a 3x3 or 5x5 box
 // whose border is below min_perimeter_px), are exactly the regions it would not trace: the same contours and the
 // same region count as when every region is listed, on clusters of every shape up to 7x7 (rings with holes among
@@ -378,6 +375,32 @@ TEST(Stages, SmallRegionsAreTakenOutWholeAndCountedExactly) {
   }
 }
 
+// The passes that find the small regions run along all rows at once, four words a step with AVX2, and the last step
+// runs past the rows: what it finds below the image must not take pixels of the last rows. A bar along the last row
+// of images whose rows' words (with their ends) are not a multiple of four: 160x6 (30 words), 160x5 (25), 150x2.
+TEST(Stages, SmallRegionsLeaveALongBarOnTheLastRowWhole) {
+  struct Case {
+    int w, h, x0, x1;
+  };
+  for (const Case c : {Case{160, 6, 63, 100}, Case{160, 5, 127, 159}, Case{150, 2, 60, 90}, Case{200, 3, 0, 199}}) {
+    cv::Mat bin = cv::Mat::zeros(c.h, c.w, CV_8UC1);
+    bin(cv::Range(c.h - 1, c.h), cv::Range(c.x0, c.x1 + 1)).setTo(255);
+    for (const double min_perimeter : {13.0, 21.0, 48.0}) {
+      int listed = 0, counted = 0;
+      std::vector<stages::SmallRegion> small;
+      const auto all = stages::find_contours(bin, min_perimeter, &listed, &small);
+      EXPECT_EQ(stages::find_contours(bin, min_perimeter, &counted), all) << c.w << "x" << c.h << " " << min_perimeter;
+      EXPECT_EQ(stages::find_contours(bin, min_perimeter), all) << c.w << "x" << c.h << " " << min_perimeter;
+      EXPECT_EQ(counted, 1) << c.w << "x" << c.h << " " << min_perimeter;
+      ASSERT_EQ(all.size(), 1u);
+      EXPECT_EQ(all[0].front(), cv::Point(c.x0, c.h - 1));
+    }
+  }
+}
+
+// Each contour is the Moore-neighbour trace of its region's outer border (from the top-left pixel, clockwise,
+// stopping when the first step repeats) as the plain tracing reads it one neighbour at a time on the image: on
+// random shapes across the 64-pixel words of the bit masks the tracing reads, and along the image's four edges.
 TEST(Stages, ContoursAreTheMooreTraceOfEachOuterBorder) {
   auto moore = [](const cv::Mat& bin, cv::Point start) {
     const int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1}, dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
