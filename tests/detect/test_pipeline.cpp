@@ -375,6 +375,29 @@ TEST(Stages, SmallRegionsAreTakenOutWholeAndCountedExactly) {
   }
 }
 
+// The same on many small images, of every width to 200 and height to 12 (the rows' words with their ends any number
+// modulo four), random pixels from sparse to dense.
+TEST(Stages, SmallRegionsAreTakenOutRightOnImagesOfAnySize) {
+  cv::RNG rng(11);
+  for (int k = 0; k < 600; ++k) {
+    const int w = rng.uniform(1, 201), h = rng.uniform(1, 13);
+    cv::Mat noise(h, w, CV_8UC1), bin;
+    cv::randu(noise, 0, 256);
+    cv::threshold(noise, bin, rng.uniform(60, 250), 255, cv::THRESH_BINARY);
+    cv::Mat labels;
+    const int components = cv::connectedComponents(bin, labels, 8) - 1;
+    for (const double min_perimeter : {5.0, 13.0, 21.0, 48.0}) {
+      int listed = 0, counted = 0;
+      std::vector<stages::SmallRegion> small;
+      const auto all = stages::find_contours(bin, min_perimeter, &listed, &small);
+      EXPECT_EQ(stages::find_contours(bin, min_perimeter, &counted), all) << w << "x" << h << " " << min_perimeter;
+      EXPECT_EQ(stages::find_contours(bin, min_perimeter), all) << w << "x" << h << " " << min_perimeter;
+      EXPECT_EQ(listed, components) << w << "x" << h;
+      EXPECT_EQ(counted, components) << w << "x" << h << " " << min_perimeter;
+    }
+  }
+}
+
 // The passes that find the small regions run along all rows at once, four words a step with AVX2, and the last step
 // runs past the rows: what it finds below the image must not take pixels of the last rows. A bar along the last row
 // of images whose rows' words (with their ends) are not a multiple of four: 160x6 (30 words), 160x5 (25), 150x2.
