@@ -752,8 +752,8 @@ template <typename W, int R>
 
 // Takes out of `bits` every region that fits in a K x K window (K odd) with no pixel on in the ring of pixels just
 // outside it, and returns how many it took when Count (else 0). Such a region is a whole region (a step out of the
-// window lands on the ring), and a region that fits in K x K pixels has such a window: so exactly the regions whose
-// box is at most K x K go, without labelling a pixel. Per window centre the ring is read as whole words: its rows
+// window lands on the ring), and nearly every region that fits in K x K pixels has such a window: those go, without
+// labelling a pixel. Per window centre the ring is read as whole words: its rows
 // above and below, spread along the row, and its columns at each side, from the rows beside the centre's. The
 // pixels within r = K / 2 of a centre whose ring is empty are the ones taken. A centre beside the image is as good
 // as one in it (the pixels there are off). Each pass runs along the whole array of rows, W::kWords words a step
@@ -932,7 +932,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     out[-1] = out[words] = 0;
     for (int c = 0; c < words; ++c) out[c] = row_mask<Light>(row, 64 * c, w);
   }
-  // Small regions: on a noisy frame nearly all regions are a few pixels (640x480: 4200 of 4300 fit in a 3x3 box),
+  // Small regions: on a noisy frame nearly all regions are a few pixels (640x480: 4100 of 4300 fit in a 3x3 box),
   // and they made most of the runs. Those whose box could not hold a border of min_perimeter_px are taken out of the
   // masks and only counted (the region count stays exact), never made runs: the regions that fit in 5x5 pixels
   // when a 5x5 box's border, 20 pixels, is short and they need no count, else in 3x3 pixels (12), else the one-pixel
