@@ -2,6 +2,7 @@
 #include "detect/detector.hpp"
 #include "detect/params.hpp"
 #include "detect/pipeline.hpp"
+#include "detect/simd.hpp"
 #include "synth/synth.hpp"
 #include "support.hpp"
 
@@ -86,6 +87,24 @@ TEST(Stages, GreyOnDemandConvertsOnlyTheTilesAskedFor) {
   EXPECT_EQ(grey.image().data, expected.data);
 }
 
+// A cap lowers the vector level the kernels take while it lives, for every thread, and puts the last one back.
+TEST(Stages, SimdCapLowersTheLevelAndPutsItBack) {
+  const Simd cpu = simd_of_cpu();
+  EXPECT_EQ(simd(), cpu);
+  {
+    SimdCap none(Simd::none);
+    EXPECT_EQ(simd(), Simd::none);
+    {
+      SimdCap all(Simd::avx512);
+      EXPECT_EQ(simd(), cpu);   // never above the processor's
+    }
+    EXPECT_EQ(simd(), Simd::none);
+  }
+  EXPECT_EQ(simd(), cpu);
+  EXPECT_EQ(simd_levels_here().back(), cpu);
+  EXPECT_STREQ(simd_name(Simd::avx2), "avx2");
+}
+
 // The grey levels are cvtColor's to the level for every colour (the stages' own conversion is vectorised apart from
 // OpenCV's), in a whole frame and in tiles whose rows end off the vector width.
 TEST(Stages, GreyConversionIsCvtColorsForEveryColour) {
@@ -96,40 +115,49 @@ TEST(Stages, GreyConversionIsCvtColorsForEveryColour) {
   }
   cv::Mat expected;
   cv::cvtColor(all, expected, cv::COLOR_BGR2GRAY);
-  stages::GreyOnDemand whole(all);
-  whole.need_all();
-  EXPECT_EQ(cv::countNonZero(whole.image() != expected), 0);
-  const cv::Mat odd = all(cv::Rect(3, 5, 1001, 77));   // a view: its rows are not contiguous
-  stages::GreyOnDemand tiles(odd);
-  tiles.need(cv::Rect(7, 1, 50, 9));
-  tiles.need(cv::Rect(500, 40, 501, 37));
-  const cv::Rect a(0, 0, 64, 32), b(480, 32, 521, 45);
-  EXPECT_EQ(cv::countNonZero(tiles.image()(a) != expected(cv::Rect(3, 5, 1001, 77))(a)), 0);
-  EXPECT_EQ(cv::countNonZero(tiles.image()(b) != expected(cv::Rect(3, 5, 1001, 77))(b)), 0);
-  double sx = 0, sy = 0;
-  EXPECT_EQ(cv::countNonZero(stages::acquire(odd, AcquisitionSettings{.resize = false}, &sx, &sy) !=
-                             expected(cv::Rect(3, 5, 1001, 77))),
-            0);
+  // Each path the processor has (AVX-512, AVX2, SSSE3, plain C++), each row's tail by the narrower ones.
+  for (const Simd level : simd_levels_here()) {
+    SimdCap cap(level);
+    SCOPED_TRACE(simd_name(level));
+    stages::GreyOnDemand whole(all);
+    whole.need_all();
+    EXPECT_EQ(cv::countNonZero(whole.image() != expected), 0);
+    const cv::Mat odd = all(cv::Rect(3, 5, 1001, 77));   // a view: its rows are not contiguous
+    stages::GreyOnDemand tiles(odd);
+    tiles.need(cv::Rect(7, 1, 50, 9));
+    tiles.need(cv::Rect(500, 40, 501, 37));
+    const cv::Rect a(0, 0, 64, 32), b(480, 32, 521, 45);
+    EXPECT_EQ(cv::countNonZero(tiles.image()(a) != expected(cv::Rect(3, 5, 1001, 77))(a)), 0);
+    EXPECT_EQ(cv::countNonZero(tiles.image()(b) != expected(cv::Rect(3, 5, 1001, 77))(b)), 0);
+    double sx = 0, sy = 0;
+    EXPECT_EQ(cv::countNonZero(stages::acquire(odd, AcquisitionSettings{.resize = false}, &sx, &sy) !=
+                               expected(cv::Rect(3, 5, 1001, 77))),
+              0);
+  }
 }
 
 // The search image of a whole colour frame at 2 is the grey image's 2x2 block means, made as each pair of rows is
 // converted, on any side and of a view whose rows are not contiguous; the grey image is then converted whole.
 TEST(Stages, HalfSizeSearchImageIsTheDecimatedGreyImageMadeInOnePass) {
   cv::RNG rng(7);
-  for (const cv::Size size : {cv::Size(2, 2), cv::Size(37, 23), cv::Size(641, 361), cv::Size(1921, 1081)}) {
-    cv::Mat frame(size.height + 4, size.width + 6, CV_8UC3);
-    rng.fill(frame, cv::RNG::UNIFORM, 0, 256);
-    const cv::Mat bgr = frame(cv::Rect(cv::Point(3, 2), size));
-    cv::rectangle(frame, cv::Rect(0, 0, size.width / 2, size.height), cv::Scalar(255, 0, 0), -1);   // saturated
-    cv::Mat grey;
-    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-    stages::GreyOnDemand g(bgr);
-    const cv::Mat half = stages::search_image(g, cv::Rect(cv::Point(0, 0), size), 2);
-    const cv::Mat expected = stages::decimate(grey, 2);
-    ASSERT_EQ(half.size(), expected.size()) << size;
-    EXPECT_EQ(cv::norm(half, expected, cv::NORM_INF), 0) << size;
-    EXPECT_DOUBLE_EQ(g.converted(), 1.0) << size;
-    EXPECT_EQ(cv::norm(g.image(), grey, cv::NORM_INF), 0) << size;
+  for (const Simd level : simd_levels_here()) {
+    SimdCap cap(level);
+    SCOPED_TRACE(simd_name(level));
+    for (const cv::Size size : {cv::Size(2, 2), cv::Size(37, 23), cv::Size(641, 361), cv::Size(1921, 1081)}) {
+      cv::Mat frame(size.height + 4, size.width + 6, CV_8UC3);
+      rng.fill(frame, cv::RNG::UNIFORM, 0, 256);
+      const cv::Mat bgr = frame(cv::Rect(cv::Point(3, 2), size));
+      cv::rectangle(frame, cv::Rect(0, 0, size.width / 2, size.height), cv::Scalar(255, 0, 0), -1);   // saturated
+      cv::Mat grey;
+      cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+      stages::GreyOnDemand g(bgr);
+      const cv::Mat half = stages::search_image(g, cv::Rect(cv::Point(0, 0), size), 2);
+      const cv::Mat expected = stages::decimate(grey, 2);
+      ASSERT_EQ(half.size(), expected.size()) << size;
+      EXPECT_EQ(cv::norm(half, expected, cv::NORM_INF), 0) << size;
+      EXPECT_DOUBLE_EQ(g.converted(), 1.0) << size;
+      EXPECT_EQ(cv::norm(g.image(), grey, cv::NORM_INF), 0) << size;
+    }
   }
   // Of a region, the region's grey pixels decimated, converting little more than the region.
   cv::Mat bgr(200, 300, CV_8UC3);

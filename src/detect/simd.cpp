@@ -1,0 +1,54 @@
+#include "detect/simd.hpp"
+
+#include <algorithm>
+#include <atomic>
+
+namespace arwb {
+namespace {
+
+Simd detect_cpu() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("ssse3")) return Simd::none;
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("popcnt")) return Simd::ssse3;
+  if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("avx512bw") ||
+      !__builtin_cpu_supports("avx512vl") || !__builtin_cpu_supports("avx512vbmi") ||
+      !__builtin_cpu_supports("avx512vnni"))
+    return Simd::avx2;
+  return Simd::avx512;
+#else
+  return Simd::none;
+#endif
+}
+
+std::atomic<int> cap{int(Simd::avx512)};
+
+}  // namespace
+
+Simd simd_of_cpu() {
+  static const Simd cpu = detect_cpu();
+  return cpu;
+}
+
+Simd simd() { return Simd(std::min(int(simd_of_cpu()), cap.load(std::memory_order_relaxed))); }
+
+const char* simd_name(Simd level) {
+  switch (level) {
+    case Simd::none: return "none";
+    case Simd::ssse3: return "ssse3";
+    case Simd::avx2: return "avx2";
+    case Simd::avx512: return "avx512";
+  }
+  return "?";
+}
+
+std::vector<Simd> simd_levels_here() {
+  std::vector<Simd> levels;
+  for (int l = 0; l <= int(simd_of_cpu()); ++l) levels.push_back(Simd(l));
+  return levels;
+}
+
+SimdCap::SimdCap(Simd most) : previous_(cap.exchange(int(most))) {}
+SimdCap::~SimdCap() { cap.store(previous_); }
+
+}  // namespace arwb

@@ -1,0 +1,39 @@
+// The vector instruction sets the detector's own kernels choose between at run time. Each kernel asks simd() and
+// takes the widest path it has at or below it; a test caps the level with SimdCap to run every path the processor
+// can, and checks each against the plain C++ one.
+#pragma once
+
+#include <vector>
+
+namespace arwb {
+
+// In order: each level includes the ones before it.
+enum class Simd : int {
+  none = 0,
+  ssse3,    // SSSE3
+  avx2,     // AVX2 and POPCNT
+  avx512,   // AVX-512 F, BW, VL, VBMI and VNNI (Ice Lake and later, Zen 4)
+};
+
+// The widest level the processor has, below the cap when a SimdCap is alive.
+Simd simd();
+// The processor's own level, whatever the cap.
+Simd simd_of_cpu();
+// "none", "ssse3", "avx2", "avx512".
+const char* simd_name(Simd level);
+// none .. simd_of_cpu(): the levels a test can run here.
+std::vector<Simd> simd_levels_here();
+
+// Caps simd() at `most` while it lives (for every thread: tests run one path at a time), then puts the cap back.
+class SimdCap {
+ public:
+  explicit SimdCap(Simd most);
+  ~SimdCap();
+  SimdCap(const SimdCap&) = delete;
+  SimdCap& operator=(const SimdCap&) = delete;
+
+ private:
+  int previous_;
+};
+
+}  // namespace arwb
