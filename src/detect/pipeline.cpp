@@ -532,6 +532,43 @@ __attribute__((target("avx2"))) int threshold_row_avx2(const uint16_t* v, int mw
   return i;
 }
 
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"   // as grey_row_avx512's
+#endif
+// AVX-512: threshold_row_avx2's 16 block means a step as 32 (a 128-bit lane's means still make its 16 pixels), the
+// comparison into a mask register and out as bytes. And the row of vertically blended means before it, 3 near + far,
+// 32 a step. Each returns how many block means it did.
+__attribute__((target("avx512f,avx512bw,avx512vl"))) int threshold_row_avx512(const uint16_t* v, int mw,
+                                                                              const uint8_t* g, uint8_t* b,
+                                                                              int offset) {
+  const __m512i lift = _mm512_set1_epi8(char(offset)), round = _mm512_set1_epi16(8);
+  int i = 0;
+  for (; i + 32 <= mw; i += 32) {
+    const __m512i c = _mm512_loadu_si512(v + i);
+    const __m512i c3 = _mm512_add_epi16(_mm512_add_epi16(_mm512_slli_epi16(c, 1), c), round);
+    const __m512i even = _mm512_srli_epi16(_mm512_add_epi16(c3, _mm512_loadu_si512(v + i - 1)), 4);
+    const __m512i odd = _mm512_srli_epi16(_mm512_add_epi16(c3, _mm512_loadu_si512(v + i + 1)), 4);
+    const __m512i mean = _mm512_packus_epi16(_mm512_unpacklo_epi16(even, odd), _mm512_unpackhi_epi16(even, odd));
+    const __m512i lifted = _mm512_adds_epu8(_mm512_loadu_si512(g + 2 * i), lift);
+    _mm512_storeu_si512(b + 2 * i, _mm512_movm_epi8(_mm512_cmple_epu8_mask(lifted, mean)));
+  }
+  return i;
+}
+__attribute__((target("avx512f,avx512bw,avx512vl"))) int blend_row_avx512(const uint8_t* near, const uint8_t* far,
+                                                                          uint16_t* v, int mw) {
+  int i = 0;
+  for (; i + 32 <= mw; i += 32) {
+    const __m512i n = _mm512_cvtepu8_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(near + i)));
+    const __m512i f = _mm512_cvtepu8_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(far + i)));
+    _mm512_storeu_si512(v + i, _mm512_add_epi16(_mm512_add_epi16(_mm512_slli_epi16(n, 1), n), f));
+  }
+  return i;
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
 // The box filter's mean of k x k pixels (k odd, border replicated), rounded to the nearest as cv::boxFilter's (a
 // k x k sum over an odd count is never halfway), with AVX2: each row's sums of k along it (k shifted loads a vector),
 // then a running sum of k rows down each column, divided by a 16-bit multiply-high and a shift. For windows up to
@@ -653,7 +690,7 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
   vbuf.resize(size_t(mw) + 2);
   uint16_t* v = vbuf.data() + 1;
 #if defined(__x86_64__) || defined(__i386__)
-  const bool avx2 = simd() >= Simd::avx2;
+  const Simd level = simd();
 #endif
   for (int y = 0; y < grey.rows; ++y) {
     const int yy = std::min(y, 2 * mh - 1);   // an odd last row: the row before it
@@ -662,6 +699,9 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
     const uint8_t* mn = mean.ptr<uint8_t>(j);
     const uint8_t* mf = mean.ptr<uint8_t>(far);
     int i = 0;
+#if defined(__x86_64__) || defined(__i386__)
+    if (level >= Simd::avx512) i = blend_row_avx512(mn, mf, v, mw);
+#endif
 #if CV_SIMD
     for (; i + cv::v_uint16::nlanes <= mw; i += cv::v_uint16::nlanes) {
       const cv::v_uint16 n = cv::vx_load_expand(mn + i), f = cv::vx_load_expand(mf + i);
@@ -675,7 +715,8 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
     uint8_t* b = binary.ptr<uint8_t>(y);
     i = 0;
 #if defined(__x86_64__) || defined(__i386__)
-    if (avx2) i = threshold_row_avx2(v, mw, g, b, offset);
+    if (level >= Simd::avx512) i = threshold_row_avx512(v, mw, g, b, offset);
+    if (level >= Simd::avx2) i += threshold_row_avx2(v + i, mw - i, g + 2 * i, b + 2 * i, offset);
 #endif
 #if CV_SIMD
     // + on 8-bit lanes saturates, <= gives 0xFF or 0; v_pack saturates (the means are at most 255 anyway).

@@ -263,8 +263,8 @@ TEST(Stages, AdaptiveThresholdIsTheBilinearBlockMeanOnAnySide) {
   EXPECT_EQ(cv::countNonZero(odd(cv::Rect(0, 0, 212, 160)) != even), 0);
 }
 
-// The comparison is its formula to the pixel on every width, whichever vectors do it (AVX2's 32 pixels, 16 of
-// OpenCV's universal intrinsics, one at a time at the end): the block means (cv::boxFilter's, which the stage's own
+// The comparison is its formula to the pixel on every width, whichever vectors do it (AVX-512's 64 pixels, AVX2's 32,
+// 16 of OpenCV's universal intrinsics, one at a time at the end; each level the processor has): the block means (cv::boxFilter's, which the stage's own
 // box mean matches up to a window of 15 blocks) blended 3:1 between rows, then 3:1 with the neighbouring block,
 // rounded to the nearest sixteenth.
 TEST(Stages, AdaptiveThresholdComparesByItsFormulaExactly) {
@@ -272,35 +272,38 @@ TEST(Stages, AdaptiveThresholdComparesByItsFormulaExactly) {
   const int offset = int(p.threshold_offset);
   cv::RNG rng(3);
   // 32 pixels a side at least: smaller images are cv::adaptiveThreshold's.
-  for (const int window : {9, 17, 21, 31, 45}) {
-    for (const cv::Size size : {cv::Size(641, 361), cv::Size(213, 161), cv::Size(1920, 40), cv::Size(70, 34)}) {
-      p.threshold_window_px = window;
-      cv::Mat grey(size, CV_8UC1);
-      rng.fill(grey, cv::RNG::UNIFORM, 0, 256);
-      cv::GaussianBlur(grey, grey, cv::Size(0, 0), 1.5);
-      grey(cv::Rect(0, 0, size.width / 3, size.height)).setTo(250);   // saturating lifts too
-      const cv::Mat bin = stages::adaptive_threshold(grey, p);
-      const cv::Size whole(size.width / 2, size.height / 2);
-      cv::Mat blocks, mean;
-      cv::resize(grey(cv::Rect({0, 0}, whole * 2)), blocks, whole, 0, 0, cv::INTER_AREA);
-      const int half = (p.threshold_window_px / 2) | 1;
-      cv::boxFilter(blocks, mean, CV_8U, cv::Size(half, half), cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
-      int wrong = 0;
-      for (int y = 0; y < size.height; ++y) {
-        const int yy = std::min(y, 2 * mean.rows - 1), j = yy / 2;
-        const int far = std::clamp(yy % 2 ? j + 1 : j - 1, 0, mean.rows - 1);
-        auto v = [&](int i) {
-          i = std::clamp(i, 0, mean.cols - 1);
-          return 3 * mean.at<uint8_t>(j, i) + mean.at<uint8_t>(far, i);
-        };
-        for (int x = 0; x < size.width; ++x) {
-          const int i = std::min(x / 2, mean.cols - 1), side = x >= 2 * mean.cols ? 1 : x % 2 ? 1 : -1;
-          const int m = (3 * v(i) + v(i + side) + 8) >> 4;
-          const bool dark = std::min(grey.at<uint8_t>(y, x) + offset, 255) <= m;
-          wrong += bin.at<uint8_t>(y, x) != (dark ? 255 : 0);
+  for (const Simd level : simd_levels_here()) {
+    SimdCap cap(level);
+    for (const int window : {9, 17, 21, 31, 45}) {
+      for (const cv::Size size : {cv::Size(641, 361), cv::Size(213, 161), cv::Size(1920, 40), cv::Size(70, 34)}) {
+        p.threshold_window_px = window;
+        cv::Mat grey(size, CV_8UC1);
+        rng.fill(grey, cv::RNG::UNIFORM, 0, 256);
+        cv::GaussianBlur(grey, grey, cv::Size(0, 0), 1.5);
+        grey(cv::Rect(0, 0, size.width / 3, size.height)).setTo(250);   // saturating lifts too
+        const cv::Mat bin = stages::adaptive_threshold(grey, p);
+        const cv::Size whole(size.width / 2, size.height / 2);
+        cv::Mat blocks, mean;
+        cv::resize(grey(cv::Rect({0, 0}, whole * 2)), blocks, whole, 0, 0, cv::INTER_AREA);
+        const int half = (p.threshold_window_px / 2) | 1;
+        cv::boxFilter(blocks, mean, CV_8U, cv::Size(half, half), cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
+        int wrong = 0;
+        for (int y = 0; y < size.height; ++y) {
+          const int yy = std::min(y, 2 * mean.rows - 1), j = yy / 2;
+          const int far = std::clamp(yy % 2 ? j + 1 : j - 1, 0, mean.rows - 1);
+          auto v = [&](int i) {
+            i = std::clamp(i, 0, mean.cols - 1);
+            return 3 * mean.at<uint8_t>(j, i) + mean.at<uint8_t>(far, i);
+          };
+          for (int x = 0; x < size.width; ++x) {
+            const int i = std::min(x / 2, mean.cols - 1), side = x >= 2 * mean.cols ? 1 : x % 2 ? 1 : -1;
+            const int m = (3 * v(i) + v(i + side) + 8) >> 4;
+            const bool dark = std::min(grey.at<uint8_t>(y, x) + offset, 255) <= m;
+            wrong += bin.at<uint8_t>(y, x) != (dark ? 255 : 0);
+          }
         }
+        EXPECT_EQ(wrong, 0) << size << " window " << window << " " << simd_name(level);
       }
-      EXPECT_EQ(wrong, 0) << size << " window " << window;
     }
   }
 }
