@@ -574,6 +574,26 @@ __attribute__((target("avx512f,avx512bw,avx512vl"))) int blend_row_avx512(const 
 // then a running sum of k rows down each column, divided by a 16-bit multiply-high and a shift. For windows up to
 // 15 (the sums fit 16 bits); false leaves it to cv::boxFilter. 320x240 at 9 (the 640x480 threshold's): 0.05 -> 0.025
 // ms.
+// One row's sums of k along it (border replicated), through `pad` (w + k - 1 bytes).
+__attribute__((target("avx2"))) void row_sums_avx2(const uint8_t* in, int w, int k, uint8_t* pad, uint16_t* out) {
+  const int r = k / 2;
+  std::fill_n(pad, r, in[0]);
+  std::copy_n(in, w, pad + r);
+  std::fill_n(pad + r + w, r, in[w - 1]);
+  int x = 0;
+  for (; x + 16 <= w; x += 16) {
+    __m256i sum = _mm256_setzero_si256();
+    for (int j = 0; j < k; ++j)
+      sum = _mm256_add_epi16(sum, _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(pad + x + j))));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), sum);
+  }
+  for (; x < w; ++x) {
+    int sum = 0;
+    for (int j = 0; j < k; ++j) sum += pad[x + j];
+    out[x] = uint16_t(sum);
+  }
+}
+
 __attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& dst, int k) {
   const int w = src.cols, h = src.rows, r = k / 2, d = k * k;
   if (k % 2 == 0 || k > 15 || w < 16 || h < 1) return false;
@@ -590,29 +610,21 @@ __attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& 
   thread_local std::vector<uint16_t> rows, column;
   pad.resize(size_t(w + 2 * r));
   const size_t stride = size_t(w);
-  rows.resize(stride * size_t(h));
+  // The row sums in a ring of k + 1 rows (the window's k and the one coming in), made as the window reaches them:
+  // all of them were 150 KB at 640x480, written and read back through the cache.
+  const int ring = k + 1;
+  rows.resize(stride * size_t(ring));
   column.resize(stride);
-  for (int y = 0; y < h; ++y) {   // the sums along each row
-    const uint8_t* in = src.ptr<uint8_t>(y);
-    std::fill_n(pad.begin(), r, in[0]);
-    std::copy_n(in, w, pad.begin() + r);
-    std::fill_n(pad.begin() + r + w, r, in[w - 1]);
-    uint16_t* out = rows.data() + size_t(y) * stride;
-    int x = 0;
-    for (; x + 16 <= w; x += 16) {
-      __m256i sum = _mm256_setzero_si256();
-      for (int j = 0; j < k; ++j)
-        sum = _mm256_add_epi16(sum, _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(
-                                        pad.data() + x + j))));
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), sum);
+  int made = -1;   // the last row whose sums are in the ring
+  auto row = [&](int y) {
+    y = std::clamp(y, 0, h - 1);
+    uint16_t* out = rows.data() + size_t(y % ring) * stride;
+    for (; made < y;) {   // rows come in order: the next one
+      const int next = ++made;
+      row_sums_avx2(src.ptr<uint8_t>(next), w, k, pad.data(), rows.data() + size_t(next % ring) * stride);
     }
-    for (; x < w; ++x) {
-      int sum = 0;
-      for (int j = 0; j < k; ++j) sum += pad[size_t(x + j)];
-      out[x] = uint16_t(sum);
-    }
-  }
-  auto row = [&](int y) { return rows.data() + size_t(std::clamp(y, 0, h - 1)) * stride; };
+    return static_cast<const uint16_t*>(out);
+  };
   std::fill(column.begin(), column.end(), uint16_t(0));
   for (int y = -r; y <= r; ++y) {
     const uint16_t* in = row(y);
@@ -622,8 +634,8 @@ __attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& 
   const __m128i bits = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < h; ++y) {
     uint8_t* out = dst.ptr<uint8_t>(y);
+    const uint16_t* drop = row(y - r);   // before the row coming in, which may take its place in the ring
     const uint16_t* add = row(y + r + 1);
-    const uint16_t* drop = row(y - r);
     uint16_t* c = column.data();
     int x = 0;
     for (; x + 16 <= w; x += 16) {
