@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace arwb::stages {
@@ -114,7 +115,7 @@ inline double contour_length(const std::vector<cv::Point>& contour, int factor) 
 // corner_refinement's profiles: profile.size() samples from `from` in steps of `step`, bilinear, as grey levels times
 // 65536. Inside the image, positions step in 1/65536 pixel and each sample is the fixed-point blend of its four
 // pixels with weights in 1/256 (bilinear_q8); where the line leaves the image, clamped floating point.
-void sample_line(const cv::Mat& grey, cv::Point2d from, cv::Point2d step, std::vector<int>& profile);
+void sample_line(const cv::Mat& grey, cv::Point2d from, cv::Point2d step, std::span<int> profile);
 
 // quad_fit's search, in the polygon approximation: the first of the points c[0, n) farthest from p0, or when
 // `from_line` from the line through p0 along `dir` (as |cross product|: the distance times dir's length), in
