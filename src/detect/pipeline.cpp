@@ -212,28 +212,28 @@ __attribute__((target("avx512f,avx512bw,avx512vl"))) int halve_rows_avx512(const
 #endif
 #endif
 
+// Two grey rows' 2x2 block means, n of them: (a + b + c + d + 2) / 4, as cv::resize's INTER_AREA halves.
+void halve_rows(const uint8_t* a, const uint8_t* b, uint8_t* o, int n) {
+  int x = 0;
+#if defined(__x86_64__) || defined(__i386__)
+  const Simd level = simd();
+  if (level >= Simd::avx512) x = halve_rows_avx512(a, b, o, n);
+  if (level >= Simd::avx2) x += halve_rows_avx2(a + 2 * x, b + 2 * x, o + x, n - x);
+#endif
+  for (; x < n; ++x) o[x] = uint8_t((a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1] + 2) >> 2);
+}
+
 // bgr_to_grey, and the grey image's 2x2 block means (its whole blocks) into `half` as each pair of rows is done,
 // while they are in the cache: decimate(grey, 2) exactly, (a + b + c + d + 2) / 4.
 void bgr_to_grey_and_half(const cv::Mat& bgr, cv::Mat& grey, cv::Mat& half) {
   grey.create(bgr.size(), CV_8UC1);
   half.create(bgr.rows / 2, bgr.cols / 2, CV_8UC1);
-#if defined(__x86_64__) || defined(__i386__)
-  const Simd level = simd();
-#endif
   for (int y = 0; y < bgr.rows; y += 2) {
     const int rows = std::min(2, bgr.rows - y);
     cv::Mat strip = grey.rowRange(y, y + rows);
     bgr_to_grey(bgr.rowRange(y, y + rows), strip);
     if (rows < 2) break;
-    const uint8_t* a = grey.ptr<uint8_t>(y);
-    const uint8_t* b = grey.ptr<uint8_t>(y + 1);
-    uint8_t* o = half.ptr<uint8_t>(y / 2);
-    int x = 0;
-#if defined(__x86_64__) || defined(__i386__)
-    if (level >= Simd::avx512) x = halve_rows_avx512(a, b, o, half.cols);
-    if (level >= Simd::avx2) x += halve_rows_avx2(a + 2 * x, b + 2 * x, o + x, half.cols - x);
-#endif
-    for (; x < half.cols; ++x) o[x] = uint8_t((a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1] + 2) >> 2);
+    halve_rows(grey.ptr<uint8_t>(y), grey.ptr<uint8_t>(y + 1), half.ptr<uint8_t>(y / 2), half.cols);
   }
 }
 
@@ -478,8 +478,9 @@ cv::Mat decimate(const cv::Mat& grey, int factor) {
   // The block mean: noise averages out, and a marker's dark frame stays dark.
   CV_Assert(grey.type() == CV_8UC1 && factor <= 16);  // a 16x16 block's sum fits 16 bits
   cv::Mat out(grey.rows / factor, grey.cols / factor, CV_8UC1);
-  if (factor == 2) {  // OpenCV's INTER_AREA has a vectorised path for halving, on the whole blocks only
-    cv::resize(grey(cv::Rect(0, 0, 2 * out.cols, 2 * out.rows)), out, out.size(), 0, 0, cv::INTER_AREA);
+  if (factor == 2) {  // cv::resize's INTER_AREA to the level (its halving path), at a third of its time
+    for (int y = 0; y < out.rows; ++y)
+      halve_rows(grey.ptr<uint8_t>(2 * y), grey.ptr<uint8_t>(2 * y + 1), out.ptr<uint8_t>(y), out.cols);
     return out;
   }
   // Other factors: INTER_AREA takes its general path on the whole image, spreading the leftover columns over every
@@ -574,18 +575,42 @@ __attribute__((target("avx512f,avx512bw,avx512vl"))) int blend_row_avx512(const 
 // then a running sum of k rows down each column, divided by a 16-bit multiply-high and a shift. For windows up to
 // 15 (the sums fit 16 bits); false leaves it to cv::boxFilter. 320x240 at 9 (the 640x480 threshold's): 0.05 -> 0.025
 // ms.
-// One row's sums of k along it (border replicated), through `pad` (w + k - 1 bytes).
-__attribute__((target("avx2"))) void row_sums_avx2(const uint8_t* in, int w, int k, uint8_t* pad, uint16_t* out) {
-  const int r = k / 2;
-  std::fill_n(pad, r, in[0]);
-  std::copy_n(in, w, pad + r);
-  std::fill_n(pad + r + w, r, in[w - 1]);
+template <int K>
+__attribute__((target("avx2"))) int row_sums_k(const uint16_t* pad, int w, uint16_t* out) {
   int x = 0;
   for (; x + 16 <= w; x += 16) {
-    __m256i sum = _mm256_setzero_si256();
-    for (int j = 0; j < k; ++j)
-      sum = _mm256_add_epi16(sum, _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(pad + x + j))));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), sum);
+    __m256i even = _mm256_setzero_si256(), odd = _mm256_setzero_si256();
+    for (int j = 0; j + 1 < K; j += 2) {
+      even = _mm256_add_epi16(even, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pad + x + j)));
+      odd = _mm256_add_epi16(odd, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pad + x + j + 1)));
+    }
+    if (K % 2) even = _mm256_add_epi16(even, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pad + x + K - 1)));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), _mm256_add_epi16(even, odd));
+  }
+  return x;
+}
+
+// One row's sums of k along it (border replicated), through `pad` (w + k - 1 levels, widened to 16 bits once, so
+// that the k shifted loads a vector are plain loads, not k widening shuffles: those were the bottleneck), in two
+// chains of additions.
+__attribute__((target("avx2"))) void row_sums_avx2(const uint8_t* in, int w, int k, uint16_t* pad, uint16_t* out) {
+  const int r = k / 2;
+  std::fill_n(pad, r, in[0]);
+  int x = 0;
+  for (; x + 16 <= w; x += 16)
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(pad + r + x),
+                        _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in + x))));
+  for (; x < w; ++x) pad[r + x] = in[x];
+  std::fill_n(pad + r + w, r, in[w - 1]);
+  switch (k) {   // the window's loads unrolled for the sizes the threshold uses (3 to 15)
+    case 3: x = row_sums_k<3>(pad, w, out); break;
+    case 5: x = row_sums_k<5>(pad, w, out); break;
+    case 7: x = row_sums_k<7>(pad, w, out); break;
+    case 9: x = row_sums_k<9>(pad, w, out); break;
+    case 11: x = row_sums_k<11>(pad, w, out); break;
+    case 13: x = row_sums_k<13>(pad, w, out); break;
+    case 15: x = row_sums_k<15>(pad, w, out); break;
+    default: x = 0;
   }
   for (; x < w; ++x) {
     int sum = 0;
@@ -606,8 +631,7 @@ __attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& 
   const uint64_t largest = 255 * uint64_t(d) + uint64_t(d / 2);
   if (m > 0xFFFF || largest * (uint64_t(m) * uint64_t(d) - power) >= power) return false;
   dst.create(src.size(), CV_8UC1);
-  thread_local std::vector<uint8_t> pad;
-  thread_local std::vector<uint16_t> rows, column;
+  thread_local std::vector<uint16_t> pad, rows, column;
   pad.resize(size_t(w + 2 * r));
   const size_t stride = size_t(w);
   // The row sums in a ring of k + 1 rows (the window's k and the one coming in), made as the window reaches them:
@@ -680,12 +704,13 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
   // so this is as good for the threshold and a third of the work; the block means also calm sensor noise in the
   // mean (on the hard bench set, dim scenes: 69.7 -> 75.8 % of markers found). Each pixel itself is compared at
   // full resolution: small markers keep their quiet zones.
-  // The blocks are the whole 2x2 blocks: INTER_AREA halves those on its vectorised path, but an odd side sends it to
-  // its general one, twenty times slower (a 213x160 coarse search: 0.055 ms for the blocks alone; a 641x361
-  // region: 0.57 ms). An odd last column or row takes the mean of the blocks beside it.
+  // The blocks are the whole 2x2 blocks, decimate(grey, 2): cv::resize's INTER_AREA to the level (an odd side had
+  // sent that to its general path, twenty times slower: a 641x361 region 0.57 ms), by our own halving, a third of
+  // its halving path's time (hot, 640x480: 14 -> 4.4 us). An odd last column or row takes the mean of the blocks
+  // beside it.
   const cv::Size whole(grey.cols / 2, grey.rows / 2);
-  cv::Mat blocks, mean;
-  cv::resize(grey(cv::Rect(0, 0, 2 * whole.width, 2 * whole.height)), blocks, whole, 0, 0, cv::INTER_AREA);
+  cv::Mat mean;
+  const cv::Mat blocks = decimate(grey, 2);
   const int half = (window / 2) | 1;
   box_mean(blocks, mean, half);
   if (block_means) *block_means = blocks;
