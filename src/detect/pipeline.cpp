@@ -861,6 +861,51 @@ void row_masks(const uint8_t* row, int w, int words, uint64_t* out) {
   for (; c < words; ++c) out[c] = row_mask<Light>(row, 64 * c, w);
 }
 
+// The pixels of a row's masks (`words` of them) where a run begins or ends, where a bit differs from the one before
+// it, in order into `out`, which has room for 16 past the last; returns how many. Scanning byte by byte
+// mispredicted a branch at every edge and was a third of the stage on a noisy threshold; visiting the set bits by
+// counting trailing zeros mispredicts once a word, when its bits run out; AVX-512 compresses the pixels of each 16
+// bits at once, with no branch (a 640x480 frame's edges 0.11 -> 0.04 M cycles).
+inline int row_edges_plain(const uint64_t* mid, int words, int* out) {
+  int n = 0;
+  uint64_t before = 0;   // the pixel before the current 64, as bit 0
+  for (int c = 0, x = 0; c < words; ++c, x += 64) {
+    const uint64_t m = mid[c];
+    for (uint64_t e = m ^ ((m << 1) | before); e; e &= e - 1) out[n++] = x + std::countr_zero(e);
+    before = m >> 63;
+  }
+  return n;
+}
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("avx512f,avx512bw,popcnt"))) int row_edges_avx512(const uint64_t* mid, int words, int* out) {
+  int n = 0;
+  uint64_t before = 0;
+  const __m512i sixteen = _mm512_set1_epi32(16);
+  __m512i x = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  for (int c = 0; c < words; ++c) {
+    const uint64_t m = mid[c];
+    const uint64_t e = m ^ ((m << 1) | before);
+    before = m >> 63;
+    // Where each 16 bits' pixels go, from the edges before them in the word (no chain of counts through the
+    // stores).
+    const int at[4] = {n, n + std::popcount(e & 0xFFFF), n + std::popcount(e & 0xFFFFFFFF),
+                       n + std::popcount(e & 0xFFFFFFFFFFFF)};
+    for (int q = 0; q < 4; ++q) {
+      _mm512_storeu_si512(out + at[q], _mm512_maskz_compress_epi32(__mmask16(e >> (16 * q)), x));
+      x = _mm512_add_epi32(x, sixteen);
+    }
+    n += std::popcount(e);
+  }
+  return n;
+}
+#endif
+inline int row_edges(const uint64_t* mid, int words, int* out) {
+#if defined(__x86_64__) || defined(__i386__)
+  if (simd() >= Simd::avx512) return row_edges_avx512(mid, words, out);
+#endif
+  return row_edges_plain(mid, words, out);
+}
+
 // A buffer kept from call to call grows to n and never shrinks: growing it again, for the next frame after a smaller
 // image (coarse_search's), would zero its new part.
 template <typename T>
@@ -1136,20 +1181,14 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   const int dropped = small ? 0 : drop_small_regions(bits, min_perimeter_px, region_count != nullptr);
   int prev_begin = 0, prev_end = 0;
   thread_local std::vector<int> edge;   // one row's run ends, alternately where a run begins and where it ends
-  at_least(edge, size_t(w) + 2);
+  at_least(edge, size_t(w) + 2 + 16);     // (row_edges writes 16 at a time)
   for (int y = 0; y < h; ++y) {
     const int begin = run_count;
     const uint64_t* mid = bits.row(y);
     // A run begins or ends where a bit differs from the one before it; those bits are visited by counting trailing
     // zeros and written in turn, and the runs are their pairs. Scanning byte by byte mispredicted a branch at every
     // edge and was a third of the stage on a noisy threshold.
-    int edges = 0;
-    uint64_t before_word = 0;  // the pixel before the current 64, as bit 0
-    for (int c = 0, x = 0; c < words; ++c, x += 64) {
-      const uint64_t m = mid[c];
-      for (uint64_t e = m ^ ((m << 1) | before_word); e; e &= e - 1) edge[size_t(edges++)] = x + std::countr_zero(e);
-      before_word = m >> 63;
-    }
+    int edges = row_edges(mid, words, edge.data());
     if (edges % 2) edge[size_t(edges++)] = w;   // a run to the row's end
     run_count = begin + edges / 2;
     at_least(runs, size_t(run_count));
