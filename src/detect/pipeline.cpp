@@ -10,6 +10,7 @@
 #endif
 
 #include <algorithm>
+#include <climits>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -865,7 +866,7 @@ void row_masks(const uint8_t* row, int w, int words, uint64_t* out) {
 // it, in order into `out`, which has room for 16 past the last; returns how many. Scanning byte by byte
 // mispredicted a branch at every edge and was a third of the stage on a noisy threshold; visiting the set bits by
 // counting trailing zeros mispredicts once a word, when its bits run out; AVX-512 compresses the pixels of each 16
-// bits at once, with no branch (a 640x480 frame's edges 0.11 -> 0.04 M cycles).
+// bits at once, with no branch (find_contours on the standard set's 640x480 frames, in the cache, 4-8 % faster).
 inline int row_edges_plain(const uint64_t* mid, int words, int* out) {
   int n = 0;
   uint64_t before = 0;   // the pixel before the current 64, as bit 0
@@ -905,6 +906,32 @@ inline int row_edges(const uint64_t* mid, int words, int* out) {
 #endif
   return row_edges_plain(mid, words, out);
 }
+
+// One row's runs' ends apart (x0 and x1 each in an array), padded to a multiple of 16 with INT_MAX.
+struct RowRuns {
+  std::vector<int> x0, x1;
+  void reserve(int w) {
+    const size_t n = size_t(w / 2 + 1 + 16);
+    if (x0.size() < n) x0.resize(n), x1.resize(n);
+  }
+};
+
+#if defined(__x86_64__) || defined(__i386__)
+// Of a row's n runs (ends padded to a multiple of 16 with INT_MAX), those that [b0, b1) on the next row touches:
+// from the first not wholly before it (x1 < b0) to the last that begins by its end (x0 <= b1), [first, last).
+struct Touched {
+  int first, last;
+};
+__attribute__((target("avx512f,popcnt"))) Touched runs_touched(const RowRuns& row, int n, int b0, int b1) {
+  const __m512i v0 = _mm512_set1_epi32(b0), v1 = _mm512_set1_epi32(b1);
+  Touched t{0, 0};
+  for (int c = 0; c < n; c += 16) {
+    t.first += std::popcount(unsigned(_mm512_cmplt_epi32_mask(_mm512_loadu_si512(row.x1.data() + c), v0)));
+    t.last += std::popcount(unsigned(_mm512_cmple_epi32_mask(_mm512_loadu_si512(row.x0.data() + c), v1)));
+  }
+  return t;
+}
+#endif
 
 // A buffer kept from call to call grows to n and never shrinks: growing it again, for the next frame after a smaller
 // image (coarse_search's), would zero its new part.
@@ -1180,6 +1207,14 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   // ones (specks). Not when `small` lists the small regions: it keeps them in the regions' order.
   const int dropped = small ? 0 : drop_small_regions(bits, min_perimeter_px, region_count != nullptr);
   int prev_begin = 0, prev_end = 0;
+#if defined(__x86_64__) || defined(__i386__)
+  const bool wide = simd() >= Simd::avx512;
+  thread_local RowRuns above, here;   // the row above's and this row's runs' ends, for the wide walk
+  if (wide) {
+    above.reserve(w);
+    here.reserve(w);
+  }
+#endif
   thread_local std::vector<int> edge;   // one row's run ends, alternately where a run begins and where it ends
   at_least(edge, size_t(w) + 2 + 16);     // (row_edges writes 16 at a time)
   for (int y = 0; y < h; ++y) {
@@ -1200,9 +1235,43 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     // 8-connected: [a0,a1) and [b0,b1) on neighbouring rows touch when a0 <= b1 and b0 <= a1. A run of this row
     // joins the region of the first run above it that it touches (its root is earlier); a second one it touches
     // unites the two regions under the earlier root.
+    const int end = run_count;
+#if defined(__x86_64__) || defined(__i386__)
+    if (wide) {
+      // The runs above that run b touches are those from the first not wholly before it (a1 < b0) to the last not
+      // wholly after it (a0 <= b1): each bound a count over the row above, sixteen runs a compare, with no branch
+      // on the data but the number touched. The walk below takes two data-dependent branches a pair of runs (on
+      // the standard set's 640x480 frames, in the cache, find_contours' best of six paired runs 151 -> 140 us).
+      std::swap(above, here);
+      const int n = end - begin;
+      for (int k = 0; k < n; ++k) {
+        here.x0[size_t(k)] = runs[size_t(begin + k)].x0;
+        here.x1[size_t(k)] = runs[size_t(begin + k)].x1;
+      }
+      for (int k = n; k < (n + 15) / 16 * 16; ++k) here.x0[size_t(k)] = here.x1[size_t(k)] = INT_MAX;
+      const int above_n = prev_end - prev_begin;
+      for (int k = 0; k < n && above_n > 0; ++k) {
+        const Touched t = runs_touched(above, above_n, here.x0[size_t(k)], here.x1[size_t(k)]);
+        if (t.first >= t.last) continue;
+        int joined = find_root(parent, prev_begin + t.first);   // the root of this run's region so far
+        parent[size_t(begin + k)] = joined;
+        for (int a = prev_begin + t.first + 1; a < prev_begin + t.last; ++a) {
+          const int r = find_root(parent, a);
+          if (r < joined) {
+            parent[size_t(joined)] = r;
+            joined = r;
+          } else if (r > joined) {
+            parent[size_t(r)] = joined;
+          }
+        }
+      }
+      prev_begin = begin;
+      prev_end = end;
+      continue;
+    }
+#endif
     int i = prev_begin, j = begin;
     int joined = -1;   // the root of run j's region once it has joined one above, else -1
-    const int end = run_count;
     while (i < prev_end && j < end) {
       const Run &a = runs[size_t(i)], &b = runs[size_t(j)];
       if (a.x0 <= b.x1 && b.x0 <= a.x1) {
