@@ -1483,6 +1483,46 @@ __attribute__((target("avx2"))) int farthest_point_avx2(const cv::Point* c, int 
     if (tops[l] > *best || (tops[l] == *best && tops[l] >= 0 && wheres[l] < *at)) *best = tops[l], *at = int(wheres[l]);
   return k;
 }
+// AVX-512: sixteen points a step in two vectors of eight, each keeping its lanes' first largest; vpabsq for the
+// line's distance.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"   // as grey_row_avx512's
+#endif
+template <bool Line>
+__attribute__((target("avx512f"))) int farthest_point_avx512(const cv::Point* c, int n, cv::Point p0, cv::Point dir,
+                                                            int64_t* best, int* at) {
+  if (n < 16) return 0;
+  const __m512i origin = _mm512_set1_epi64(int64_t(uint64_t(uint32_t(p0.y)) << 32 | uint32_t(p0.x)));
+  const __m512i ix = _mm512_set1_epi64(dir.x), iy = _mm512_set1_epi64(dir.y);
+  __m512i top[2] = {_mm512_set1_epi64(-1), _mm512_set1_epi64(-1)}, where[2] = {top[0], top[0]};
+  __m512i index[2] = {_mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7), _mm512_setr_epi64(8, 9, 10, 11, 12, 13, 14, 15)};
+  const __m512i sixteen = _mm512_set1_epi64(16);
+  int k = 0;
+  for (; k + 16 <= n; k += 16)
+    for (int h = 0; h < 2; ++h) {
+      const __m512i d = _mm512_sub_epi32(_mm512_loadu_si512(c + k + 8 * h), origin);
+      const __m512i dy = _mm512_srli_epi64(d, 32);
+      const __m512i m = Line ? _mm512_abs_epi64(_mm512_sub_epi64(_mm512_mul_epi32(dy, ix), _mm512_mul_epi32(d, iy)))
+                             : _mm512_add_epi64(_mm512_mul_epi32(d, d), _mm512_mul_epi32(dy, dy));
+      const __mmask8 more = _mm512_cmpgt_epi64_mask(m, top[h]);
+      top[h] = _mm512_mask_mov_epi64(top[h], more, m);
+      where[h] = _mm512_mask_mov_epi64(where[h], more, index[h]);
+      index[h] = _mm512_add_epi64(index[h], sixteen);
+    }
+  alignas(64) int64_t tops[16], wheres[16];
+  for (int h = 0; h < 2; ++h) {
+    _mm512_store_si512(tops + 8 * h, top[h]);
+    _mm512_store_si512(wheres + 8 * h, where[h]);
+  }
+  // The first of the largest: the largest of the lanes, the lowest index among equals.
+  for (int l = 0; l < 16; ++l)
+    if (tops[l] > *best || (tops[l] == *best && tops[l] >= 0 && wheres[l] < *at)) *best = tops[l], *at = int(wheres[l]);
+  return k;
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 #endif
 
 }  // namespace
@@ -1491,12 +1531,16 @@ Farthest farthest_point(const cv::Point* c, int n, cv::Point p0, cv::Point dir, 
   Farthest f;
   int k = 0;
 #if defined(__x86_64__) || defined(__i386__)
-  const bool avx2 = simd() >= Simd::avx2;
-  if (avx2) {
+  const Simd level = simd();
+  if (level >= Simd::avx2) {
     int64_t best = -1;
     int at = -1;
-    k = from_line ? farthest_point_avx2<true>(c, n, p0, dir, &best, &at)
-                  : farthest_point_avx2<false>(c, n, p0, dir, &best, &at);
+    if (level >= Simd::avx512 && n >= 16)
+      k = from_line ? farthest_point_avx512<true>(c, n, p0, dir, &best, &at)
+                    : farthest_point_avx512<false>(c, n, p0, dir, &best, &at);
+    else
+      k = from_line ? farthest_point_avx2<true>(c, n, p0, dir, &best, &at)
+                    : farthest_point_avx2<false>(c, n, p0, dir, &best, &at);
     f = {best, at};
   }
 #endif

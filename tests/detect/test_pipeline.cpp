@@ -584,36 +584,41 @@ TEST(Stages, QuadFitAcceptsSquaresAndRejectsOtherShapes) {
 // time) finds the first of the farthest, as a plain loop does: random point lists of every length from 0 to 40,
 // on a small grid so that many points tie, from a point and from a line, and a list at the far ends of int.
 TEST(Stages, FarthestPointIsTheFirstOfTheFarthest) {
-  cv::RNG rng(17);
-  auto expected = [](const std::vector<cv::Point>& c, cv::Point p0, cv::Point dir, bool line) {
-    stages::Farthest f;
-    for (int k = 0; k < int(c.size()); ++k) {
-      const int64_t dx = int64_t(c[size_t(k)].x) - p0.x, dy = int64_t(c[size_t(k)].y) - p0.y;
-      const int64_t m = line ? std::abs(dy * dir.x - dx * dir.y) : dx * dx + dy * dy;
-      if (m > f.measure) f = {m, k};
+  // Each level of vector code the processor has (AVX-512 sixteen points a step, AVX2 four, plain).
+  for (const Simd level : simd_levels_here()) {
+    SimdCap cap(level);
+    SCOPED_TRACE(simd_name(level));
+    cv::RNG rng(17);
+    auto expected = [](const std::vector<cv::Point>& c, cv::Point p0, cv::Point dir, bool line) {
+      stages::Farthest f;
+      for (int k = 0; k < int(c.size()); ++k) {
+        const int64_t dx = int64_t(c[size_t(k)].x) - p0.x, dy = int64_t(c[size_t(k)].y) - p0.y;
+        const int64_t m = line ? std::abs(dy * dir.x - dx * dir.y) : dx * dx + dy * dy;
+        if (m > f.measure) f = {m, k};
+      }
+      return f;
+    };
+    for (int trial = 0; trial < 4000; ++trial) {
+      const int n = trial % 71;
+      const int range = trial % 3 == 0 ? 3 : 200;
+      std::vector<cv::Point> c(static_cast<size_t>(n));
+      for (auto& q : c) q = cv::Point(rng.uniform(-range, range + 1), rng.uniform(-range, range + 1));
+      const cv::Point p0(rng.uniform(-range, range + 1), rng.uniform(-range, range + 1));
+      const cv::Point dir(rng.uniform(-range, range + 1), rng.uniform(-range, range + 1));
+      for (bool line : {false, true}) {
+        const stages::Farthest got = stages::farthest_point(c.data(), n, p0, dir, line);
+        const stages::Farthest want = expected(c, p0, dir, line);
+        ASSERT_EQ(got.at, want.at) << "trial " << trial << (line ? " from a line" : " from a point");
+        ASSERT_EQ(got.measure, want.measure) << "trial " << trial;
+      }
     }
-    return f;
-  };
-  for (int trial = 0; trial < 4000; ++trial) {
-    const int n = trial % 41;
-    const int range = trial % 3 == 0 ? 3 : 200;
-    std::vector<cv::Point> c(static_cast<size_t>(n));
-    for (auto& q : c) q = cv::Point(rng.uniform(-range, range + 1), rng.uniform(-range, range + 1));
-    const cv::Point p0(rng.uniform(-range, range + 1), rng.uniform(-range, range + 1));
-    const cv::Point dir(rng.uniform(-range, range + 1), rng.uniform(-range, range + 1));
-    for (bool line : {false, true}) {
-      const stages::Farthest got = stages::farthest_point(c.data(), n, p0, dir, line);
-      const stages::Farthest want = expected(c, p0, dir, line);
-      ASSERT_EQ(got.at, want.at) << "trial " << trial << (line ? " from a line" : " from a point");
-      ASSERT_EQ(got.measure, want.measure) << "trial " << trial;
-    }
+    // Coordinates of 2^30: the squares and cross products need all 64 bits.
+    std::vector<cv::Point> far(16, cv::Point(0, 0));
+    far[9] = cv::Point(1 << 30, -(1 << 30));
+    far[13] = cv::Point(-(1 << 30), 1 << 30);
+    EXPECT_EQ(stages::farthest_point(far.data(), 16, {0, 0}, {}, false).at, 9);
+    EXPECT_EQ(stages::farthest_point(far.data(), 16, {0, 0}, {1 << 30, 1 << 30}, true).at, 9);
   }
-  // Coordinates of 2^30: the squares and cross products need all 64 bits.
-  std::vector<cv::Point> far(16, cv::Point(0, 0));
-  far[9] = cv::Point(1 << 30, -(1 << 30));
-  far[13] = cv::Point(-(1 << 30), 1 << 30);
-  EXPECT_EQ(stages::farthest_point(far.data(), 16, {0, 0}, {}, false).at, 9);
-  EXPECT_EQ(stages::farthest_point(far.data(), 16, {0, 0}, {1 << 30, 1 << 30}, true).at, 9);
 }
 
 // cv::approxPolyDP's polygon has four vertices: regular polygons of 3 to 9 corners, turned, and random quads.
