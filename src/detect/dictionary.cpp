@@ -2,6 +2,7 @@
 
 #include "base/files.hpp"
 #include "base/text.hpp"
+#include "detect/simd.hpp"
 #include "detect/yaml_file.hpp"
 
 #include <opencv2/aruco.hpp>
@@ -14,6 +15,10 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 namespace arwb {
 
@@ -119,9 +124,60 @@ std::array<DictMatch, 4> scan_per_rotation_popcnt(const Codes& codes, uint64_t c
 bool has_popcnt() { return false; }
 #endif
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"   // GCC 12's AVX-512 intrinsics start from undefined vectors
+#endif
+// scan_nearest eight codes a step with AVX-512's vpopcntq: the lanes keep their first nearest, the lowest index
+// among equals wins, and the first exact match returns at once, as there.
+__attribute__((target("avx512f,avx512vpopcntdq"))) DictMatch scan_nearest_avx512(const Codes& codes, uint64_t code) {
+  const uint64_t* flat = codes.empty() ? nullptr : codes[0].data();   // id-major, four rotations each
+  const int n = int(codes.size()) * 4;
+  const __m512i target = _mm512_set1_epi64(int64_t(code)), zero = _mm512_setzero_si512(), eight = _mm512_set1_epi64(8);
+  __m512i best = _mm512_set1_epi64(65), where = _mm512_set1_epi64(-1), index = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  int i = 0;
+  for (; i + 8 <= n; i += 8) {
+    const __m512i d = _mm512_popcnt_epi64(_mm512_xor_si512(_mm512_loadu_si512(flat + i), target));
+    if (const __mmask8 exact = _mm512_cmpeq_epi64_mask(d, zero)) {
+      const int at = i + std::countr_zero(unsigned(exact));
+      return {at / 4, at % 4, 0};
+    }
+    const __mmask8 nearer = _mm512_cmplt_epi64_mask(d, best);
+    best = _mm512_mask_mov_epi64(best, nearer, d);
+    where = _mm512_mask_mov_epi64(where, nearer, index);
+    index = _mm512_add_epi64(index, eight);
+  }
+  alignas(64) int64_t bests[8], wheres[8];
+  _mm512_store_si512(bests, best);
+  _mm512_store_si512(wheres, where);
+  int64_t hamming = 65, at = -1;
+  for (int l = 0; l < 8; ++l)
+    if (bests[l] < hamming || (bests[l] == hamming && wheres[l] < at)) hamming = bests[l], at = wheres[l];
+  DictMatch m{-1, 0, 65};
+  if (at >= 0) m = {int(at / 4), int(at % 4), int(hamming)};
+  for (; i < n; ++i) {   // the rest, one at a time (ids come in fours: none, unless the list is empty)
+    const int d = std::popcount(code ^ flat[i]);
+    if (d < m.hamming) m = {i / 4, i % 4, d};
+  }
+  return m;
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+bool has_vpopcntq() {
+  static const bool yes = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vpopcntdq");
+  return yes;
+}
+#else
+DictMatch scan_nearest_avx512(const Codes& codes, uint64_t code) { return scan_nearest(codes, code); }
+bool has_vpopcntq() { return false; }
+#endif
+
 }  // namespace
 
 DictMatch Dictionary::nearest(uint64_t code) const {
+  if (simd() >= Simd::avx512 && has_vpopcntq()) return scan_nearest_avx512(codes_, code);
   return has_popcnt() ? scan_nearest_popcnt(codes_, code) : scan_nearest(codes_, code);
 }
 

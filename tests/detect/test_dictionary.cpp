@@ -1,6 +1,7 @@
 // Dictionaries: the paper's ARUCO_ORIGINAL built from its description equals OpenCV's bit for bit; the
 // predefined tables, rotations, nearest-match search and custom YAML dictionaries.
 #include "detect/dictionary.hpp"
+#include "detect/simd.hpp"
 #include "detect/params.hpp"
 #include "support.hpp"
 
@@ -102,6 +103,35 @@ TEST(Dictionary, NearestCountsFlippedBits) {
   const auto per = d.nearest_per_rotation(code);
   EXPECT_EQ(per[2].id, 100);
   EXPECT_GT(per[0].hamming, 2);
+}
+
+// The nearest code is the first of the nearest in id order, then rotation order, on every path the processor has
+// (AVX-512 eight codes a step, POPCNT, plain): random codes and codes near the dictionary's own, whose exact
+// matches tie in ARUCO_ORIGINAL (some ids are others turned) and in APRILTAG_16h5's rotations.
+TEST(Dictionary, NearestIsTheFirstOfTheNearestOnEveryPath) {
+  cv::RNG rng(5);
+  for (const char* name : {"ARUCO_ORIGINAL", "4X4_50", "6X6_250", "APRILTAG_16h5", "APRILTAG_36h11"}) {
+    const Dictionary d = *dictionary_by_name(name);
+    const int bits = d.bit_count();
+    for (int t = 0; t < 300; ++t) {
+      uint64_t code = t % 2 ? d.code(rng.uniform(0, d.size()), rng.uniform(0, 4)) : rng.next();
+      for (int f = rng.uniform(0, 4); f > 0; --f) code ^= uint64_t(1) << rng.uniform(0, bits);
+      code &= bits == 64 ? ~uint64_t(0) : (uint64_t(1) << bits) - 1;
+      DictMatch want{-1, 0, 65};
+      for (int id = 0; id < d.size(); ++id)
+        for (int k = 0; k < 4; ++k) {
+          const int h = std::popcount(code ^ d.code(id, k));
+          if (h < want.hamming) want = {id, k, h};
+        }
+      for (const Simd level : simd_levels_here()) {
+        SimdCap cap(level);
+        const DictMatch got = d.nearest(code);
+        ASSERT_EQ(got.id, want.id) << name << " " << t << " " << simd_name(level);
+        ASSERT_EQ(got.rotation, want.rotation) << name << " " << t << " " << simd_name(level);
+        ASSERT_EQ(got.hamming, want.hamming) << name << " " << t << " " << simd_name(level);
+      }
+    }
+  }
 }
 
 TEST(Dictionary, MinimumDistanceOfTheSmallTables) {
