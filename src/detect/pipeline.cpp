@@ -924,19 +924,35 @@ struct RowRuns {
 };
 
 #if defined(__x86_64__) || defined(__i386__)
-// Of a row's n runs (ends padded to a multiple of 16 with INT_MAX), those that [b0, b1) on the next row touches:
-// from the first not wholly before it (x1 < b0) to the last that begins by its end (x0 <= b1), [first, last).
-struct Touched {
-  int first, last;
-};
-__attribute__((target("avx512f,popcnt"))) Touched runs_touched(const RowRuns& row, int n, int b0, int b1) {
-  const __m512i v0 = _mm512_set1_epi32(b0), v1 = _mm512_set1_epi32(b1);
-  Touched t{0, 0};
-  for (int c = 0; c < n; c += 16) {
-    t.first += std::popcount(unsigned(_mm512_cmplt_epi32_mask(_mm512_loadu_si512(row.x1.data() + c), v0)));
-    t.last += std::popcount(unsigned(_mm512_cmple_epi32_mask(_mm512_loadu_si512(row.x0.data() + c), v1)));
+// Joins each of a row's n runs (`here`, the first of them run `begin`) to the runs it touches in the row above
+// (`above`, above_n runs from run `above_begin`; both rows' ends padded to a multiple of 16 with INT_MAX). The runs
+// above that [b0, b1) touches are those from the first not wholly before it (x1 < b0) to the last that begins by its
+// end (x0 <= b1): each bound a count over the row above, sixteen runs a compare, with no branch on the data but
+// the number touched. The walk in region_contours takes two data-dependent branches a pair of runs (on the
+// standard set's 640x480 frames, in the cache, find_contours' best of six paired runs 151 -> 140 us).
+__attribute__((target("avx512f,popcnt"))) void join_rows_avx512(const RowRuns& above, int above_begin, int above_n,
+                                                               const RowRuns& here, int begin, int n,
+                                                               std::vector<int>& parent) {
+  for (int k = 0; k < n; ++k) {
+    const __m512i v0 = _mm512_set1_epi32(here.x0[size_t(k)]), v1 = _mm512_set1_epi32(here.x1[size_t(k)]);
+    int first = 0, last = 0;
+    for (int c = 0; c < above_n; c += 16) {
+      first += std::popcount(unsigned(_mm512_cmplt_epi32_mask(_mm512_loadu_si512(above.x1.data() + c), v0)));
+      last += std::popcount(unsigned(_mm512_cmple_epi32_mask(_mm512_loadu_si512(above.x0.data() + c), v1)));
+    }
+    if (first >= last) continue;
+    int joined = find_root(parent, above_begin + first);   // the root of this run's region so far
+    parent[size_t(begin + k)] = joined;
+    for (int a = above_begin + first + 1; a < above_begin + last; ++a) {
+      const int r = find_root(parent, a);
+      if (r < joined) {
+        parent[size_t(joined)] = r;
+        joined = r;
+      } else if (r > joined) {
+        parent[size_t(r)] = joined;
+      }
+    }
   }
-  return t;
 }
 #endif
 
@@ -1244,11 +1260,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     // unites the two regions under the earlier root.
     const int end = run_count;
 #if defined(__x86_64__) || defined(__i386__)
-    if (wide) {
-      // The runs above that run b touches are those from the first not wholly before it (a1 < b0) to the last not
-      // wholly after it (a0 <= b1): each bound a count over the row above, sixteen runs a compare, with no branch
-      // on the data but the number touched. The walk below takes two data-dependent branches a pair of runs (on
-      // the standard set's 640x480 frames, in the cache, find_contours' best of six paired runs 151 -> 140 us).
+    if (wide) {   // join_rows_avx512
       std::swap(above, here);
       const int n = end - begin;
       for (int k = 0; k < n; ++k) {
@@ -1256,22 +1268,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
         here.x1[size_t(k)] = runs[size_t(begin + k)].x1;
       }
       for (int k = n; k < (n + 15) / 16 * 16; ++k) here.x0[size_t(k)] = here.x1[size_t(k)] = INT_MAX;
-      const int above_n = prev_end - prev_begin;
-      for (int k = 0; k < n && above_n > 0; ++k) {
-        const Touched t = runs_touched(above, above_n, here.x0[size_t(k)], here.x1[size_t(k)]);
-        if (t.first >= t.last) continue;
-        int joined = find_root(parent, prev_begin + t.first);   // the root of this run's region so far
-        parent[size_t(begin + k)] = joined;
-        for (int a = prev_begin + t.first + 1; a < prev_begin + t.last; ++a) {
-          const int r = find_root(parent, a);
-          if (r < joined) {
-            parent[size_t(joined)] = r;
-            joined = r;
-          } else if (r > joined) {
-            parent[size_t(r)] = joined;
-          }
-        }
-      }
+      join_rows_avx512(above, prev_begin, prev_end - prev_begin, here, begin, n, parent);
       prev_begin = begin;
       prev_end = end;
       continue;
