@@ -1855,9 +1855,17 @@ void sample_line(const cv::Mat& grey, cv::Point2d from, cv::Point2d step, std::s
   }
   const uchar* data = grey.data;
   const size_t stride = grey.step;
-  // 16 fractional bits while stepping, so that the steps add up no error to speak of over a profile.
-  int64_t x = std::llround(from.x * 65536), y = std::llround(from.y * 65536);
-  const int64_t dx = std::llround(step.x * 65536), dy = std::llround(step.y * 65536);
+  // 16 fractional bits while stepping, so that the steps add up no error to speak of over a profile. Rounded as
+  // std::llround, halves away from zero, inline (llround is a library call, four a profile): truncated, then a step
+  // away from zero when what was cut is a half or more (exact below 2^52; the line is inside the image here).
+  auto round = [](double v) {
+    int64_t t = int64_t(v);
+    const double cut = v - double(t);
+    t += (cut >= 0.5) - (cut <= -0.5);
+    return t;
+  };
+  int64_t x = round(from.x * 65536), y = round(from.y * 65536);
+  const int64_t dx = round(step.x * 65536), dy = round(step.y * 65536);
   int j = 0;
 #if defined(__x86_64__) || defined(__i386__)
   // 8 at a time where the line stays 3 pixels inside the row's end (the gathers read 4 bytes) and its positions in

@@ -215,6 +215,16 @@ TEST(Stages, ProfileSamplesAreTheFixedPointBilinearBlend) {
   }
   EXPECT_GT(lines, 2000);
   EXPECT_GT(near_end, 10);
+  // Starts and steps exactly half a 1/65536 pixel off the grid round away from zero, as std::llround, and just
+  // under a half towards it.
+  const double half = 0.5 / 65536, under = std::nextafter(0.5, 0.0) / 65536;
+  for (const double off : {half, -half, under, -under, 3 * half})
+    for (const double s : {off, -off, 0.5 + off, -0.5 - off}) {
+      const cv::Point2d from(100 + off, 50 - off), step(s, -s);
+      std::vector<int> profile(9, 0);
+      stages::sample_line(grey, from, step, profile);
+      for (int j = 0; j < 9; ++j) ASSERT_EQ(profile[size_t(j)], expected(from, step, j)) << off << " " << s << " " << j;
+    }
 }
 
 TEST(Stages, AdaptiveThresholdMarksDarkAgainstItsNeighbourhood) {
