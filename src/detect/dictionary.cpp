@@ -132,7 +132,7 @@ bool has_popcnt() { return false; }
 // scan_nearest eight codes a step with AVX-512's vpopcntq: the lanes keep their first nearest, the lowest index
 // among equals wins, and the first exact match returns at once, as there.
 __attribute__((target("avx512f,avx512vpopcntdq"))) DictMatch scan_nearest_avx512(const Codes& codes, uint64_t code) {
-  const uint64_t* flat = codes.empty() ? nullptr : codes[0].data();   // id-major, four rotations each
+  const uint64_t* flat = reinterpret_cast<const uint64_t*>(codes.data());   // id-major, four rotations each
   const int n = int(codes.size()) * 4;
   const __m512i target = _mm512_set1_epi64(int64_t(code)), zero = _mm512_setzero_si512(), eight = _mm512_set1_epi64(8);
   __m512i best = _mm512_set1_epi64(65), where = _mm512_set1_epi64(-1), index = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
@@ -177,8 +177,9 @@ bool has_vpopcntq() { return false; }
 }  // namespace
 
 DictMatch Dictionary::nearest(uint64_t code) const {
-  if (simd() >= Simd::avx512 && has_vpopcntq()) return scan_nearest_avx512(codes_, code);
-  return has_popcnt() ? scan_nearest_popcnt(codes_, code) : scan_nearest(codes_, code);
+  const Simd level = simd();
+  if (level >= Simd::avx512 && has_vpopcntq()) return scan_nearest_avx512(codes_, code);
+  return level > Simd::none && has_popcnt() ? scan_nearest_popcnt(codes_, code) : scan_nearest(codes_, code);
 }
 
 std::array<DictMatch, 4> Dictionary::nearest_per_rotation(uint64_t code) const {

@@ -610,8 +610,7 @@ __attribute__((target("avx2"))) void row_sums_avx2(const uint8_t* in, int w, int
                         _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in + x))));
   for (; x < w; ++x) pad[r + x] = in[x];
   std::fill_n(pad + r + w, r, in[w - 1]);
-  switch (k) {   // the window's loads unrolled for the sizes the threshold uses (3 to 15)
-    case 3: x = row_sums_k<3>(pad, w, out); break;
+  switch (k) {   // the window's loads unrolled for the sizes the threshold uses (5 to 15)
     case 5: x = row_sums_k<5>(pad, w, out); break;
     case 7: x = row_sums_k<7>(pad, w, out); break;
     case 9: x = row_sums_k<9>(pad, w, out); break;

@@ -9,6 +9,9 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <bit>
+#include <cmath>
+
 using namespace arwb;
 
 namespace {
@@ -287,7 +290,7 @@ TEST(Stages, AdaptiveThresholdComparesByItsFormulaExactly) {
   // 32 pixels a side at least: smaller images are cv::adaptiveThreshold's.
   for (const Simd level : simd_levels_here()) {
     SimdCap cap(level);
-    for (const int window : {9, 17, 21, 31, 45}) {
+    for (const int window : {9, 13, 17, 21, 27, 31, 45}) {   // box means of 5, 7, 9, 11, 13, 15 and 23 blocks
       for (const cv::Size size : {cv::Size(641, 361), cv::Size(213, 161), cv::Size(1920, 40), cv::Size(70, 34)}) {
         p.threshold_window_px = window;
         cv::Mat grey(size, CV_8UC1);
@@ -703,46 +706,51 @@ TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
 // still holds a light quad, and quad_holes gives its box in the grey image's pixels; a round hole, a quad hole
 // larger than fine_max_side_px and the light background are not given, nor the holes inside a marker read.
 TEST(Stages, QuadHolesFindTheInsideOfARingMergedIntoALargerShape) {
-  DetectorParams p;   // fine_max_side_px 80, min_perimeter_px 48
-  cv::Mat bin(200, 300, CV_8UC1, cv::Scalar(0));
-  cv::rectangle(bin, cv::Rect(20, 20, 60, 150), cv::Scalar(255), -1);    // the larger shape
-  cv::rectangle(bin, cv::Rect(80, 60, 16, 16), cv::Scalar(255), -1);     // the ring, touching it
-  cv::rectangle(bin, cv::Rect(83, 63, 10, 10), cv::Scalar(0), -1);       // its inside
-  bin(cv::Rect(86, 66, 2, 3)).setTo(255);                                  // a cell inside, apart from the ring
-  cv::circle(bin, cv::Point(160, 100), 16, cv::Scalar(255), -1);         // a round hole in a disc
-  cv::circle(bin, cv::Point(160, 100), 9, cv::Scalar(0), -1);
-  cv::rectangle(bin, cv::Rect(200, 40, 60, 60), cv::Scalar(255), -1);    // a quad hole 2 x 50 px a side
-  cv::rectangle(bin, cv::Rect(205, 45, 50, 50), cv::Scalar(0), -1);
-  // The dark shapes' boxes in the grey image's pixels (the binary lies at (10, 0)).
-  auto boxes = [](const cv::Mat& b, int min_perimeter) {
-    std::vector<cv::Rect> out;
-    for (const auto& c : stages::find_contours(b, min_perimeter, nullptr, nullptr, 2))
-      out.push_back(cv::boundingRect(c) + cv::Point(10, 0));
-    return out;
-  };
-  const std::vector<cv::Rect> dark = boxes(bin, int(p.min_perimeter_px));
-  const std::vector<cv::Rect> holes = stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2);
-  ASSERT_EQ(holes.size(), 1u);
-  // The inside's pixels 83..92 are the blocks' centres 2 x 83 + 10 (the origin) .. 2 x 92 + 10 in the grey image.
-  EXPECT_EQ(holes[0], cv::Rect(176, 126, 19, 19));
-  // Inside a marker read, a hole is the marker's: a quad around the ring (grey image's pixels), or one around its
-  // inside only (its centre in the marker), leaves none; a marker beside it leaves it.
-  const Quad ring{cv::Point2f(170, 120), {201, 120}, {201, 151}, {170, 151}};
-  EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {ring}).empty());
-  const Quad centre{cv::Point2f(182, 132), {189, 132}, {189, 139}, {182, 139}};
-  EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {centre}).empty());
-  const Quad beside{cv::Point2f(420, 90), {520, 90}, {520, 190}, {420, 190}};
-  EXPECT_EQ(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {beside}).size(), 1u);
-  // Only shapes longer than fine_max_side_px are looked into: a ring of 60 px (30 decimated) on its own is searched
-  // again whole if it does not read.
-  cv::Mat alone(200, 300, CV_8UC1, cv::Scalar(0));
-  cv::rectangle(alone, cv::Rect(80, 60, 30, 30), cv::Scalar(255), -1);
-  cv::rectangle(alone, cv::Rect(85, 65, 20, 20), cv::Scalar(0), -1);
-  EXPECT_TRUE(stages::quad_holes(alone, boxes(alone, int(p.min_perimeter_px)), cv::Point(10, 0), cv::Size(620, 400),
-                                 p, 2)
-                  .empty());
-  p.fine_max_side_px = 0;
-  EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2).empty()) << "off";
+  // Each level of vector code the processor has (the light regions' masks: AVX-512, AVX2, plain).
+  for (const Simd level : simd_levels_here()) {
+    SimdCap cap(level);
+    SCOPED_TRACE(simd_name(level));
+    DetectorParams p;   // fine_max_side_px 80, min_perimeter_px 48
+    cv::Mat bin(200, 300, CV_8UC1, cv::Scalar(0));
+    cv::rectangle(bin, cv::Rect(20, 20, 60, 150), cv::Scalar(255), -1);    // the larger shape
+    cv::rectangle(bin, cv::Rect(80, 60, 16, 16), cv::Scalar(255), -1);     // the ring, touching it
+    cv::rectangle(bin, cv::Rect(83, 63, 10, 10), cv::Scalar(0), -1);       // its inside
+    bin(cv::Rect(86, 66, 2, 3)).setTo(255);                                  // a cell inside, apart from the ring
+    cv::circle(bin, cv::Point(160, 100), 16, cv::Scalar(255), -1);         // a round hole in a disc
+    cv::circle(bin, cv::Point(160, 100), 9, cv::Scalar(0), -1);
+    cv::rectangle(bin, cv::Rect(200, 40, 60, 60), cv::Scalar(255), -1);    // a quad hole 2 x 50 px a side
+    cv::rectangle(bin, cv::Rect(205, 45, 50, 50), cv::Scalar(0), -1);
+    // The dark shapes' boxes in the grey image's pixels (the binary lies at (10, 0)).
+    auto boxes = [](const cv::Mat& b, int min_perimeter) {
+      std::vector<cv::Rect> out;
+      for (const auto& c : stages::find_contours(b, min_perimeter, nullptr, nullptr, 2))
+        out.push_back(cv::boundingRect(c) + cv::Point(10, 0));
+      return out;
+    };
+    const std::vector<cv::Rect> dark = boxes(bin, int(p.min_perimeter_px));
+    const std::vector<cv::Rect> holes = stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2);
+    ASSERT_EQ(holes.size(), 1u);
+    // The inside's pixels 83..92 are the blocks' centres 2 x 83 + 10 (the origin) .. 2 x 92 + 10 in the grey image.
+    EXPECT_EQ(holes[0], cv::Rect(176, 126, 19, 19));
+    // Inside a marker read, a hole is the marker's: a quad around the ring (grey image's pixels), or one around its
+    // inside only (its centre in the marker), leaves none; a marker beside it leaves it.
+    const Quad ring{cv::Point2f(170, 120), {201, 120}, {201, 151}, {170, 151}};
+    EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {ring}).empty());
+    const Quad centre{cv::Point2f(182, 132), {189, 132}, {189, 139}, {182, 139}};
+    EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {centre}).empty());
+    const Quad beside{cv::Point2f(420, 90), {520, 90}, {520, 190}, {420, 190}};
+    EXPECT_EQ(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2, {beside}).size(), 1u);
+    // Only shapes longer than fine_max_side_px are looked into: a ring of 60 px (30 decimated) on its own is searched
+    // again whole if it does not read.
+    cv::Mat alone(200, 300, CV_8UC1, cv::Scalar(0));
+    cv::rectangle(alone, cv::Rect(80, 60, 30, 30), cv::Scalar(255), -1);
+    cv::rectangle(alone, cv::Rect(85, 65, 20, 20), cv::Scalar(0), -1);
+    EXPECT_TRUE(stages::quad_holes(alone, boxes(alone, int(p.min_perimeter_px)), cv::Point(10, 0), cv::Size(620, 400),
+                                   p, 2)
+                    .empty());
+    p.fine_max_side_px = 0;
+    EXPECT_TRUE(stages::quad_holes(bin, dark, cv::Point(10, 0), cv::Size(620, 400), p, 2).empty()) << "off";
+  }
 }
 
 TEST(Stages, NestedFilterKeepsTheOuterOfTwoTracesOfOneBorder) {
@@ -874,7 +882,7 @@ TEST(Stages, CornerRefinementReachesTheTrueCorner) {
 TEST(Stages, CornerRefinementIsTheSameToTheBitOnEveryPath) {
   const Dictionary d = make_aruco_original();
   cv::RNG rng(11);
-  int compared = 0;
+  int compared = 0, moved = 0;
   for (int i = 0; i < 60; ++i) {
     const float side = float(rng.uniform(12.0, 200.0)), angle = float(rng.uniform(0.0, CV_PI / 2));
     const cv::Point2f centre(float(rng.uniform(0.3, 0.7)) * 320, float(rng.uniform(0.3, 0.7)) * 320);
@@ -895,6 +903,9 @@ TEST(Stages, CornerRefinementIsTheSameToTheBitOnEveryPath) {
     for (auto& c : start) c += cv::Point2f(float(rng.uniform(-1.5, 1.5)), float(rng.uniform(-1.5, 1.5)));
     for (const int factor : {1, 2}) {
       std::vector<Quad> out;
+      Quad refined = start;
+      stages::refine_corners(img, refined, 7, DetectorParams{}, factor);
+      for (size_t k = 0; k < 4; ++k) moved += cv::norm(refined[k] - start[k]) > 0.05;
       for (const Simd level : simd_levels_here()) {
         SimdCap cap(level);
         Quad q = start;
@@ -910,6 +921,7 @@ TEST(Stages, CornerRefinementIsTheSameToTheBitOnEveryPath) {
     }
   }
   EXPECT_EQ(compared, 120 * int(simd_levels_here().size()));
+  EXPECT_GT(moved, 400);   // of 480 corners: the refinement did move them (the paths agree on real work)
 }
 
 TEST(Params, TableDrivesDefaultsRangesAndYaml) {
