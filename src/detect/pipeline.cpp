@@ -578,11 +578,7 @@ __attribute__((target("avx512f,avx512bw,avx512vl"))) int blend_row_avx512(const 
 #pragma GCC diagnostic pop
 #endif
 
-// The box filter's mean of k x k pixels (k odd, border replicated), rounded to the nearest as cv::boxFilter's (a
-// k x k sum over an odd count is never halfway), with AVX2: each row's sums of k along it (k shifted loads a vector),
-// then a running sum of k rows down each column, divided by a 16-bit multiply-high and a shift. For windows up to
-// 15 (the sums fit 16 bits); false leaves it to cv::boxFilter. 320x240 at 9 (the 640x480 threshold's): 0.05 -> 0.025
-// ms.
+// One row's sums of K along it from its widened, padded row, 16 a step (row_sums_avx2).
 template <int K>
 __attribute__((target("avx2"))) int row_sums_k(const uint16_t* pad, int w, uint16_t* out) {
   int x = 0;
@@ -626,6 +622,11 @@ __attribute__((target("avx2"))) void row_sums_avx2(const uint8_t* in, int w, int
   }
 }
 
+// The box filter's mean of k x k pixels (k odd, border replicated), rounded to the nearest as cv::boxFilter's (a
+// k x k sum over an odd count is never halfway), with AVX2: each row's sums of k along it (k shifted loads a vector),
+// then a running sum of k rows down each column, divided by a 16-bit multiply-high and a shift. For windows up to
+// 15 (the sums fit 16 bits); false leaves it to cv::boxFilter. 320x240 at 9 (the 640x480 threshold's): 0.05 -> 0.025
+// ms.
 __attribute__((target("avx2"))) bool box_mean_avx2(const cv::Mat& src, cv::Mat& dst, int k) {
   const int w = src.cols, h = src.rows, r = k / 2, d = k * k;
   if (k % 2 == 0 || k > 15 || w < 16 || h < 1) return false;
