@@ -574,8 +574,18 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     for (const cv::Rect& r : fine) {
       converting += need(r);
       const cv::Mat binary = stages::adaptive_threshold(grey(r), p);
-      std::vector<std::vector<cv::Point>> found = stages::find_contours(binary, p.min_perimeter_px);
-      fine_record.in += int(found.size());
+      // A shape cut by the region's edge is dropped as it is found (size_filter's first test): untraced, and
+      // counted, unless the full trace shows it.
+      int untraced = 0;
+      std::vector<std::vector<cv::Point>> found = stages::find_contours(
+          binary, p.min_perimeter_px, nullptr, nullptr, 1, 0,
+          full ? std::function<bool(const cv::Rect&)>()
+               : [&](const cv::Rect& box) {
+                   const bool cut_here = stages::cut_by_region(box + r.tl(), r, grey.size(), 1);
+                   untraced += cut_here;
+                   return !cut_here;
+                 });
+      fine_record.in += int(found.size()) + untraced;
       for (auto& c : found) {
         for (cv::Point& pt : c) pt += r.tl();
         cut.push_back(stages::cut_by_region(cv::boundingRect(c), r, grey.size(), 1));

@@ -1355,8 +1355,8 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
 
 std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
                                                   int* region_count, std::vector<SmallRegion>* small, int factor,
-                                                  int max_side_px) {
-  return region_contours<false>(binary, min_perimeter_px, region_count, small, factor, max_side_px);
+                                                  int max_side_px, const std::function<bool(const cv::Rect&)>& keep) {
+  return region_contours<false>(binary, min_perimeter_px, region_count, small, factor, max_side_px, keep);
 }
 
 std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<cv::Rect>& dark, cv::Point origin,

@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -102,11 +103,14 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
 struct SmallRegion {
   cv::Rect bbox;
 };
-// Regions whose box is longer than max_side_px (the grey image's pixels; 0: no limit) are counted, not traced.
+// Regions whose box is longer than max_side_px (the grey image's pixels; 0: no limit) are counted, not traced; so
+// are those `keep`, when given, says false of (asked with the region's box in the grey image's pixels, from the
+// binary's origin).
 std::vector<std::vector<cv::Point>> find_contours(const cv::Mat& binary, double min_perimeter_px,
                                                   int* region_count = nullptr,
                                                   std::vector<SmallRegion>* small = nullptr, int factor = 1,
-                                                  int max_side_px = 0);
+                                                  int max_side_px = 0,
+                                                  const std::function<bool(const cv::Rect&)>& keep = {});
 // A contour's length in the grey image's pixels: its points, each a step of `factor` pixels.
 inline double contour_length(const std::vector<cv::Point>& contour, int factor) {
   return double(contour.size()) * factor;

@@ -247,6 +247,21 @@ TEST(Detector, TheFineSearchFindsASmallBlurredMarkerTheDecimatedSearchCouldNotCl
   const cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(m.corners.begin(), m.corners.end()));
   EXPECT_GT(cv::countNonZero(fine->image(box & cv::Rect({}, fine->image.size()))), 0);
   EXPECT_LT(cv::countNonZero(fine->image), int(fine->image.total() / 4)) << "only small regions";
+  // Without the full trace the shapes cut by a region's edge are not traced, only counted: the same counts and
+  // markers.
+  FrameTrace t_summary;
+  const std::vector<Marker> found_summary = Detector({d}, p).detect(item.image, &t_summary, TraceLevel::summary);
+  ASSERT_EQ(found_summary.size(), found.size());
+  for (size_t i = 0; i < found.size(); ++i) {
+    EXPECT_EQ(found_summary[i].id, found[i].id);
+    EXPECT_EQ(found_summary[i].corners, found[i].corners);
+  }
+  EXPECT_EQ(t_summary.stage(Stage::fine_search)->in, fine->in);
+  EXPECT_EQ(t_summary.stage(Stage::fine_search)->out, fine->out);
+  const auto cut_in_fine = std::count_if(t.candidates.begin(), t.candidates.end(), [](const CandidateRecord& c) {
+    return c.fate.stage == Stage::fine_search && c.fate.param == "region_margin_rate";
+  });
+  EXPECT_GT(cut_in_fine, 0) << "the image has shapes cut by a fine region's edge";
   // At full resolution from the start (decimation_factor 1; the default decimates a frame this size) there is
   // nothing to search again.
   DetectorParams every_pixel;
