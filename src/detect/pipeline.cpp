@@ -1386,15 +1386,16 @@ std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<cv::Re
   // the insides of the smallest markers the search is for.
   for (const cv::Rect& s : shapes) {
     const cv::Point shift = origin + s.tl() * factor;
+    // A light region at the box's edge is not inside the shape (a hole lies within its region's box): not traced.
+    auto inside_box = [&](const cv::Rect& in) {
+      return in.x >= factor && in.y >= factor && in.x + in.width <= (s.width - 1) * factor &&
+             in.y + in.height <= (s.height - 1) * factor;
+    };
     std::vector<std::vector<cv::Point>> found =
         region_contours<true>(binary(s), p.min_perimeter_px / 2, nullptr, nullptr, factor, int(p.fine_max_side_px),
-                              [&](const cv::Rect& in) { return outside_markers(in + shift); });
+                              [&](const cv::Rect& in) { return inside_box(in) && outside_markers(in + shift); });
     for (auto& c : found) {
       const cv::Rect in = cv::boundingRect(c);
-      // A light region at the box's edge is not inside the shape (a hole lies within its region's box).
-      if (in.x < factor || in.y < factor || in.x + in.width > (s.width - 1) * factor ||
-          in.y + in.height > (s.height - 1) * factor)
-        continue;
       for (cv::Point& pt : c) pt += shift;
       Quad q;
       if (!fit_quad(c, grey, p, &q, factor, false)) boxes.push_back(in + shift);
