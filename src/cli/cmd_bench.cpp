@@ -11,6 +11,7 @@
 #include "detect/peers.hpp"
 #include "synth/synth_set.hpp"
 #include "detect/detector.hpp"
+#include "detect/simd.hpp"
 #include "base/decimals.hpp"
 #include "base/text.hpp"
 
@@ -21,6 +22,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <map>
 
@@ -37,6 +39,18 @@ struct Row {
 
 // The peers arwb is compared with, in the order their columns are printed.
 constexpr const char* kPeers[] = {"opencv", "aruco3", "apriltag"};
+
+// The processor's name as Linux gives it (/proc/cpuinfo), for the figures' record; "unknown" elsewhere.
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("model name", 0) == 0)
+      if (const size_t colon = line.find(':'); colon != std::string::npos) {
+        const size_t from = line.find_first_not_of(" \t", colon + 1);
+        return from == std::string::npos ? "unknown" : line.substr(from);
+      }
+  return "unknown";
+}
 
 }  // namespace
 
@@ -274,7 +288,8 @@ int cmd_bench(int argc, char** argv) {
   };
   if (as_json) {
     using Json = nlohmann::ordered_json;
-    Json out = {{"threads", 1}, {"reps", reps}, {"peers", peers}, {"rows", Json::array()}};
+    Json out = {{"cpu", cpu_model()}, {"vector_code", simd_name(simd())}, {"threads", 1}, {"reps", reps},
+                {"peers", peers}, {"rows", Json::array()}};
     for (const Row& r : rows) {
       const Tally& t = r.tally;
       Json row = {{"set", r.set}, {"resolution", r.resolution}};
@@ -304,13 +319,15 @@ int cmd_bench(int argc, char** argv) {
     std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
     return 0;
   }
+  std::printf("processor: %s; arwb's vector code: %s\n", cpu_model().c_str(), simd_name(simd()));
   std::string last_set;
   for (const Row& r : rows) {
     if (r.set != last_set) {
       Row all{r.set, "all", "", "arwb", {}};
       const Row* total = find(all, "arwb");
-      std::printf("\n%s (%zu images, one thread, fastest of %d runs per image)\n", r.set.c_str(),
-                  total ? total->tally.ms.size() : size_t(0), reps);
+      const size_t images = total ? total->tally.ms.size() : size_t(0);
+      std::printf("\n%s (%zu image%s, one thread, fastest of %d run%s per image)\n", r.set.c_str(), images,
+                  images == 1 ? "" : "s", reps, reps == 1 ? "" : "s");
       std::printf("%-12s %-9s %9s %8s %9s %6s %9s %11s %s\n", "resolution", "detector", "median_ms", "recall",
                   "found", "FP", "FP_empty", "corner_px", "time ratio");
       last_set = r.set;

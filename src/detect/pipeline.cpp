@@ -167,7 +167,7 @@ void bgr_to_grey(const cv::Mat& bgr, cv::Mat& grey) {
   void (*row)(const uint8_t*, uint8_t*, int) = nullptr;
 #if defined(__x86_64__) || defined(__i386__)
   const Simd level = simd();
-  if (level >= Simd::avx512) row = grey_row_avx512;
+  if (level >= Simd::avx512_vbmi) row = grey_row_avx512;
   else if (level >= Simd::avx2) row = grey_row_avx2;
   else if (level >= Simd::ssse3) row = grey_row_ssse3;
 #endif

@@ -12,16 +12,16 @@ Simd detect_cpu() {
   if (!__builtin_cpu_supports("ssse3")) return Simd::none;
   if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("popcnt")) return Simd::ssse3;
   if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("avx512bw") ||
-      !__builtin_cpu_supports("avx512vl") || !__builtin_cpu_supports("avx512vbmi") ||
-      !__builtin_cpu_supports("avx512vnni"))
+      !__builtin_cpu_supports("avx512vl"))
     return Simd::avx2;
-  return Simd::avx512;
+  if (!__builtin_cpu_supports("avx512vbmi") || !__builtin_cpu_supports("avx512vnni")) return Simd::avx512;
+  return Simd::avx512_vbmi;
 #else
   return Simd::none;
 #endif
 }
 
-std::atomic<int> cap{int(Simd::avx512)};
+std::atomic<int> cap{int(Simd::avx512_vbmi)};
 
 }  // namespace
 
@@ -38,6 +38,7 @@ const char* simd_name(Simd level) {
     case Simd::ssse3: return "ssse3";
     case Simd::avx2: return "avx2";
     case Simd::avx512: return "avx512";
+    case Simd::avx512_vbmi: return "avx512vbmi";
   }
   return "?";
 }

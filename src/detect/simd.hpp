@@ -11,15 +11,16 @@ namespace arwb {
 enum class Simd : int {
   none = 0,
   ssse3,    // SSSE3
-  avx2,     // AVX2 and POPCNT
-  avx512,   // AVX-512 F, BW, VL, VBMI and VNNI (Ice Lake and later, Zen 4)
+  avx2,          // AVX2 and POPCNT
+  avx512,        // AVX-512 F, BW and VL (Skylake-X and later)
+  avx512_vbmi,   // and VBMI and VNNI (Ice Lake and later, Zen 4): the grey conversion's byte permutes and dot products
 };
 
 // The widest level the processor has, below the cap when a SimdCap is alive.
 Simd simd();
 // The processor's own level, whatever the cap.
 Simd simd_of_cpu();
-// "none", "ssse3", "avx2", "avx512".
+// "none", "ssse3", "avx2", "avx512", "avx512vbmi".
 const char* simd_name(Simd level);
 // none .. simd_of_cpu(): the levels a test can run here.
 std::vector<Simd> simd_levels_here();

@@ -2,6 +2,7 @@
 // against a synthetic set's truth, folders, videos, and every kind of bad input named in one line.
 #include "calibration/calibration_file.hpp"
 #include "detect/dictionary.hpp"
+#include "detect/simd.hpp"
 #include "synth/synth.hpp"
 #include "support.hpp"
 
@@ -250,6 +251,9 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   EXPECT_TRUE((*arwb_all)["median_ms"].is_number());
   EXPECT_EQ(j["trace_cost_640x480"]["images"], 2);
   EXPECT_TRUE(j["trace_cost_640x480"].contains("full_over_off"));
+  // The figures' record: the processor and the vector code the detector took on it.
+  EXPECT_TRUE(j["cpu"].is_string() && !j["cpu"].get<std::string>().empty());
+  EXPECT_EQ(j["vector_code"], simd_name(simd()));
   // arwb finds the markers of its own synthetic set.
   const int markers = (*arwb_all)["markers"], found = (*arwb_all)["found"];
   EXPECT_GT(markers, 0);
@@ -260,6 +264,8 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   const auto from_dir = run_arwb("bench " + q(dir.str("set")) + " --reps 1");
   EXPECT_EQ(from_dir.status, 0) << from_dir.err;
   EXPECT_NE(from_dir.out.find("arwb"), std::string::npos);
+  EXPECT_NE(from_dir.out.find(std::string("arwb's vector code: ") + simd_name(simd())), std::string::npos)
+      << from_dir.out;
   EXPECT_EQ(run_arwb("bench " + q(dir.str("nowhere"))).status, 1);
 }
 

@@ -98,7 +98,7 @@ TEST(Stages, SimdCapLowersTheLevelAndPutsItBack) {
     SimdCap none(Simd::none);
     EXPECT_EQ(simd(), Simd::none);
     {
-      SimdCap all(Simd::avx512);
+      SimdCap all(Simd::avx512_vbmi);
       EXPECT_EQ(simd(), cpu);   // never above the processor's
     }
     EXPECT_EQ(simd(), Simd::none);
@@ -106,6 +106,7 @@ TEST(Stages, SimdCapLowersTheLevelAndPutsItBack) {
   EXPECT_EQ(simd(), cpu);
   EXPECT_EQ(simd_levels_here().back(), cpu);
   EXPECT_STREQ(simd_name(Simd::avx2), "avx2");
+  EXPECT_STREQ(simd_name(Simd::avx512_vbmi), "avx512vbmi");
 }
 
 // The grey levels are cvtColor's to the level for every colour (the stages' own conversion is vectorised apart from
