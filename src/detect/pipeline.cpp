@@ -1376,11 +1376,12 @@ std::vector<cv::Rect> quad_holes(const cv::Mat& binary, const std::vector<cv::Re
   merge_overlapping(shapes);
   // A light region whose centre lies in a marker read is the marker's: one of its cells, or its quiet zone on a
   // dark ground. It is not traced (at 1920x1080 the cells of the frame's large markers had been most of this work).
+  std::vector<std::vector<cv::Point2f>> outlines;   // the markers' quads as polygons, made once
+  for (const Quad& q : markers) outlines.emplace_back(q.begin(), q.end());
   auto outside_markers = [&](const cv::Rect& hole) {
     const cv::Point2f centre(float(hole.x) + 0.5f * float(hole.width), float(hole.y) + 0.5f * float(hole.height));
-    return std::none_of(markers.begin(), markers.end(), [&](const Quad& q) {
-      return cv::pointPolygonTest(std::vector<cv::Point2f>(q.begin(), q.end()), centre, false) >= 0;
-    });
+    return std::none_of(outlines.begin(), outlines.end(),
+                        [&](const std::vector<cv::Point2f>& o) { return cv::pointPolygonTest(o, centre, false) >= 0; });
   };
   // A marker's inside is 5/7 of its side (ARUCO_ORIGINAL; more for larger grids): half of min_perimeter_px keeps
   // the insides of the smallest markers the search is for.
