@@ -383,7 +383,11 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       if (quads[i].record >= 0)
         t.candidates[size_t(quads[i].record)].fate =
             Rejection{Stage::nested_filter, "min_marker_distance_rate", 0, p.min_marker_distance_rate,
-                      "same border as the quad of contour " + std::to_string(quads[size_t(outer)].contour) +
+                      // The contour's number only where the trace keeps the contours (the full one): below it,
+                      // fine_search leaves some untraced and the numbers after them differ.
+                      "same border as " +
+                          (full ? "the quad of contour " + std::to_string(quads[size_t(outer)].contour)
+                                : std::string("another quad")) +
                           " (closer than min_marker_distance_rate), kept as the outer one or the finer search's"};
     }
     return live;
@@ -545,7 +549,8 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   // fine_search: the decimated search's small shapes that quad_fit could not close or that did not read, searched
   // again at full resolution, where a small marker's border and cells are sharp. The contours traced there (its
   // `in`) go through size_filter, quad_fit and nested_filter, and the quads left (its `out`) are read as the others:
-  // the per-candidate stages count them too. A contour it drops has its fate here, with the parameter that decided.
+  // the per-candidate stages count them too; below the full trace the shapes cut by a region's edge are counted in
+// `in` untraced. A contour it drops has its fate here, with the parameter that decided.
   // Its own time is the search, fit and filter.
   StageRecord fine_record{Stage::fine_search, 0, 0, 0, {}};
   if (fine_on) {
