@@ -550,7 +550,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   // again at full resolution, where a small marker's border and cells are sharp. The contours traced there (its
   // `in`) go through size_filter, quad_fit and nested_filter, and the quads left (its `out`) are read as the others:
   // the per-candidate stages count them too; below the full trace the shapes cut by a region's edge are counted in
-// `in` untraced. A contour it drops has its fate here, with the parameter that decided.
+  // `in` untraced. A contour it drops has its fate here, with the parameter that decided.
   // Its own time is the search, fit and filter.
   StageRecord fine_record{Stage::fine_search, 0, 0, 0, {}};
   if (fine_on) {

@@ -10,7 +10,7 @@ namespace arwb {
 // In order: each level includes the ones before it.
 enum class Simd : int {
   none = 0,
-  ssse3,    // SSSE3
+  ssse3,         // SSSE3
   avx2,          // AVX2 and POPCNT
   avx512,        // AVX-512 F, BW and VL (Skylake-X and later)
   avx512_vbmi,   // and VBMI and VNNI (Ice Lake and later, Zen 4): the grey conversion's byte permutes and dot products
