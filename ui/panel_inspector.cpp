@@ -80,6 +80,19 @@ const char* missing_after(const Rejection& f) {
   if (f.param == "coarse_factor")
     return "Stopped at quad_fit: the coarse search found the same quad as the first search, which is read instead. "
            "No frontal view and no bits for this one.";
+  // Read as found: its corners were never refined, and the frontal view, histogram and bits are of the quad as
+  // the polygon gave it.
+  if (f.param == "unrefined_miss_rate")
+    return "Stopped before corner_refinement: read as found, on the polygon's corners, its nearest id is further "
+           "than the correction budget plus unrefined_miss_rate of the code's bits, so its corners were not refined "
+           "and it was not read again. The frontal view and bits are of the unrefined quad.";
+  if (f.message.find("read as found") != std::string::npos && f.stage == Stage::otsu)
+    return "Stopped before corner_refinement: read as found, on the polygon's corners, the frontal view is too "
+           "uniform to split into black and white, so its corners were not refined and no bits were read.";
+  if (f.message.find("read as found") != std::string::npos && f.stage == Stage::border_check)
+    return "Stopped before corner_refinement: read as found, on the polygon's corners, the outer ring of cells is "
+           "not black enough, so its corners were not refined and it was not read again. The frontal view and bits "
+           "are of the unrefined quad.";
   if (f.param == "quiet_zone_max_dark_rate")
     return "Stopped at border_check: the bits were read and the frame is black, but outside it, where a printed "
            "marker is light, one side is as dark as the frame: a piece of some larger dark shape. The inner bits "

@@ -2,7 +2,8 @@
 // Step 1: find quads (acquisition .. nested_filter), whole-image work on the calling thread. The search
 // (adaptive_threshold .. quad_fit) runs on the decimated image, and coarse_search once more on a coarser one; their
 // contours and quads are mapped back at once, so from contours on everything is in the grey image's pixels.
-// Step 2: read each quad (corner_refinement .. identification), per candidate, spread over threads. On a decimated
+// Step 2: read each quad (corner_refinement .. identification), per candidate, spread over threads: first as found
+// (unrefined_miss_rate), then refined where that read could be a marker. On a decimated
 // search, fine_search then searches the small shapes that did not close or read again at full resolution, and its
 // quads are read the same way.
 // Step 3: resolve duplicates and map corners back to the input image.
@@ -403,6 +404,109 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   // readings[i] belongs to quads[i]; a quad merged into an outer one is read only when the outer one is no marker
   // (a white quiet zone on a grey page makes a quad one cell outside the marker).
   std::vector<Reading> readings(quads.size());
+  // read_at: quad q read at marker size n into r, from perspective_removal to identification, `lap` timing each
+  // stage. As found (the quad's corners unrefined, read before corner_refinement to decide whether to refine it):
+  // no quiet zone, and the nearest id may miss by unrefined_miss_rate x the code's bits more than the budget.
+  auto read_at = [&](const Quad& q, int n, bool as_found, Reading& r, auto&& lap) {
+    const int cells = n + 2;
+    const char* found = as_found ? " (read as found, before corner_refinement)" : "";
+    cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
+    lap(1);
+    r.reached = 1;
+    const stages::OtsuResult o = stages::otsu(warp);
+    r.record.otsu_threshold = o.threshold;
+    r.record.stddev = o.stddev;
+    if (full) {
+      r.record.warp = warp;
+      r.record.histogram.assign(o.histogram.begin(), o.histogram.end());
+    }
+    lap(2);
+    if (o.stddev < p.otsu_min_stddev) {
+      r.record.fate = Rejection{Stage::otsu, "otsu_min_stddev", o.stddev, p.otsu_min_stddev,
+                                fmt_msg("grey stddev %.1f < otsu_min_stddev %.1f: uniform patch", o.stddev,
+                                        p.otsu_min_stddev) + found};
+      return;
+    }
+    r.reached = 2;
+    cv::Mat bits = stages::sample_bits(warp, cells, o.threshold, p);
+    if (full) r.record.bits = bits;
+    lap(3);
+    r.record.border_errors = stages::border_errors(bits);
+    r.record.border_cells = 4 * (cells - 1);
+    const int allowed = static_cast<int>(p.border_max_error_rate * r.record.border_cells);
+    // A black border inside a larger dark shape (a piece of some other pattern) has no light quiet zone.
+    const stages::QuietZone quiet = as_found || r.record.border_errors > allowed || p.quiet_zone_max_dark_rate >= 1
+                                        ? stages::QuietZone{}
+                                        : stages::quiet_zone(grey, q, cells, o);
+    lap(4);
+    if (r.record.border_errors > allowed) {
+      r.reached = 3;
+      r.record.fate = Rejection{Stage::border_check, "border_max_error_rate", double(r.record.border_errors),
+                                double(allowed),
+                                fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
+                                        r.record.border_errors, r.record.border_cells, allowed) + found};
+      return;
+    }
+    if (quiet.dark_share > p.quiet_zone_max_dark_rate) {
+      // The side as it lies on screen: where its middle is from the quad's centre.
+      const cv::Point2f mid = 0.5f * (q[size_t(quiet.side)] + q[size_t((quiet.side + 1) % 4)]);
+      const cv::Point2f off = mid - 0.25f * (q[0] + q[1] + q[2] + q[3]);
+      const char* where = std::abs(off.x) > std::abs(off.y) ? (off.x > 0 ? "right" : "left")
+                                                            : (off.y > 0 ? "bottom" : "top");
+      r.reached = 3;
+      r.record.fate = Rejection{
+          Stage::border_check, "quiet_zone_max_dark_rate", quiet.dark_share, p.quiet_zone_max_dark_rate,
+          fmt_msg("%.0f %% of the quiet zone dark > quiet_zone_max_dark_rate %.0f %%", 100 * quiet.dark_share,
+                  100 * p.quiet_zone_max_dark_rate) +
+              " along its " + where + " side: part of a larger dark shape"};
+      return;
+    }
+    r.reached = 4;
+    // As found, a read may miss by this many bits more than the budget (the corners are off by up to the
+    // decimation's factor, so cells near the border are sampled across it).
+    const int slack = as_found ? static_cast<int>(p.unrefined_miss_rate * n * n + 1e-9) : 0;
+    const uint64_t code = stages::inner_code(bits);
+    DictMatch nearest{-1, 0, 65};
+    int nearest_dict = -1;
+    for (int di = 0; di < int(dictionaries_.size()); ++di) {
+      const Dictionary& d = dictionaries_[size_t(di)];
+      if (d.marker_size() != n) continue;
+      const DictMatch m = d.nearest(code);
+      if (nearest_dict < 0 || m.hamming < nearest.hamming) {
+        nearest = m;
+        nearest_dict = di;
+        if (timed) r.record.per_rotation = d.nearest_per_rotation(code);
+      }
+      if (m.hamming <= stages::correction_budget(d, p) + slack) break;  // first dictionary that claims it
+    }
+    const Dictionary& d = dictionaries_[size_t(nearest_dict)];
+    r.record.dict = d.name();
+    const int budget = stages::correction_budget(d, p);
+    if (nearest.hamming > budget + slack) {
+      r.record.fate =
+          as_found ? Rejection{Stage::identification, "unrefined_miss_rate", double(nearest.hamming),
+                               double(budget + slack),
+                               fmt_msg("nearest id %.0f is %.0f bits away > budget %.0f", nearest.id,
+                                       nearest.hamming, budget) +
+                                   fmt_msg(" + unrefined_miss_rate x %.0f bits = %.0f", n * n, budget + slack) +
+                                   found}
+                   : Rejection{Stage::identification, "error_correction_rate", double(nearest.hamming),
+                               double(budget),
+                               fmt_msg("nearest id %.0f is %.0f bits away > budget %.0f (error_correction_rate"
+                                       " x max_correction_bits)",
+                                       nearest.id, nearest.hamming, budget)};
+    } else {
+      r.reached = 5;
+      r.dict_index = nearest_dict;
+      r.match = nearest;
+      for (int j = 0; j < 4; ++j) r.corners[size_t(j)] = q[size_t((j + nearest.rotation) % 4)];
+    }
+    lap(5);
+  };
+  // A quad is read as found first, where refinement is on and unrefined_miss_rate < 1; only if that read could
+  // be a marker are its corners refined and it is read again. Stopped there, its fate says so; either read's time
+  // counts to its stages.
+  const bool read_first = p.corner_refinement && p.unrefined_miss_rate < 1;
   auto read_one = [&](size_t k) {
     const Quad& quad = quads[k].quad;
     Reading best;
@@ -416,89 +520,21 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
         r.ms[size_t(stage_slot)] += std::chrono::duration<double, std::milli>(now - t0).count();
         t0 = now;
       };
-      const int cells = n + 2;
-      Quad q = quad;
-      stages::refine_corners(grey, q, cells, p, contour_factor[size_t(quads[k].contour)]);
-      lap(0);
-      cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
-      lap(1);
-      r.reached = 1;
-      const stages::OtsuResult o = stages::otsu(warp);
-      r.record.otsu_threshold = o.threshold;
-      r.record.stddev = o.stddev;
-      if (full) {
-        r.record.warp = warp;
-        r.record.histogram.assign(o.histogram.begin(), o.histogram.end());
-      }
-      lap(2);
-      if (o.stddev < p.otsu_min_stddev) {
-        r.record.fate = Rejection{Stage::otsu, "otsu_min_stddev", o.stddev, p.otsu_min_stddev,
-                                  fmt_msg("grey stddev %.1f < otsu_min_stddev %.1f: uniform patch", o.stddev,
-                                          p.otsu_min_stddev)};
-      } else {
-        r.reached = 2;
-        cv::Mat bits = stages::sample_bits(warp, cells, o.threshold, p);
-        if (full) r.record.bits = bits;
-        lap(3);
-        r.record.border_errors = stages::border_errors(bits);
-        r.record.border_cells = 4 * (cells - 1);
-        const int allowed = static_cast<int>(p.border_max_error_rate * r.record.border_cells);
-        // A black border inside a larger dark shape (a piece of some other pattern) has no light quiet zone.
-        const stages::QuietZone quiet = r.record.border_errors > allowed || p.quiet_zone_max_dark_rate >= 1
-                                            ? stages::QuietZone{}
-                                            : stages::quiet_zone(grey, q, cells, o);
-        lap(4);
-        if (r.record.border_errors > allowed) {
-          r.reached = 3;
-          r.record.fate = Rejection{Stage::border_check, "border_max_error_rate", double(r.record.border_errors),
-                                    double(allowed),
-                                    fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
-                                            r.record.border_errors, r.record.border_cells, allowed)};
-        } else if (quiet.dark_share > p.quiet_zone_max_dark_rate) {
-          // The side as it lies on screen: where its middle is from the quad's centre.
-          const cv::Point2f mid = 0.5f * (q[size_t(quiet.side)] + q[size_t((quiet.side + 1) % 4)]);
-          const cv::Point2f off = mid - 0.25f * (q[0] + q[1] + q[2] + q[3]);
-          const char* where = std::abs(off.x) > std::abs(off.y) ? (off.x > 0 ? "right" : "left")
-                                                                : (off.y > 0 ? "bottom" : "top");
-          r.reached = 3;
-          r.record.fate = Rejection{
-              Stage::border_check, "quiet_zone_max_dark_rate", quiet.dark_share, p.quiet_zone_max_dark_rate,
-              fmt_msg("%.0f %% of the quiet zone dark > quiet_zone_max_dark_rate %.0f %%", 100 * quiet.dark_share,
-                      100 * p.quiet_zone_max_dark_rate) +
-                  " along its " + where + " side: part of a larger dark shape"};
-        } else {
-          r.reached = 4;
-          const uint64_t code = stages::inner_code(bits);
-          DictMatch nearest{-1, 0, 65};
-          int nearest_dict = -1;
-          for (int di = 0; di < int(dictionaries_.size()); ++di) {
-            const Dictionary& d = dictionaries_[size_t(di)];
-            if (d.marker_size() != n) continue;
-            const DictMatch m = d.nearest(code);
-            if (nearest_dict < 0 || m.hamming < nearest.hamming) {
-              nearest = m;
-              nearest_dict = di;
-              if (timed) r.record.per_rotation = d.nearest_per_rotation(code);
-            }
-            if (m.hamming <= stages::correction_budget(d, p)) break;  // first dictionary that claims it
-          }
-          const Dictionary& d = dictionaries_[size_t(nearest_dict)];
-          r.record.dict = d.name();
-          const int budget = stages::correction_budget(d, p);
-          if (nearest.hamming > budget) {
-            r.record.fate = Rejection{Stage::identification, "error_correction_rate", double(nearest.hamming),
-                                      double(budget),
-                                      fmt_msg("nearest id %.0f is %.0f bits away > budget %.0f (error_correction_rate"
-                                              " x max_correction_bits)",
-                                              nearest.id, nearest.hamming, budget)};
-          } else {
-            r.reached = 5;
-            r.dict_index = nearest_dict;
-            r.match = nearest;
-            for (int j = 0; j < 4; ++j) r.corners[size_t(j)] = q[size_t((j + nearest.rotation) % 4)];
-          }
-          lap(5);
+      bool refine = true;
+      if (read_first) {
+        read_at(quad, n, true, r, lap);
+        refine = r.reached == 5;
+        if (refine) {
+          Reading again;
+          again.ms = r.ms;
+          r = std::move(again);
         }
+      }
+      if (refine) {
+        Quad q = quad;
+        stages::refine_corners(grey, q, n + 2, p, contour_factor[size_t(quads[k].contour)]);
+        lap(0);
+        read_at(q, n, false, r, lap);
       }
       if (r.reached > best.reached) best = std::move(r);
       if (best.reached == 5) break;
@@ -622,8 +658,9 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
     for (int k : read) {
       const Reading& r = readings[size_t(k)];
       for (int s = 0; s < kCandidateStageCount; ++s) ms[size_t(s)] += r.ms[size_t(s)];
-      // reached: 1 refined and warped, 2 past otsu, 3 border rejected, 4 identification tried, 5 identified.
-      // corner_refinement and perspective_removal drop nothing.
+      // reached: 1 warped, 2 past otsu, 3 border rejected, 4 identification tried, 5 identified. A quad stopped
+      // in its read as found leaves at the stage that stopped it, as if refined: corner_refinement's in and out
+      // are the quads read, and corner_refinement and perspective_removal drop nothing.
       entered[0]++;
       if (r.reached >= 1) entered[1]++, entered[2]++;
       if (r.reached >= 2) entered[3]++, entered[4]++;

@@ -94,6 +94,9 @@ std::string suggestion(const Rejection& r) {
                              : "Lowering polygon_epsilon_rate keeps more corners of the outline.";
   if (p == "min_marker_distance_rate")
     return "The outer quad of the same border is read instead; lowering min_marker_distance_rate keeps both.";
+  if (p == "unrefined_miss_rate")
+    return "Read before its corners were refined, it was too far from any id to refine; raising unrefined_miss_rate "
+           "(1 refines every quad) reads it again refined.";
   if (p == "min_perimeter_px") return "Lowering min_perimeter_px below " + num(r.value, 0) + " would let it through.";
   if (p == "coarse_factor")
     return "The first search's quad of the same outline is read instead; coarse_factor 0 turns the coarse search off.";
@@ -373,7 +376,7 @@ struct Promising {
 constexpr Promising kPromising[] = {
     {"threshold_offset", -1},      {"threshold_window_px", +1},  {"min_perimeter_px", -1},
     {"polygon_epsilon_rate", +1},  {"otsu_min_stddev", -1},      {"border_max_error_rate", +1},
-    {"error_correction_rate", +1},
+    {"error_correction_rate", +1}, {"unrefined_miss_rate", +1},
 };
 
 double nice_step(double raw) {

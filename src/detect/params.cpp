@@ -76,6 +76,12 @@ const ParamInfo kTable[] = {
              "passes gain 3% in corner precision (0.067 to 0.065 px) for about 5% more time."),
     ARWB_DBL(subpix_epsilon_px, "corner_refinement", "px", 0.05, 0.001, 1,
              "Refinement stops when no corner moved more than this in a pass."),
+    ARWB_DBL(unrefined_miss_rate, "corner_refinement", "rate", 0.15, 0, 1,
+             "Each quad is first read as found, its corners unrefined (no quiet zone check); it is refined and "
+             "read again only if that read passes otsu and border_check and its nearest id is at most this share "
+             "of the code's bits more than the correction budget away (0.15: 3 bits of ARUCO_ORIGINAL's 25, 5 of "
+             "APRILTAG_36h11's 36). Lower is faster and may miss a blurred or tilted marker whose corners were "
+             "found far off; 1 refines and reads every quad. No effect when corner_refinement is 0."),
     ARWB_INT(warp_cell_px, "perspective_removal", "px", 4, 1, 32,
              "Pixels per cell in the frontal view. More samples each cell better, costs time."),
     ARWB_DBL(warp_margin_rate, "perspective_removal", "rate", 0.13, 0, 0.45,

@@ -39,6 +39,7 @@ struct DetectorParams {
   int subpix_window_px = 0;
   int subpix_max_iterations = 0;
   double subpix_epsilon_px = 0;
+  double unrefined_miss_rate = 0;   // 1: refine every quad, no read as found first
   // perspective_removal
   int warp_cell_px = 0;
   double warp_margin_rate = 0;
