@@ -73,7 +73,8 @@ bool section(const char* title, const char* hint = nullptr) {
 
 // What a candidate that stopped early lacks, and why: by the stage, and where one stage stops candidates for more
 // than one reason, by the parameter that decided.
-const char* missing_after(const Rejection& f) {
+const char* missing_after(const CandidateRecord& c) {
+  const Rejection& f = c.fate;
   if (f.param == "region_margin_rate")
     return "Stopped at size_filter: its outline runs into the edge of its search region, so it is not whole here. No "
            "quad, no frontal view and no bits; a marker there is searched whole on the next full search.";
@@ -86,10 +87,10 @@ const char* missing_after(const Rejection& f) {
     return "Stopped before corner_refinement: read as found, on the polygon's corners, its nearest id is further "
            "than the correction budget plus unrefined_miss_rate of the code's bits, so its corners were not refined "
            "and it was not read again. The frontal view and bits are of the unrefined quad.";
-  if (f.message.find("read as found") != std::string::npos && f.stage == Stage::otsu)
+  if (c.read_as_found && f.stage == Stage::otsu)
     return "Stopped before corner_refinement: read as found, on the polygon's corners, the frontal view is too "
            "uniform to split into black and white, so its corners were not refined and no bits were read.";
-  if (f.message.find("read as found") != std::string::npos && f.stage == Stage::border_check)
+  if (c.read_as_found && f.stage == Stage::border_check)
     return "Stopped before corner_refinement: read as found, on the polygon's corners, the outer ring of cells is "
            "not black enough, so its corners were not refined and it was not read again. The frontal view and bits "
            "are of the unrefined quad.";
@@ -166,7 +167,7 @@ void fate_section(const FrameTrace& t, const CandidateRecord& c) {
     if (!f.param.empty()) ImGui::TextUnformatted(number(f.limit).c_str());
     ImGui::EndTable();
   }
-  if (const char* missing = missing_after(f)) ImGui::TextWrapped("%s", missing);
+  if (const char* missing = missing_after(c)) ImGui::TextWrapped("%s", missing);
 }
 
 // [SECTION] region: contour and quad over the frame

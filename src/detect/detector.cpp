@@ -410,6 +410,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   auto read_at = [&](const Quad& q, int n, bool as_found, Reading& r, auto&& lap) {
     const int cells = n + 2;
     const char* found = as_found ? " (read as found, before corner_refinement)" : "";
+    r.record.read_as_found = as_found;
     cv::Mat warp = stages::remove_perspective(grey, q, cells, p);
     lap(1);
     r.reached = 1;
@@ -748,6 +749,7 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
       dst.border_errors = src.border_errors;
       dst.border_cells = src.border_cells;
       dst.dict = std::move(src.dict);
+      dst.read_as_found = src.read_as_found;
       dst.per_rotation = src.per_rotation;
       dst.fate = std::move(src.fate);
       if (readings[k].reached == 5 && !dup_reason[k].empty())

@@ -294,9 +294,13 @@ TEST(Detector, QuadsReadAsFoundAreRefinedOnlyWhenTheyCouldBeMarkers) {
         EXPECT_EQ(found[m].corners, found_every[m].corners) << name << " image " << i;
       }
       EXPECT_EQ(t.candidates.size(), t_every.candidates.size()) << "the same quads reach the reader";
-      for (const CandidateRecord& c : t_every.candidates)
+      for (const CandidateRecord& c : t_every.candidates) {
         EXPECT_EQ(c.fate.message.find("as found"), std::string::npos) << "at 1 every quad is refined first";
+        EXPECT_FALSE(c.read_as_found);
+      }
       for (const CandidateRecord& c : t.candidates) {
+        EXPECT_EQ(c.read_as_found, c.fate.message.find("before corner_refinement") != std::string::npos)
+            << c.fate.message;
         if (c.fate.message.find("before corner_refinement") == std::string::npos) continue;
         ++stopped_total;
         ASSERT_TRUE(c.has_quad);
