@@ -894,6 +894,10 @@ __attribute__((target("avx512f,avx512bw,popcnt"))) int row_edges_avx512(const ui
     const uint64_t m = mid[c];
     const uint64_t e = m ^ ((m << 1) | before);
     before = m >> 63;
+    if (e == 0) {   // no edge (most words): compressing nothing four times was a third of the stage on AMD Zen 4
+      x = _mm512_add_epi32(x, _mm512_set1_epi32(64));
+      continue;
+    }
     // Where each 16 bits' pixels go, from the edges before them in the word (no chain of counts through the
     // stores).
     const int at[4] = {n, n + std::popcount(e & 0xFFFF), n + std::popcount(e & 0xFFFFFFFF),
@@ -940,9 +944,15 @@ __attribute__((target("avx512f,popcnt"))) void join_rows_avx512(const RowRuns& a
       first += std::popcount(unsigned(_mm512_cmplt_epi32_mask(_mm512_loadu_si512(above.x1.data() + c), v0)));
       last += std::popcount(unsigned(_mm512_cmple_epi32_mask(_mm512_loadu_si512(above.x0.data() + c), v1)));
     }
-    if (first >= last) continue;
-    int joined = find_root(parent, above_begin + first);   // the root of this run's region so far
-    parent[size_t(begin + k)] = joined;
+    // A run that touches one run above (nearly every run of a large region) takes that run's parent, a run of
+    // the same region and before it, without looking for the root: one load, where find_root's loop cost a chain of
+    // loads and a mispredicted exit. The final pass takes every run to its root. A run that touches none is its
+    // own (parent[self] is self until here), chosen without a branch.
+    const int self = begin + k;
+    parent[size_t(self)] = parent[size_t(first < last ? above_begin + first : self)];
+    if (last - first < 2) continue;
+    // It touches two or more: their regions are one, under the earliest root.
+    int joined = find_root(parent, parent[size_t(self)]);
     for (int a = above_begin + first + 1; a < above_begin + last; ++a) {
       const int r = find_root(parent, a);
       if (r < joined) {
@@ -1136,60 +1146,140 @@ int drop_small_regions(const BitRows& bits, double min_perimeter_px, bool count)
   return 0;
 }
 
-// Moore-neighbour tracing of the outer border of the region whose top-left pixel is `start` (a region of nonzero
-// pixels; of zero pixels when Light).
-template <bool Light>
-void trace_outer_border(const cv::Mat& binary, cv::Point start, std::vector<cv::Point>& out) {
-  static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
-  static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
-  const int w = binary.cols, h = binary.rows;
-  auto on = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < w && y < h && (binary.ptr<uint8_t>(y)[x] != 0) != Light;
-  };
-  out.clear();
-  out.push_back(start);
-  // The pixel to the west of the top-left pixel is background: the first scan starts there.
-  // Away from the image's edge (nearly every step) the neighbours are read through fixed offsets, unchecked.
-  const uint8_t* data = binary.data;
-  const ptrdiff_t stride = ptrdiff_t(binary.step);
-  ptrdiff_t offset[8];
-  for (int k = 0; k < 8; ++k) offset[k] = dy[k] * stride + dx[k];
-  auto next = [&](cv::Point p, int from, int* dir) -> bool {
-    if (p.x > 0 && p.y > 0 && p.x < w - 1 && p.y < h - 1) {
-      const uint8_t* centre = data + p.y * stride + p.x;
+// Moore-neighbour tracing of outer borders, several at once. Each border starts at its region's top-left pixel
+// (the pixel to its west is background, so the first scan starts there) and goes clockwise on screen; at each
+// border pixel the next is the first on pixel of its eight neighbours, scanned clockwise from the background pixel
+// examined just before the step (the eight directions E SE S SW W NW N NE, 0 to 7). The trace ends when it is back
+// at the start going the same way as at first.
+//
+// The pixels come from the contours' bit masks (`bits`: on where the region's pixels are, nothing beyond the image),
+// a pixel's three rows of three neighbours in three 16-bit loads, and the next direction comes from a table of
+// them (kMooreNext): no branch on the neighbours. One border's steps wait on each other (the loads, then the
+// table, then the next pixel's loads), so kLanes borders are traced in turn, one step each, and the processor
+// overlaps them. Tracing one border with a branch per neighbour mispredicted about once a step; the lanes take
+// about half the time (the standard set's 640x480 frames, 5700 border pixels a frame: some 20 us a frame less).
+struct BorderTrace {
+  cv::Point start;
+  std::vector<cv::Point>* out;
+};
+// The Moore trace's step as a table: for the direction a pixel's scan starts from (0 to 7, E SE S SW W NW N NE,
+// clockwise on screen) and its nine pixels (around() below: the row above in bits 0-2, its own row in 3-5, the row
+// below in 6-8, each from x - 1), the direction of the first on neighbour clockwise from there (bits 0-2) and where
+// the scan at that neighbour starts (bits 3-5): the background pixel examined just before the step, seen from the
+// new pixel. kMooreNone when no neighbour is on.
+constexpr uint8_t kMooreNone = 0xFF;
+constexpr std::array<std::array<uint8_t, 512>, 8> moore_next_table() {
+  std::array<std::array<uint8_t, 512>, 8> table{};
+  for (int from = 0; from < 8; ++from)
+    for (int nine = 0; nine < 512; ++nine) {
+      const auto bit = [&](int k) { return (nine >> k) & 1; };
+      // E SE S SW W NW N NE
+      const int ring[8] = {bit(5), bit(8), bit(7), bit(6), bit(3), bit(0), bit(1), bit(2)};
+      uint8_t entry = kMooreNone;
       for (int k = 0; k < 8; ++k) {
         const int d = (from + k) & 7;
-        if ((centre[offset[d]] != 0) != Light) {
-          *dir = d;
-          return true;
+        if (ring[d]) {
+          entry = uint8_t(d | ((d & 1) ? (d + 5) & 7 : (d + 6) & 7) << 3);
+          break;
         }
       }
-      return false;
+      table[size_t(from)][size_t(nine)] = entry;
     }
-    for (int k = 0; k < 8; ++k) {
-      const int d = (from + k) & 7;
-      if (on(p.x + dx[d], p.y + dy[d])) {
-        *dir = d;
-        return true;
+  return table;
+}
+constexpr auto kMooreNext = moore_next_table();
+
+void trace_outer_borders(const BitRows& bits, int w, int h, const std::vector<BorderTrace>& borders) {
+  static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
+  static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+  // A pixel is the bit index, from the masks' first word, of the pixel to its west: x - 1 of its row.
+  const int64_t row_bits = int64_t(bits.stride()) * 64;
+  int64_t step[8];
+  for (int k = 0; k < 8; ++k) step[k] = dy[k] * row_bits + dx[k];
+  const uint8_t* base = reinterpret_cast<const uint8_t*>(bits.base);
+  auto at = [&](cv::Point p) { return (int64_t(p.y) + BitRows::kPad) * row_bits + 64 + p.x - 1; };
+  // The nine pixels around `b` as bits: x - 1, x and x + 1 of the row above (bits 0-2), of its own row (3-5) and of
+  // the row below (6-8). The rows are a whole number of words apart, so the three share one shift.
+  const int64_t row_bytes = row_bits / 8;
+  auto around = [&](int64_t b) {
+    const uint8_t* at_b = base + (b >> 3);
+    const int sh = int(b & 7);
+    uint16_t t, m, u;
+    std::memcpy(&t, at_b - row_bytes, 2);
+    std::memcpy(&m, at_b, 2);
+    std::memcpy(&u, at_b + row_bytes, 2);
+    return ((unsigned(t) >> sh) & 7u) | ((unsigned(m) >> sh) & 7u) << 3 | ((unsigned(u) >> sh) & 7u) << 6;
+  };
+  // A point's x and y as one word, x + 2^32 y (cv::Point's layout: x in the low half), moved by one addition: a
+  // step is dx + 2^32 dy, and x stays within 0 .. 2^32 - 1, so a step west borrows as it should.
+  auto pack = [](int64_t x, int64_t y) { return uint64_t(x + y * (int64_t(1) << 32)); };
+  uint64_t move[8];
+  for (int k = 0; k < 8; ++k) move[k] = pack(dx[k], dy[k]);
+  static_assert(sizeof(cv::Point) == sizeof(uint64_t));
+  // Each lane writes its border's points into its vector, grown to the reserved length and cut to the points at the
+  // end (push_back kept the vector's end in memory, a store and a load a step).
+  struct Lane {
+    int64_t p = 0, start = 0, second = 0;
+    uint64_t xy = 0;
+    int from = 0;   // where the next pixel's scan starts
+    cv::Point *at = nullptr, *end = nullptr;
+    std::vector<cv::Point>* out = nullptr;
+  };
+  constexpr int kLanes = 4;
+  const size_t guard_limit = size_t(4) * size_t(w) * size_t(h) + 8;
+  size_t next_border = 0;
+  auto finish = [](Lane& lane) { lane.out->resize(size_t(lane.at - lane.out->data())); };
+  // Lane takes the next border that is more than one pixel; false when none is left.
+  auto begin = [&](Lane& lane) {
+    while (next_border < borders.size()) {
+      const BorderTrace& b = borders[next_border++];
+      b.out->assign(std::max<size_t>(b.out->capacity(), 16), cv::Point());
+      b.out->front() = b.start;
+      const int64_t s = at(b.start);
+      const int e = kMooreNext[4][around(s)];
+      if (e == kMooreNone) {   // a single pixel
+        b.out->resize(1);
+        continue;
       }
+      const int d = e & 7;
+      lane = {s + step[d], s, s + step[d], pack(b.start.x + dx[d], b.start.y + dy[d]), e >> 3, b.out->data() + 1,
+              b.out->data() + b.out->size(), b.out};
+      return true;
     }
     return false;
   };
-  int d = 0;
-  if (!next(start, 4, &d)) return;  // a single pixel
-  const cv::Point second(start.x + dx[d], start.y + dy[d]);
-  cv::Point p = second;
-  for (size_t guard = 0; guard < size_t(4) * size_t(w) * size_t(h) + 8; ++guard) {
-    // The background pixel examined just before the step, seen from the new pixel.
-    const int from = (d & 1) ? (d + 5) & 7 : (d + 6) & 7;
-    int nd = 0;
-    next(p, from, &nd);
-    const cv::Point q(p.x + dx[nd], p.y + dy[nd]);
-    if (p == start && q == second) break;  // back where we began, going the same way
-    out.push_back(p);
-    p = q;
-    d = nd;
-  }
+  // A lane out of room: its vector twice as long, or the border given up (a guard; a border is at most four steps
+  // a pixel).
+  auto grow = [&](Lane& lane) {
+    const size_t n = size_t(lane.at - lane.out->data());
+    if (n >= guard_limit) return false;
+    lane.out->resize(2 * n);
+    lane.at = lane.out->data() + n;
+    lane.end = lane.out->data() + lane.out->size();
+    return true;
+  };
+  Lane lanes[kLanes];
+  bool busy[kLanes];
+  int running = 0;
+  for (int l = 0; l < kLanes; ++l) running += busy[l] = begin(lanes[l]);
+  while (running > 0)
+#pragma GCC unroll 4
+    for (int l = 0; l < kLanes; ++l) {
+      if (!busy[l]) continue;
+      Lane& a = lanes[l];
+      const int e = kMooreNext[a.from][around(a.p)];
+      const int nd = e & 7;
+      const int64_t q = a.p + step[nd];
+      if ((a.p == a.start && q == a.second) || (a.at == a.end && !grow(a))) {
+        finish(a);
+        if (!(busy[l] = begin(a))) --running;
+        continue;
+      }
+      std::memcpy(static_cast<void*>(a.at++), &a.xy, sizeof a.xy);
+      a.p = q;
+      a.xy += move[nd];
+      a.from = e >> 3;
+    }
 }
 
 // find_contours of the nonzero regions, or when Light of the zero ones. `keep`, when given, is asked about each
@@ -1328,6 +1418,8 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
     root_count += r == i;
   }
   std::vector<std::vector<cv::Point>> contours;
+  thread_local std::vector<BorderTrace> borders;
+  borders.clear();
   const int regions = root_count;
   for (int k = 0; k < root_count; ++k) {
     const int i = roots[size_t(k)];
@@ -1343,10 +1435,13 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       if (!keep(cv::Rect(tl, br + cv::Point(1, 1)))) continue;
     }
     contours.emplace_back().reserve(size_t(2 * (bw + bh)));   // a convex border's length: one allocation, mostly
-    trace_outer_border<Light>(binary, cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), contours.back());
-    if (factor > 1)
-      for (cv::Point& p : contours.back()) p = undecimate(p, factor);
+    borders.push_back({cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), nullptr});
   }
+  for (size_t k = 0; k < borders.size(); ++k) borders[k].out = &contours[k];
+  trace_outer_borders(bits, w, h, borders);
+  if (factor > 1)
+    for (auto& contour : contours)
+      for (cv::Point& p : contour) p = undecimate(p, factor);
   if (region_count) *region_count = regions + dropped;
   return contours;
 }
