@@ -1595,37 +1595,38 @@ __attribute__((target("avx2"))) int farthest_point_avx2(const cv::Point* c, int 
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"   // as grey_row_avx512's
+#pragma GCC diagnostic ignored "-Wuninitialized"   // GCC 12's _mm512_reduce_* start from an undefined vector
 #endif
 template <bool Line>
-__attribute__((target("avx512f"))) int farthest_point_avx512(const cv::Point* c, int n, cv::Point p0, cv::Point dir,
-                                                            int64_t* best, int* at) {
-  if (n < 16) return 0;
+__attribute__((target("avx512f"))) Farthest farthest_point_avx512(const cv::Point* c, int n, cv::Point p0,
+                                                                 cv::Point dir) {
   const __m512i origin = _mm512_set1_epi64(int64_t(uint64_t(uint32_t(p0.y)) << 32 | uint32_t(p0.x)));
   const __m512i ix = _mm512_set1_epi64(dir.x), iy = _mm512_set1_epi64(dir.y);
   __m512i top[2] = {_mm512_set1_epi64(-1), _mm512_set1_epi64(-1)}, where[2] = {top[0], top[0]};
   __m512i index[2] = {_mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7), _mm512_setr_epi64(8, 9, 10, 11, 12, 13, 14, 15)};
   const __m512i sixteen = _mm512_set1_epi64(16);
-  int k = 0;
-  for (; k + 16 <= n; k += 16)
+  for (int k = 0; k < n; k += 16)
     for (int h = 0; h < 2; ++h) {
-      const __m512i d = _mm512_sub_epi32(_mm512_loadu_si512(c + k + 8 * h), origin);
+      // The points left from k + 8h, at most eight: a masked load, so a piece of any length takes this path.
+      const int left = std::clamp(n - k - 8 * h, 0, 8);
+      const __mmask8 valid = __mmask8((1u << left) - 1);
+      const __m512i d = _mm512_sub_epi32(_mm512_maskz_loadu_epi64(valid, c + std::min(k + 8 * h, n)), origin);
       const __m512i dy = _mm512_srli_epi64(d, 32);
       const __m512i m = Line ? _mm512_abs_epi64(_mm512_sub_epi64(_mm512_mul_epi32(dy, ix), _mm512_mul_epi32(d, iy)))
                              : _mm512_add_epi64(_mm512_mul_epi32(d, d), _mm512_mul_epi32(dy, dy));
-      const __mmask8 more = _mm512_cmpgt_epi64_mask(m, top[h]);
+      const __mmask8 more = _mm512_mask_cmpgt_epi64_mask(valid, m, top[h]);
       top[h] = _mm512_mask_mov_epi64(top[h], more, m);
       where[h] = _mm512_mask_mov_epi64(where[h], more, index[h]);
       index[h] = _mm512_add_epi64(index[h], sixteen);
     }
-  alignas(64) int64_t tops[16], wheres[16];
-  for (int h = 0; h < 2; ++h) {
-    _mm512_store_si512(tops + 8 * h, top[h]);
-    _mm512_store_si512(wheres + 8 * h, where[h]);
-  }
-  // The first of the largest: the largest of the lanes, the lowest index among equals.
-  for (int l = 0; l < 16; ++l)
-    if (tops[l] > *best || (tops[l] == *best && tops[l] >= 0 && wheres[l] < *at)) *best = tops[l], *at = int(wheres[l]);
-  return k;
+  // The first of the largest: the largest of the lanes, the lowest index among the lanes that have it (a
+  // reduction in the vectors, where a loop over the sixteen lanes branched on each).
+  const int64_t best = _mm512_reduce_max_epi64(_mm512_max_epi64(top[0], top[1]));
+  const __m512i all = _mm512_set1_epi64(best);
+  const __m512i first = _mm512_min_epi64(
+      _mm512_mask_mov_epi64(_mm512_set1_epi64(INT64_MAX), _mm512_cmpeq_epi64_mask(top[0], all), where[0]),
+      _mm512_mask_mov_epi64(_mm512_set1_epi64(INT64_MAX), _mm512_cmpeq_epi64_mask(top[1], all), where[1]));
+  return {best, best < 0 ? -1 : int(_mm512_reduce_min_epi64(first))};
 }
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
@@ -1639,15 +1640,13 @@ Farthest farthest_point(const cv::Point* c, int n, cv::Point p0, cv::Point dir, 
   int k = 0;
 #if defined(__x86_64__) || defined(__i386__)
   const Simd level = simd();
+  if (level >= Simd::avx512)
+    return from_line ? farthest_point_avx512<true>(c, n, p0, dir) : farthest_point_avx512<false>(c, n, p0, dir);
   if (level >= Simd::avx2) {
     int64_t best = -1;
     int at = -1;
-    if (level >= Simd::avx512 && n >= 16)
-      k = from_line ? farthest_point_avx512<true>(c, n, p0, dir, &best, &at)
-                    : farthest_point_avx512<false>(c, n, p0, dir, &best, &at);
-    else
-      k = from_line ? farthest_point_avx2<true>(c, n, p0, dir, &best, &at)
-                    : farthest_point_avx2<false>(c, n, p0, dir, &best, &at);
+    k = from_line ? farthest_point_avx2<true>(c, n, p0, dir, &best, &at)
+                  : farthest_point_avx2<false>(c, n, p0, dir, &best, &at);
     f = {best, at};
   }
 #endif
