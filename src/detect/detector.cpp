@@ -263,31 +263,26 @@ std::vector<Marker> Detector::detect(const cv::Mat& image, FrameTrace* trace, Tr
   // in place, not moved again as the list grows.
   if (timed) t.candidates.reserve(contours.size() + small.size());
   if (full) {
-    // Regions too small to trace: their box bounds the border they could have.
-    // The message from whole numbers, written into one allocation (snprintf's %f per speck was a third of the full
-    // trace's cost; to_string's pieces joined by + a tenth of it).
+    // Regions too small to trace: their box bounds the border they could have. The message from whole numbers
+    // (snprintf's %f per speck was a third of the full trace's cost; to_string's pieces joined by + a tenth of it).
     for (const auto& s : small) {
       CandidateRecord& r = t.candidates.emplace_back();
       r.bbox = s.bbox;
       const int border = 2 * (s.bbox.width + s.bbox.height);
       r.perimeter = border;
-      std::string& text = r.fate.message;
-      text.reserve(64);
-      auto number = [&](int v) {
-        char digits[12];
-        text.append(digits, std::to_chars(digits, digits + sizeof digits, v).ptr);
-      };
-      text += "region ";
-      number(s.bbox.width);
-      text += 'x';
-      number(s.bbox.height);
-      text += " px: border at most ";
-      number(border);
-      text += " px < min_perimeter_px";
       r.fate.stage = Stage::size_filter;
       r.fate.param = "min_perimeter_px";
       r.fate.value = r.perimeter;
       r.fate.limit = p.min_perimeter_px;
+      // "border <= 12 px": short enough to live in the string itself (15 characters up to a border of 99 px),
+      // where a longer message cost every speck an allocation (about a quarter of what the full trace adds at
+      // 640x480); the fate's parameter, value and limit say what it was compared with.
+      char text[32] = "border <= ";
+      char* end = std::to_chars(text + 10, text + 26, border).ptr;
+      *end++ = ' ';
+      *end++ = 'p';
+      *end++ = 'x';
+      r.fate.message.assign(text, size_t(end - text));
     }
   }
   // fine_search takes the decimated search's small shapes that size_filter finds too short or quad_fit cannot
