@@ -79,7 +79,21 @@ void App::run_action(const Action& a) {
   } else if (a.verb == "freeze" || a.verb == "unfreeze") {
     settings.frozen = a.verb == "freeze";
   } else if (a.verb == "next") {
+    // next: for scripts and tests, the window waits (up to 2 s) until a frame the source gave after this request is
+    // shown, whatever the machine's speed: two scripted steps a few frames apart had reached the worker as one, and
+    // a frame shown after a step could be the one before it. A still image or a video's end gives none.
     requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
+    handle_requests();
+    std::shared_ptr<const Frame> f = engine->latest();
+    const uint64_t before = std::max(frame ? frame->taken : 0, f ? f->taken : 0);
+    const auto end = Clock::now() + std::chrono::seconds(2);
+    while (Clock::now() < end) {
+      if (f && f->taken > before) {
+        frame = f;
+        break;
+      }
+      f = engine->wait_newer(f ? f->index : 0, 0.25);
+    }
   } else if (a.verb == "snapshot") {
     requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
   } else if (a.verb == "stage") {

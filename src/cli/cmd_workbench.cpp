@@ -15,7 +15,8 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "one JSON line of figures at exit. --scene loads a Lua scene or XML database (docs/scene-api.md) and "
                  "reloads it whenever the file changes.",
                  "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, "
-                 "source=SPEC, freeze, unfreeze, next, snapshot, stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
+                 "source=SPEC, freeze, unfreeze, next (waits until a new frame of the source is shown), snapshot, "
+                 "stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
                  "sweep, tour[=STEP], presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
                  "pixels; opens a web card), labels=KINDS (what the live view shows, a comma list of ids, dict, "
                  "rejected, truth, peers, or all or none), add_dictionary=NAME (searched too, as the Why panel's button does), "

@@ -103,6 +103,7 @@ struct Engine::Worker {
   std::deque<double> finished;   // finish times of the last second
   std::unique_ptr<SceneStage> stage;   // the Lua scene or XML database, once one was asked for
   uint64_t index = 0;
+  uint64_t taken = 0;   // the source's frames taken (Frame::taken)
   Clock::time_point t0 = Clock::now();
   // Calibration: the session (made when first asked for, kept when the workspace is left), the loaded file (as
   // read, and as fitted to the frames' size) and the undistortion maps of the calibration last used.
@@ -534,6 +535,7 @@ void Engine::State::run() {
             const auto* known = dynamic_cast<const TruthSource*>(w.source.get());
             w.raw_truth = known ? known->truth() : std::vector<TruthMarker>{};
             fresh = true;
+            ++w.taken;
           }
           break;
         case FrameStatus::same: break;
@@ -552,6 +554,7 @@ void Engine::State::run() {
       w.redetect = false;
       auto f = std::make_shared<Frame>();
       f->index = ++w.index;
+      f->taken = w.taken;
       f->time_s = now;
       f->source = w.info;
       f->capture_ms = w.capture_ms;
