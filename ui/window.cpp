@@ -79,21 +79,19 @@ void App::run_action(const Action& a) {
   } else if (a.verb == "freeze" || a.verb == "unfreeze") {
     settings.frozen = a.verb == "freeze";
   } else if (a.verb == "next") {
-    // next: for scripts and tests, the window waits (up to 2 s) until a frame the source gave after this request is
-    // shown, whatever the machine's speed: two scripted steps a few frames apart had reached the worker as one, and
-    // a frame shown after a step could be the one before it. A still image or a video's end gives none.
-    requests.push_back({ui::RequestKind::next_frame, "", 0, {}, {}});
-    handle_requests();
-    std::shared_ptr<const Frame> f = engine->latest();
-    const uint64_t before = std::max(frame ? frame->taken : 0, f ? f->taken : 0);
+    // next: the source's next frame, and for scripts and tests the window waits (up to 2 s) until the worker has
+    // taken it and shows it, whatever the machine's speed (two steps a few frames apart had reached the worker as
+    // one). A video or folder steps to the frame after the one shown (Next frame in the window takes what a
+    // playing video's clock has reached: possibly none yet); other sources give their next frame, and a still
+    // image none.
+    forward_settings();   // a freeze of this same frame reaches the worker first
+    const bool stepped = frame && (frame->source.kind == SourceKind::video || frame->source.kind == SourceKind::folder);
+    const uint64_t ticket = stepped ? engine->step(1) : engine->next_frame();
     const auto end = Clock::now() + std::chrono::seconds(2);
-    while (Clock::now() < end) {
-      if (f && f->taken > before) {
-        frame = f;
-        break;
-      }
-      f = engine->wait_newer(f ? f->index : 0, 0.25);
-    }
+    while (engine->served() < ticket && engine->running() && Clock::now() < end)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (engine->served() < ticket) warn("--actions next: the worker did not take the frame within 2 s");
+    if (auto f = engine->latest()) frame = f;
   } else if (a.verb == "snapshot") {
     requests.push_back({ui::RequestKind::snapshot, "", 0, {}, {}});
   } else if (a.verb == "stage") {

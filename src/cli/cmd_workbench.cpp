@@ -15,7 +15,8 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "one JSON line of figures at exit. --scene loads a Lua scene or XML database (docs/scene-api.md) and "
                  "reloads it whenever the file changes.",
                  "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, "
-                 "source=SPEC, freeze, unfreeze, next (waits until a new frame of the source is shown), snapshot, "
+                 "source=SPEC, freeze, unfreeze, next (the next frame; of a video or folder the one after the "
+                 "frame shown; waits up to 2 s until it is shown), snapshot, "
                  "stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
                  "sweep, tour[=STEP], presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
                  "pixels; opens a web card), labels=KINDS (what the live view shows, a comma list of ids, dict, "

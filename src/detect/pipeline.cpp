@@ -1192,7 +1192,8 @@ constexpr auto kMooreNext = moore_next_table();
 void trace_outer_borders(const BitRows& bits, int w, int h, const std::vector<BorderTrace>& borders) {
   static constexpr int dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};  // E SE S SW W NW N NE: clockwise on screen
   static constexpr int dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
-  // A pixel is the bit index, from the masks' first word, of the pixel to its west: x - 1 of its row.
+  // A pixel is the bit index, from the masks' base (the padding's first word), of the pixel to its west: x - 1 of
+  // its row.
   const int64_t row_bits = int64_t(bits.stride()) * 64;
   int64_t step[8];
   for (int k = 0; k < 8; ++k) step[k] = dy[k] * row_bits + dx[k];
@@ -1215,7 +1216,8 @@ void trace_outer_borders(const BitRows& bits, int w, int h, const std::vector<Bo
   auto pack = [](int64_t x, int64_t y) { return uint64_t(x + y * (int64_t(1) << 32)); };
   uint64_t move[8];
   for (int k = 0; k < 8; ++k) move[k] = pack(dx[k], dy[k]);
-  static_assert(sizeof(cv::Point) == sizeof(uint64_t));
+  static_assert(sizeof(cv::Point) == sizeof(uint64_t) && std::endian::native == std::endian::little,
+                "a point is x then y in one word, and a mask word's bit k is its byte k / 8's bit k % 8");
   // Each lane writes its border's points into its vector, grown to the reserved length and cut to the points at the
   // end (push_back kept the vector's end in memory, a store and a load a step).
   struct Lane {
@@ -1248,7 +1250,7 @@ void trace_outer_borders(const BitRows& bits, int w, int h, const std::vector<Bo
     }
     return false;
   };
-  // A lane out of room: its vector twice as long, or the border given up (a guard; a border is at most four steps
+  // A lane out of room: its vector twice as long, or the border cut there (a guard; a border is at most four steps
   // a pixel).
   auto grow = [&](Lane& lane) {
     const size_t n = size_t(lane.at - lane.out->data());
@@ -1262,12 +1264,12 @@ void trace_outer_borders(const BitRows& bits, int w, int h, const std::vector<Bo
   bool busy[kLanes];
   int running = 0;
   for (int l = 0; l < kLanes; ++l) running += busy[l] = begin(lanes[l]);
-  while (running > 0)
+  while (running > 0) {
 #pragma GCC unroll 4
     for (int l = 0; l < kLanes; ++l) {
       if (!busy[l]) continue;
       Lane& a = lanes[l];
-      const int e = kMooreNext[a.from][around(a.p)];
+      const int e = kMooreNext[a.from][around(a.p)];   // never kMooreNone: the pixel came from an on neighbour
       const int nd = e & 7;
       const int64_t q = a.p + step[nd];
       if ((a.p == a.start && q == a.second) || (a.at == a.end && !grow(a))) {
@@ -1280,6 +1282,7 @@ void trace_outer_borders(const BitRows& bits, int w, int h, const std::vector<Bo
       a.xy += move[nd];
       a.from = e >> 3;
     }
+  }
 }
 
 // find_contours of the nonzero regions, or when Light of the zero ones. `keep`, when given, is asked about each

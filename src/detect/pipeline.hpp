@@ -123,7 +123,7 @@ void sample_line(const cv::Mat& grey, cv::Point2d from, cv::Point2d step, std::s
 
 // quad_fit's search, in the polygon approximation: the first of the points c[0, n) farthest from p0, or when
 // `from_line` from the line through p0 along `dir` (as |cross product|: the distance times dir's length), in
-// integers; at -1 when n is 0. Four points at a time where the processor has AVX2.
+// integers; at -1 when n is 0. Sixteen points at a time with AVX-512, four with AVX2.
 struct Farthest {
   int64_t measure = -1;
   int at = -1;

@@ -60,6 +60,7 @@ struct Engine::Pending {
   std::optional<SyntheticControls> synthetic;
   std::optional<bool> frozen;
   bool next_frame = false;
+  uint64_t asked = 0;   // the last ticket of next_frame() or step() among these
   std::optional<std::pair<bool, bool>> peers;
   std::optional<std::string> scene_file;
   std::optional<bool> calibrating, calibration_capture, undistort;
@@ -103,7 +104,7 @@ struct Engine::Worker {
   std::deque<double> finished;   // finish times of the last second
   std::unique_ptr<SceneStage> stage;   // the Lua scene or XML database, once one was asked for
   uint64_t index = 0;
-  uint64_t taken = 0;   // the source's frames taken (Frame::taken)
+  uint64_t asked = 0;   // the last ticket of next_frame() or step() taken from the UI
   Clock::time_point t0 = Clock::now();
   // Calibration: the session (made when first asked for, kept when the workspace is left), the loaded file (as
   // read, and as fitted to the frames' size) and the undistortion maps of the calibration last used.
@@ -142,6 +143,7 @@ struct Engine::State {
   std::atomic<bool> running_{false};
   bool done_ = true;   // the thread has finished run() (guarded by mutex_)
   std::atomic<uint64_t> frames_{0};
+  std::atomic<uint64_t> asked_{0}, served_{0};   // next_frame()'s and step()'s tickets, and the last one served
   std::atomic<double> detect_fps_{0};
   SourceSpec source_in_use_;
 };
@@ -235,7 +237,11 @@ void Engine::set_playback(const Playback& p) { ARWB_SET(playback, p); }
 void Engine::seek(int position) { ARWB_SET(seek, position); }
 void Engine::set_synthetic(const SyntheticControls& c) { ARWB_SET(synthetic, c); }
 void Engine::set_frozen(bool frozen) { ARWB_SET(frozen, frozen); }
-void Engine::next_frame() { ARWB_SET(next_frame, true); }
+uint64_t Engine::next_frame() {
+  std::lock_guard lock(s_->mutex_);
+  s_->pending_->next_frame = true;
+  return s_->pending_->asked = ++s_->asked_;
+}
 void Engine::set_peers(bool opencv, bool apriltag) { ARWB_SET(peers, std::make_pair(opencv, apriltag)); }
 void Engine::load_scene(const std::string& path) { ARWB_SET(scene_file, path); }
 void Engine::set_calibrating(bool on) { ARWB_SET(calibrating, on); }
@@ -250,10 +256,13 @@ void Engine::drop_calibration_view(const std::string& name) {
   std::lock_guard lock(s_->mutex_);
   s_->pending_->calibration_drops.push_back(name);
 }
-void Engine::step(int delta) {
+uint64_t Engine::step(int delta) {
   std::lock_guard lock(s_->mutex_);
   s_->pending_->steps.push_back(delta);
+  return s_->pending_->asked = ++s_->asked_;
 }
+uint64_t Engine::served() const { return s_->served_.load(); }
+bool Engine::running() const { return s_->running_.load(); }
 
 double Engine::detect_fps() const { return s_->detect_fps_.load(); }
 uint64_t Engine::frames_done() const { return s_->frames_.load(); }
@@ -387,6 +396,7 @@ void Engine::State::run() {
       p = std::move(*pending_);
       *pending_ = Pending{};
     }
+    w.asked = std::max(w.asked, p.asked);
     if (p.source) {
       std::string err;
       std::unique_ptr<FrameSource> src;
@@ -535,7 +545,6 @@ void Engine::State::run() {
             const auto* known = dynamic_cast<const TruthSource*>(w.source.get());
             w.raw_truth = known ? known->truth() : std::vector<TruthMarker>{};
             fresh = true;
-            ++w.taken;
           }
           break;
         case FrameStatus::same: break;
@@ -554,7 +563,6 @@ void Engine::State::run() {
       w.redetect = false;
       auto f = std::make_shared<Frame>();
       f->index = ++w.index;
-      f->taken = w.taken;
       f->time_s = now;
       f->source = w.info;
       f->capture_ms = w.capture_ms;
@@ -645,8 +653,10 @@ void Engine::State::run() {
       detect_fps_ = double(w.finished.size());
       ++frames_;
       publish(std::move(f));
+      served_ = w.asked;   // after the frame it took is the latest
       continue;
     }
+    served_ = w.asked;   // the source gave nothing new (a still image, a paused video, its end)
     // 4. Idle until the next frame is due or a setting changes.
     const double wait = std::clamp(w.next_due - seconds_since(w.t0), 0.001, 0.02);
     std::unique_lock lock(mutex_);

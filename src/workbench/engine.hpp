@@ -73,11 +73,15 @@ class Engine {
   void set_dictionaries(const std::vector<std::string>& names);
   void set_acquisition(const AcquisitionSettings& a);
   void set_playback(const Playback& p);
-  void step(int delta);
+  // step() and next_frame() return a ticket: served() reaches it once the worker has taken that frame and, when the
+  // source gave a new one, published it (for scripts and tests that must see each step).
+  uint64_t step(int delta);
   void seek(int position);
   void set_synthetic(const SyntheticControls& c);
   void set_frozen(bool frozen);
-  void next_frame();                         // while frozen: take one new frame
+  uint64_t next_frame();                     // while frozen: take one new frame
+  uint64_t served() const;
+  bool running() const;   // the worker is running (started, not stopped)
   void set_peers(bool opencv, bool apriltag);
   // Loads a scene (Lua or XML database; "" unloads). Errors reach the frame's SceneStatus and the log; the last
   // good scene stays. The file is then watched and reloaded when it changes on disk.

@@ -38,7 +38,6 @@ struct PeerDetections {
 
 struct Frame {
   uint64_t index = 0;         // increases by one per published frame
-  uint64_t taken = 0;         // the source's frames taken so far: a frozen frame detected again keeps its count
   double time_s = 0;          // worker clock when it was captured
   cv::Mat image;              // BGR, after acquisition (the working image)
   FrameTrace trace;
