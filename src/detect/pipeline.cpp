@@ -789,11 +789,6 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
 
 namespace {
 
-struct Run {
-  int x0, x1;  // [x0, x1) on its row
-  int y;
-};
-
 // Union-find over the runs, in an array of its own (dense for the walks): a run's parent is never after it, so a
 // root is the first run of its region in raster order, which holds the region's top-left pixel.
 int find_root(std::vector<int>& parent, int i) {
@@ -869,31 +864,65 @@ void row_masks(const uint8_t* row, int w, int words, uint64_t* out) {
   for (; c < words; ++c) out[c] = row_mask<Light>(row, 64 * c, w);
 }
 
-// The pixels of a row's masks (`words` of them) where a run begins or ends, where a bit differs from the one before
-// it, in order into `out`, which has room for 16 past the last; returns how many. Scanning byte by byte
-// mispredicted a branch at every edge and was a third of the stage on a noisy threshold; visiting the set bits by
-// counting trailing zeros mispredicts once a word, when its bits run out; AVX-512 compresses the pixels of each 16
-// bits at once, with no branch (find_contours on the standard set's 640x480 frames, in the cache, 4-8 % faster).
-inline int row_edges_plain(const uint64_t* mid, int words, int* out) {
-  int n = 0;
-  uint64_t before = 0;   // the pixel before the current 64, as bit 0
-  for (int c = 0, x = 0; c < words; ++c, x += 64) {
-    const uint64_t m = mid[c];
-    for (uint64_t e = m ^ ((m << 1) | before); e; e &= e - 1) out[n++] = x + std::countr_zero(e);
-    before = m >> 63;
+// A buffer kept from call to call grows to n and never shrinks: growing it again, for the next frame after a smaller
+// image (coarse_search's), would zero its new part.
+template <typename T>
+void at_least(std::vector<T>& buffer, size_t n) {
+  if (buffer.size() < n) buffer.resize(n);
+}
+
+// A row's edges: bit k of edge word c is set where pixel 64c + k differs from the one before it, where a run of the
+// row begins or ends. A row's masks have `words` words and its end word of nothing after them, so its edge words
+// are words + 1: the last holds the end of a run that reaches the row's end at a multiple of 64. before[c] is the
+// number of edges in the words before c (to c = words + 1, all of them).
+struct RowEdges {
+  std::vector<uint64_t> bits;
+  std::vector<int> before;
+  void reserve(int words) {
+    at_least(bits, size_t(words) + 1);
+    at_least(before, size_t(words) + 2);
   }
+  // From a row's masks (`words` of them and the end word).
+  [[gnu::always_inline]] int find(const uint64_t* mid, int words) {
+    uint64_t carry = 0;   // the pixel before the current 64, as bit 0
+    int n = 0;
+    for (int c = 0; c <= words; ++c) {
+      const uint64_t m = mid[c];
+      const uint64_t e = m ^ ((m << 1) | carry);
+      carry = m >> 63;
+      bits[size_t(c)] = e;
+      before[size_t(c)] = n;
+      n += std::popcount(e);
+    }
+    before[size_t(words) + 1] = n;
+    return n;
+  }
+  // The edges left of pixel x (0 <= x <= 64 * (words + 1) - 1).
+  [[gnu::always_inline]] int rank(int x) const {
+    const uint64_t below = bits[size_t(x >> 6)] & ((uint64_t(1) << (x & 63)) - 1);
+    return before[size_t(x >> 6)] + std::popcount(below);
+  }
+};
+
+// The pixels where a row's runs begin and end, from its edge words (`words` of them), in order into `out`, which
+// has room for 16 past the last; returns how many. Scanning byte by byte mispredicted a branch at every edge and was
+// a third of the stage on a noisy threshold; visiting the set bits by counting trailing zeros mispredicts once a
+// word, when its bits run out; AVX-512 compresses the pixels of each 16 bits at once, with no branch (find_contours
+// on the standard set's 640x480 frames, in the cache, 4-8 % faster).
+inline int row_edges_plain(const uint64_t* edge_bits, int words, int* out) {
+  int n = 0;
+  for (int c = 0, x = 0; c < words; ++c, x += 64)
+    for (uint64_t e = edge_bits[c]; e; e &= e - 1) out[n++] = x + std::countr_zero(e);
   return n;
 }
 #if defined(__x86_64__) || defined(__i386__)
-__attribute__((target("avx512f,avx512bw,popcnt"))) int row_edges_avx512(const uint64_t* mid, int words, int* out) {
+__attribute__((target("avx512f,avx512bw,popcnt"))) int row_edges_avx512(const uint64_t* edge_bits, int words,
+                                                                        int* out) {
   int n = 0;
-  uint64_t before = 0;
   const __m512i sixteen = _mm512_set1_epi32(16);
   __m512i x = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (int c = 0; c < words; ++c) {
-    const uint64_t m = mid[c];
-    const uint64_t e = m ^ ((m << 1) | before);
-    before = m >> 63;
+    const uint64_t e = edge_bits[c];
     if (e == 0) {   // no edge (most words): compressing nothing four times was half of this on AMD Zen 4
       x = _mm512_add_epi32(x, _mm512_set1_epi32(64));
       continue;
@@ -911,45 +940,31 @@ __attribute__((target("avx512f,avx512bw,popcnt"))) int row_edges_avx512(const ui
   return n;
 }
 #endif
-inline int row_edges(const uint64_t* mid, int words, int* out) {
+inline int row_edges(const uint64_t* edge_bits, int words, int* out) {
 #if defined(__x86_64__) || defined(__i386__)
-  if (simd() >= Simd::avx512) return row_edges_avx512(mid, words, out);
+  if (simd() >= Simd::avx512) return row_edges_avx512(edge_bits, words, out);
 #endif
-  return row_edges_plain(mid, words, out);
+  return row_edges_plain(edge_bits, words, out);
 }
 
-// One row's runs' ends apart (x0 and x1 each in an array), padded to a multiple of 16 with INT_MAX.
-struct RowRuns {
-  std::vector<int> x0, x1;
-  void reserve(int w) {
-    const size_t n = size_t(w / 2 + 1 + 16);
-    if (x0.size() < n) x0.resize(n), x1.resize(n);
-  }
-};
-
-#if defined(__x86_64__) || defined(__i386__)
-// Joins each of a row's n runs (`here`, the first of them run `begin`) to the runs it touches in the row above
-// (`above`, above_n runs from run `above_begin`; both rows' ends padded to a multiple of 16 with INT_MAX). The runs
-// above that [b0, b1) touches are those from the first not wholly before it (x1 < b0) to the last that begins by its
-// end (x0 <= b1): each bound a count over the row above, sixteen runs a compare, with no branch on the data but
-// the number touched. The walk in region_contours takes two data-dependent branches a pair of runs (on the
-// standard set's 640x480 frames, in the cache, find_contours' best of six paired runs 151 -> 140 us).
-__attribute__((target("avx512f,popcnt"))) void join_rows_avx512(const RowRuns& above, int above_begin, int above_n,
-                                                               const RowRuns& here, int begin, int n,
-                                                               std::vector<int>& parent) {
+// Joins each of a row's runs (`edge`: its n runs' ends in turn, the first of them run `begin`) to the runs it
+// touches in the row above (from run `above_begin`, with its edges `above`). 8-connected, [a0,a1) and [b0,b1) on
+// neighbouring rows touch when a0 <= b1 and b0 <= a1. A row's edges go up in turn, a0 < a1 < the next a0: the runs
+// above wholly before b (a1 < b0) are half the edges left of b0, rounded down, and those that begin by b's end
+// (a0 <= b1) half the edges left of b1 + 1, rounded up. Each is a count of bits in the row above's edge words,
+// with no walk and no branch on the data but the number touched: the merge walk took two data-dependent branches
+// a pair of runs, and counting with AVX-512 compares along the row above grew with its runs (on the hard 36h11
+// set's 640x480 frames, two sixteen-run compares a run).
+[[gnu::always_inline]] inline void join_row_body(const RowEdges& above, int above_begin, const int* ends, int begin,
+                                                 int n, std::vector<int>& parent) {
   for (int k = 0; k < n; ++k) {
-    const __m512i v0 = _mm512_set1_epi32(here.x0[size_t(k)]), v1 = _mm512_set1_epi32(here.x1[size_t(k)]);
-    int first = 0, last = 0;
-    for (int c = 0; c < above_n; c += 16) {
-      first += std::popcount(unsigned(_mm512_cmplt_epi32_mask(_mm512_loadu_si512(above.x1.data() + c), v0)));
-      last += std::popcount(unsigned(_mm512_cmple_epi32_mask(_mm512_loadu_si512(above.x0.data() + c), v1)));
-    }
+    const int first = above.rank(ends[2 * k]) / 2, last = (above.rank(ends[2 * k + 1] + 1) + 1) / 2;
     // A run that touches one run above (nearly every run of a large region) takes that run's parent, a run of
     // the same region and before it, without looking for the root: one load, where find_root's loop cost a chain of
     // loads and a mispredicted exit. The final pass takes every run to its root. A run that touches none is its
-    // own (parent[self] is self until here), chosen without a branch.
-    const int self = begin + k;
-    parent[size_t(self)] = parent[size_t(first < last ? above_begin + first : self)];
+    // own. The choice as a mask: GCC made `first < last ? ... : self` a branch, which a noisy row mispredicts.
+    const int self = begin + k, touches = -int(first < last);
+    parent[size_t(self)] = (parent[size_t(above_begin + first)] & touches) | (self & ~touches);
     if (last - first < 2) continue;
     // It touches two or more: their regions are one, under the earliest root.
     int joined = find_root(parent, parent[size_t(self)]);
@@ -964,14 +979,28 @@ __attribute__((target("avx512f,popcnt"))) void join_rows_avx512(const RowRuns& a
     }
   }
 }
-#endif
-
-// A buffer kept from call to call grows to n and never shrinks: growing it again, for the next frame after a smaller
-// image (coarse_search's), would zero its new part.
-template <typename T>
-void at_least(std::vector<T>& buffer, size_t n) {
-  if (buffer.size() < n) buffer.resize(n);
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("popcnt"))) void join_row_popcnt(const RowEdges& above, int above_begin, const int* ends,
+                                                       int begin, int n, std::vector<int>& parent) {
+  join_row_body(above, above_begin, ends, begin, n, parent);
 }
+__attribute__((target("popcnt"))) int find_edges_popcnt(RowEdges& row, const uint64_t* mid, int words) {
+  return row.find(mid, words);
+}
+#endif
+void join_row(const RowEdges& above, int above_begin, const int* ends, int begin, int n, std::vector<int>& parent) {
+#if defined(__x86_64__) || defined(__i386__)
+  if (simd() >= Simd::avx2) return join_row_popcnt(above, above_begin, ends, begin, n, parent);
+#endif
+  join_row_body(above, above_begin, ends, begin, n, parent);
+}
+int find_edges(RowEdges& row, const uint64_t* mid, int words) {
+#if defined(__x86_64__) || defined(__i386__)
+  if (simd() >= Simd::avx2) return find_edges_popcnt(row, mid, words);
+#endif
+  return row.find(mid, words);
+}
+
 
 // A binary image as bit masks: row y's `words` words at row(y), bit k of word c the pixel 64c + k. Rows of nothing
 // above and below it and a word of nothing at each end of a row let the neighbours of any pixel be read unchecked.
@@ -1339,7 +1368,8 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   const int w = binary.cols, h = binary.rows;
   // The runs and boxes of one call, kept per thread from call to call: a noisy 640x480 frame has 28000 runs, and
   // growing and zeroing fresh buffers that large every frame cost more than the scan.
-  thread_local std::vector<Run> runs;
+  thread_local std::vector<int> ends;   // run i is [ends[2i], ends[2i + 1]) on its row
+  thread_local std::vector<int> row_begin;   // row y's runs are from row_begin[y] to row_begin[y + 1]
   thread_local std::vector<int> parent;
   int run_count = 0;   // the runs so far (the buffers only grow: resizing them row by row zeroed each new part)
   // The image as bit masks, 64 pixels a word (one bit a pixel, set where it is on), row by row, with rows of
@@ -1362,81 +1392,32 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   // regions that fit in 5x5 pixels when a 5x5 box's border, 20 pixels, is short and they need no count, else in 3x3
   // pixels (12). Not when `small` lists the small regions: it keeps them in the regions' order.
   const int dropped = small ? 0 : drop_small_regions(bits, min_perimeter_px, region_count != nullptr);
-  int prev_begin = 0, prev_end = 0;
-#if defined(__x86_64__) || defined(__i386__)
-  const bool wide = simd() >= Simd::avx512;
-  thread_local RowRuns above, here;   // the row above's and this row's runs' ends, for the wide walk
-  if (wide) {
-    above.reserve(w);
-    here.reserve(w);
-  }
-#endif
-  thread_local std::vector<int> edge;   // one row's run ends, alternately where a run begins and where it ends
-  at_least(edge, size_t(w) + 2 + 16);     // (row_edges writes 16 at a time)
+  int prev_begin = 0;
+  thread_local RowEdges above, here;   // the row above's edges and this row's
+  above.reserve(words);
+  here.reserve(words);
+  std::fill_n(above.bits.begin(), words + 1, 0);   // the row above the first: nothing
+  std::fill_n(above.before.begin(), words + 2, 0);
+  at_least(row_begin, size_t(h) + 1);
   for (int y = 0; y < h; ++y) {
-    const int begin = run_count;
-    const uint64_t* mid = bits.row(y);
+    const int begin = row_begin[size_t(y)] = run_count;
     // A run begins or ends where a bit differs from the one before it; those bits are visited by counting trailing
-    // zeros and written in turn, and the runs are their pairs. Scanning byte by byte mispredicted a branch at every
-    // edge and was a third of the stage on a noisy threshold.
-    int edges = row_edges(mid, words, edge.data());
-    if (edges % 2) edge[size_t(edges++)] = w;   // a run to the row's end
-    run_count = begin + edges / 2;
-    at_least(runs, size_t(run_count));
+    // zeros and written in turn, and the runs are their pairs.
+    find_edges(here, bits.row(y), words);
+    at_least(ends, 2 * size_t(begin) + size_t(w) + 1 + 16);   // a row's edges, and 16 more (row_edges' stores)
+    const int n = row_edges(here.bits.data(), words + 1, ends.data() + 2 * begin) / 2;
+    run_count = begin + n;
     at_least(parent, size_t(run_count));
-    for (int k = 0; k < edges / 2; ++k) {
-      runs[size_t(begin + k)] = {edge[size_t(2 * k)], edge[size_t(2 * k + 1)], y};
-      parent[size_t(begin + k)] = begin + k;
-    }
-    // 8-connected: [a0,a1) and [b0,b1) on neighbouring rows touch when a0 <= b1 and b0 <= a1. A run of this row
-    // joins the region of the first run above it that it touches (its root is earlier); a second one it touches
-    // unites the two regions under the earlier root.
-    const int end = run_count;
-#if defined(__x86_64__) || defined(__i386__)
-    if (wide) {   // join_rows_avx512
-      std::swap(above, here);
-      const int n = end - begin;
-      for (int k = 0; k < n; ++k) {
-        here.x0[size_t(k)] = runs[size_t(begin + k)].x0;
-        here.x1[size_t(k)] = runs[size_t(begin + k)].x1;
-      }
-      for (int k = n; k < (n + 15) / 16 * 16; ++k) here.x0[size_t(k)] = here.x1[size_t(k)] = INT_MAX;
-      join_rows_avx512(above, prev_begin, prev_end - prev_begin, here, begin, n, parent);
-      prev_begin = begin;
-      prev_end = end;
-      continue;
-    }
-#endif
-    int i = prev_begin, j = begin;
-    int joined = -1;   // the root of run j's region once it has joined one above, else -1
-    while (i < prev_end && j < end) {
-      const Run &a = runs[size_t(i)], &b = runs[size_t(j)];
-      if (a.x0 <= b.x1 && b.x0 <= a.x1) {
-        const int r = find_root(parent, i);
-        if (joined < 0) {
-          parent[size_t(j)] = joined = r;
-        } else if (r < joined) {
-          parent[size_t(joined)] = r;
-          joined = r;
-        } else if (r > joined) {
-          parent[size_t(r)] = joined;
-        }
-      }
-      if (a.x1 < b.x1) {
-        ++i;
-      } else {
-        ++j;
-        joined = -1;
-      }
-    }
+    join_row(above, prev_begin, ends.data() + 2 * begin, begin, n, parent);
+    std::swap(above, here);
     prev_begin = begin;
-    prev_end = end;
   }
+  row_begin[size_t(h)] = run_count;
   // Every run points at its root, in one pass (a run's parent is before it, so already points at its root), and
   // the bounding box of each region gathers at its root: the root is its first run in raster order, so it starts
   // the box and the last run seen ends it. Without a branch on the data (on a noisy frame a fifth of the runs are
-  // roots, at no pattern): each run's box starts as its own, and a run widens its root's (a root, its own: no
-  // change); the roots are listed as they come.
+  // roots, at no pattern): a root's box is its own run's, chosen by mask, and a run widens its root's; the roots
+  // are listed as they come.
   struct Box {
     int x0, y0, x1, y1;
   };
@@ -1444,21 +1425,21 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   thread_local std::vector<int> roots;
   at_least(boxes, size_t(run_count));
   at_least(roots, size_t(run_count));
-  for (int i = 0; i < run_count; ++i) {
-    const Run& run = runs[size_t(i)];
-    boxes[size_t(i)] = {run.x0, run.y, run.x1 - 1, run.y};
-  }
+  for (int y = 0; y < h; ++y)
+    for (int i = row_begin[size_t(y)]; i < row_begin[size_t(y) + 1]; ++i)
+      boxes[size_t(i)] = {ends[2 * size_t(i)], y, ends[2 * size_t(i) + 1] - 1, y};
   int root_count = 0;
-  for (int i = 0; i < run_count; ++i) {
-    const int r = parent[size_t(parent[size_t(i)])];
-    parent[size_t(i)] = r;
-    const Run& run = runs[size_t(i)];
-    Box& b = boxes[size_t(r)];
-    b.x0 = std::min(b.x0, run.x0);
-    b.x1 = std::max(b.x1, run.x1 - 1);
-    b.y1 = run.y;
-    roots[size_t(root_count)] = i;
-    root_count += r == i;
+  for (int y = 0; y < h; ++y) {
+    for (int i = row_begin[size_t(y)]; i < row_begin[size_t(y) + 1]; ++i) {
+      const int r = parent[size_t(parent[size_t(i)])];
+      parent[size_t(i)] = r;
+      Box& b = boxes[size_t(r)];
+      b.x0 = std::min(b.x0, ends[2 * size_t(i)]);
+      b.x1 = std::max(b.x1, ends[2 * size_t(i) + 1] - 1);
+      b.y1 = y;
+      roots[size_t(root_count)] = i;
+      root_count += r == i;
+    }
   }
   std::vector<std::vector<cv::Point>> contours;
   thread_local std::vector<BorderTrace> borders;
@@ -1478,7 +1459,7 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
       if (!keep(cv::Rect(tl, br + cv::Point(1, 1)))) continue;
     }
     contours.emplace_back().reserve(size_t(2 * (bw + bh)));   // a convex border's length: one allocation, mostly
-    borders.push_back({cv::Point(runs[size_t(i)].x0, runs[size_t(i)].y), nullptr});
+    borders.push_back({cv::Point(ends[2 * size_t(i)], b.y0), nullptr});   // the root's run begins the box
   }
   for (size_t k = 0; k < borders.size(); ++k) borders[k].out = &contours[k];
   trace_outer_borders(bits, w, h, borders);
