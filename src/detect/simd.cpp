@@ -30,7 +30,8 @@ Simd simd_of_cpu() {
   return cpu;
 }
 
-Simd simd() { return Simd(std::min(int(simd_of_cpu()), cap.load(std::memory_order_relaxed))); }
+// (Before this is set, while other files' statics start, simd() says none: the plain paths, never a wrong one.)
+std::atomic<int> detail::simd_level{int(simd_of_cpu())};
 
 const char* simd_name(Simd level) {
   switch (level) {
@@ -49,7 +50,12 @@ std::vector<Simd> simd_levels_here() {
   return levels;
 }
 
-SimdCap::SimdCap(Simd most) : previous_(cap.exchange(int(most))) {}
-SimdCap::~SimdCap() { cap.store(previous_); }
+SimdCap::SimdCap(Simd most) : previous_(cap.exchange(int(most))) {
+  detail::simd_level.store(std::min(int(simd_of_cpu()), int(most)));
+}
+SimdCap::~SimdCap() {
+  cap.store(previous_);
+  detail::simd_level.store(std::min(int(simd_of_cpu()), previous_));
+}
 
 }  // namespace arwb

@@ -3,6 +3,7 @@
 // can, and checks each against the plain C++ one.
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 namespace arwb {
@@ -16,8 +17,14 @@ enum class Simd : int {
   avx512_vbmi,   // and VBMI and VNNI (Ice Lake and later, Zen 4): the grey conversion's byte permutes and dot products
 };
 
-// The widest level the processor has, below the cap when a SimdCap is alive.
-Simd simd();
+namespace detail {
+// simd()'s answer, set when the program starts and by SimdCap.
+extern std::atomic<int> simd_level;
+}  // namespace detail
+
+// The widest level the processor has, below the cap when a SimdCap is alive. Inline, one load: the kernels ask it
+// per row, and as a call it was 1 % of the detector's time on a 640x480 frame.
+inline Simd simd() { return Simd(detail::simd_level.load(std::memory_order_relaxed)); }
 // The processor's own level, whatever the cap.
 Simd simd_of_cpu();
 // "none", "ssse3", "avx2", "avx512", "avx512vbmi".
