@@ -789,7 +789,7 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
 
 namespace {
 
-// Union-find over the runs, in an array of its own (dense for the walks): a run's parent is never after it, so a
+// Union-find over the runs, in an array of its own (dense for the joins and the final pass): a run's parent is never after it, so a
 // root is the first run of its region in raster order, which holds the region's top-left pixel.
 int find_root(std::vector<int>& parent, int i) {
   while (parent[size_t(i)] != i) {
@@ -874,13 +874,13 @@ void at_least(std::vector<T>& buffer, size_t n) {
 // A row's edges: bit k of edge word c is set where pixel 64c + k differs from the one before it, where a run of the
 // row begins or ends. A row's masks have `words` words and its end word of nothing after them, so its edge words
 // are words + 1: the last holds the end of a run that reaches the row's end at a multiple of 64. before[c] is the
-// number of edges in the words before c (to c = words + 1, all of them).
+// number of edges in the words before c.
 struct RowEdges {
   std::vector<uint64_t> bits;
   std::vector<int> before;
   void reserve(int words) {
     at_least(bits, size_t(words) + 1);
-    at_least(before, size_t(words) + 2);
+    at_least(before, size_t(words) + 1);
   }
   // From a row's masks (`words` of them and the end word).
   [[gnu::always_inline]] int find(const uint64_t* mid, int words) {
@@ -894,7 +894,6 @@ struct RowEdges {
       before[size_t(c)] = n;
       n += std::popcount(e);
     }
-    before[size_t(words) + 1] = n;
     return n;
   }
   // The edges left of pixel x (0 <= x <= 64 * (words + 1) - 1).
@@ -907,8 +906,9 @@ struct RowEdges {
 // The pixels where a row's runs begin and end, from its edge words (`words` of them), in order into `out`, which
 // has room for 16 past the last; returns how many. Scanning byte by byte mispredicted a branch at every edge and was
 // a third of the stage on a noisy threshold; visiting the set bits by counting trailing zeros mispredicts once a
-// word, when its bits run out; AVX-512 compresses the pixels of each 16 bits at once, with no branch (find_contours
-// on the standard set's 640x480 frames, in the cache, 4-8 % faster).
+// word, when its bits run out; AVX-512 compresses the pixels of each 16 bits at once, with no branch (when this
+// also made the edge bits from the masks, find_contours on the standard set's 640x480 frames, in the cache, was 4-8 %
+// faster for it).
 inline int row_edges_plain(const uint64_t* edge_bits, int words, int* out) {
   int n = 0;
   for (int c = 0, x = 0; c < words; ++c, x += 64)
@@ -947,14 +947,14 @@ inline int row_edges(const uint64_t* edge_bits, int words, int* out) {
   return row_edges_plain(edge_bits, words, out);
 }
 
-// Joins each of a row's runs (`edge`: its n runs' ends in turn, the first of them run `begin`) to the runs it
+// Joins each of a row's runs (`ends`: its n runs' ends in turn, the first of them run `begin`) to the runs it
 // touches in the row above (from run `above_begin`, with its edges `above`). 8-connected, [a0,a1) and [b0,b1) on
 // neighbouring rows touch when a0 <= b1 and b0 <= a1. A row's edges go up in turn, a0 < a1 < the next a0: the runs
 // above wholly before b (a1 < b0) are half the edges left of b0, rounded down, and those that begin by b's end
 // (a0 <= b1) half the edges left of b1 + 1, rounded up. Each is a count of bits in the row above's edge words,
-// with no walk and no branch on the data but the number touched: the merge walk took two data-dependent branches
-// a pair of runs, and counting with AVX-512 compares along the row above grew with its runs (on the hard 36h11
-// set's 640x480 frames, two sixteen-run compares a run).
+// with no walk and no branch on the data but the number touched: the merge walk this replaced took two
+// data-dependent branches a pair of runs, and the AVX-512 compares along the row above that replaced the walk grew
+// with that row's runs.
 [[gnu::always_inline]] inline void join_row_body(const RowEdges& above, int above_begin, const int* ends, int begin,
                                                  int n, std::vector<int>& parent) {
   for (int k = 0; k < n; ++k) {
@@ -1084,8 +1084,9 @@ template <typename W, int R>
 // Takes the specks out of `bits`, the pixels on with none of their eight neighbours on (each a region of its own),
 // and returns how many it took when Count (else 0): in one pass, each pixel kept where a neighbour is on (into a
 // buffer, then back). On a noisy threshold the specks sit in the rings drop_small_regions_body reads, and kept
-// the small regions they ring from being taken: taking them first left a third fewer runs on the hard set's
-// 640x480 frames, for a pass much cheaper than drop_small_regions_body's for K = 1.
+// the small regions they ring from being taken: taking them first left about a quarter fewer runs on the 640x480
+// frames of the hard and standard sets (36h11: 7176 -> 5290 and 4876 -> 3752 a frame), for a pass much cheaper than
+// the 1x1 window of drop_small_regions_body's that it replaced.
 template <typename W, bool Count>
 [[gnu::always_inline]] inline int drop_specks_body(const BitRows& bits) {
   const ptrdiff_t s = bits.stride(), n = ptrdiff_t(bits.length());
@@ -1397,12 +1398,12 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   above.reserve(words);
   here.reserve(words);
   std::fill_n(above.bits.begin(), words + 1, 0);   // the row above the first: nothing
-  std::fill_n(above.before.begin(), words + 2, 0);
+  std::fill_n(above.before.begin(), words + 1, 0);
   at_least(row_begin, size_t(h) + 1);
   for (int y = 0; y < h; ++y) {
     const int begin = row_begin[size_t(y)] = run_count;
-    // A run begins or ends where a bit differs from the one before it; those bits are visited by counting trailing
-    // zeros and written in turn, and the runs are their pairs.
+    // A run begins or ends where a bit differs from the one before it: the row's edge bits (RowEdges::find), their
+    // pixels written in turn (row_edges), and the runs are their pairs.
     find_edges(here, bits.row(y), words);
     at_least(ends, 2 * size_t(begin) + size_t(w) + 1 + 16);   // a row's edges, and 16 more (row_edges' stores)
     const int n = row_edges(here.bits.data(), words + 1, ends.data() + 2 * begin) / 2;
@@ -1416,8 +1417,8 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, doubl
   // Every run points at its root, in one pass (a run's parent is before it, so already points at its root), and
   // the bounding box of each region gathers at its root: the root is its first run in raster order, so it starts
   // the box and the last run seen ends it. Without a branch on the data (on a noisy frame a fifth of the runs are
-  // roots, at no pattern): a root's box is its own run's, chosen by mask, and a run widens its root's; the roots
-  // are listed as they come.
+  // roots, at no pattern): each run's box starts as its own, and a run widens its root's (a root, its own: no
+  // change); the roots are listed as they come.
   struct Box {
     int x0, y0, x1, y1;
   };

@@ -30,8 +30,9 @@ Simd simd_of_cpu() {
   return cpu;
 }
 
-// (Before this is set, while other files' statics start, simd() says none: the plain paths, never a wrong one.)
-std::atomic<int> detail::simd_level{int(simd_of_cpu())};
+// (Before this is set, while other files' statics start, simd() says none: the plain paths, never a wrong one. A
+// SimdCap made then is kept: the cap is set before any file's statics start.)
+std::atomic<int> detail::simd_level{std::min(int(simd_of_cpu()), cap.load())};
 
 const char* simd_name(Simd level) {
   switch (level) {
