@@ -789,8 +789,8 @@ cv::Mat adaptive_threshold(const cv::Mat& grey, const DetectorParams& p, cv::Mat
 
 namespace {
 
-// Union-find over the runs, in an array of its own (dense for the joins and the final pass): a run's parent is never after it, so a
-// root is the first run of its region in raster order, which holds the region's top-left pixel.
+// Union-find over the runs, in an array of its own (dense for the joins and the final pass): a run's parent is never
+// after it, so a root is the first run of its region in raster order, which holds the region's top-left pixel.
 int find_root(std::vector<int>& parent, int i) {
   while (parent[size_t(i)] != i) {
     parent[size_t(i)] = parent[size_t(parent[size_t(i)])];  // path halving
@@ -1000,7 +1000,6 @@ int find_edges(RowEdges& row, const uint64_t* mid, int words) {
 #endif
   return row.find(mid, words);
 }
-
 
 // A binary image as bit masks: row y's `words` words at row(y), bit k of word c the pixel 64c + k. Rows of nothing
 // above and below it and a word of nothing at each end of a row let the neighbours of any pixel be read unchecked.
