@@ -8,8 +8,8 @@
 //   the rest   the pixels, row by row, repeated when short (black when none)
 // Markers are in image pixels, inside the (acquired) image, with ids inside their dictionary.
 #include "detect/detector.hpp"
-#include "detect/trace_json.hpp"
-#include "detect/trace_view.hpp"
+#include "inspect/trace_json.hpp"
+#include "inspect/trace_view.hpp"
 
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>

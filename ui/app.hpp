@@ -4,7 +4,7 @@
 // they see only ui/context.hpp.
 #pragma once
 
-#include "detect/diagnose.hpp"
+#include "inspect/diagnose.hpp"
 #include "export/bundle.hpp"
 #include "lab/session.hpp"
 #include "teach/tour.hpp"

@@ -5,8 +5,8 @@
 // to the worker, and reports back through the Status.
 #pragma once
 
-#include "detect/board_spec.hpp"
-#include "detect/diagnose.hpp"
+#include "board/board_spec.hpp"
+#include "inspect/diagnose.hpp"
 #include "lab/plan.hpp"
 #include "lab/session.hpp"
 #include "lab/videos.hpp"

@@ -9,6 +9,7 @@
 #include "ui/app.hpp"
 
 #include "base/files.hpp"
+#include "base/version.hpp"
 #include "capture/image_io.hpp"
 #include "synth/marker_sheet.hpp"
 
@@ -24,9 +25,6 @@
 #include <iterator>
 #include <utility>
 
-#ifndef ARWB_VERSION
-#define ARWB_VERSION "unknown"
-#endif
 
 namespace arwb {
 
@@ -474,7 +472,7 @@ void App::draw_dialogs(ui::Context& ctx) {
   }
   if (show_about) {
     centred_window("About ArUco Workbench", &show_about, {560 * ctx.scale, 300 * ctx.scale}, {0, 0});
-    ImGui::Text("ArUco Workbench %s", ARWB_VERSION);
+    ImGui::Text("ArUco Workbench %s", kVersion);
     // No initials: ImGui 1.86 may wrap a line after a full stop, which would leave a lone comma.
     ImGui::TextWrapped("Seeing, teaching and scripting marker-based augmented reality, after Avola, Cinque, Foresti, "
                        "Mercuri and Pannone: \"A Practical Framework for the Development of Augmented Reality "

@@ -1,7 +1,7 @@
 // Pipeline: every stage as a thumbnail in pipeline order, with its time and counts. The one clicked is shown
 // large. Stages drawn over the frame use the live view's zoom and pan (one shared ImageViewState), so a pixel
 // here is the same pixel there; the per-candidate mosaics (frontal views, grids) have a view of their own.
-#include "detect/trace_view.hpp"
+#include "inspect/trace_view.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 

@@ -3,7 +3,7 @@
 // Every frame refused says why.
 #pragma once
 
-#include "detect/board_spec.hpp"
+#include "board/board_spec.hpp"
 
 #include <opencv2/core.hpp>
 

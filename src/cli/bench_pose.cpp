@@ -2,7 +2,7 @@
 
 #include "base/decimals.hpp"
 #include "detect/detector.hpp"
-#include "detect/peers.hpp"
+#include "peers/peers.hpp"
 #include "pose/marker_pose.hpp"
 #include "synth/marker_view.hpp"
 #include "track/tracker.hpp"

@@ -1,6 +1,6 @@
 #include "cli/bench_score.hpp"
 
-#include "detect/match.hpp"
+#include "peers/match.hpp"
 
 #include <algorithm>
 #include <numeric>

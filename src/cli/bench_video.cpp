@@ -5,7 +5,7 @@
 #include "cli/bench_score.hpp"
 #include "cli/cli_common.hpp"
 #include "detect/detector.hpp"
-#include "detect/peers.hpp"
+#include "peers/peers.hpp"
 #include "detect/video_search.hpp"
 #include "synth/synth.hpp"
 #include "synth/synthetic_world.hpp"

@@ -9,7 +9,7 @@
 #include "detect/detector.hpp"
 #include "detect/video_search.hpp"
 #include "synth/synthetic_source.hpp"
-#include "detect/trace_view.hpp"
+#include "inspect/trace_view.hpp"
 #include "render/compositor.hpp"
 #include "render/offscreen.hpp"
 

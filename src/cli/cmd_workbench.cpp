@@ -2,6 +2,7 @@
 // also `arwb --help`, so it lists the subcommands too.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "base/version.hpp"
 #include "base/data_dirs.hpp"
 
 #include <cstdio>
@@ -60,7 +61,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  {{"assets", "presets, the tour, the sample image: " + data_dirs().assets},
                   {"examples", "the example scenes: " + data_dirs().examples}});
 
-  cl.app.set_version_flag("--version", "arwb " ARWB_VERSION, "print the version and exit");
+  cl.app.set_version_flag("--version", std::string("arwb ") + kVersion, "print the version and exit");
   WorkbenchOptions o;
   std::string source, dict = "ARUCO_ORIGINAL", params, size = "1600x900", resize = "640x480", actions;
   cl.app.add_option("--source", source,

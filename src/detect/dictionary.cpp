@@ -2,10 +2,9 @@
 
 #include "base/files.hpp"
 #include "base/text.hpp"
-#include "detect/simd.hpp"
+#include "detect/kernels/kernels.hpp"
 #include "detect/yaml_file.hpp"
 
-#include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 
 #include <algorithm>
@@ -15,10 +14,6 @@
 #include <map>
 #include <mutex>
 #include <sstream>
-
-#if defined(__x86_64__)
-#include <immintrin.h>
-#endif
 
 namespace arwb {
 
@@ -76,114 +71,27 @@ cv::Mat Dictionary::render(int id, int px_per_cell) const {
 
 namespace {
 
-using Codes = std::vector<std::array<uint64_t, 4>>;
-
-// The scans read every marker in its 4 rotations: 4096 popcounts for ARUCO_ORIGINAL, once per candidate that
-// reaches identification. x86-64's baseline has no POPCNT instruction and the compiler's stand-in is several times
-// slower, so on x86-64 each scan is also built for POPCNT and the processor's own chooses, once.
-inline DictMatch scan_nearest(const Codes& codes, uint64_t code) {
-  DictMatch best{-1, 0, 65};
-  for (size_t id = 0; id < codes.size(); ++id)
-    for (int k = 0; k < 4; ++k) {
-      const int d = std::popcount(code ^ codes[id][static_cast<size_t>(k)]);
-      if (d < best.hamming) {
-        best = {static_cast<int>(id), k, d};
-        if (d == 0) return best;  // nothing later replaces the first exact match (ties keep the lowest)
-      }
-    }
-  return best;
+// codes_ as one array, codes[4 id + k] (an array of four has no padding).
+const uint64_t* flat(const std::vector<std::array<uint64_t, 4>>& codes) {
+  static_assert(sizeof(std::array<uint64_t, 4>) == 4 * sizeof(uint64_t));
+  return reinterpret_cast<const uint64_t*>(codes.data());
 }
 
-inline std::array<DictMatch, 4> scan_per_rotation(const Codes& codes, uint64_t code) {
-  std::array<DictMatch, 4> best;
-  for (auto& b : best) b = {-1, 0, 65};
-  for (size_t id = 0; id < codes.size(); ++id)
-    for (int k = 0; k < 4; ++k) {
-      const int d = std::popcount(code ^ codes[id][static_cast<size_t>(k)]);
-      if (d < best[static_cast<size_t>(k)].hamming) best[static_cast<size_t>(k)] = {static_cast<int>(id), k, d};
-    }
-  return best;
-}
-
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-__attribute__((target("popcnt"))) DictMatch scan_nearest_popcnt(const Codes& codes, uint64_t code) {
-  return scan_nearest(codes, code);
-}
-__attribute__((target("popcnt"))) std::array<DictMatch, 4> scan_per_rotation_popcnt(const Codes& codes, uint64_t code) {
-  return scan_per_rotation(codes, code);
-}
-bool has_popcnt() {
-  static const bool yes = __builtin_cpu_supports("popcnt");
-  return yes;
-}
-#else
-DictMatch scan_nearest_popcnt(const Codes& codes, uint64_t code) { return scan_nearest(codes, code); }
-std::array<DictMatch, 4> scan_per_rotation_popcnt(const Codes& codes, uint64_t code) {
-  return scan_per_rotation(codes, code);
-}
-bool has_popcnt() { return false; }
-#endif
-
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"   // GCC 12's AVX-512 intrinsics start from undefined vectors
-#endif
-// scan_nearest eight codes a step with AVX-512's vpopcntq: the lanes keep their first nearest, the lowest index
-// among equals wins, and the first exact match returns at once, as there.
-__attribute__((target("avx512f,avx512vpopcntdq"))) DictMatch scan_nearest_avx512(const Codes& codes, uint64_t code) {
-  const uint64_t* flat = reinterpret_cast<const uint64_t*>(codes.data());   // id-major, four rotations each
-  const int n = int(codes.size()) * 4;
-  const __m512i target = _mm512_set1_epi64(int64_t(code)), zero = _mm512_setzero_si512(), eight = _mm512_set1_epi64(8);
-  __m512i best = _mm512_set1_epi64(65), where = _mm512_set1_epi64(-1), index = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
-  int i = 0;
-  for (; i + 8 <= n; i += 8) {
-    const __m512i d = _mm512_popcnt_epi64(_mm512_xor_si512(_mm512_loadu_si512(flat + i), target));
-    if (const __mmask8 exact = _mm512_cmpeq_epi64_mask(d, zero)) {
-      const int at = i + std::countr_zero(unsigned(exact));
-      return {at / 4, at % 4, 0};
-    }
-    const __mmask8 nearer = _mm512_cmplt_epi64_mask(d, best);
-    best = _mm512_mask_mov_epi64(best, nearer, d);
-    where = _mm512_mask_mov_epi64(where, nearer, index);
-    index = _mm512_add_epi64(index, eight);
-  }
-  alignas(64) int64_t bests[8], wheres[8];
-  _mm512_store_si512(bests, best);
-  _mm512_store_si512(wheres, where);
-  int64_t hamming = 65, at = -1;
-  for (int l = 0; l < 8; ++l)
-    if (bests[l] < hamming || (bests[l] == hamming && wheres[l] < at)) hamming = bests[l], at = wheres[l];
-  DictMatch m{-1, 0, 65};
-  if (at >= 0) m = {int(at / 4), int(at % 4), int(hamming)};
-  for (; i < n; ++i) {   // the rest, one at a time (ids come in fours: none, unless the list is empty)
-    const int d = std::popcount(code ^ flat[i]);
-    if (d < m.hamming) m = {i / 4, i % 4, d};
-  }
-  return m;
-}
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
-bool has_vpopcntq() {
-  static const bool yes = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vpopcntdq");
-  return yes;
-}
-#else
-DictMatch scan_nearest_avx512(const Codes& codes, uint64_t code) { return scan_nearest(codes, code); }
-bool has_vpopcntq() { return false; }
-#endif
+DictMatch to_match(kernels::CodeMatch m) { return {m.id, m.rotation, m.hamming}; }
 
 }  // namespace
 
+// Every marker in its 4 rotations, once per candidate that reaches identification: the level's kernel (a popcount
+// instruction where the processor has one; x86-64's baseline has none, and the compiler's stand-in is several times
+// slower).
 DictMatch Dictionary::nearest(uint64_t code) const {
-  const Simd level = simd();
-  if (level >= Simd::avx512 && has_vpopcntq()) return scan_nearest_avx512(codes_, code);
-  return level > Simd::none && has_popcnt() ? scan_nearest_popcnt(codes_, code) : scan_nearest(codes_, code);
+  return to_match(kernels::kernels().nearest_code(flat(codes_), int(codes_.size()), code));
 }
 
 std::array<DictMatch, 4> Dictionary::nearest_per_rotation(uint64_t code) const {
-  return has_popcnt() ? scan_per_rotation_popcnt(codes_, code) : scan_per_rotation(codes_, code);
+  kernels::CodeMatch m[4];
+  kernels::kernels().nearest_per_rotation(flat(codes_), int(codes_.size()), code, m);
+  return {to_match(m[0]), to_match(m[1]), to_match(m[2]), to_match(m[3])};
 }
 
 int Dictionary::min_distance() const {
@@ -224,35 +132,27 @@ std::string upper(std::string_view s) {
   return out;
 }
 
-Dictionary from_opencv(const std::string& name, cv::aruco::PREDEFINED_DICTIONARY_NAME which) {
-  const cv::Ptr<cv::aruco::Dictionary> d = cv::aruco::getPredefinedDictionary(which);
-  std::vector<uint64_t> codes;
-  codes.reserve(static_cast<size_t>(d->bytesList.rows));
-  for (int id = 0; id < d->bytesList.rows; ++id)
-    codes.push_back(Dictionary::pack(cv::aruco::Dictionary::getBitsFromByteList(d->bytesList.row(id), d->markerSize)));
-  int correction = d->maxCorrectionBits;
+// OpenCV's predefined dictionaries, as its aruco module has them: written at build time into a table
+// (generate/dictionary_tables.cpp), so that the detector needs no aruco module.
+struct PredefinedCodes {
+  const char* name;
+  int marker_size;
+  int max_correction_bits;
+  int count;
+  const uint64_t* codes;
+};
+#include "predefined_dictionaries.inc"
+
+Dictionary from_table(const PredefinedCodes& t) {
+  const std::string name = t.name;
+  int correction = t.max_correction_bits;
   // OpenCV gives the AprilTag families no correction at all, yet each is named for the smallest Hamming distance
   // between its codes in any rotation (36h11: 11 bits), which lets (h - 1) / 2 bits be corrected unambiguously;
   // AprilTag 3 itself corrects 2 by default. error_correction_rate takes its share of that, as for every
   // dictionary: 3 bits of a blurred 20 px 36h11 tag's 36 may be read wrong and it is still found.
   if (const size_t h = name.rfind('h'); correction == 0 && name.rfind("APRILTAG_", 0) == 0 && h != std::string::npos)
     correction = (std::atoi(name.c_str() + h + 1) - 1) / 2;
-  return Dictionary(name, d->markerSize, std::move(codes), correction);
-}
-
-const std::vector<std::pair<std::string, cv::aruco::PREDEFINED_DICTIONARY_NAME>>& opencv_table() {
-  using namespace cv::aruco;
-  static const std::vector<std::pair<std::string, PREDEFINED_DICTIONARY_NAME>> table = {
-      {"4X4_50", DICT_4X4_50},       {"4X4_100", DICT_4X4_100},       {"4X4_250", DICT_4X4_250},
-      {"4X4_1000", DICT_4X4_1000},   {"5X5_50", DICT_5X5_50},         {"5X5_100", DICT_5X5_100},
-      {"5X5_250", DICT_5X5_250},     {"5X5_1000", DICT_5X5_1000},     {"6X6_50", DICT_6X6_50},
-      {"6X6_100", DICT_6X6_100},     {"6X6_250", DICT_6X6_250},       {"6X6_1000", DICT_6X6_1000},
-      {"7X7_50", DICT_7X7_50},       {"7X7_100", DICT_7X7_100},       {"7X7_250", DICT_7X7_250},
-      {"7X7_1000", DICT_7X7_1000},   {"APRILTAG_16h5", DICT_APRILTAG_16h5},
-      {"APRILTAG_25h9", DICT_APRILTAG_25h9}, {"APRILTAG_36h10", DICT_APRILTAG_36h10},
-      {"APRILTAG_36h11", DICT_APRILTAG_36h11},
-  };
-  return table;
+  return Dictionary(name, t.marker_size, std::vector<uint64_t>(t.codes, t.codes + t.count), correction);
 }
 
 }  // namespace
@@ -260,7 +160,7 @@ const std::vector<std::pair<std::string, cv::aruco::PREDEFINED_DICTIONARY_NAME>>
 const std::vector<std::string>& dictionary_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n{"ARUCO_ORIGINAL"};
-    for (const auto& [name, _] : opencv_table()) n.push_back(name);
+    for (const PredefinedCodes& t : kPredefined) n.push_back(t.name);
     return n;
   }();
   return names;
@@ -275,8 +175,8 @@ std::optional<Dictionary> dictionary_by_name(std::string_view name, std::string*
   std::lock_guard lock(mutex);
   if (auto it = cache.find(key); it != cache.end()) return it->second;
   if (key == "ARUCO_ORIGINAL") return cache[key] = make_aruco_original();
-  for (const auto& [n, which] : opencv_table())
-    if (upper(n) == key) return cache[key] = from_opencv(n, which);
+  for (const PredefinedCodes& t : kPredefined)
+    if (upper(t.name) == key) return cache[key] = from_table(t);
   if (error) {
     std::string all;
     for (const auto& n : dictionary_names()) all += (all.empty() ? "" : ", ") + n;

@@ -1,9 +1,12 @@
-// The detection pipeline's stages as functions, each readable and testable on its own (the paper, section 4.2.2).
-// detector.cpp chains them and fills the trace; tests call them directly on crafted images.
+// The detection pipeline's stages as functions, each readable and testable on its own (the paper, section 4.2.2),
+// one file each under stages/, named as the stage is in the trace (the reading stages share reading.cpp). The
+// detector (detector.cpp) chains them and fills the trace; tests call them directly on crafted images. Their vector
+// code is in kernels/, reached through one table (kernels/kernels.hpp).
 #pragma once
 
 #include "capture/source.hpp"
 #include "detect/dictionary.hpp"
+#include "detect/kernels/types.hpp"
 #include "detect/params.hpp"
 #include "detect/trace.hpp"
 
@@ -25,9 +28,8 @@ cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scal
 
 // The working frame's grey image, converted from a colour frame only where the stages look: a video frame searched
 // around its known markers needs grey pixels only in those regions and around its candidates. A half-size search of
-// the whole frame converts it all and takes its 2x2 block means as it goes (convert_all_and_halve): at 1280x720
-// that was 0.19 ms against 0.26 for a separate half-size conversion and the tiles looked at. A grey frame is used as
-// it is, another depth converted at once.
+// the whole frame converts it all and takes its 2x2 block means as it goes (convert_all_and_halve), while the rows
+// are in the cache. A grey frame is used as it is, another depth converted at once.
 class GreyOnDemand {
  public:
   explicit GreyOnDemand(const cv::Mat& frame = {});   // 1, 3 (BGR) or 4 (BGRA) channels
@@ -116,6 +118,13 @@ inline double contour_length(const std::vector<cv::Point>& contour, int factor) 
   return double(contour.size()) * factor;
 }
 
+// coarse_search: the whole frame once more, `coarse_factor` times coarser than the first search, for large markers.
+// It shrinks the first search's image (`search`), or at an even factor its 2x2 block means (`block_means`, when the
+// threshold made them: a quarter of its pixels). Its contours, in the grey image's pixels (`factor`: the coarse
+// search's decimation of the grey image), and its binary image in `binary`.
+std::vector<std::vector<cv::Point>> coarse_search(const cv::Mat& search, const cv::Mat& block_means, int factor,
+                                                  const DetectorParams& p, cv::Mat* binary);
+
 // corner_refinement's profiles: profile.size() samples from `from` in steps of `step`, bilinear, as grey levels times
 // 65536. Inside the image, positions step in 1/65536 pixel and each sample is the fixed-point blend of its four
 // pixels with weights in 1/256 (bilinear_q8); where the line leaves the image, clamped floating point.
@@ -123,11 +132,8 @@ void sample_line(const cv::Mat& grey, cv::Point2d from, cv::Point2d step, std::s
 
 // quad_fit's search, in the polygon approximation: the first of the points c[0, n) farthest from p0, or when
 // `from_line` from the line through p0 along `dir` (as |cross product|: the distance times dir's length), in
-// integers; at -1 when n is 0. Sixteen points at a time with AVX-512, four with AVX2.
-struct Farthest {
-  int64_t measure = -1;
-  int at = -1;
-};
+// integers; at -1 when n is 0.
+using Farthest = kernels::Farthest;
 Farthest farthest_point(const cv::Point* c, int n, cv::Point p0, cv::Point dir, bool from_line);
 
 // size_filter: nullopt when the contour may go on, else the rejection. Most contours of a frame stop here, so the
@@ -203,5 +209,18 @@ int correction_budget(const Dictionary& dict, const DetectorParams& p);
 // `factor`: the decimation the quad was found at; its corners may then be off by about that many pixels, so the
 // first pass looks that much further and one more pass is made.
 void refine_corners(const cv::Mat& grey, Quad& corners, int cells, const DetectorParams& p, int factor = 1);
+
+// duplicates: of the markers read, one per id and place. A marker whose centre is inside a larger marker is dropped.
+// The same id seen twice in one place keeps the reading of the finer search (its quad started nearer the corners: a
+// coarse search's blocks can start a low-contrast quad on a shadow's edge), or of two from one search the larger.
+struct FoundMarker {
+  Quad corners;       // the marker's corners
+  int dict = -1;      // its dictionary's index
+  int id = -1;
+  int factor = 1;     // the decimation its quad was found at
+  size_t key = 0;     // ties in size and in id are kept in this order
+};
+// The indices into `found` kept, by dictionary, id and key; `reasons` gets, per marker dropped, why (else "").
+std::vector<size_t> drop_duplicates(const std::vector<FoundMarker>& found, std::vector<std::string>* reasons);
 
 }  // namespace arwb::stages

@@ -2,12 +2,13 @@
 // (write_export). docs/export.md.
 #include "export/bundle.hpp"
 #include "export/bundle_files.hpp"
+#include "base/version.hpp"
 
 #include "base/files.hpp"
 #include "calibration/calibration_file.hpp"
 #include "detect/detector.hpp"
 #include "detect/dictionary.hpp"
-#include "detect/trace_view.hpp"
+#include "inspect/trace_view.hpp"
 #include "media/media_path.hpp"
 #include "synth/marker_sheet.hpp"
 #include "synth/synth.hpp"
@@ -25,9 +26,6 @@
 #include <sstream>
 #include <string_view>
 
-#ifndef ARWB_VERSION
-#define ARWB_VERSION "0"
-#endif
 
 namespace arwb::bundle {
 
@@ -438,7 +436,7 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
 
   m.format_version = kFormatVersion;
   m.title = options.title.empty() ? scene_file.stem().string() : options.title;
-  m.generator = std::string("arwb ") + ARWB_VERSION;
+  m.generator = std::string("arwb ") + kVersion;
   m.dictionary = dict_name;
   m.ids.assign(ids.begin(), ids.end());
   m.marker_size_mm = marker_mm;

@@ -6,7 +6,7 @@
 #include "detect/detector.hpp"
 #include "detect/video_search.hpp"
 #include "detect/dictionary.hpp"
-#include "detect/peers.hpp"
+#include "peers/peers.hpp"
 #include "synth/marker_view.hpp"
 #include "synth/synth.hpp"
 

@@ -8,7 +8,7 @@
 // and upright (the marker's own top-left corner at the top left).
 #pragma once
 
-#include "detect/board_spec.hpp"
+#include "board/board_spec.hpp"
 #include "synth/marker_sheet.hpp"
 
 #include <opencv2/core.hpp>

@@ -5,7 +5,7 @@
 // model OpenCV estimates (k1, k2, p1, p2, k3) and the edges are anti-aliased without blurring the corners away.
 #pragma once
 
-#include "detect/board_spec.hpp"
+#include "board/board_spec.hpp"
 
 #include <opencv2/core.hpp>
 

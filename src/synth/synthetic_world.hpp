@@ -3,7 +3,7 @@
 // when there is no camera, and what the GUI tests look at.
 #pragma once
 
-#include "detect/board_spec.hpp"
+#include "board/board_spec.hpp"
 #include "detect/dictionary.hpp"
 #include "synth/chessboard_view.hpp"
 #include "synth/synth.hpp"

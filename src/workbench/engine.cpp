@@ -2,10 +2,10 @@
 
 #include "capture/opencv_error.hpp"
 
-#include "detect/match.hpp"
-#include "detect/peers.hpp"
+#include "peers/match.hpp"
+#include "peers/peers.hpp"
 #include "workbench/scene_stage.hpp"
-#include "detect/trace_view.hpp"
+#include "inspect/trace_view.hpp"
 #include "detect/video_search.hpp"
 #include "calibration/calibration_file.hpp"
 #include "calibration/session.hpp"

@@ -11,7 +11,7 @@
 // worker is left running on its own state, which it shares, so the Engine can still be destroyed safely.
 #pragma once
 
-#include "detect/board_spec.hpp"
+#include "board/board_spec.hpp"
 #include "detect/detector.hpp"
 #include "workbench/frame.hpp"
 #include "detect/params.hpp"

@@ -7,7 +7,7 @@
 #include "calibration/session.hpp"
 #include "capture/source.hpp"
 #include "track/tracker.hpp"
-#include "detect/match.hpp"
+#include "peers/match.hpp"
 #include "detect/params.hpp"
 #include "detect/trace.hpp"
 #include "synth/synth.hpp"

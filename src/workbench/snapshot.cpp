@@ -2,7 +2,7 @@
 
 #include "capture/opencv_error.hpp"
 
-#include "detect/trace_json.hpp"
+#include "inspect/trace_json.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>

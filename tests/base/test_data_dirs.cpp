@@ -1,7 +1,7 @@
 // Where the shipped data is looked for: beside an installed executable (bin/arwb -> share/arwb), else in the source
 // tree; only a share/arwb that holds assets counts.
 #include "base/data_dirs.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Result and Status: a value or a message, never both; and whole-file writing that never leaves half a file.
 #include "base/files.hpp"
 #include "base/result.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

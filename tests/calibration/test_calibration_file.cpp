@@ -3,7 +3,7 @@
 // ratio; the writer's files read back, and a failed write leaves nothing behind.
 #include "calibration/calibration_file.hpp"
 
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

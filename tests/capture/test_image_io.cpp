@@ -1,7 +1,7 @@
 // Tests for capture/image_io: recognising, checking and loading image files a user names. Every input is made here:
 // images are encoded with cv::imencode, bad files are crafted from their bytes.
 #include "capture/image_io.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>

@@ -3,7 +3,7 @@
 // once, counted as what could be decoded. Videos are written here with cv::VideoWriter, frame i showing i in
 // stripes, so a test can tell which frame it got.
 #include "capture/video_reader.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

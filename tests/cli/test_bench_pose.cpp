@@ -1,7 +1,7 @@
 // `arwb bench --pose`: arwb's pose beside OpenCV's detectMarkers + solvePnP (IPPE_SQUARE) on the same renders of
 // a marker of known pose, and tracking's choice against each frame alone; every field of the JSON; one-line usage
 // errors. One small run serves all the checks.
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // give that camera back in the file and the JSON; each kind of bad input is one line on stderr and writes nothing.
 #include "calibration/calibration_file.hpp"
 #include "synth/chessboard_view.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -4,7 +4,7 @@
 // with no ChArUco board in it is one line that says boards of OpenCV's older layout are not read.
 #include "calibration/calibration_file.hpp"
 #include "synth/chessboard_view.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

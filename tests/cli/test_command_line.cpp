@@ -2,7 +2,7 @@
 // ranges checked by the validators, one-line errors naming the option and the value, help made from the
 // options, and the same behaviour through the arwb binary for every subcommand.
 #include "cli/cli_common.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // against a synthetic set's truth, folders, videos, and every kind of bad input named in one line.
 #include "calibration/calibration_file.hpp"
 #include "detect/dictionary.hpp"
-#include "detect/simd.hpp"
+#include "detect/kernels/simd.hpp"
 #include "synth/synth.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>

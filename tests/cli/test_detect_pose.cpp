@@ -4,7 +4,7 @@
 #include "calibration/calibration_file.hpp"
 #include "pose/marker_pose.hpp"
 #include "synth/marker_view.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>

@@ -1,7 +1,7 @@
 // The shipped example scenes load without a single error and place media on the synthetic source's markers, and
 // make-media paints the files they use.
 #include "capture/image_io.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // `arwb export`: the summary (files, sizes, the self-test table, where it wrote), exit 0; an existing bundle
 // kept without --force; a scene that cannot be exported is one line naming the file and line, exit 1, with
 // nothing written; usage errors exit 2.
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Files that once crashed or hung a reader, run as a user runs them: each is refused in one line of ours naming
 // the file and the reason, with no library text and no control character from the name reaching the terminal.
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

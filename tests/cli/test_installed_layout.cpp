@@ -1,6 +1,6 @@
 // An arwb copied into an installation's layout (PREFIX/bin/arwb beside PREFIX/share/arwb, as the Debian package puts
 // it) reads its shipped data there, not from the source tree it was built in; `arwb --help` names the folders.
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // arwb lab: the paper's table printed and written (text, CSV, JSON, plots), bad detectors and calibrations named.
 #include "detect/dictionary.hpp"
 #include "synth/synth.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/videoio.hpp>

@@ -3,7 +3,7 @@
 // errors naming the bad value.
 #include "synth/marker_sheet.hpp"
 #include "detect/dictionary.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -1,7 +1,7 @@
 // OpenCV's own image limits: set at start to capture's limits, a user's setting kept, and in force in arwb.
 #include "cli/opencv_limits.hpp"
 #include "capture/image_io.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

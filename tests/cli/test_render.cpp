@@ -2,7 +2,7 @@
 // never overwritten unasked; scene and usage errors are one line.
 #include "detect/detector.hpp"
 #include "capture/image_io.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

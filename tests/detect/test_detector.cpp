@@ -2,7 +2,7 @@
 // accuracy, thread-count independence, multiple dictionaries and the trace.
 #include "detect/detector.hpp"
 #include "detect/pipeline.hpp"
-#include "detect/trace_view.hpp"
+#include "inspect/trace_view.hpp"
 #include "synth/synth_set.hpp"
 #include "synth/synth.hpp"
 

@@ -1,9 +1,9 @@
 // Dictionaries: the paper's ARUCO_ORIGINAL built from its description equals OpenCV's bit for bit; the
 // predefined tables, rotations, nearest-match search and custom YAML dictionaries.
 #include "detect/dictionary.hpp"
-#include "detect/simd.hpp"
+#include "detect/kernels/simd.hpp"
 #include "detect/params.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/aruco.hpp>

@@ -1,9 +1,9 @@
 // Video mode: search_regions searches around the markers of the frame before, at their scale, and the whole frame
 // every full_search_interval frames (detect/video_search.hpp).
 #include "detect/detector.hpp"
-#include "detect/diagnose.hpp"
+#include "inspect/diagnose.hpp"
 #include "detect/pipeline.hpp"
-#include "detect/trace_view.hpp"
+#include "inspect/trace_view.hpp"
 #include "detect/video_search.hpp"
 #include "synth/synth.hpp"
 #include "synth/synthetic_world.hpp"

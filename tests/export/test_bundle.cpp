@@ -8,7 +8,7 @@
 #include "export/bundle_files.hpp"
 
 #include "calibration/calibration_file.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <zip.h>

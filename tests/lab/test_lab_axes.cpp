@@ -5,7 +5,7 @@
 #include "lab/run.hpp"
 #include "lab/sensor.hpp"
 
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>

@@ -4,7 +4,7 @@
 #include "lab/report.hpp"
 #include "lab/sensor.hpp"
 
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

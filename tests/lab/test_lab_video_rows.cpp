@@ -1,7 +1,7 @@
 // Marking a clip in videos.csv (save_video_row, what the Lab workspace's "Save to videos.csv" does): the row is
 // written relative to the folder, replaces the same clip's row, keeps the rest, and every mistake is named.
 #include "lab/videos.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // check_media_path, check_url and url_host: what a scene may name, and the messages for what it may not.
 #include "media/media_path.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -2,7 +2,7 @@
 // text and web cards (size, straight alpha, cache and its limits).
 #include "capture/source.hpp"
 #include "media/media_store.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -2,7 +2,7 @@
 // normals, texture coordinates, materials, node transforms), and the messages for what is refused.
 #include "media/media_store.hpp"
 #include "media/model_file.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

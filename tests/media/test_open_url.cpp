@@ -1,7 +1,7 @@
 // open_url: links reach the opener as one argument, untouched by any shell; other schemes start nothing; the
 // opener is reaped.
 #include "media/open_url.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>

@@ -4,7 +4,7 @@
 
 #include "media/media_store.hpp"
 #include "script/scene_runtime.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -2,7 +2,7 @@
 // and acquisition. Videos are written here with cv::VideoWriter, each frame a flat grey whose level tells its index.
 #include "capture/image_io.hpp"
 #include "synth/synthetic_source.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

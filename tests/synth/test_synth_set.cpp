@@ -1,6 +1,6 @@
 // Truth sets: truth_line writes what read_set reads back, and lines that cannot be used are named and skipped.
 #include "synth/synth_set.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -2,7 +2,7 @@
 // a teacher's mistakes are reported with file and line and never blank the rest of the tour.
 #include "detect/params.hpp"
 #include "teach/tour.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 

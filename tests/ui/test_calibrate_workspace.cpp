@@ -5,7 +5,7 @@
 // while the window runs on, a good one drives the undistorted view.
 #include "calibration/calibration_file.hpp"
 #include "synth/chessboard_view.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

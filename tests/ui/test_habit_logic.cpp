@@ -1,7 +1,7 @@
 // The pure logic behind the desktop habits: the undo history, the recent-files list and its file, what a dropped
 // file opens as, and presets written rounded to each parameter's precision.
 #include "detect/params.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 #include "ui/history.hpp"
 #include "ui/recent_files.hpp"
 

@@ -3,7 +3,7 @@
 // and redo of parameter changes, the unsaved-edits question before quitting or switching, the marker sheet
 // dialog, presets written rounded into the user's folder, and `arwb --version`.
 #include "detect/params.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

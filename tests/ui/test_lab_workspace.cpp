@@ -5,7 +5,7 @@
 // its finished cells; a bad plan file named while the panel's plan and the window carry on.
 #include "detect/dictionary.hpp"
 #include "synth/synth.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 // Messages that reach the user, in the real window (xvfb-run, Mesa): "Why not detected?" on a real photograph of
 // 6X6_250 markers names the dictionary and its button's action finds them; a scene's skipped mapping and its
 // runtime error show in the Scene panel's rows (--stats scene_mappings), the Log's error count and the status bar.
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -3,7 +3,7 @@
 // --actions labels=...; and projected media drawn over the labels and outlines they cover.
 #include "detect/dictionary.hpp"
 #include "synth/synth.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -4,7 +4,7 @@
 // the workbench's export is a bundle open_bundle accepts; Play bundle starts the player as a process of its own.
 #include "export/bundle.hpp"
 #include "ui/app.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -3,7 +3,7 @@
 // (--actions pose=cube) and nothing 3D when not; the Pose panel opens in every arrangement without clipping.
 #include "pose/marker_pose.hpp"
 #include "synth/marker_view.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

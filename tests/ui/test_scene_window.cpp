@@ -1,6 +1,6 @@
 // Scenes in the real workbench window (xvfb-run, Mesa): the media composited onto the live view, switched off
 // and on, and a click on a web card opening the URL through the opener (a recorder here, never a shell).
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

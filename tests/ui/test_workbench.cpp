@@ -4,7 +4,7 @@
 #include "detect/dictionary.hpp"
 #include "synth/synth.hpp"
 #include "detect/trace.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -3,7 +3,7 @@
 // --stats "layout" audit, built on ImGui's own rectangles), shows the live view with its marker outlines (the
 // screenshot), and gives presentation mode large text and most of the screen to the image; the arrangement is
 // kept between runs; a user's own workspace is saved; a bad workspaces file falls back to the shipped ones.
-#include "support.hpp"
+#include "support/support.hpp"
 #include "synth/chessboard_view.hpp"
 
 #include <gtest/gtest.h>

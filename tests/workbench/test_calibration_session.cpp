@@ -6,7 +6,7 @@
 #include "synth/chessboard_view.hpp"
 #include "synth/synthetic_world.hpp"
 #include "workbench/engine.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

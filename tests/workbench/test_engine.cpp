@@ -3,7 +3,7 @@
 // goes away while running.
 #include "workbench/engine.hpp"
 #include "synth/synth.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -2,7 +2,7 @@
 // reloaded when it changes on disk (a broken edit keeps the last good scene), and a runaway callback or a
 // memory bomb stopped with a message while frames keep coming.
 #include "workbench/engine.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -2,7 +2,7 @@
 // test-only C function; no scene can reach one) does not keep the workbench from quitting. Engine::stop gives up
 // after its timeout and the Engine can be destroyed at once; the worker finishes later on its own state.
 #include "script/lua_host.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 #include "workbench/engine.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 #include "workbench/snapshot.hpp"
 #include "detect/detector.hpp"
 #include "synth/synth.hpp"
-#include "support.hpp"
+#include "support/support.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

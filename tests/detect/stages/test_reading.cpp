@@ -1,0 +1,67 @@
+// The reading stages: otsu, bit_grid, border_check (and its quiet zone), identification.
+#include "detect/detector.hpp"
+#include "detect/params.hpp"
+#include "detect/pipeline.hpp"
+#include "detect/kernels/simd.hpp"
+#include "synth/synth.hpp"
+#include "support/support.hpp"
+#include "stage_test_util.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <bit>
+#include <cmath>
+
+using namespace arwb;
+using arwb::test::canvas_with_marker;
+
+TEST(Stages, PerspectiveOtsuBitsBorderAndIdentification) {
+  const Dictionary d = make_aruco_original();
+  const cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
+  DetectorParams p;
+  const Quad q{cv::Point2f(40, 50), {145, 50}, {145, 155}, {40, 155}};
+  const cv::Mat warp = stages::remove_perspective(img, q, 7, p);
+  EXPECT_EQ(warp.size(), cv::Size(28, 28));
+  const auto o = stages::otsu(warp);
+  EXPECT_GT(o.threshold, 20);
+  EXPECT_LT(o.threshold, 235);
+  EXPECT_GT(o.stddev, 50);
+  int total = 0;
+  for (int v : o.histogram) total += v;
+  EXPECT_EQ(total, 28 * 28);
+  const cv::Mat bits = stages::sample_bits(warp, 7, o.threshold, p);
+  EXPECT_EQ(stages::border_errors(bits), 0);
+  EXPECT_EQ(cv::countNonZero(bits(cv::Rect(1, 1, 5, 5)) != d.bits(321)), 0);
+  const DictMatch m = d.nearest(stages::inner_code(bits));
+  EXPECT_EQ(m.id, 321);
+  EXPECT_EQ(m.hamming, 0);
+  EXPECT_EQ(stages::correction_budget(*dictionary_by_name("6X6_250"), p), 3);  // OpenCV's 5 bits x rate 0.6
+  EXPECT_EQ(stages::correction_budget(d, p), 0);
+}
+
+// The warp against OpenCV's own: cv::getPerspectiveTransform and cv::warpPerspective (bilinear, pixel centres, the
+// edge replicated) on a tilted quad inside the image, one that crosses the image's edge, and a bowtie that corner
+// refinement could bend a quad into. Within a grey level everywhere.
+
+TEST(Stages, QuietZoneIsLightAroundAMarkerAndDarkWhereAShapeGoesOn) {
+  const Dictionary d = make_aruco_original();
+  cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
+  const Quad q{cv::Point2f(40, 50), {145, 50}, {145, 155}, {40, 155}};
+  DetectorParams p;
+  const auto o = stages::otsu(stages::remove_perspective(img, q, 7, p));
+  EXPECT_EQ(stages::quiet_zone(img, q, 7, o).dark_share, 0.0);
+  // The same under a shadow across it: border and quiet zone darken alike, the step between them stays.
+  cv::Mat shaded = img.clone();
+  shaded(cv::Rect(0, 100, 200, 100)) *= 0.5;
+  EXPECT_EQ(stages::quiet_zone(shaded, q, 7, o).dark_share, 0.0);
+  // A black bar from the left side outwards: that side's quiet zone is dark, along part of it.
+  cv::rectangle(img, cv::Rect(0, 50, 40, 60), cv::Scalar(0), -1);
+  const stages::QuietZone left = stages::quiet_zone(img, q, 7, o);
+  EXPECT_EQ(left.side, 3);
+  EXPECT_NEAR(left.dark_share, 4.0 / 7, 1e-9);  // 60 of 105 px: the four cells from the top
+  // Off the image, nothing counts: a marker at the frame's edge keeps its quiet zone.
+  const cv::Mat edge = canvas_with_marker(d, 321, 0, 50, 105);
+  const Quad at_edge{cv::Point2f(0, 50), {105, 50}, {105, 155}, {0, 155}};
+  EXPECT_EQ(stages::quiet_zone(edge, at_edge, 7, o).dark_share, 0.0);
+}
