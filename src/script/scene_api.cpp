@@ -1,53 +1,24 @@
-// The scene API's globals (docs/scene-api.md): dictionary, marker, ids, the media constructors (image, video,
-// web, text, stage, and the 3D cube, axes and model) and the placements (on_marker, beside, billboard, screen).
+// The scene API's globals (docs/scene-api.md): dictionary, marker, ids and the placements (on_marker, beside,
+// billboard, screen), the values' metatables, and what the runtime and the database share with them. The media
+// constructors are in scene_api_media.cpp; what both files use, in scene_api_values.hpp.
 //
 // Every C function here is a small w_ function whose body runs in guarded() (lua_host.hpp): C++ exceptions
 // become Lua errors, tables are read with raw access, and Lua errors are raised only once the body's C++
 // objects are gone. Bad values never raise: a constructor returns a value carrying its error, and marker()
 // reports it with the line and skips that call (its row stays, marked skipped), so the rest of the scene still
 // works.
+// [SECTION] Index
+//   Placements              on_marker, beside, billboard, screen
+//   ids, dictionary, marker the scene's declarations
+//   Metatables and globals  __tostring and __gc of the values, the globals' table
+//   Shared                  with the runtime and the database: ids, names, the values' tests
+#include "script/scene_api_values.hpp"
+
 #include "base/text.hpp"
 #include "detect/dictionary.hpp"
-#include "detect/trace.hpp"
-#include "media/media_path.hpp"
-#include "script/scene_model.hpp"
-#include "track/mesh.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdio>
-#include <new>
-
-namespace arwb::script {
+namespace arwb::script::api {
 namespace {
-
-constexpr const char* kMediaMeta = "arwb.media";
-constexpr const char* kPlaceMeta = "arwb.place";
-constexpr const char* kIdsMeta = "arwb.ids";
-
-// ---- values as full userdata -----------------------------------------------------------------------------------
-
-// `alive` guards against use after __gc (a finalizer may still reach a value finalized in the same cycle).
-template <class T>
-struct Box {
-  bool alive = false;
-  T value;
-};
-
-template <class T>
-T* new_value(lua_State* L, const char* meta) {
-  void* p = lua_newuserdatauv(L, sizeof(Box<T>), 1);
-  auto* b = new (p) Box<T>();
-  b->alive = true;
-  luaL_setmetatable(L, meta);
-  return &b->value;
-}
-
-template <class T>
-T* test_value(lua_State* L, int idx, const char* meta) {
-  auto* b = static_cast<Box<T>*>(luaL_testudata(L, idx, meta));
-  return b && b->alive ? &b->value : nullptr;
-}
 
 // Only our metatables carry __gc and they are locked (__metatable), so argument 1 is a Box<T>.
 template <class T>
@@ -60,448 +31,7 @@ int w_gc(lua_State* L) {
   return 0;
 }
 
-void report(lua_State* L, int level, const std::string& text) {
-  Host& h = host_of(L);
-  if (h.reporter) h.reporter->report(level, text);
-}
-
-std::string shorten(std::string s, size_t n = 40) {
-  if (s.size() > n) s = s.substr(0, n - 3) + "...";
-  return s;
-}
-
-// "string 'corner'", "number 5", "a placement", "nil" ... for messages.
-std::string describe_value(lua_State* L, int idx) {
-  idx = lua_absindex(L, idx);
-  switch (lua_type(L, idx)) {
-    case LUA_TSTRING: return "string '" + shorten(lua_tostring(L, idx)) + "'";
-    case LUA_TNUMBER: {
-      lua_pushvalue(L, idx);
-      std::string s = "number " + std::string(lua_tostring(L, -1));
-      lua_pop(L, 1);
-      return s;
-    }
-    case LUA_TUSERDATA:
-      if (luaL_testudata(L, idx, kMediaMeta)) return "a media value";
-      if (luaL_testudata(L, idx, kPlaceMeta)) return "a placement";
-      if (luaL_testudata(L, idx, kIdsMeta)) return "an ids(...) list";
-      return "userdata";
-    default: return luaL_typename(L, idx);
-  }
-}
-
-bool get_integer(lua_State* L, int idx, long long* out) {
-  if (lua_type(L, idx) != LUA_TNUMBER) return false;
-  int isnum = 0;
-  const lua_Integer v = lua_tointegerx(L, idx, &isnum);
-  if (!isnum) return false;
-  *out = v;
-  return true;
-}
-
-// Warns about fields of the table at idx that are not in `known` ("unknown field 'plac' (did you mean
-// 'place'?)"), with the call's position and `what` ("beside: ") before it.
-void warn_unknown_fields(lua_State* L, int idx, const std::vector<std::string_view>& known, const Where& w,
-                         const std::string& what) {
-  idx = lua_absindex(L, idx);
-  // Only the first fields: this runs inside one C call, where no limit can see it (200,000 unknown fields took
-  // 0.4 s of messages).
-  constexpr int kFieldsRead = 32;
-  int fields = 0;
-  lua_pushnil(L);
-  while (lua_next(L, idx) != 0) {
-    if (++fields > kFieldsRead) {
-      lua_pop(L, 2);
-      report(L, 1, w.prefix + what + "a table of more than " + std::to_string(kFieldsRead) +
-                       " fields; the others are not checked");
-      break;
-    }
-    if (lua_type(L, -2) == LUA_TSTRING) {
-      const std::string key = lua_tostring(L, -2);
-      if (std::find(known.begin(), known.end(), key) == known.end()) {
-        std::string msg = w.prefix + what + "unknown field '" + shorten(key) + "'";
-        const std::string dym = did_you_mean(key, known);
-        if (!dym.empty()) msg += " (" + dym + ")";
-        report(L, 1, msg);
-      }
-    } else {
-      report(L, 1, w.prefix + what + "fields are named (name = value); a value at [" + describe_value(L, -2) +
-                       "] is ignored");
-    }
-    lua_pop(L, 1);
-  }
-}
-
-// An optional options table (argument idx): typed getters with raw access; the first problem is kept.
-class Options {
- public:
-  Options(lua_State* L, int idx, std::string what, Where w) : L_(L), what_(std::move(what)), where_(std::move(w)) {
-    idx_ = lua_absindex(L, idx);
-    const int t = lua_type(L, idx_);
-    present_ = t == LUA_TTABLE;
-    if (t != LUA_TNONE && t != LUA_TNIL && t != LUA_TTABLE)
-      fail("expected an options table {name = value, ...}, got " + describe_value(L, idx_));
-  }
-
-  bool number(const char* key, double* out) {
-    if (!get(key)) return false;
-    if (lua_type(L_, -1) == LUA_TNUMBER) *out = lua_tonumber(L_, -1);
-    else fail(std::string(key) + " must be a number, got " + describe_value(L_, -1));
-    lua_pop(L_, 1);
-    return true;
-  }
-  bool boolean(const char* key, bool* out) {
-    if (!get(key)) return false;
-    if (lua_type(L_, -1) == LUA_TBOOLEAN) *out = lua_toboolean(L_, -1) != 0;
-    else fail(std::string(key) + " must be true or false, got " + describe_value(L_, -1));
-    lua_pop(L_, 1);
-    return true;
-  }
-  bool string(const char* key, std::string* out) {
-    if (!get(key)) return false;
-    bool ok = lua_type(L_, -1) == LUA_TSTRING;
-    if (ok) *out = lua_tostring(L_, -1);
-    else fail(std::string(key) + " must be a string, got " + describe_value(L_, -1));
-    lua_pop(L_, 1);
-    return ok;
-  }
-  // {x, y, z} or {x = .., y = .., z = ..}: three finite numbers.
-  bool vec3(const char* key, cv::Vec3d* out) {
-    if (!get(key)) return false;
-    bool ok = lua_type(L_, -1) == LUA_TTABLE;
-    cv::Vec3d v;
-    for (int i = 0; ok && i < 3; ++i) {
-      lua_rawgeti(L_, -1, i + 1);
-      if (lua_isnil(L_, -1)) {
-        lua_pop(L_, 1);
-        lua_pushstring(L_, i == 0 ? "x" : i == 1 ? "y" : "z");
-        lua_rawget(L_, -2);
-      }
-      ok = lua_type(L_, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L_, -1));
-      if (ok) v[i] = lua_tonumber(L_, -1);
-      lua_pop(L_, 1);
-    }
-    if (ok) *out = v;
-    else fail(std::string(key) + " must be three finite numbers {x, y, z}, got " + describe_value(L_, -1));
-    lua_pop(L_, 1);
-    return ok;
-  }
-  // Pushes the table at `key` and returns true; false (nothing pushed) when absent or not a table (reported).
-  bool table(const char* key) {
-    if (!get(key)) return false;
-    if (lua_type(L_, -1) == LUA_TTABLE) return true;
-    fail(std::string(key) + " must be a table, got " + describe_value(L_, -1));
-    lua_pop(L_, 1);
-    return false;
-  }
-  void finish(const std::vector<std::string_view>& known) {
-    if (present_) warn_unknown_fields(L_, idx_, known, where_, what_ + ": ");
-  }
-  void fail(const std::string& e) {
-    if (error_.empty()) error_ = what_ + ": " + e;
-  }
-  const std::string& error() const { return error_; }
-
- private:
-  bool get(const char* key) {
-    if (!present_) return false;
-    lua_pushstring(L_, key);
-    lua_rawget(L_, idx_);
-    if (lua_isnil(L_, -1)) {
-      lua_pop(L_, 1);
-      return false;
-    }
-    return true;
-  }
-
-  lua_State* L_;
-  int idx_ = 0;
-  bool present_ = false;
-  std::string what_;
-  Where where_;
-  std::string error_;
-};
-
-// "#rrggbb" or "#rrggbbaa" as BGRA.
-bool parse_colour(const std::string& s, cv::Scalar* out) {
-  if ((s.size() != 7 && s.size() != 9) || s[0] != '#') return false;
-  int v[4] = {0, 0, 0, 255};
-  for (size_t i = 1, k = 0; i < s.size(); i += 2, ++k) {
-    int byte = 0;
-    for (size_t j = i; j < i + 2; ++j) {
-      const char c = s[j];
-      int d = 0;
-      if (c >= '0' && c <= '9') d = c - '0';
-      else if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
-      else if (c >= 'A' && c <= 'F') d = c - 'A' + 10;
-      else return false;
-      byte = byte * 16 + d;
-    }
-    v[k] = byte;
-  }
-  *out = cv::Scalar(v[2], v[1], v[0], v[3]);
-  return true;
-}
-
-std::string stage_list() {
-  std::string all;
-  for (int i = 0; i < kStageCount; ++i) all += (i ? ", " : "") + std::string(stage_name(static_cast<Stage>(i)));
-  return all;
-}
-
-// ---- media constructors ----------------------------------------------------------------------------------------
-
-int make_file_media(lua_State* L, MediaKind kind) {
-  const Where w = where(L);
-  const std::string fname = kind == MediaKind::image ? "image" : "video";
-  lua_settop(L, 2);
-  MediaValue* v = new_value<MediaValue>(L, kMediaMeta);
-  v->where = w.prefix;
-  v->spec.kind = kind;
-  Options opt(L, 2, fname, w);
-  if (kind == MediaKind::video) opt.boolean("loop", &v->spec.loop);
-  opt.finish(kind == MediaKind::video ? std::vector<std::string_view>{"loop"} : std::vector<std::string_view>{});
-  if (lua_type(L, 1) != LUA_TSTRING) {
-    v->error = fname + ": expected a path (string), got " + describe_value(L, 1);
-    return 1;
-  }
-  v->spec.source = lua_tostring(L, 1);
-  if (!opt.error().empty()) {
-    v->error = opt.error();
-    return 1;
-  }
-  const media::CheckedPath cp = media::check_media_path(host_of(L).dir, v->spec.source);
-  if (!cp.ok()) {
-    v->error = cp.error;
-    return 1;
-  }
-  if (kind == MediaKind::image && cp.kind == media::MediaFileKind::video)
-    v->error = v->spec.source + ": a video, not an image (use video(...))";
-  else if (kind == MediaKind::video && cp.kind == media::MediaFileKind::image)
-    v->error = v->spec.source + ": an image, not a video (use image(...))";
-  v->spec.path = cp.path;
-  return 1;
-}
-
-int w_image(lua_State* L) {
-  return guarded(L, [&] { return make_file_media(L, MediaKind::image); });
-}
-
-int w_video(lua_State* L) {
-  return guarded(L, [&] { return make_file_media(L, MediaKind::video); });
-}
-
-int w_web(lua_State* L) {
-  return guarded(L, [&] {
-    const Where w = where(L);
-    lua_settop(L, 2);
-    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);
-    v->where = w.prefix;
-    v->spec.kind = MediaKind::web;
-    Options opt(L, 2, "web", w);
-    std::string title;
-    const bool has_title = opt.string("title", &title);
-    opt.finish({"title"});
-    if (lua_type(L, 1) != LUA_TSTRING) {
-      v->error = "web: expected a URL (string), got " + describe_value(L, 1);
-      return 1;
-    }
-    v->spec.source = v->spec.url = lua_tostring(L, 1);
-    v->spec.title = has_title ? title : media::url_host(v->spec.url);
-    if (!opt.error().empty()) v->error = opt.error();
-    else if (std::string e = media::check_url(v->spec.url); !e.empty()) v->error = e;
-    return 1;
-  });
-}
-
-int w_text(lua_State* L) {
-  return guarded(L, [&] {
-    const Where w = where(L);
-    lua_settop(L, 2);
-    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);   // index 3
-    v->where = w.prefix;
-    v->spec.kind = MediaKind::text;
-    Options opt(L, 2, "text", w);
-    opt.number("size", &v->spec.font_px);
-    std::string c;
-    if (opt.string("colour", &c) || opt.string("color", &c)) {
-      if (!parse_colour(c, &v->spec.colour)) opt.fail("colour must be \"#rrggbb\" or \"#rrggbbaa\", got '" + shorten(c) + "'");
-    }
-    if (opt.string("background", &c)) {
-      if (!parse_colour(c, &v->spec.background))
-        opt.fail("background must be \"#rrggbb\" or \"#rrggbbaa\", got '" + shorten(c) + "'");
-    }
-    opt.finish({"size", "colour", "color", "background"});
-    if (!std::isfinite(v->spec.font_px) || v->spec.font_px <= 0 || v->spec.font_px > 1000) {
-      char b[64];
-      std::snprintf(b, sizeof b, "%g", std::isnan(v->spec.font_px) ? std::abs(v->spec.font_px) : v->spec.font_px);
-      opt.fail(std::string("size must be a number of pixels in (0, 1000] (got ") + b + ")");
-    }
-    switch (lua_type(L, 1)) {
-      case LUA_TFUNCTION:
-        v->computed = true;
-        v->spec.source = "function";
-        lua_pushvalue(L, 1);
-        lua_setiuservalue(L, 3, 1);
-        break;
-      case LUA_TSTRING:
-      case LUA_TNUMBER:
-        lua_pushvalue(L, 1);
-        v->spec.source = v->spec.text = lua_tostring(L, -1);
-        lua_pop(L, 1);
-        break;
-      default:
-        v->error = "text: expected a string or a function(m) returning one, got " + describe_value(L, 1);
-        return 1;
-    }
-    if (!opt.error().empty()) v->error = opt.error();
-    return 1;
-  });
-}
-
-int w_stage(lua_State* L) {
-  return guarded(L, [&] {
-    const Where w = where(L);
-    lua_settop(L, 1);
-    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);
-    v->where = w.prefix;
-    v->spec.kind = MediaKind::stage;
-    if (lua_type(L, 1) != LUA_TSTRING) {
-      v->error = "stage: expected a stage name such as \"adaptive_threshold\", got " + describe_value(L, 1);
-      return 1;
-    }
-    v->spec.source = v->spec.stage = lua_tostring(L, 1);
-    Stage s{};
-    if (!stage_from_name(v->spec.stage, &s) || static_cast<int>(s) >= kStageCount)
-      v->error = "stage: unknown stage '" + shorten(v->spec.stage) + "' (" + stage_list() + ")";
-    return 1;
-  });
-}
-
-// ---- 3D media ----------------------------------------------------------------------------------------------
-
-// What cube, axes and model share: size, offset, rotate, lit. Checks the size's range.
-void read_solid_options(Options& opt, MediaSpec* spec, const char* size_key) {
-  opt.number(size_key, &spec->size);
-  opt.vec3("offset", &spec->offset);
-  opt.vec3("rotate", &spec->rotate_deg);
-  opt.boolean("lit", &spec->lit);
-  if (!std::isfinite(spec->size) || spec->size <= 0 || spec->size > 100) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%g", spec->size);
-    opt.fail(std::string(size_key) + " must be a number of marker sides in (0, 100] (got " + b + ")");
-  }
-  for (int i = 0; i < 3; ++i)
-    if (std::abs(spec->offset[i]) > 1000) opt.fail("offset must stay within 1000 marker sides of the marker");
-}
-
-// A face's look: "#rrggbb[aa]" is a colour, anything else an image path inside the scene's folder.
-std::string read_face(lua_State* L, const std::string& value, int face, MediaSpec* spec) {
-  const size_t f = static_cast<size_t>(face);
-  if (!value.empty() && value[0] == '#') {
-    if (!parse_colour(value, &spec->face_colour[f]))
-      return "colour must be \"#rrggbb\" or \"#rrggbbaa\", got '" + shorten(value) + "'";
-    return {};
-  }
-  const media::CheckedPath cp = media::check_media_path(host_of(L).dir, value);
-  if (!cp.ok()) return cp.error;
-  if (cp.kind != media::MediaFileKind::image) return value + ": a video, not an image (a cube's faces show images)";
-  spec->face_image[f] = cp.path;
-  spec->face_source[f] = value;
-  spec->face_colour[f] = cv::Scalar(255, 255, 255, spec->face_colour[f][3]);
-  return {};
-}
-
-int w_cube(lua_State* L) {
-  return guarded(L, [&] {
-    const Where w = where(L);
-    lua_settop(L, 1);
-    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);   // index 2
-    v->where = w.prefix;
-    v->spec.kind = MediaKind::cube;
-    v->spec.source = "cube";
-    Options opt(L, 1, "cube", w);
-    read_solid_options(opt, &v->spec, "size");
-    std::string c;
-    if (opt.string("colour", &c) || opt.string("color", &c)) {
-      cv::Scalar col;
-      if (!parse_colour(c, &col)) opt.fail("colour must be \"#rrggbb\" or \"#rrggbbaa\", got '" + shorten(c) + "'");
-      else v->spec.face_colour.fill(col);
-    }
-    if (opt.table("faces")) {   // pushed at the top
-      std::vector<std::string_view> names;
-      for (int f = 0; f < kCubeFaces; ++f) {
-        const char* name = cube_face_name(static_cast<CubeFace>(f));
-        names.push_back(name);
-        lua_pushstring(L, name);
-        lua_rawget(L, -2);
-        if (lua_type(L, -1) == LUA_TSTRING) {
-          if (std::string e = read_face(L, lua_tostring(L, -1), f, &v->spec); !e.empty())
-            opt.fail(std::string("faces.") + name + ": " + e);
-        } else if (!lua_isnil(L, -1)) {
-          opt.fail(std::string("faces.") + name + " must be a colour \"#rrggbb\" or an image path, got " +
-                   describe_value(L, -1));
-        }
-        lua_pop(L, 1);
-      }
-      warn_unknown_fields(L, -1, names, w, "cube: faces: ");
-      lua_pop(L, 1);
-    }
-    opt.finish({"size", "colour", "color", "faces", "offset", "rotate", "lit"});
-    if (!opt.error().empty()) v->error = opt.error();
-    return 1;
-  });
-}
-
-int w_axes(lua_State* L) {
-  return guarded(L, [&] {
-    const Where w = where(L);
-    lua_settop(L, 1);
-    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);
-    v->where = w.prefix;
-    v->spec.kind = MediaKind::axes;
-    v->spec.source = "axes";
-    v->spec.lit = false;
-    Options opt(L, 1, "axes", w);
-    read_solid_options(opt, &v->spec, "length");
-    opt.number("thickness", &v->spec.thickness);
-    if (!std::isfinite(v->spec.thickness) || v->spec.thickness <= 0 || v->spec.thickness > v->spec.size)
-      opt.fail("thickness must be a number of marker sides in (0, length]");
-    opt.finish({"length", "thickness", "offset", "rotate", "lit"});
-    if (!opt.error().empty()) v->error = opt.error();
-    return 1;
-  });
-}
-
-int w_model(lua_State* L) {
-  return guarded(L, [&] {
-    const Where w = where(L);
-    lua_settop(L, 2);
-    MediaValue* v = new_value<MediaValue>(L, kMediaMeta);
-    v->where = w.prefix;
-    v->spec.kind = MediaKind::model;
-    Options opt(L, 2, "model", w);
-    read_solid_options(opt, &v->spec, "size");
-    opt.finish({"size", "offset", "rotate", "lit"});
-    if (lua_type(L, 1) != LUA_TSTRING) {
-      v->error = "model: expected a path to an OBJ or glTF file (string), got " + describe_value(L, 1);
-      return 1;
-    }
-    v->spec.source = lua_tostring(L, 1);
-    if (!opt.error().empty()) {
-      v->error = opt.error();
-      return 1;
-    }
-    // The path's rules now (a missing file or one leading out skips the marker() call with its line); the
-    // model itself is read when a marker first shows it (media_store.hpp), where a broken file is reported.
-    const media::ResolvedFile f = media::resolve_scene_file(host_of(L).dir, v->spec.source);
-    if (!f.ok()) v->error = "model: " + f.error;
-    else v->spec.path = f.path;
-    return 1;
-  });
-}
-
-// ---- placements ------------------------------------------------------------------------------------------------
+// [SECTION] Placements
 
 int make_place(lua_State* L, PlaceKind kind) {
   const Where w = where(L);
@@ -556,7 +86,7 @@ int w_screen(lua_State* L) {
   return guarded(L, [&] { return make_place(L, PlaceKind::screen); });
 }
 
-// ---- ids, dictionary, marker -----------------------------------------------------------------------------------
+// [SECTION] ids, dictionary, marker
 
 int w_ids(lua_State* L) {
   return guarded(L, [&] {
@@ -742,7 +272,7 @@ int w_marker(lua_State* L) {
   });
 }
 
-// ---- __tostring ------------------------------------------------------------------------------------------------
+// [SECTION] Metatables and globals
 
 int w_media_tostring(lua_State* L) {
   return guarded(L, [&] {
@@ -788,16 +318,16 @@ void new_metatable(lua_State* L, const char* name, lua_CFunction tostring) {
 
 const luaL_Reg kGlobals[] = {
     {"dictionary", w_dictionary}, {"marker", w_marker},       {"ids", w_ids},
-    {"image", w_image},           {"video", w_video},         {"web", w_web},
-    {"text", w_text},             {"stage", w_stage},         {"on_marker", w_on_marker},
-    {"beside", w_beside},         {"billboard", w_billboard}, {"screen", w_screen},
-    {"cube", w_cube},             {"axes", w_axes},           {"model", w_model},
-    {nullptr, nullptr},
+    {"on_marker", w_on_marker},   {"beside", w_beside},       {"billboard", w_billboard},
+    {"screen", w_screen},         {nullptr, nullptr},
 };
 
 }  // namespace
+}  // namespace arwb::script::api
 
-// ---- shared with the runtime and the database ------------------------------------------------------------------
+namespace arwb::script {
+
+// [SECTION] Shared
 
 bool IdSet::contains(int id) const {
   for (const auto& [a, b] : ranges)
@@ -810,8 +340,10 @@ std::string IdSet::text() const {
   for (size_t i = 0; i < ranges.size(); ++i) {
     if (i == 8) return s + ", ... (" + std::to_string(ranges.size()) + " entries)";
     const auto& [a, b] = ranges[i];
-    s += (i ? ", " : "") + std::to_string(a);
-    if (b != a) s += "-" + std::to_string(b);
+    // Appended piece by piece: GCC 12 warns wrongly (-Wrestrict) on "-" + a temporary string here.
+    if (i) s += ", ";
+    s += std::to_string(a);
+    if (b != a) s.append("-").append(std::to_string(b));
   }
   return s;
 }
@@ -827,8 +359,8 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string_vi
   return best.empty() ? std::string() : "did you mean '" + best + "'?";
 }
 
-const MediaValue* test_media(lua_State* L, int idx) { return test_value<MediaValue>(L, idx, kMediaMeta); }
-const PlaceValue* test_place(lua_State* L, int idx) { return test_value<PlaceValue>(L, idx, kPlaceMeta); }
+const MediaValue* test_media(lua_State* L, int idx) { return api::test_value<MediaValue>(L, idx, api::kMediaMeta); }
+const PlaceValue* test_place(lua_State* L, int idx) { return api::test_value<PlaceValue>(L, idx, api::kPlaceMeta); }
 
 void push_text_function(lua_State* L, int idx) {
   if (lua_type(L, idx) == LUA_TUSERDATA) lua_getiuservalue(L, idx, 1);
@@ -847,12 +379,13 @@ bool place_from_name(std::string_view name, PlaceSpec* out) {
 std::string place_kind_list() { return "on_marker, beside, billboard, screen"; }
 
 void open_scene_api(lua_State* L) {
-  new_metatable<MediaValue>(L, kMediaMeta, w_media_tostring);
-  new_metatable<PlaceValue>(L, kPlaceMeta, w_place_tostring);
-  new_metatable<IdsValue>(L, kIdsMeta, w_ids_tostring);
+  api::new_metatable<MediaValue>(L, api::kMediaMeta, api::w_media_tostring);
+  api::new_metatable<PlaceValue>(L, api::kPlaceMeta, api::w_place_tostring);
+  api::new_metatable<IdsValue>(L, api::kIdsMeta, api::w_ids_tostring);
   lua_pushglobaltable(L);
-  luaL_setfuncs(L, kGlobals, 0);
+  luaL_setfuncs(L, api::kGlobals, 0);
   lua_pop(L, 1);
+  api::open_media_constructors(L);
 }
 
 }  // namespace arwb::script
