@@ -1,6 +1,7 @@
 #include "capture/video_reader.hpp"
 
 #include "base/files.hpp"
+#include "capture/library_output.hpp"
 #include "capture/pixels.hpp"
 
 #include <opencv2/imgproc.hpp>

@@ -4,6 +4,7 @@
 #include "calibration/calibration_file.hpp"
 #include "calibration/solve.hpp"
 #include "capture/image_io.hpp"
+#include "capture/library_output.hpp"
 #include "capture/source.hpp"
 #include "capture/video_reader.hpp"
 #include "cli/cli_common.hpp"

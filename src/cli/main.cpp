@@ -4,7 +4,7 @@
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "cli/opencv_limits.hpp"
-#include "capture/image_io.hpp"
+#include "capture/library_output.hpp"
 #include "ui/message_window.hpp"
 #include "ui/player.hpp"
 #include "ui/window.hpp"
