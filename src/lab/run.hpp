@@ -1,7 +1,8 @@
 // Running a plan: for every cell its frames are rendered once through the camera and sensor model (sensor.hpp)
 // and handed to every detector; a frame counts for a detector when it reports the marker's id with corners on
 // the marker's (P_Rec = detected frames / frames in which the marker is visible x 100, the paper's measure).
-// The same seed gives the same frames, and so the same table.
+// The same seed gives the same frames, and so the same table. frame_renderer.cpp renders the frames, run.cpp
+// runs and marks them, results.cpp writes the results out.
 #pragma once
 
 #include "lab/plan.hpp"
