@@ -1,9 +1,9 @@
-// Fuzz target: opening a bundle that arrives as a zip (src/export/open.cpp: open_bundle, with
+// Fuzz target: opening a bundle that arrives as a zip (src/bundle/open.cpp: open_bundle, with
 // bundle_files.cpp's extract_zip), the player's first step on a file someone sent. Small limits (64 entries,
 // 1 MiB a file, 4 MiB in all, the default ratio) keep every input quick. What it promises: a refusal is one line
 // naming the zip, and leaves nothing behind in the temporary folder; an opened bundle's folder holds exactly the
 // manifest's files and is gone once the bundle is.
-#include "export/bundle.hpp"
+#include "bundle/bundle.hpp"
 #include "fuzz_files.hpp"
 
 #include <cstdint>

@@ -1,9 +1,9 @@
-// Fuzz target: a bundle's manifest.json (src/export/manifest.cpp: parse_manifest), which arrives in a bundle
+// Fuzz target: a bundle's manifest.json (src/bundle/manifest.cpp: parse_manifest), which arrives in a bundle
 // someone sent. What it promises: a refusal is one line naming manifest.json; an accepted manifest has only
 // relative paths that stay inside the bundle and 64-hex-digit digests, and writes back (manifest_json) to a text
 // that reads again to the same manifest.
-#include "export/bundle.hpp"
-#include "export/bundle_files.hpp"
+#include "bundle/bundle.hpp"
+#include "bundle/bundle_files.hpp"
 
 #include <cstdint>
 #include <cstdlib>

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "inspect/diagnose.hpp"
-#include "export/bundle.hpp"
+#include "bundle/bundle.hpp"
 #include "lab/session.hpp"
 #include "teach/tour.hpp"
 #include "render/compositor.hpp"
@@ -216,7 +216,7 @@ struct App {
   void save_workspaces(const std::string& path);
 };
 
-// ui/export_requests.cpp: an export message (export/bundle.hpp words it for `arwb export`: --out, --calib, --force)
+// ui/export_requests.cpp: an export message (bundle/bundle.hpp words it for `arwb export`: --out, --calib, --force)
 // in the Export dialog's words (the path, the calibration, the 'replace an existing bundle there' checkbox).
 std::string export_window_wording(std::string text);
 

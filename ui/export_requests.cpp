@@ -2,7 +2,7 @@
 //   Export dialog  File > Export...: title, marker size, calibration, where; Check shows the self-test
 //   Requests       the check and the write on threads of their own; players verified, started and waited for
 //   Polling        finished checks and writes, the players' messages, into the log
-// The paper's Code Generator in the workbench (export/bundle.hpp does the work, as for `arwb export`). The dialog
+// The paper's Code Generator in the workbench (bundle/bundle.hpp does the work, as for `arwb export`). The dialog
 // does no I/O: Check and Export are requests, carried out off the UI thread, and the dialog shows the result.
 #include "ui/app.hpp"
 
@@ -89,7 +89,7 @@ void play_in_background(std::shared_ptr<App::Players> players, std::string path,
 }  // namespace
 
 // The export's messages name `arwb export`'s options (--out, --calib, --force, ...), which mean nothing in this
-// dialog: each is said as the field or checkbox it is here. Only the wording changes; export/ stays the command
+// dialog: each is said as the field or checkbox it is here. Only the wording changes; bundle/ stays the command
 // line's.
 std::string export_window_wording(std::string text) {
   auto starts = [&](std::string_view p) { return text.compare(0, p.size(), p) == 0; };

@@ -4,7 +4,7 @@
 // makes its mapping fire. docs/export.md.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
-#include "export/bundle.hpp"
+#include "bundle/bundle.hpp"
 #include "base/text.hpp"
 
 #include <cstdio>

@@ -1,12 +1,12 @@
 // `arwb play BUNDLE`: the application the paper generated. The bundle (a folder, or a .arwb / .zip file made by
-// `arwb export`) is opened and verified against its manifest first (export/bundle.hpp): a bundle that is refused
+// `arwb export`) is opened and verified against its manifest first (bundle/bundle.hpp): a bundle that is refused
 // says which entry and why in one line, and no window opens (with --error-window, a small one saying the same line,
 // passed in by main like the player). Then the player (ui/player.hpp, passed in by main)
 // runs with the bundle's scene, calibration, dictionary and marker size.
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "base/text.hpp"
-#include "export/bundle.hpp"
+#include "bundle/bundle.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -30,7 +30,7 @@ std::span<const Subcommand> arwb_subcommands();
 // lives above the command line in ui/window.hpp; main passes it in). Its help is `arwb --help`.
 int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&));
 
-// `arwb play BUNDLE [options]`: opens and verifies the bundle (export/bundle.hpp), then hands the player's options
+// `arwb play BUNDLE [options]`: opens and verifies the bundle (bundle/bundle.hpp), then hands the player's options
 // to `run` (the player window, ui/player.hpp; main passes it in, as for the workbench). A refused bundle is said on
 // stderr, and with --error-window in a window too (`show_error`, ui/message_window.hpp, passed in likewise).
 int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&), int (*show_error)(const MessageWindowOptions&));

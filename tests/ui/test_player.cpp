@@ -2,7 +2,7 @@
 // (xvfb-run, Mesa): an exported bundle plays from another folder with the original gone and its media land where
 // `arwb render` (the workbench's compositor, offscreen) puts them; a tampered bundle is refused before any window;
 // the workbench's export is a bundle open_bundle accepts; Play bundle starts the player as a process of its own.
-#include "export/bundle.hpp"
+#include "bundle/bundle.hpp"
 #include "ui/app.hpp"
 #include "support/support.hpp"
 

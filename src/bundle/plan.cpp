@@ -1,7 +1,7 @@
 // `arwb export`: the checks and the self-test (plan_export), then the bundle written all or nothing
 // (write_export). docs/export.md.
-#include "export/bundle.hpp"
-#include "export/bundle_files.hpp"
+#include "bundle/bundle.hpp"
+#include "bundle/bundle_files.hpp"
 #include "base/version.hpp"
 
 #include "base/files.hpp"

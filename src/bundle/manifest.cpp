@@ -1,8 +1,8 @@
 // manifest.json: written by manifest_json, read back by parse_manifest, which trusts nothing in it (a bundle is
 // a file someone sent): every field's type, the format version, relative paths and hex digests are checked, and
 // the first bad one is named.
-#include "export/bundle.hpp"
-#include "export/bundle_files.hpp"
+#include "bundle/bundle.hpp"
+#include "bundle/bundle_files.hpp"
 #include "base/files.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 // Opening a bundle someone sent, for playing: copied or extracted into a private temporary folder and verified
 // there against its manifest, so what is checked is what runs (the original can change or vanish meanwhile).
-#include "export/bundle.hpp"
-#include "export/bundle_files.hpp"
+#include "bundle/bundle.hpp"
+#include "bundle/bundle_files.hpp"
 
 #include "base/files.hpp"
 #include "calibration/calibration_file.hpp"

@@ -1,4 +1,4 @@
-#include "export/bundle_files.hpp"
+#include "bundle/bundle_files.hpp"
 
 #include "base/files.hpp"
 

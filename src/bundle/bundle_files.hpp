@@ -1,4 +1,4 @@
-// What the bundle's files share inside src/export: digests, the rule for a path inside a bundle, reading a
+// What the bundle's files share inside src/bundle: digests, the rule for a path inside a bundle, reading a
 // whole file under a limit, a temporary folder removed unless kept, and the zip (libzip) reading and writing.
 #pragma once
 

@@ -4,8 +4,8 @@
 // inflate past the limits are each refused naming the entry, with nothing written outside the temporary folder;
 // and exports that must not happen (a missing media file, an id out of range, a scene that does not load, a
 // mapping that does not fire) write nothing.
-#include "export/bundle.hpp"
-#include "export/bundle_files.hpp"
+#include "bundle/bundle.hpp"
+#include "bundle/bundle_files.hpp"
 
 #include "calibration/calibration_file.hpp"
 #include "support/support.hpp"
