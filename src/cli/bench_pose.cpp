@@ -117,201 +117,222 @@ std::pair<cv::Vec3d, cv::Vec3d> interpolate(const std::pair<cv::Vec3d, cv::Vec3d
   return {r, a.second * (1 - u) + b.second * u};
 }
 
-}  // namespace
+// The single frames' outcome: a tally per detector, and the frames every detector found.
+struct FrameResults {
+  std::vector<PoseTally> tallies;
+  int frames = 0, common = 0;
+};
 
-int run_pose_bench(const PoseBenchOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  cv::setNumThreads(1);
-  const SynthCamera camera;   // 640x480, barrel distortion
-  Calibration calib;
-  calib.camera_matrix = camera.camera_matrix;
-  calib.distortion = camera.distortion;
-  calib.image_size = camera.size;
-  calib.source = "the synthetic camera";
-  std::vector<MarkerRenderer> renderers;
-  for (int id : kIds) renderers.emplace_back(camera, SynthMarker{"ARUCO_ORIGINAL", id, kSide, 1.5});
-  const unsigned seed = unsigned(options.seed);
-
-  const Detector arwb_det({*dictionary_by_name("ARUCO_ORIGINAL")});
-  const OpenCvArucoPeer ocv("ARUCO_ORIGINAL"), ocv3("ARUCO_ORIGINAL", true);
-  auto arwb_find = [&](const cv::Mat& img, const Truth& t) -> std::optional<Marker> {
-    const auto found = arwb_det.detect(img);
-    const Marker* m = right_marker(found, t);
-    if (!m) return std::nullopt;
-    return *m;
-  };
-  auto arwb_estimate_from = [&](const Marker& m) -> std::optional<Estimate> {
-    auto p = estimate_marker_pose(m.corners, kSide, calib);
-    if (!p) return std::nullopt;
-    return Estimate{p->pose, p};
-  };
-  auto arwb_estimate = [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
-    const auto m = arwb_find(img, t);
-    return m ? arwb_estimate_from(*m) : std::nullopt;
-  };
-  auto peer_estimate = [&](const OpenCvArucoPeer& peer) {
-    return [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
-      const auto found = peer.detect(img);   // kept: right_marker points into its markers
-      const Marker* m = right_marker(found.markers, t);
-      if (!m) return std::nullopt;
-      const auto p = opencv_pose(m->corners, calib);
-      if (!p) return std::nullopt;
-      return Estimate{*p, std::nullopt};
-    };
-  };
-  const std::vector<std::pair<std::string, EstimateFn>> detectors{
-      {"arwb", arwb_estimate}, {"opencv", peer_estimate(ocv)}, {"opencv_aruco3", peer_estimate(ocv3)}};
-
-  auto render = [&](int i, const std::pair<cv::Vec3d, cv::Vec3d>& pose, unsigned noise_seed) {
-    const MarkerRenderer& r = renderers[size_t(i) % renderers.size()];
-    const MarkerView v = r.render(pose.first, pose.second, kBlur, kNoise, noise_seed);
-    return std::pair{v.image, Truth{r.marker().id, v.corners, pose.first, pose.second}};
-  };
+// The bench's camera, markers and detectors, and its two runs.
+class PoseBench {
+ public:
+  explicit PoseBench(unsigned seed) : seed_(seed) {
+    calib_.camera_matrix = camera_.camera_matrix;
+    calib_.distortion = camera_.distortion;
+    calib_.image_size = camera_.size;
+    calib_.source = "the synthetic camera";
+    for (int id : kIds) renderers_.emplace_back(camera_, SynthMarker{"ARUCO_ORIGINAL", id, kSide, 1.5});
+  }
 
   // Single frames: each detector on the same renders.
-  std::vector<PoseTally> tallies;
-  for (const auto& [name, _] : detectors) {
-    tallies.emplace_back();
-    tallies.back().detector = name;
-  }
-  int common = 0;
-  const auto poses = marker_poses(camera, kSide, options.frames, kNear, kFar, kMaxTilt, seed);
-  for (int i = 0; i < int(poses.size()); ++i) {
-    const auto [img, truth] = render(i, poses[size_t(i)], seed * 7919u + unsigned(i));
-    std::vector<std::optional<Estimate>> est;
-    for (size_t d = 0; d < detectors.size(); ++d) {
-      PoseTally& t = tallies[d];
-      est.push_back(detectors[d].second(img, truth));
-      ++t.frames;
-      if (!est.back()) continue;
-      const Estimate& e = *est.back();
-      ++t.detected;
-      const double rot = rotation_difference_deg(e.pose.rvec, truth.rvec);
-      t.rot_deg.push_back(rot);
-      t.trans_pct.push_back(translation_pct(e.pose, truth));
-      const bool flip = rot > kFlipDeg;
-      t.flips += flip;
-      if (e.both) {
-        const bool ambiguous = e.both->ambiguity >= kAmbiguous;
-        t.ambiguous += ambiguous;
-        t.flips_ambiguous += flip && ambiguous;
-        t.flips_alternative_right +=
-            flip && rotation_difference_deg(e.both->alternative.rvec, truth.rvec) <= kFlipDeg;
+  FrameResults single_frames(int frames) const {
+    auto arwb_estimate = [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
+      const auto m = arwb_find(img, t);
+      return m ? arwb_estimate_from(*m) : std::nullopt;
+    };
+    auto peer_estimate = [&](const OpenCvArucoPeer& peer) {
+      return [&](const cv::Mat& img, const Truth& t) -> std::optional<Estimate> {
+        const auto found = peer.detect(img);   // kept: right_marker points into its markers
+        const Marker* m = right_marker(found.markers, t);
+        if (!m) return std::nullopt;
+        const auto p = opencv_pose(m->corners, calib_);
+        if (!p) return std::nullopt;
+        return Estimate{*p, std::nullopt};
+      };
+    };
+    const std::vector<std::pair<std::string, EstimateFn>> detectors{
+        {"arwb", arwb_estimate}, {"opencv", peer_estimate(ocv_)}, {"opencv_aruco3", peer_estimate(ocv3_)}};
+
+    FrameResults out;
+    for (const auto& [name, _] : detectors) {
+      out.tallies.emplace_back();
+      out.tallies.back().detector = name;
+    }
+    const auto poses = marker_poses(camera_, kSide, frames, kNear, kFar, kMaxTilt, seed_);
+    out.frames = int(poses.size());
+    for (int i = 0; i < int(poses.size()); ++i) {
+      const auto [img, truth] = render(i, poses[size_t(i)], seed_ * 7919u + unsigned(i));
+      std::vector<std::optional<Estimate>> est;
+      for (size_t d = 0; d < detectors.size(); ++d) {
+        est.push_back(detectors[d].second(img, truth));
+        tally(est.back(), truth, out.tallies[d]);
+      }
+      if (std::all_of(est.begin(), est.end(), [](const auto& e) { return e.has_value(); })) {
+        ++out.common;
+        for (size_t d = 0; d < detectors.size(); ++d)
+          out.tallies[d].common_rot_deg.push_back(rotation_difference_deg(est[d]->pose.rvec, truth.rvec));
       }
     }
-    if (std::all_of(est.begin(), est.end(), [](const auto& e) { return e.has_value(); })) {
-      ++common;
-      for (size_t d = 0; d < detectors.size(); ++d)
-        tallies[d].common_rot_deg.push_back(rotation_difference_deg(est[d]->pose.rvec, truth.rvec));
-    }
+    return out;
   }
 
   // The sequence: one marker along a smooth path through a few poses, 20 frames a second; arwb choosing each
   // frame alone, choosing by the previous frame's pose (resolve_with_previous) where the corners leave it open,
   // and the workbench's Tracker (One Euro-filtered corners, then the same choice by the track's previous pose).
-  SequenceTally seq;
-  for (int j = 0; j < kSequences; ++j) {
-    const auto keys =
-        marker_poses(camera, kSide, kSequenceKeys, kSeqNear, kFar, kSeqTilt, seed + 104729u * unsigned(j + 1));
-    std::optional<cv::Vec3d> previous;
-    Tracker tracker;
-    tracker.set_camera(calib, kSide);
-    for (int i = 0; i < kSequenceFrames && keys.size() >= 2; ++i) {
-      const double s = double(i) * double(keys.size() - 1) / (kSequenceFrames - 1);
-      const size_t k = std::min(keys.size() - 2, size_t(s));
-      const auto [img, truth] =
-          render(j, interpolate(keys[k], keys[k + 1], s - double(k)), seed * 31u + unsigned(j * 1000 + i));
-      ++seq.frames;
-      const auto m = arwb_find(img, truth);
-      tracker.update(m ? std::vector<Marker>{*m} : std::vector<Marker>{}, i / 20.0);
-      const auto e = m ? arwb_estimate_from(*m) : std::nullopt;
-      if (!e) continue;   // the previous pose is kept: a frame lost is not a reason to forget
-      ++seq.detected;
-      seq.ambiguous += e->both->ambiguity >= kAmbiguous;
-      const MarkerPose tracked = previous ? resolve_with_previous(*e->both, *previous, kAmbiguous) : *e->both;
-      seq.chosen_by_previous += tracked.chosen_by_previous;
-      const double alone = rotation_difference_deg(e->pose.rvec, truth.rvec);
-      const double resolved = rotation_difference_deg(tracked.pose.rvec, truth.rvec);
-      seq.flips_alone += alone > kFlipDeg;
-      seq.flips_tracked += resolved > kFlipDeg;
-      seq.rot_alone.push_back(alone);
-      seq.rot_resolved.push_back(resolved);
-      previous = tracked.pose.rvec;
-      for (const TrackedMarker& t : tracker.tracks())
-        if (t.detected && t.pose) {
-          const double filtered = rotation_difference_deg(t.pose->pose.rvec, truth.rvec);
-          seq.flips_filtered += filtered > kFlipDeg;
-          seq.rot_filtered.push_back(filtered);
-        }
-    }
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  auto share = [](int n, int of) { return of ? double(n) / of : 0.0; };
-  if (options.json) {
-    using Json = nlohmann::ordered_json;
-    Json out = {{"frames", int(poses.size())},
-                {"seed", options.seed},
-                {"marker_mm", kSide * 1000},
-                {"dictionary", "ARUCO_ORIGINAL"},
-                {"distance_m", {kNear, kFar}},
-                {"max_tilt_deg", kMaxTilt},
-                {"blur_px", kBlur},
-                {"noise", kNoise},
-                {"flip_deg", kFlipDeg},
-                {"ambiguous_at", kAmbiguous},
-                {"common_frames", common},
-                {"detectors", Json::array()}};
-    for (const PoseTally& t : tallies) {
-      Json d = {{"detector", t.detector},
-                {"frames", t.frames},
-                {"detected", t.detected},
-                {"median_rotation_deg", round_decimals(quantile(t.rot_deg, 0.5), 4)},
-                {"p90_rotation_deg", round_decimals(quantile(t.rot_deg, 0.9), 4)},
-                {"median_translation_pct", round_decimals(quantile(t.trans_pct, 0.5), 4)},
-                {"flips", t.flips},
-                {"flip_share", round_decimals(share(t.flips, t.detected), 4)},
-                {"median_rotation_deg_common", round_decimals(quantile(t.common_rot_deg, 0.5), 4)}};
-      if (t.detector == "arwb") {
-        d["ambiguous"] = t.ambiguous;
-        d["flips_ambiguous"] = t.flips_ambiguous;
-        d["flips_alternative_right"] = t.flips_alternative_right;
+  SequenceTally sequences() const {
+    SequenceTally seq;
+    for (int j = 0; j < kSequences; ++j) {
+      const auto keys =
+          marker_poses(camera_, kSide, kSequenceKeys, kSeqNear, kFar, kSeqTilt, seed_ + 104729u * unsigned(j + 1));
+      std::optional<cv::Vec3d> previous;
+      Tracker tracker;
+      tracker.set_camera(calib_, kSide);
+      for (int i = 0; i < kSequenceFrames && keys.size() >= 2; ++i) {
+        const double s = double(i) * double(keys.size() - 1) / (kSequenceFrames - 1);
+        const size_t k = std::min(keys.size() - 2, size_t(s));
+        const auto [img, truth] =
+            render(j, interpolate(keys[k], keys[k + 1], s - double(k)), seed_ * 31u + unsigned(j * 1000 + i));
+        ++seq.frames;
+        const auto m = arwb_find(img, truth);
+        tracker.update(m ? std::vector<Marker>{*m} : std::vector<Marker>{}, i / 20.0);
+        const auto e = m ? arwb_estimate_from(*m) : std::nullopt;
+        if (!e) continue;   // the previous pose is kept: a frame lost is not a reason to forget
+        ++seq.detected;
+        seq.ambiguous += e->both->ambiguity >= kAmbiguous;
+        const MarkerPose tracked = previous ? resolve_with_previous(*e->both, *previous, kAmbiguous) : *e->both;
+        seq.chosen_by_previous += tracked.chosen_by_previous;
+        const double alone = rotation_difference_deg(e->pose.rvec, truth.rvec);
+        const double resolved = rotation_difference_deg(tracked.pose.rvec, truth.rvec);
+        seq.flips_alone += alone > kFlipDeg;
+        seq.flips_tracked += resolved > kFlipDeg;
+        seq.rot_alone.push_back(alone);
+        seq.rot_resolved.push_back(resolved);
+        previous = tracked.pose.rvec;
+        for (const TrackedMarker& t : tracker.tracks())
+          if (t.detected && t.pose) {
+            const double filtered = rotation_difference_deg(t.pose->pose.rvec, truth.rvec);
+            seq.flips_filtered += filtered > kFlipDeg;
+            seq.rot_filtered.push_back(filtered);
+          }
       }
-      out["detectors"].push_back(std::move(d));
     }
-    out["sequence"] = {{"sequences", kSequences},
-                       {"frames", seq.frames},
-                       {"distance_m", {kSeqNear, kFar}},
-                       {"max_tilt_deg", kSeqTilt},
-                       {"detected", seq.detected},
-                       {"ambiguous", seq.ambiguous},
-                       {"flips_alone", seq.flips_alone},
-                       {"flips_tracked", seq.flips_tracked},
-                       {"chosen_by_previous", seq.chosen_by_previous},
-                       {"flips_per_100_alone", round_decimals(100 * share(seq.flips_alone, seq.frames), 3)},
-                       {"flips_per_100_tracked", round_decimals(100 * share(seq.flips_tracked, seq.frames), 3)},
-                       {"flips_filtered", seq.flips_filtered},
-                       {"flips_per_100_filtered", round_decimals(100 * share(seq.flips_filtered, seq.frames), 3)},
-                       {"rot_median_deg_alone", round_decimals(quantile(seq.rot_alone, 0.5), 3)},
-                       {"rot_median_deg_resolved", round_decimals(quantile(seq.rot_resolved, 0.5), 3)},
-                       {"rot_median_deg_filtered", round_decimals(quantile(seq.rot_filtered, 0.5), 3)}};
-    out["seconds"] = round_decimals(seconds, 2);
-    std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
-    return 0;
+    return seq;
   }
-  std::printf("\npose of a %.0f mm ARUCO_ORIGINAL marker (%zu frames, seed %d: %.2f to %.2f m, tilted up to %.0f deg, "
+
+ private:
+  std::optional<Marker> arwb_find(const cv::Mat& img, const Truth& t) const {
+    const auto found = arwb_det_.detect(img);
+    const Marker* m = right_marker(found, t);
+    if (!m) return std::nullopt;
+    return *m;
+  }
+
+  std::optional<Estimate> arwb_estimate_from(const Marker& m) const {
+    auto p = estimate_marker_pose(m.corners, kSide, calib_);
+    if (!p) return std::nullopt;
+    return Estimate{p->pose, p};
+  }
+
+  std::pair<cv::Mat, Truth> render(int i, const std::pair<cv::Vec3d, cv::Vec3d>& pose, unsigned noise_seed) const {
+    const MarkerRenderer& r = renderers_[size_t(i) % renderers_.size()];
+    const MarkerView v = r.render(pose.first, pose.second, kBlur, kNoise, noise_seed);
+    return std::pair{v.image, Truth{r.marker().id, v.corners, pose.first, pose.second}};
+  }
+
+  // One detector's estimate of a frame counted against the truth.
+  static void tally(const std::optional<Estimate>& est, const Truth& truth, PoseTally& t) {
+    ++t.frames;
+    if (!est) return;
+    const Estimate& e = *est;
+    ++t.detected;
+    const double rot = rotation_difference_deg(e.pose.rvec, truth.rvec);
+    t.rot_deg.push_back(rot);
+    t.trans_pct.push_back(translation_pct(e.pose, truth));
+    const bool flip = rot > kFlipDeg;
+    t.flips += flip;
+    if (e.both) {
+      const bool ambiguous = e.both->ambiguity >= kAmbiguous;
+      t.ambiguous += ambiguous;
+      t.flips_ambiguous += flip && ambiguous;
+      t.flips_alternative_right += flip && rotation_difference_deg(e.both->alternative.rvec, truth.rvec) <= kFlipDeg;
+    }
+  }
+
+  unsigned seed_;
+  const SynthCamera camera_;   // 640x480, barrel distortion
+  Calibration calib_;
+  std::vector<MarkerRenderer> renderers_;
+  const Detector arwb_det_{{*dictionary_by_name("ARUCO_ORIGINAL")}};
+  const OpenCvArucoPeer ocv_{"ARUCO_ORIGINAL"}, ocv3_{"ARUCO_ORIGINAL", true};
+};
+
+double share(int n, int of) { return of ? double(n) / of : 0.0; }
+
+void print_json(const PoseBenchOptions& options, const FrameResults& f, const SequenceTally& seq, double seconds) {
+  using Json = nlohmann::ordered_json;
+  Json out = {{"frames", f.frames},
+              {"seed", options.seed},
+              {"marker_mm", kSide * 1000},
+              {"dictionary", "ARUCO_ORIGINAL"},
+              {"distance_m", {kNear, kFar}},
+              {"max_tilt_deg", kMaxTilt},
+              {"blur_px", kBlur},
+              {"noise", kNoise},
+              {"flip_deg", kFlipDeg},
+              {"ambiguous_at", kAmbiguous},
+              {"common_frames", f.common},
+              {"detectors", Json::array()}};
+  for (const PoseTally& t : f.tallies) {
+    Json d = {{"detector", t.detector},
+              {"frames", t.frames},
+              {"detected", t.detected},
+              {"median_rotation_deg", round_decimals(quantile(t.rot_deg, 0.5), 4)},
+              {"p90_rotation_deg", round_decimals(quantile(t.rot_deg, 0.9), 4)},
+              {"median_translation_pct", round_decimals(quantile(t.trans_pct, 0.5), 4)},
+              {"flips", t.flips},
+              {"flip_share", round_decimals(share(t.flips, t.detected), 4)},
+              {"median_rotation_deg_common", round_decimals(quantile(t.common_rot_deg, 0.5), 4)}};
+    if (t.detector == "arwb") {
+      d["ambiguous"] = t.ambiguous;
+      d["flips_ambiguous"] = t.flips_ambiguous;
+      d["flips_alternative_right"] = t.flips_alternative_right;
+    }
+    out["detectors"].push_back(std::move(d));
+  }
+  out["sequence"] = {{"sequences", kSequences},
+                     {"frames", seq.frames},
+                     {"distance_m", {kSeqNear, kFar}},
+                     {"max_tilt_deg", kSeqTilt},
+                     {"detected", seq.detected},
+                     {"ambiguous", seq.ambiguous},
+                     {"flips_alone", seq.flips_alone},
+                     {"flips_tracked", seq.flips_tracked},
+                     {"chosen_by_previous", seq.chosen_by_previous},
+                     {"flips_per_100_alone", round_decimals(100 * share(seq.flips_alone, seq.frames), 3)},
+                     {"flips_per_100_tracked", round_decimals(100 * share(seq.flips_tracked, seq.frames), 3)},
+                     {"flips_filtered", seq.flips_filtered},
+                     {"flips_per_100_filtered", round_decimals(100 * share(seq.flips_filtered, seq.frames), 3)},
+                     {"rot_median_deg_alone", round_decimals(quantile(seq.rot_alone, 0.5), 3)},
+                     {"rot_median_deg_resolved", round_decimals(quantile(seq.rot_resolved, 0.5), 3)},
+                     {"rot_median_deg_filtered", round_decimals(quantile(seq.rot_filtered, 0.5), 3)}};
+  out["seconds"] = round_decimals(seconds, 2);
+  std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
+}
+
+void print_table(const PoseBenchOptions& options, const FrameResults& f, const SequenceTally& seq, double seconds) {
+  std::printf("\npose of a %.0f mm ARUCO_ORIGINAL marker (%d frames, seed %d: %.2f to %.2f m, tilted up to %.0f deg, "
               "640x480 barrel lens, blur %.1f px, noise %.0f; the camera known)\n",
-              kSide * 1000, poses.size(), options.seed, kNear, kFar, kMaxTilt, kBlur, kNoise);
+              kSide * 1000, f.frames, options.seed, kNear, kFar, kMaxTilt, kBlur, kNoise);
   std::printf("%-14s %9s %8s %8s %9s %13s %10s\n", "detector", "found", "rot_med", "rot_p90", "trans_med",
               "flips>10deg", "rot_common");
-  for (const PoseTally& t : tallies)
+  for (const PoseTally& t : f.tallies)
     std::printf("%-14s %4d/%-4d %8.2f %8.2f %8.2f%% %4d %7.1f%% %10.2f\n", t.detector.c_str(), t.detected, t.frames,
                 quantile(t.rot_deg, 0.5), quantile(t.rot_deg, 0.9), quantile(t.trans_pct, 0.5), t.flips,
                 100 * share(t.flips, t.detected), quantile(t.common_rot_deg, 0.5));
   std::printf("rotation errors in degrees, translation error in %% of the distance; rot_common: median over the %d "
               "frames all three found\n",
-              common);
-  const PoseTally& a = tallies[0];
+              f.common);
+  const PoseTally& a = f.tallies[0];
   std::printf("arwb's ambiguity: %d of %d poses ambiguous (ratio >= %.1f); of its %d flips %d were flagged so, and in "
               "%d the alternative solution was the right one\n",
               a.ambiguous, a.detected, kAmbiguous, a.flips, a.flips_ambiguous, a.flips_alternative_right);
@@ -325,6 +346,19 @@ int run_pose_bench(const PoseBenchOptions& options) {
   std::printf("median rotation error: alone %.2f deg, resolve_with_previous %.2f deg, the Tracker %.2f deg\n",
               quantile(seq.rot_alone, 0.5), quantile(seq.rot_resolved, 0.5), quantile(seq.rot_filtered, 0.5));
   std::printf("\n%.1f s, one thread\n", seconds);
+}
+
+}  // namespace
+
+int run_pose_bench(const PoseBenchOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  cv::setNumThreads(1);
+  const PoseBench bench(unsigned(options.seed));
+  const FrameResults frames = bench.single_frames(options.frames);
+  const SequenceTally seq = bench.sequences();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (options.json) print_json(options, frames, seq, seconds);
+  else print_table(options, frames, seq, seconds);
   return 0;
 }
 

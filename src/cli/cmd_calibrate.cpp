@@ -173,6 +173,173 @@ std::string tally_text(const std::map<std::string, int>& tally) {
   return t.empty() ? "none refused" : "not kept: " + t;
 }
 
+// What the command line asked for.
+struct CalibrateArgs {
+  std::string input, out, paper_dir;
+  BoardOptions board_options;
+  int max_views = 40;
+  bool json = false;
+  double seconds = 120;
+};
+
+// The options, declared on `app` for `a` to receive.
+void declare_options(CLI::App& app, CalibrateArgs& a) {
+  app.add_option("--input", a.input,
+                 "a video, a folder of images of the board, or a camera (camera:N or camera:N@WxH: frames are read "
+                 "until --max-views views are kept, --seconds pass, or Ctrl+C, and the views kept are solved)")
+      ->type_name("VIDEO|DIR|camera:N[@WxH]")->required();
+  app.add_option("--seconds", a.seconds, "a camera: read it this long at most (120)")->type_name("S")
+      ->check(CLI::Range(1.0, 3600.0));
+  add_board_options(app, a.board_options);
+  app.add_option("--out", a.out, "the calibration file to write")->type_name("FILE.xml|FILE.yml")->required();
+  app.add_option("--paper-files", a.paper_dir, "also write the paper's cameraMatrix.xml and distCoeffs.xml here")
+      ->type_name("DIR");
+  app.add_option("--max-views", a.max_views, "views kept at most")->type_name("N")->check(whole_number(6, 500));
+  app.add_flag("--json", a.json, "print the result and the quality report as one JSON object");
+}
+
+// What can be refused before a long input is read, is: --out's name, and both folders there and writable. The
+// exit status after saying why, or nullopt.
+std::optional<int> check_outputs(const CommandLine& cl, const CalibrateArgs& a) {
+  const std::string ext = std::filesystem::path(a.out).extension().string();
+  if (ext != ".xml" && ext != ".yml" && ext != ".yaml")
+    return cl.usage_error("--out " + a.out + ": the file name must end in .xml, .yml or .yaml");
+  std::error_code ec;
+  const std::filesystem::path out_dir = std::filesystem::path(a.out).parent_path();
+  if (!out_dir.empty() && !std::filesystem::is_directory(out_dir, ec)) {
+    print_problem("%s: %s: cannot write (no such folder %s)\n", kCommand, a.out.c_str(), out_dir.c_str());
+    return 1;
+  }
+  if (!a.paper_dir.empty() && !std::filesystem::is_directory(a.paper_dir, ec)) {
+    print_problem("%s: --paper-files %s: no such folder\n", kCommand, a.paper_dir.c_str());
+    return 1;
+  }
+  std::string why;
+  if (!can_write_in(out_dir.string(), &why)) {
+    print_problem("%s: %s: cannot write in %s (%s)\n", kCommand, a.out.c_str(),
+                  out_dir.empty() ? "the working folder" : out_dir.c_str(), why.c_str());
+    return 1;
+  }
+  if (!a.paper_dir.empty() && !can_write_in(a.paper_dir, &why)) {
+    print_problem("%s: --paper-files %s: cannot write there (%s)\n", kCommand, a.paper_dir.c_str(), why.c_str());
+    return 1;
+  }
+  return std::nullopt;
+}
+
+// The input's frames: a camera's (`camera`, when --input names one), a folder's images or a video's; null after
+// saying why there are none. Stills are not judged by motion (select->video).
+std::unique_ptr<Frames> open_frames(const CalibrateArgs& a, const std::optional<SourceSpec>& camera,
+                                    SelectOptions* select) {
+  if (camera) {
+    std::string error;
+    std::unique_ptr<FrameSource> source = open_capture_source(*camera, &error);
+    if (!source) {
+      print_problem("%s: %s\n", kCommand, error.c_str());
+      return nullptr;
+    }
+    auto frames = std::make_unique<CameraFrames>(std::move(source), a.seconds);
+    std::fprintf(stderr, "%s: reading %s for up to %.0f s; show the board still, in many places and tilts; Ctrl+C "
+                 "stops and solves with the views kept\n", kCommand, a.input.c_str(), a.seconds);
+    return frames;
+  }
+  switch (classify_path(a.input)) {
+    case PathKind::folder: {
+      std::string error;
+      std::vector<std::string> skipped;
+      std::vector<std::string> files = list_images(a.input, &skipped, &error);
+      if (!error.empty()) {
+        print_problem("%s: %s\n", kCommand, error.c_str());
+        return nullptr;
+      }
+      if (files.empty()) {
+        print_problem("%s: %s: no images in the folder\n", kCommand, a.input.c_str());
+        return nullptr;
+      }
+      select->video = false;   // stills: no motion to measure between them
+      return std::make_unique<FolderFrames>(std::move(files));
+    }
+    case PathKind::video: {
+      cv::Mat first;
+      Result<VideoReader> r = VideoReader::open(a.input, &first);
+      if (!r) {
+        print_problem("%s: %s\n", kCommand, r.error().c_str());
+        return nullptr;
+      }
+      return std::make_unique<VideoFrames>(std::move(*r), std::move(first));
+    }
+    case PathKind::missing: print_problem("%s: %s: no such file or folder\n", kCommand, a.input.c_str()); break;
+    case PathKind::image:
+      print_problem("%s: %s: one image cannot calibrate; give a video or a folder of images\n", kCommand,
+                    a.input.c_str());
+      break;
+    case PathKind::other:
+      print_problem("%s: %s: neither a video nor a folder of images\n", kCommand, a.input.c_str());
+      break;
+  }
+  return nullptr;
+}
+
+// What reading the input gave: the views kept, why the others were not, a few frames for the wrong-size hint.
+struct Reading {
+  std::vector<CalibrationView> views;
+  std::map<std::string, int> tally;
+  std::vector<std::pair<std::string, cv::Mat>> samples;
+  cv::Size size;
+  int read = 0, boards = 0;
+  std::string problem;   // a frame that could not be read, reported once
+};
+
+// Every frame searched for the board and judged by the selector, with a progress line on a terminal; the exit
+// status after saying why the input cannot calibrate (frames of two sizes, a larger chessboard than given), or
+// nullopt. A camera stops once max_views views are kept.
+std::optional<int> read_views(Frames& frames, const BoardSpec& board, const SelectOptions& select, bool camera,
+                              Reading& r) {
+  ViewSelector selector(board, select);
+  std::string first_name, name;
+  const int64_t total = frames.count();
+  const bool progress = ::isatty(2) && (total == 0 || total > 30);
+  cv::Mat frame, grey;
+  while (frames.next(&frame, &name, &r.problem)) {
+    ++r.read;
+    if (r.size.area() == 0) {
+      r.size = frame.size();
+      first_name = name;
+    } else if (frame.size() != r.size) {
+      if (progress) std::fputc('\n', stderr);
+      print_problem("%s: %s: %dx%d, but %s is %dx%d; calibrate one camera at one size\n", kCommand, name.c_str(),
+                    frame.cols, frame.rows, first_name.c_str(), r.size.width, r.size.height);
+      return 1;
+    }
+    cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+    const BoardDetection d = detect_board(grey, board);
+    if (d.found && r.boards == 0 && board.kind == BoardKind::chessboard) {
+      if (std::optional<cv::Size> larger = larger_board(grey, board, d.corners)) {
+        *larger = as_given(*larger, board);
+        if (progress) std::fputc('\n', stderr);
+        print_problem("%s: %s: the chessboard has more inner corners than %dx%d (%dx%d): give --cols %d --rows %d\n",
+                      kCommand, name.c_str(), board.cols, board.rows, larger->width, larger->height, larger->width,
+                      larger->height);
+        return 1;
+      }
+    }
+    r.boards += d.found;
+    const Verdict v = selector.consider(d, r.size);
+    ++r.tally[v.kind];
+    if (v.keep) r.views.push_back({name, d.corners, d.ids});
+    if (camera && int(r.views.size()) >= select.max_views) break;
+    if (r.samples.size() < 3 && (r.read - 1) % 10 == 0) r.samples.emplace_back(name, grey.clone());
+    if (progress && r.read % 5 == 0) {
+      std::fprintf(stderr, "\r%s: %d", kCommand, r.read);
+      if (total > 0) std::fprintf(stderr, "/%lld", static_cast<long long>(total));
+      std::fprintf(stderr, " frames, board in %d, %zu views kept (this frame: %s)   ", r.boards, r.views.size(),
+                   v.kind.c_str());
+    }
+  }
+  if (progress) std::fputc('\n', stderr);
+  return std::nullopt;
+}
+
 }  // namespace
 
 int cmd_calibrate(int argc, char** argv) {
@@ -188,182 +355,51 @@ int cmd_calibrate(int argc, char** argv) {
                  "95 % intervals of fx, fy, cx, cy under 5 %, image coverage) and shows ROS's X, Y, size and skew "
                  "coverage and the views worst first. Exit status 0 when a file was written, 1 when the input could "
                  "not calibrate, 2 for a bad option.");
-  std::string input, out, paper_dir;
-  BoardOptions board_options;
-  int max_views = 40;
-  bool json = false;
-  double seconds = 120;
-  cl.app.add_option("--input", input,
-                    "a video, a folder of images of the board, or a camera (camera:N or camera:N@WxH: frames are read "
-                    "until --max-views views are kept, --seconds pass, or Ctrl+C, and the views kept are solved)")
-      ->type_name("VIDEO|DIR|camera:N[@WxH]")->required();
-  cl.app.add_option("--seconds", seconds, "a camera: read it this long at most (120)")->type_name("S")
-      ->check(CLI::Range(1.0, 3600.0));
-  add_board_options(cl.app, board_options);
-  cl.app.add_option("--out", out, "the calibration file to write")->type_name("FILE.xml|FILE.yml")->required();
-  cl.app.add_option("--paper-files", paper_dir, "also write the paper's cameraMatrix.xml and distCoeffs.xml here")
-      ->type_name("DIR");
-  cl.app.add_option("--max-views", max_views, "views kept at most")->type_name("N")->check(whole_number(6, 500));
-  cl.app.add_flag("--json", json, "print the result and the quality report as one JSON object");
+  CalibrateArgs a;
+  declare_options(cl.app, a);
   if (const auto status = cl.parse(argc, argv)) return *status;
 
   std::string board_problem;
-  const std::optional<BoardSpec> board_given = board_from_options(board_options, &board_problem);
+  const std::optional<BoardSpec> board_given = board_from_options(a.board_options, &board_problem);
   if (!board_given) return cl.usage_error(board_problem);
   const BoardSpec board = *board_given;
-  SourceSpec camera;
-  const bool is_camera = input.rfind("camera:", 0) == 0;
-  if (is_camera) {
+  std::optional<SourceSpec> camera;
+  if (a.input.rfind("camera:", 0) == 0) {
     std::string error;
-    if (!parse_source_spec(input, &camera, &error)) return cl.usage_error("--input " + error);
+    camera.emplace();
+    if (!parse_source_spec(a.input, &*camera, &error)) return cl.usage_error("--input " + error);
   }
-  // What can be refused before a long input is read, is.
-  const std::string ext = std::filesystem::path(out).extension().string();
-  if (ext != ".xml" && ext != ".yml" && ext != ".yaml")
-    return cl.usage_error("--out " + out + ": the file name must end in .xml, .yml or .yaml");
-  std::error_code ec;
-  const std::filesystem::path out_dir = std::filesystem::path(out).parent_path();
-  if (!out_dir.empty() && !std::filesystem::is_directory(out_dir, ec)) {
-    print_problem("%s: %s: cannot write (no such folder %s)\n", kCommand, out.c_str(), out_dir.c_str());
-    return 1;
-  }
-  if (!paper_dir.empty() && !std::filesystem::is_directory(paper_dir, ec)) {
-    print_problem("%s: --paper-files %s: no such folder\n", kCommand, paper_dir.c_str());
-    return 1;
-  }
-  std::string why;
-  if (!can_write_in(out_dir.string(), &why)) {
-    print_problem("%s: %s: cannot write in %s (%s)\n", kCommand, out.c_str(),
-                  out_dir.empty() ? "the working folder" : out_dir.c_str(), why.c_str());
-    return 1;
-  }
-  if (!paper_dir.empty() && !can_write_in(paper_dir, &why)) {
-    print_problem("%s: --paper-files %s: cannot write there (%s)\n", kCommand, paper_dir.c_str(), why.c_str());
-    return 1;
-  }
+  if (const auto status = check_outputs(cl, a)) return *status;
 
   keep_opencv_quiet();
-  std::unique_ptr<Frames> frames;
   SelectOptions select;
-  select.max_views = max_views;
-  CameraFrames* camera_frames = nullptr;
-  if (is_camera) {
-    std::string error;
-    std::unique_ptr<FrameSource> source = open_capture_source(camera, &error);
-    if (!source) {
-      print_problem("%s: %s\n", kCommand, error.c_str());
-      return 1;
-    }
-    auto f = std::make_unique<CameraFrames>(std::move(source), seconds);
-    camera_frames = f.get();
-    frames = std::move(f);
-    std::fprintf(stderr, "%s: reading %s for up to %.0f s; show the board still, in many places and tilts; Ctrl+C "
-                 "stops and solves with the views kept\n", kCommand, input.c_str(), seconds);
-  } else switch (classify_path(input)) {
-    case PathKind::folder: {
-      std::string error;
-      std::vector<std::string> skipped;
-      std::vector<std::string> files = list_images(input, &skipped, &error);
-      if (!error.empty()) {
-        print_problem("%s: %s\n", kCommand, error.c_str());
-        return 1;
-      }
-      if (files.empty()) {
-        print_problem("%s: %s: no images in the folder\n", kCommand, input.c_str());
-        return 1;
-      }
-      frames = std::make_unique<FolderFrames>(std::move(files));
-      select.video = false;   // stills: no motion to measure between them
-      break;
-    }
-    case PathKind::video: {
-      cv::Mat first;
-      Result<VideoReader> r = VideoReader::open(input, &first);
-      if (!r) {
-        print_problem("%s: %s\n", kCommand, r.error().c_str());
-        return 1;
-      }
-      frames = std::make_unique<VideoFrames>(std::move(*r), std::move(first));
-      break;
-    }
-    case PathKind::missing: print_problem("%s: %s: no such file or folder\n", kCommand, input.c_str()); return 1;
-    case PathKind::image:
-      print_problem("%s: %s: one image cannot calibrate; give a video or a folder of images\n", kCommand,
-                    input.c_str());
-      return 1;
-    case PathKind::other:
-      print_problem("%s: %s: neither a video nor a folder of images\n", kCommand, input.c_str());
-      return 1;
-  }
-
-  ViewSelector selector(board, select);
-  std::vector<CalibrationView> views;
-  std::map<std::string, int> tally;
-  std::vector<std::pair<std::string, cv::Mat>> samples;   // a few frames for the wrong-size hint
-  cv::Size size;
-  std::string first_name, name, problem;
-  int read = 0, boards = 0;
-  const int64_t total = frames->count();
-  const bool progress = ::isatty(2) && (total == 0 || total > 30);
-  cv::Mat frame, grey;
-  while (frames->next(&frame, &name, &problem)) {
-    ++read;
-    if (size.area() == 0) {
-      size = frame.size();
-      first_name = name;
-    } else if (frame.size() != size) {
-      if (progress) std::fputc('\n', stderr);
-      print_problem("%s: %s: %dx%d, but %s is %dx%d; calibrate one camera at one size\n", kCommand, name.c_str(),
-                    frame.cols, frame.rows, first_name.c_str(), size.width, size.height);
-      return 1;
-    }
-    cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
-    const BoardDetection d = detect_board(grey, board);
-    if (d.found && boards == 0 && board.kind == BoardKind::chessboard) {
-      if (std::optional<cv::Size> larger = larger_board(grey, board, d.corners)) {
-        *larger = as_given(*larger, board);
-        if (progress) std::fputc('\n', stderr);
-        print_problem("%s: %s: the chessboard has more inner corners than %dx%d (%dx%d): give --cols %d --rows %d\n",
-                      kCommand, name.c_str(), board.cols, board.rows, larger->width, larger->height, larger->width,
-                      larger->height);
-        return 1;
-      }
-    }
-    boards += d.found;
-    const Verdict v = selector.consider(d, size);
-    ++tally[v.kind];
-    if (v.keep) views.push_back({name, d.corners, d.ids});
-    if (camera_frames && int(views.size()) >= max_views) break;
-    if (samples.size() < 3 && (read - 1) % 10 == 0) samples.emplace_back(name, grey.clone());
-    if (progress && read % 5 == 0) {
-      std::fprintf(stderr, "\r%s: %d", kCommand, read);
-      if (total > 0) std::fprintf(stderr, "/%lld", static_cast<long long>(total));
-      std::fprintf(stderr, " frames, board in %d, %zu views kept (this frame: %s)   ", boards, views.size(),
-                   v.kind.c_str());
-    }
-  }
-  if (progress) std::fputc('\n', stderr);
+  select.max_views = a.max_views;
+  const std::unique_ptr<Frames> frames = open_frames(a, camera, &select);
+  if (!frames) return 1;
+  Reading r;
+  if (const auto status = read_views(*frames, board, select, camera.has_value(), r)) return *status;
+  const auto* camera_frames = dynamic_cast<const CameraFrames*>(frames.get());
   if (camera_frames && camera_frames->interrupted())
-    std::fprintf(stderr, "%s: stopped (Ctrl+C): solving with the %zu views kept\n", kCommand, views.size());
-  if (!problem.empty()) print_problem("%s: %s\n", kCommand, problem.c_str());
-  const std::string summary = std::to_string(read) + " frame" + (read == 1 ? "" : "s") + " read, board in " +
-                              std::to_string(boards) + ", " + std::to_string(views.size()) +
-                              (views.size() == 1 ? " view kept; " : " views kept; ") + tally_text(tally);
-  if (boards == 0 && board.kind == BoardKind::charuco) {
+    std::fprintf(stderr, "%s: stopped (Ctrl+C): solving with the %zu views kept\n", kCommand, r.views.size());
+  if (!r.problem.empty()) print_problem("%s: %s\n", kCommand, r.problem.c_str());
+  const std::string summary = std::to_string(r.read) + " frame" + (r.read == 1 ? "" : "s") + " read, board in " +
+                              std::to_string(r.boards) + ", " + std::to_string(r.views.size()) +
+                              (r.views.size() == 1 ? " view kept; " : " views kept; ") + tally_text(r.tally);
+  if (r.boards == 0 && board.kind == BoardKind::charuco) {
     print_problem("%s: no %s in any of the %d frames of %s (at least %d corners, not on one line); check --cols, "
                   "--rows (squares) and --dict; boards printed for OpenCV's older ChArUco layout (before 4.6; it "
                   "differs for an even number of rows) are not read\n",
-                  kCommand, board.describe().c_str(), read, input.c_str(), kMinCharucoCorners);
+                  kCommand, board.describe().c_str(), r.read, a.input.c_str(), kMinCharucoCorners);
     return 1;
   }
-  if (boards == 0) {
-    print_problem("%s: no %dx%d chessboard in any of the %d frames of %s%s\n", kCommand, board.cols, board.rows, read,
-                  input.c_str(), other_board_hint(samples, board).c_str());
+  if (r.boards == 0) {
+    print_problem("%s: no %dx%d chessboard in any of the %d frames of %s%s\n", kCommand, board.cols, board.rows,
+                  r.read, a.input.c_str(), other_board_hint(r.samples, board).c_str());
     return 1;
   }
-  const Result<Solution> s = solve_calibration(views, board, size);
+  const Result<Solution> s = solve_calibration(r.views, board, r.size);
   if (!s) {
-    print_problem("%s: %s: %s (%s)\n", kCommand, input.c_str(), s.error().c_str(), summary.c_str());
+    print_problem("%s: %s: %s (%s)\n", kCommand, a.input.c_str(), s.error().c_str(), summary.c_str());
     return 1;
   }
   CalibrationFileExtras x;
@@ -375,24 +411,24 @@ int cmd_calibrate(int argc, char** argv) {
   x.view_count = int(s->view_names.size());
   x.notes = s->notes;
   // The file and the paper's files together: all of them or none.
-  if (Status st = write_calibration(out, s->calibration, x, paper_dir); !st) {
+  if (Status st = write_calibration(a.out, s->calibration, x, a.paper_dir); !st) {
     print_problem("%s: %s\n", kCommand, st.error().c_str());
     return 1;
   }
-  if (json) {
+  if (a.json) {
     nlohmann::json j = nlohmann::json::parse(solution_json(*s, board));
-    j["input"] = input;
-    j["out"] = out;
-    j["frames_read"] = read;
-    j["boards_found"] = boards;
-    j["views_kept"] = views.size();
-    j["not_kept"] = tally;
+    j["input"] = a.input;
+    j["out"] = a.out;
+    j["frames_read"] = r.read;
+    j["boards_found"] = r.boards;
+    j["views_kept"] = r.views.size();
+    j["not_kept"] = r.tally;
     j["not_kept"].erase("kept");
     std::puts(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
   } else {
     std::printf("%s\n%s", summary.c_str(), solution_text(*s).c_str());
-    std::printf("wrote %s%s%s\n", out.c_str(), paper_dir.empty() ? "" : " and the paper's files in ",
-                paper_dir.c_str());
+    std::printf("wrote %s%s%s\n", a.out.c_str(), a.paper_dir.empty() ? "" : " and the paper's files in ",
+                a.paper_dir.c_str());
   }
   return 0;
 }
