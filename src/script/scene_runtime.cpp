@@ -76,7 +76,39 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   }
   for (auto& [key, inst] : p.instances) inst.error.clear();
 
-  // Enter and leave: the tracker's events, then whatever they missed (markers in view when the scene loaded).
+  enter_and_leave(p, events, seen, by_track);
+  run_updates(p, seen, in);
+
+  // Overlays: each mapping in declaration order (later ones drawn over earlier ones), its markers in id order,
+  // each print of an id with its own.
+  std::array<std::shared_ptr<MediaContent>, kStageCount> stages{};
+  for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
+    const Mapping& m = p.def.mappings[mi];
+    if (!m.skipped.empty()) continue;
+    for (const TrackedMarker* t : seen)
+      if (m.ids.contains(t->id)) add_overlay(p, static_cast<int>(mi), *t, in, stages, overlays);
+  }
+  if (p.lua) {
+    const double before = p.lua->script_ms();
+    p.lua->collect_garbage();
+    frame_ms += p.lua->script_ms() - before;
+    report_suppressed(p);
+  }
+  if (skipped) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", limits.frame_ms);
+    report(1, p.display + ": the scene's calls took over " + b + " ms on this frame; its other on_update and text "
+                          "calls wait for the next frame");
+  }
+  fill_rows(&seen);
+  status.script_ms = frame_ms;
+  return overlays;
+}
+
+// Enter and leave: the tracker's events, then whatever they missed (markers in view when the scene loaded).
+void SceneRuntime::Impl::enter_and_leave(Program& p, const std::vector<TrackEvent>& events,
+                                         const std::vector<const TrackedMarker*>& seen,
+                                         const std::map<uint64_t, const TrackedMarker*>& by_track) {
   for (const TrackEvent& e : events) {
     if (e.kind == TrackEvent::Kind::enter) {
       if (auto it = by_track.find(e.track_id); it != by_track.end() && !p.inside.count(e.track_id))
@@ -91,9 +123,12 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   for (const auto& [track, slot] : p.inside)
     if (!by_track.count(track)) gone.push_back(track);
   for (const uint64_t track : gone) leave(p, track);
+}
 
-  // on_update, and the play position. When the frame's time ran out last frame, this one starts with the marker
-  // that waited, so every marker gets its turn.
+// on_update, and the play position. When the frame's time ran out last frame, this one starts with the marker
+// that waited, so every marker gets its turn.
+void SceneRuntime::Impl::run_updates(Program& p, const std::vector<const TrackedMarker*>& seen,
+                                     const SceneInput& in) {
   std::vector<const TrackedMarker*> order = seen;
   const auto first = std::find_if(order.begin(), order.end(), [&](const TrackedMarker* t) {
     return std::pair<int, uint64_t>(t->id, t->track_id) >= resume;
@@ -112,92 +147,72 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
       run_callback(p, static_cast<int>(mi), m.on_update, *t, !t->detected, &in.dt_s, "on_update", inst);
     }
   }
+}
 
-  // Overlays: each mapping in declaration order (later ones drawn over earlier ones), its markers in id order,
-  // each print of an id with its own.
-  std::array<std::shared_ptr<MediaContent>, kStageCount> stages{};
-  for (size_t mi = 0; mi < p.def.mappings.size(); ++mi) {
-    const Mapping& m = p.def.mappings[mi];
-    if (!m.skipped.empty()) continue;
-    for (const TrackedMarker* t : seen) {
-      const int id = t->id;
-      if (!m.ids.contains(id)) continue;
-      Instance& inst = instance_of(p, static_cast<int>(mi), *t);
-      MediaSpec spec = inst.media_set ? inst.media : m.media;
-      if (spec.kind == MediaKind::none) {
-        content_for(p, m, inst, spec, in, stages);   // pauses a video the media was before
-        continue;
-      }
-      const int fn = inst.media_set ? inst.text_fn : m.text_fn;
-      if (spec.kind == MediaKind::text && fn != LUA_NOREF) {
-        if (!p.lua || !call(p, static_cast<int>(mi), fn, *t, !t->detected, nullptr, "text", &inst)) continue;
-        lua_State* L = p.lua->L();
-        if (lua_type(L, -1) == LUA_TSTRING || lua_type(L, -1) == LUA_TNUMBER) {
-          spec.text = lua_tostring(L, -1);
-        } else {
-          const std::string msg = function_prefix(p, fn) + "a text function must return a string, not " +
-                                  luaL_typename(L, -1) + " (text of marker " + std::to_string(id) + ")";
-          lua_pop(L, 1);
-          report(2, msg);
-          inst.error = msg;
-          continue;
-        }
-        lua_pop(L, 1);
-      }
-      const PlaceSpec& place = inst.place_set ? inst.place : m.place;
-      if (is_solid(spec.kind)) {
-        content_for(p, m, inst, spec, in, stages);   // pauses a video the media was before
-        Overlay o;
-        o.marker_id = id;
-        o.track_id = t->track_id;
-        o.mapping = static_cast<int>(mi);
-        o.place = place;
-        if (!solid_overlay(p, m, inst, spec, place, *t, in, &o)) continue;
-        o.media = std::move(spec);
-        overlays.push_back(std::move(o));
-        continue;
-      }
-      std::shared_ptr<MediaContent> content = content_for(p, m, inst, spec, in, stages);
-      if (!content) continue;
-      const cv::Size size = content->size();
-      if (size.width <= 0 || size.height <= 0) continue;
-      std::string why;
-      const std::optional<MediaQuad> quad =
-          arwb::place(place, t->corners, double(size.width) / double(size.height), in.frame, &why);
-      if (!quad) {
-        const std::string msg = p.display + ":" + std::to_string(m.line) + ": marker " + std::to_string(id) +
-                                ": " + (why.empty() ? "cannot be placed" : why);
-        report(1, msg);
-        inst.error = why;
-        continue;
-      }
-      Overlay o;
-      o.marker_id = id;
-      o.track_id = t->track_id;
-      o.mapping = static_cast<int>(mi);
-      o.media = std::move(spec);
-      o.place = place;
-      o.quad = *quad;
-      o.content = std::move(content);
-      through_lens(*t, in, &o);
-      overlays.push_back(std::move(o));
+void SceneRuntime::Impl::add_overlay(Program& p, int mi, const TrackedMarker& t, const SceneInput& in,
+                                     std::array<std::shared_ptr<MediaContent>, kStageCount>& stages,
+                                     std::vector<Overlay>& overlays) {
+  const Mapping& m = p.def.mappings[static_cast<size_t>(mi)];
+  const int id = t.id;
+  Instance& inst = instance_of(p, mi, t);
+  MediaSpec spec = inst.media_set ? inst.media : m.media;
+  if (spec.kind == MediaKind::none) {
+    content_for(p, m, inst, spec, in, stages);   // pauses a video the media was before
+    return;
+  }
+  const int fn = inst.media_set ? inst.text_fn : m.text_fn;
+  if (spec.kind == MediaKind::text && fn != LUA_NOREF) {
+    if (!p.lua || !call(p, mi, fn, t, !t.detected, nullptr, "text", &inst)) return;
+    lua_State* L = p.lua->L();
+    if (lua_type(L, -1) == LUA_TSTRING || lua_type(L, -1) == LUA_TNUMBER) {
+      spec.text = lua_tostring(L, -1);
+    } else {
+      const std::string msg = function_prefix(p, fn) + "a text function must return a string, not " +
+                              luaL_typename(L, -1) + " (text of marker " + std::to_string(id) + ")";
+      lua_pop(L, 1);
+      report(2, msg);
+      inst.error = msg;
+      return;
     }
+    lua_pop(L, 1);
   }
-  if (p.lua) {
-    const double before = p.lua->script_ms();
-    p.lua->collect_garbage();
-    frame_ms += p.lua->script_ms() - before;
-    report_suppressed(p);
+  const PlaceSpec& place = inst.place_set ? inst.place : m.place;
+  if (is_solid(spec.kind)) {
+    content_for(p, m, inst, spec, in, stages);   // pauses a video the media was before
+    Overlay o;
+    o.marker_id = id;
+    o.track_id = t.track_id;
+    o.mapping = mi;
+    o.place = place;
+    if (!solid_overlay(p, m, inst, spec, place, t, in, &o)) return;
+    o.media = std::move(spec);
+    overlays.push_back(std::move(o));
+    return;
   }
-  if (skipped) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", limits.frame_ms);
-    report(1, p.display + ": the scene's calls took over " + b + " ms on this frame; its other on_update and text "
-                          "calls wait for the next frame");
+  std::shared_ptr<MediaContent> content = content_for(p, m, inst, spec, in, stages);
+  if (!content) return;
+  const cv::Size size = content->size();
+  if (size.width <= 0 || size.height <= 0) return;
+  std::string why;
+  const std::optional<MediaQuad> quad =
+      arwb::place(place, t.corners, double(size.width) / double(size.height), in.frame, &why);
+  if (!quad) {
+    const std::string msg = p.display + ":" + std::to_string(m.line) + ": marker " + std::to_string(id) +
+                            ": " + (why.empty() ? "cannot be placed" : why);
+    report(1, msg);
+    inst.error = why;
+    return;
   }
-  fill_rows(&seen);
-  status.script_ms = frame_ms;
-  return overlays;
+  Overlay o;
+  o.marker_id = id;
+  o.track_id = t.track_id;
+  o.mapping = mi;
+  o.media = std::move(spec);
+  o.place = place;
+  o.quad = *quad;
+  o.content = std::move(content);
+  through_lens(t, in, &o);
+  overlays.push_back(std::move(o));
 }
 
 void SceneRuntime::Impl::report_suppressed(Program& p) {

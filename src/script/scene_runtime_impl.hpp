@@ -141,6 +141,12 @@ struct SceneRuntime::Impl : Reporter {
 
   // [SECTION] One frame (scene_runtime.cpp)
   std::vector<Overlay> update(const SceneInput& in);
+  // update()'s steps: on_enter and on_leave, on_update, and the overlay of mapping mi for one track.
+  void enter_and_leave(Program& p, const std::vector<TrackEvent>& events, const std::vector<const TrackedMarker*>& seen,
+                       const std::map<uint64_t, const TrackedMarker*>& by_track);
+  void run_updates(Program& p, const std::vector<const TrackedMarker*>& seen, const SceneInput& in);
+  void add_overlay(Program& p, int mi, const TrackedMarker& t, const SceneInput& in,
+                   std::array<std::shared_ptr<MediaContent>, kStageCount>& stages, std::vector<Overlay>& overlays);
   void fill_rows(const std::vector<const TrackedMarker*>* seen);
 };
 
