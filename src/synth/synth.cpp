@@ -196,44 +196,50 @@ std::string_view hardship_name(Hardship h) {
   return "none";
 }
 
-SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
-  cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + uint64_t(index) * 0xBF58476D1CE4E5B9ull + 1);
-  SynthImage out;
-  const cv::Size size = opt.size;
-  out.image = opt.effects ? background(size, rng) : cv::Mat(size, CV_8UC3, cv::Scalar::all(128));
-  const double focal = size.width * 1.1;
-  if (opt.effects) draw_clutter(out.image, rng, opt.dictionaries, focal);
+namespace {
 
-  // A hard set's condition changes the draws below only for its own images: the photographs of Hardship::none
-  // take exactly the draws they always took, so sets made before stay the same.
-  const Hardship hard = opt.effects ? opt.hardship : Hardship::none;
-  const double short_side = std::min(size.width, size.height);
-  int max_markers = opt.max_markers;
-  double min_side = opt.min_side_px, max_side = std::max(opt.min_side_px * 1.5, opt.max_side_rate * short_side);
-  double tilt = opt.max_tilt_deg, min_px_per_cell = 2.0;
+// Where a photograph's markers go: how many, their sides and tilts, by the set's hardship.
+struct MarkerRange {
+  int max_markers = 0;
+  double min_side = 0, max_side = 0, tilt = 0, min_px_per_cell = 2.0;
+};
+
+MarkerRange marker_range(const SynthOptions& opt, Hardship hard, double short_side) {
+  MarkerRange r;
+  r.max_markers = opt.max_markers;
+  r.min_side = opt.min_side_px;
+  r.max_side = std::max(opt.min_side_px * 1.5, opt.max_side_rate * short_side);
+  r.tilt = opt.max_tilt_deg;
   if (hard == Hardship::low_contrast) {
-    max_markers = std::min(max_markers, 3);
-    max_side = opt.max_side_rate * short_side;
-    min_side = std::min(std::max(100.0, 0.2 * short_side), 0.8 * max_side);
+    r.max_markers = std::min(r.max_markers, 3);
+    r.max_side = opt.max_side_rate * short_side;
+    r.min_side = std::min(std::max(100.0, 0.2 * short_side), 0.8 * r.max_side);
   } else if (hard == Hardship::tiny) {
-    max_markers = 8;
-    min_side = 10;
-    max_side = 24;
-    tilt = std::min(tilt, 35.0);
-    min_px_per_cell = 1.25;
+    r.max_markers = 8;
+    r.min_side = 10;
+    r.max_side = 24;
+    r.tilt = std::min(r.tilt, 35.0);
+    r.min_px_per_cell = 1.25;
   }
+  return r;
+}
 
+// The markers drawn into out.image, each in perspective, its quiet zone inside the frame and clear of the others.
+void place_markers(const SynthOptions& opt, Hardship hard, const MarkerRange& range, int index, double focal,
+                   cv::RNG& rng, SynthImage& out) {
+  const cv::Size size = opt.size;
   const bool empty = rng.uniform(0.0, 1.0) < opt.empty_fraction;
-  const int want = empty ? 0 : rng.uniform(1, max_markers + 1);
+  const int want = empty ? 0 : rng.uniform(1, range.max_markers + 1);
   std::vector<cv::Rect> taken;
   for (int attempt = 0; int(out.markers.size()) < want && attempt < 200; ++attempt) {
     const Dictionary& d = opt.dictionaries[size_t(int(out.markers.size() + size_t(index)) % int(opt.dictionaries.size()))];
-    const double side = std::exp(rng.uniform(std::log(min_side), std::log(max_side)));
+    const double side = std::exp(rng.uniform(std::log(range.min_side), std::log(range.max_side)));
     // One draw a statement, in the order GCC took them (see draw_clutter).
     const double cy = rng.uniform(side, size.height - side), cx = rng.uniform(side, size.width - side);
     const cv::Point2d centre(cx, cy);
     if (centre.x <= 0 || centre.y <= 0) continue;
-    const double tilt_y = rng.uniform(-tilt, tilt), tilt_x = rng.uniform(-tilt, tilt), roll = rng.uniform(0.0, 360.0);
+    const double tilt_y = rng.uniform(-range.tilt, range.tilt), tilt_x = rng.uniform(-range.tilt, range.tilt),
+                 roll = rng.uniform(0.0, 360.0);
     const Quad q = project_square(centre, side, roll, tilt_x, tilt_y, focal);
     // Keep the quiet zone inside the frame and away from other markers.
     const double cell = side / (d.marker_size() + 2);
@@ -245,7 +251,7 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     // Foreshortened too far to be readable: every side must keep 2 px a cell.
     double min_edge = 1e9;
     for (int i = 0; i < 4; ++i) min_edge = std::min(min_edge, double(cv::norm(q[size_t(i)] - q[size_t((i + 1) % 4)])));
-    if (min_edge < min_px_per_cell * (d.marker_size() + 2)) continue;
+    if (min_edge < range.min_px_per_cell * (d.marker_size() + 2)) continue;
     taken.push_back(box);
     int id = rng.uniform(0, d.size());
     while (!unambiguous(d, id)) id = (id + 1) % d.size();
@@ -260,9 +266,11 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     draw_marker(out.image, d, id, q, 1.0, 4, black, white);
     out.markers.push_back({id, d.name(), q});
   }
-  if (!opt.effects) return out;
+}
 
-  // Light: a gradient across the frame, and sometimes a soft shadow.
+// Light: a gradient across the frame, and sometimes a soft shadow; what was added is appended to *notes.
+cv::Mat light_of(cv::Size size, Hardship hard, const std::vector<TruthMarker>& markers, double short_side,
+                 cv::RNG& rng, std::string* notes) {
   cv::Mat light(size, CV_32FC1);
   double gx = rng.uniform(-0.5, 0.5), gy = rng.uniform(-0.5, 0.5), base = rng.uniform(0.75, 1.1);
   if (hard == Hardship::low_contrast) {
@@ -274,12 +282,10 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     for (int x = 0; x < size.width; ++x)
       light.at<float>(y, x) =
           float(std::max(0.05, base + gx * (x / double(size.width) - 0.5) + gy * (y / double(size.height) - 0.5)));
-  std::string notes;
-  if (hard != Hardship::none) notes = std::string(hardship_name(hard)) + " ";
-  if (hard == Hardship::low_contrast && !out.markers.empty()) {
+  if (hard == Hardship::low_contrast && !markers.empty()) {
     // A shadow whose soft edge crosses the first marker: a straight edge at a random angle through a point near
     // its centre, everything on one side darkened.
-    const Quad& q = out.markers[0].corners;
+    const Quad& q = markers[0].corners;
     const cv::Point2f c = quad_centre(q);
     const double reach = 0.075 * quad_perimeter(q);  // 0.3 of a side
     const double ox = rng.uniform(-reach, reach), oy = rng.uniform(-reach, reach);
@@ -294,7 +300,7 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     cv::fillConvexPoly(shadow, half, cv::Scalar(depth), cv::LINE_AA);
     cv::GaussianBlur(shadow, shadow, cv::Size(0, 0), softness);
     light = light.mul(shadow);
-    notes += "shadow_edge ";
+    *notes += "shadow_edge ";
   } else if (rng.uniform(0, 3) == 0) {
     cv::Mat shadow(size, CV_32FC1, cv::Scalar(1));
     std::vector<cv::Point> poly;
@@ -306,8 +312,62 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
     cv::fillConvexPoly(shadow, poly, cv::Scalar(rng.uniform(0.55, 0.85)));
     cv::GaussianBlur(shadow, shadow, cv::Size(0, 0), rng.uniform(2.0, 15.0));
     light = light.mul(shadow);
-    notes += "shadow ";
+    *notes += "shadow ";
   }
+  return light;
+}
+
+// The camera's part: blur, sensor noise, and sometimes JPEG compression; what was done is appended to *notes.
+void camera_effects(Hardship hard, cv::RNG& rng, cv::Mat& image, std::string* notes) {
+  double blur = rng.uniform(0.0, 1.2);
+  if (hard == Hardship::tiny) blur *= 0.6;
+  if (hard == Hardship::low_light) blur += 0.6;  // a long exposure
+  if (blur > 0.3) {
+    cv::GaussianBlur(image, image, cv::Size(0, 0), blur);
+    *notes += "blur ";
+  }
+  double noise = rng.uniform(0.0, 8.0);
+  if (hard == Hardship::tiny) noise *= 0.6;
+  if (hard == Hardship::low_light) noise += 6;  // sensor noise, amplified by the gain of a dim scene
+  cv::Mat n(image.size(), CV_16SC3);
+  rng.fill(n, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(noise));
+  cv::Mat img16;
+  image.convertTo(img16, CV_16SC3);
+  img16 += n;
+  img16.convertTo(image, CV_8UC3);
+  if (rng.uniform(0, 2) == 0) {
+    std::vector<uint8_t> buf;
+    const int quality = rng.uniform(40, 95);
+    cv::imencode(".jpg", image, buf, {cv::IMWRITE_JPEG_QUALITY, quality});
+    image = cv::imdecode(buf, cv::IMREAD_COLOR);
+    *notes += "jpeg" + std::to_string(quality) + " ";
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "blur%.1f noise%.1f", blur, noise);
+  *notes += buf;
+}
+
+}  // namespace
+
+SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
+  cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + uint64_t(index) * 0xBF58476D1CE4E5B9ull + 1);
+  SynthImage out;
+  const cv::Size size = opt.size;
+  out.image = opt.effects ? background(size, rng) : cv::Mat(size, CV_8UC3, cv::Scalar::all(128));
+  const double focal = size.width * 1.1;
+  if (opt.effects) draw_clutter(out.image, rng, opt.dictionaries, focal);
+
+  // A hard set's condition changes the draws below only for its own images: the photographs of Hardship::none
+  // take exactly the draws they always took, so sets made before stay the same. Each step draws from `rng` in
+  // turn, so their order is part of the set.
+  const Hardship hard = opt.effects ? opt.hardship : Hardship::none;
+  const double short_side = std::min(size.width, size.height);
+  place_markers(opt, hard, marker_range(opt, hard, short_side), index, focal, rng, out);
+  if (!opt.effects) return out;
+
+  std::string notes;
+  if (hard != Hardship::none) notes = std::string(hardship_name(hard)) + " ";
+  const cv::Mat light = light_of(size, hard, out.markers, short_side, rng, &notes);
   cv::Mat f;
   out.image.convertTo(f, CV_32FC3);
   std::vector<cv::Mat> ch;
@@ -315,33 +375,8 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
   for (auto& c : ch) c = c.mul(light);
   cv::merge(ch, f);
   f.convertTo(out.image, CV_8UC3);
-
-  double blur = rng.uniform(0.0, 1.2);
-  if (hard == Hardship::tiny) blur *= 0.6;
-  if (hard == Hardship::low_light) blur += 0.6;  // a long exposure
-  if (blur > 0.3) {
-    cv::GaussianBlur(out.image, out.image, cv::Size(0, 0), blur);
-    notes += "blur ";
-  }
-  double noise = rng.uniform(0.0, 8.0);
-  if (hard == Hardship::tiny) noise *= 0.6;
-  if (hard == Hardship::low_light) noise += 6;  // sensor noise, amplified by the gain of a dim scene
-  cv::Mat n(size, CV_16SC3);
-  rng.fill(n, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(noise));
-  cv::Mat img16;
-  out.image.convertTo(img16, CV_16SC3);
-  img16 += n;
-  img16.convertTo(out.image, CV_8UC3);
-  if (rng.uniform(0, 2) == 0) {
-    std::vector<uint8_t> buf;
-    const int quality = rng.uniform(40, 95);
-    cv::imencode(".jpg", out.image, buf, {cv::IMWRITE_JPEG_QUALITY, quality});
-    out.image = cv::imdecode(buf, cv::IMREAD_COLOR);
-    notes += "jpeg" + std::to_string(quality) + " ";
-  }
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "blur%.1f noise%.1f", blur, noise);
-  out.notes = notes + buf;
+  camera_effects(hard, rng, out.image, &notes);
+  out.notes = notes;
   return out;
 }
 
