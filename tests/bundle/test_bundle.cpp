@@ -8,6 +8,7 @@
 #include "bundle/bundle_files.hpp"
 
 #include "calibration/calibration_file.hpp"
+#include "support/png.hpp"
 #include "support/support.hpp"
 
 #include <gtest/gtest.h>
@@ -504,15 +505,6 @@ TEST(ManifestText, RoundTrip) {
 
 // --- Hostile zips --------------------------------------------------------------------------------------------
 
-std::uint32_t crc32_of(const std::string& s) {
-  std::uint32_t c = 0xFFFFFFFFu;
-  for (const unsigned char b : s) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
-  }
-  return ~c;
-}
-
 void put16(std::string& o, unsigned v) {
   o += char(v & 0xff);
   o += char((v >> 8) & 0xff);
@@ -533,7 +525,7 @@ std::string raw_zip(const std::vector<RawEntry>& entries) {
   std::string out, central;
   for (const RawEntry& e : entries) {
     const std::uint32_t offset = std::uint32_t(out.size());
-    const std::uint32_t crc = crc32_of(e.data);
+    const std::uint32_t crc = test::crc32(e.data);
     put32(out, 0x04034b50);
     put16(out, 20), put16(out, 0), put16(out, 0), put16(out, 0), put16(out, 0);
     put32(out, crc), put32(out, std::uint32_t(e.data.size())), put32(out, std::uint32_t(e.data.size()));

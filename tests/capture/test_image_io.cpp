@@ -1,6 +1,7 @@
 // Tests for capture/image_io: recognising, checking and loading image files a user names. Every input is made here:
 // images are encoded with cv::imencode, bad files are crafted from their bytes.
 #include "capture/image_io.hpp"
+#include "support/png.hpp"
 #include "support/support.hpp"
 
 #include <gtest/gtest.h>
@@ -20,6 +21,8 @@
 namespace arwb {
 namespace {
 
+using test::png_chunk;
+using test::png_declaring;
 using test::read_file;
 using test::TempDir;
 using test::write_file;
@@ -44,31 +47,6 @@ std::string encode(const std::string& ext, const cv::Mat& image, const std::vect
 template <size_t N>
 std::string bytes(const char (&literal)[N]) {
   return std::string(literal, N - 1);
-}
-
-std::string big_endian32(uint32_t v) {
-  return {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8), static_cast<char>(v)};
-}
-
-uint32_t crc32(const std::string& bytes) {
-  uint32_t c = 0xFFFFFFFFu;
-  for (unsigned char b : bytes) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
-  }
-  return ~c;
-}
-
-std::string png_chunk(const std::string& type, const std::string& data) {
-  return big_endian32(static_cast<uint32_t>(data.size())) + type + data + big_endian32(crc32(type + data));
-}
-
-// A well-formed PNG whose IHDR declares width x height 8-bit RGB pixels. Its IDAT holds a valid zlib stream
-// (of one zero byte) so that libpng accepts the header and OpenCV would go on to allocate the image.
-std::string png_declaring(uint32_t width, uint32_t height) {
-  const std::string ihdr = big_endian32(width) + big_endian32(height) + bytes("\x08\x02\x00\x00\x00");
-  const std::string idat = bytes("\x78\x9C\x63\x00\x00\x00\x01\x00\x01");
-  return bytes("\x89PNG\r\n\x1A\n") + png_chunk("IHDR", ihdr) + png_chunk("IDAT", idat) + png_chunk("IEND", "");
 }
 
 // The JPEG with the dimensions in its frame header (SOF0, as cv::imencode writes baseline JPEG) replaced.
@@ -593,21 +571,6 @@ TEST(ImageIo, ClassifyPath) {
   EXPECT_STREQ(to_string(PathKind::video), "video");
 }
 
-// PNG's chunk checksum (CRC-32 of type and data), for chunks the tests add.
-uint32_t png_crc(const std::string& bytes) {
-  uint32_t c = 0xFFFFFFFFu;
-  for (const char ch : bytes) {
-    c ^= static_cast<uint8_t>(ch);
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
-  }
-  return c ^ 0xFFFFFFFFu;
-}
-
-std::string be32_bytes(uint32_t v) {
-  return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
-                     static_cast<char>(v)};
-}
-
 // A valid PNG with a damaged colour profile made libpng print "libpng warning: iCCP: ..." on the terminal, and a
 // damaged one "libpng error: ..." beside our message. Neither reaches stderr now; the error is in our message.
 TEST(ImageIo, DecoderLibrariesPrintNothingOnStderr) {
@@ -616,7 +579,7 @@ TEST(ImageIo, DecoderLibrariesPrintNothingOnStderr) {
   ASSERT_TRUE(cv::imencode(".png", cv::Mat(16, 16, CV_8UC3, cv::Scalar(10, 200, 30)), encoded));
   std::string png(encoded.begin(), encoded.end());
   const std::string iccp = "iCCPbad\0\0" + std::string(40, 'x');  // not even deflate data
-  const std::string chunk = be32_bytes(uint32_t(iccp.size() - 4)) + iccp + be32_bytes(png_crc(iccp));
+  const std::string chunk = png_chunk("iCCP", iccp.substr(4));
   png.insert(8 + 25, chunk);  // after the signature and IHDR
   write_file(dir.str("iccp.png"), png);
   testing::internal::CaptureStderr();

@@ -13,11 +13,10 @@
 
 using namespace arwb;
 using test::run_arwb;
+using test::q;
 using test::TempDir;
 
 namespace {
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
 
 const SynthCamera kCamera;
 

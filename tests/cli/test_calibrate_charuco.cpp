@@ -15,11 +15,10 @@
 
 using namespace arwb;
 using test::run_arwb;
+using test::q;
 using test::TempDir;
 
 namespace {
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
 
 size_t line_count(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 

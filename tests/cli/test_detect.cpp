@@ -23,6 +23,8 @@ using namespace arwb;
 using test::run_arwb;
 using Json = nlohmann::ordered_json;
 using test::parse;
+using test::lines;
+using test::q;
 
 namespace {
 
@@ -32,16 +34,6 @@ std::vector<std::string> keys(Json& j) {
     for (const auto& [k, v] : j.items()) out.push_back(k);
   return out;
 }
-
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  for (std::string l; std::getline(ss, l);)
-    if (!l.empty()) out.push_back(l);
-  return out;
-}
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
 
 // An image with two known markers.
 std::vector<TruthMarker> write_scene(const std::string& path) {

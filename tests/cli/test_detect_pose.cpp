@@ -14,20 +14,12 @@
 
 using namespace arwb;
 using test::parse;
+using test::lines;
+using test::q;
 using test::run_arwb;
 using Json = nlohmann::ordered_json;
 
 namespace {
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
-
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);)
-    if (!l.empty()) out.push_back(l);
-  return out;
-}
 
 cv::Vec3d vec(const Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 

@@ -1,5 +1,6 @@
 // Files that once crashed or hung a reader, run as a user runs them: each is refused in one line of ours naming
 // the file and the reason, with no library text and no control character from the name reaching the terminal.
+#include "support/samples.hpp"
 #include "support/support.hpp"
 
 #include <gtest/gtest.h>
@@ -9,16 +10,14 @@
 
 #include <sys/stat.h>
 
+using arwb::test::kSample;
+using arwb::test::q;
 using arwb::test::RunResult;
 using arwb::test::TempDir;
 using arwb::test::run_arwb;
 using arwb::test::write_file;
 
 namespace {
-
-const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
 
 // stderr holds exactly `line` and a newline.
 void expect_one_line(const RunResult& r, const std::string& line) {

@@ -2,6 +2,7 @@
 // never overwritten unasked; scene and usage errors are one line.
 #include "detect/detector.hpp"
 #include "capture/image_io.hpp"
+#include "support/samples.hpp"
 #include "support/support.hpp"
 
 #include <gtest/gtest.h>
@@ -20,7 +21,7 @@ using test::run_arwb;
 using test::TempDir;
 using test::write_file;
 
-const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
+using test::kSample;
 
 // The sample's two markers as arwb detects them (843 and 950).
 std::map<int, Quad> sample_markers() {

@@ -1,6 +1,7 @@
 // The lab's physics on its own (a marker's size in pixels, light to signal-to-noise), its statistics, and runs
 // of the paper's plan: extreme cells behave, and the same seed gives the same table.
 #include "lab/plan.hpp"
+#include "lab_test_util.hpp"
 #include "lab/run.hpp"
 #include "lab/sensor.hpp"
 #include "lab/stats.hpp"
@@ -78,18 +79,9 @@ TEST(LabStats, WilsonIntervalsAtTheEdgesAndInTheMiddle) {
   EXPECT_EQ(n1, 1);
 }
 
-LabPlan two_cells(int frames) {
-  LabPlan p;
-  p.sizes_mm = {65};
-  p.distances_m = {0.5};
-  p.lux = {1000};
-  p.frames_per_cell = frames;
-  return p;
-}
-
 TEST(LabRun, ExtremeCellsBehaveForEveryDetector) {
   LabOptions o;
-  LabPlan near = two_cells(20);
+  LabPlan near = one_cell(20);
   Result<LabResults> r = run_lab(near, o);
   ASSERT_TRUE(r) << r.error();
   ASSERT_EQ(r->cells.size(), 1u);
@@ -110,7 +102,7 @@ TEST(LabRun, ExtremeCellsBehaveForEveryDetector) {
 }
 
 TEST(LabRun, TheSameSeedGivesTheSameTableAndAnotherSeedAnother) {
-  LabPlan p = two_cells(6);
+  LabPlan p = one_cell(6);
   p.distances_m = {1, 2};
   LabOptions o;
   o.detectors = {"arwb", "opencv"};
@@ -132,7 +124,7 @@ TEST(LabRun, TheSameSeedGivesTheSameTableAndAnotherSeedAnother) {
 }
 
 TEST(LabRun, AnyThreadCountAndAResumedRunGiveTheSameTable) {
-  LabPlan p = two_cells(8);
+  LabPlan p = one_cell(8);
   p.distances_m = {1, 2};
   p.lux = {1000, 500};
   LabOptions o;
@@ -181,12 +173,12 @@ TEST(LabRun, AnyThreadCountAndAResumedRunGiveTheSameTable) {
 TEST(LabRun, DetectorsThatCannotRunAreNamed) {
   LabOptions o;
   o.detectors = {"arwb", "yolo"};
-  auto r = run_lab(two_cells(1), o);
+  auto r = run_lab(one_cell(1), o);
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().find("unknown detector 'yolo' (arwb, opencv, opencv-aruco3, apriltag)"), std::string::npos)
       << r.error();
   o.detectors = {"apriltag"};
-  r = run_lab(two_cells(1), o);
+  r = run_lab(one_cell(1), o);
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error(), "apriltag reads the AprilTag families, not ARUCO_ORIGINAL");
 }

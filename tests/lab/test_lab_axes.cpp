@@ -2,6 +2,7 @@
 // with their messages, each doing to the frames what it says (the side in pixels, the tilt of the marker's
 // normal, the share covered), each costing recognition at its extreme, and left at their defaults changing nothing.
 #include "lab/plan.hpp"
+#include "lab_test_util.hpp"
 #include "lab/run.hpp"
 #include "lab/sensor.hpp"
 
@@ -101,15 +102,6 @@ TEST(LabPlanAxes, MistakesInTheAddedAxesAreOneLineNamingTheField) {
     EXPECT_EQ(*v, (std::vector<double>{0, 0.25}));
     EXPECT_EQ(parse_axis(axis, "0.7").error(), "occlusions: value 1 (0.7) must be a share of the marker's area from 0 to 0.5");
   }
-}
-
-LabPlan one_cell(int frames) {
-  LabPlan p;
-  p.sizes_mm = {65};
-  p.distances_m = {0.5};
-  p.lux = {1000};
-  p.frames_per_cell = frames;
-  return p;
 }
 
 TEST(LabAxes, ASideInPixelsIsTheMarkersSideInTheFrame) {

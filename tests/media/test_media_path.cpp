@@ -1,5 +1,6 @@
 // check_media_path, check_url and url_host: what a scene may name, and the messages for what it may not.
 #include "media/media_path.hpp"
+#include "support/png.hpp"
 #include "support/support.hpp"
 
 #include <gtest/gtest.h>
@@ -17,34 +18,11 @@ using arwb::media::check_media_path;
 using arwb::media::check_url;
 using arwb::media::MediaFileKind;
 using arwb::media::url_host;
+using arwb::test::png_declaring;
 using arwb::test::TempDir;
 using arwb::test::write_file;
 
 namespace {
-
-uint32_t crc32(const std::string& bytes) {
-  uint32_t c = 0xFFFFFFFFu;
-  for (const char ch : bytes) {
-    c ^= static_cast<unsigned char>(ch);
-    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-  }
-  return ~c;
-}
-
-std::string be32(uint32_t v) {
-  return {static_cast<char>(v >> 24), static_cast<char>(v >> 16 & 0xFF), static_cast<char>(v >> 8 & 0xFF),
-          static_cast<char>(v & 0xFF)};
-}
-
-std::string png_chunk(const std::string& type, const std::string& data) {
-  return be32(static_cast<uint32_t>(data.size())) + type + data + be32(crc32(type + data));
-}
-
-// A PNG whose IHDR declares width x height (8-bit RGB) with no pixel data worth the name: only the header counts.
-std::string png_declaring(uint32_t width, uint32_t height) {
-  const std::string ihdr = be32(width) + be32(height) + std::string("\x08\x02\x00\x00\x00", 5);
-  return std::string("\x89PNG\r\n\x1a\n", 8) + png_chunk("IHDR", ihdr) + png_chunk("IEND", "");
-}
 
 void write_png(const std::string& path, int w, int h) {
   ASSERT_TRUE(cv::imwrite(path, cv::Mat(h, w, CV_8UC3, cv::Scalar(10, 20, 30))));

@@ -64,6 +64,27 @@ void write_file(const std::string& path, const std::string& bytes) {
   f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
+namespace {
+nlohmann::ordered_json stats_of(const std::string& out, const std::string& err) {
+  const std::string line = out.substr(0, out.find('\n'));
+  auto s = nlohmann::ordered_json::parse(line, nullptr, false);
+  if (s.is_object()) return s;
+  ADD_FAILURE() << "the first line is not a JSON object: " << out << (err.empty() ? "" : "\nstderr: ") << err;
+  return nlohmann::ordered_json::object();
+}
+}  // namespace
+
+nlohmann::ordered_json stats(const RunResult& r) { return stats_of(r.out, r.err); }
+nlohmann::ordered_json stats(const std::string& out) { return stats_of(out, ""); }
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty()) out.push_back(l);
+  return out;
+}
+
 std::string read_file(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   std::stringstream ss;

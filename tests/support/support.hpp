@@ -1,10 +1,11 @@
-// Shared helpers for the test binaries: temporary folders and running the arwb binary.
+// Shared helpers for the test binaries: temporary folders, running the arwb binary and reading what it printed.
 #pragma once
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace arwb::test {
 
@@ -50,7 +51,15 @@ inline nlohmann::ordered_json parse(const std::string& text) {
   }
 }
 
-// The JSON line `arwb --stats` prints first (the window's tests read what the workbench did from it).
-inline nlohmann::ordered_json stats_line(const RunResult& r) { return parse(r.out.substr(0, r.out.find('\n'))); }
+// The JSON line `arwb --stats` prints first (the window's tests read what the workbench did from it). A first line
+// that is not a JSON object fails the test, naming the output (and the run's stderr), and gives an empty object.
+nlohmann::ordered_json stats(const RunResult& r);
+nlohmann::ordered_json stats(const std::string& out);
+
+// `s` in single quotes, as one word of run_arwb's shell line (for the paths the tests make, which hold no quote).
+inline std::string q(const std::string& s) { return "'" + s + "'"; }
+
+// The text's lines that are not empty.
+std::vector<std::string> lines(const std::string& text);
 
 }  // namespace arwb::test

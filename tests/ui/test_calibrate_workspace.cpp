@@ -43,14 +43,7 @@ const std::string& chessboard_folder() {
   return path;
 }
 
-Json stats(const RunResult& r) {
-  try {
-    return Json::parse(r.out.substr(0, r.out.find('\n')));
-  } catch (const Json::parse_error& e) {
-    ADD_FAILURE() << e.what() << " in: " << r.out;
-    return Json::object();
-  }
-}
+using test::stats;
 
 std::string args(const TempDir& tmp, const std::string& more) {
   return "--config-dir '" + tmp.str("config") + "' --source '" + chessboard_folder() + "' --stats " + more;

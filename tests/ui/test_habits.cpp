@@ -19,14 +19,7 @@ namespace fs = std::filesystem;
 using test::RunResult;
 using test::TempDir;
 
-nlohmann::json stats(const RunResult& r) {
-  try {
-    return nlohmann::json::parse(r.out.substr(0, r.out.find('\n')));
-  } catch (const nlohmann::json::parse_error& e) {
-    ADD_FAILURE() << e.what() << " in: " << r.out << "\nstderr: " << r.err;
-    return nlohmann::json::object();
-  }
-}
+using test::stats;
 
 RunResult run(const TempDir& tmp, const std::string& more) {
   return test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --snapshot-dir '" + tmp.str("snaps") +

@@ -22,7 +22,7 @@ using test::RunResult;
 using test::TempDir;
 using Json = nlohmann::ordered_json;
 
-Json stats(const RunResult& r) { return test::stats_line(r); }
+using test::stats;
 
 // Two sizes at two distances in one light, 6 frames a cell: 26 mm at 1 m (14 px) is missed often.
 std::string small_plan(const TempDir& tmp) {

@@ -2,6 +2,8 @@
 // 6X6_250 markers names the dictionary and its button's action finds them; a scene's skipped mapping and its
 // runtime error show in the Scene panel's rows (--stats scene_mappings), the Log's error count and the status bar.
 #include "support/support.hpp"
+#include "support/samples.hpp"
+#include "support/window.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -19,17 +21,9 @@ using test::write_file;
 // OpenCV's tutorial photograph (Debian's opencv-doc, third_party/setup): 640x480, six DICT_6X6_250 markers, ids
 // 23, 40, 62, 98, 124, 203; marker 23's corners lie about (297,185)-(335,212).
 const std::string kPhoto = "/usr/share/doc/opencv-doc/opencv4/html/singlemarkersoriginal.jpg";
-const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
-
-std::string window_args(const TempDir& tmp, const std::string& more) {
-  return "--config-dir '" + tmp.str("config") + "' --snapshot-dir '" + tmp.str("snaps") + "' " + more;
-}
-
-nlohmann::json stats_of(const RunResult& r) {
-  const auto s = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')), nullptr, false);
-  EXPECT_TRUE(s.is_object()) << r.out << r.err;
-  return s.is_object() ? s : nlohmann::json::object();
-}
+using test::kSample;
+using test::stats;
+using test::window_args;
 
 // The status bar's red text (1, 0.35, 0.3) along the window's bottom 30 px.
 int status_bar_red(const cv::Mat& shot) {
@@ -47,7 +41,7 @@ TEST(Messages, WhyNamesTheDictionaryOfAPhotographedMarkerAndAddingItDetectsThem)
   const std::string common = "--source '" + kPhoto + "' --frames 50 --stats --actions '5:region=290,178,52,42";
   RunResult r = test::run_arwb_window(window_args(tmp, common + "'"));
   ASSERT_EQ(r.status, 0) << r.err;
-  nlohmann::json s = stats_of(r);
+  nlohmann::json s = stats(r);
   EXPECT_EQ(s["markers"], 0) << r.out;   // ARUCO_ORIGINAL, the default, finds none
   ASSERT_TRUE(s.contains("why")) << r.out;
   EXPECT_EQ(s["why"]["other_dictionary"], "6X6_250") << r.out;
@@ -59,7 +53,7 @@ TEST(Messages, WhyNamesTheDictionaryOfAPhotographedMarkerAndAddingItDetectsThem)
   // The panel's button: the dictionary is searched too, and the six markers are found.
   r = test::run_arwb_window(window_args(tmp, common + ";20:add_dictionary=6X6_250'"));
   ASSERT_EQ(r.status, 0) << r.err;
-  s = stats_of(r);
+  s = stats(r);
   EXPECT_EQ(s["markers"], 6) << r.out;
   EXPECT_EQ(s["why"]["dictionaries"], nlohmann::json({"ARUCO_ORIGINAL", "6X6_250"})) << r.out;
   EXPECT_FALSE(s["why"].contains("other_dictionary")) << r.out;
@@ -74,7 +68,7 @@ TEST(Messages, AScenesMissingMediaFileKeepsItsRowAndReachesTheLogAndStatusBar) {
       tmp, "--source '" + kSample + "' --scene '" + tmp.str("scene.lua") + "' --frames 40 --stats --screenshot '" +
                tmp.str("shot.png") + "'"));
   ASSERT_EQ(r.status, 0) << r.err;
-  const nlohmann::json s = stats_of(r);
+  const nlohmann::json s = stats(r);
   EXPECT_EQ(s["scene_ok"], true) << r.out;
   ASSERT_EQ(s["scene_mappings"].size(), 2u) << r.out;
   const auto& bad = s["scene_mappings"][0];
@@ -105,7 +99,7 @@ TEST(Messages, AScenesRuntimeErrorMarksItsRowWithTheFailingLineAndReachesTheLog)
       tmp, "--source '" + kSample + "' --scene '" + tmp.str("scene.lua") + "' --frames 40 --stats --screenshot '" +
                tmp.str("shot.png") + "' --actions '2:open=script'"));
   ASSERT_EQ(r.status, 0) << r.err;
-  const nlohmann::json s = stats_of(r);
+  const nlohmann::json s = stats(r);
   ASSERT_EQ(s["scene_mappings"].size(), 2u) << r.out;
   EXPECT_EQ(s["scene_mappings"][0]["health"], "ok");
   const auto& bad = s["scene_mappings"][1];

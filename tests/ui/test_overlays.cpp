@@ -4,6 +4,8 @@
 #include "detect/dictionary.hpp"
 #include "synth/synth.hpp"
 #include "support/support.hpp"
+#include "support/samples.hpp"
+#include "support/window.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -20,15 +22,9 @@ namespace {
 using test::RunResult;
 using test::TempDir;
 
-const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
-// The live view's region in the Inspect workspace of a 1600x900 window (as in test_workbench.cpp).
-const cv::Rect kLiveView(0, 50, 730, 500);
-
-nlohmann::json stats(const RunResult& r) {
-  const auto s = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')), nullptr, false);
-  EXPECT_TRUE(s.is_object()) << r.out << r.err;
-  return s.is_object() ? s : nlohmann::json::object();
-}
+using test::kLiveView;
+using test::kSample;
+using test::stats;
 
 // A 640x480 image of 12 ARUCO_ORIGINAL markers 62 px wide, 90 px apart, each turned a little more: labels as
 // wide as "11 ARUCO_ORIGINAL" cannot all sit next to their marker.
@@ -48,9 +44,7 @@ std::string crowded_image(const TempDir& tmp) {
   return path;
 }
 
-std::string window_args(const TempDir& tmp, const std::string& more) {
-  return "--config-dir '" + tmp.str("config") + "' --snapshot-dir '" + tmp.str("snaps") + "' " + more;
-}
+using test::window_args;
 
 bool accepted_green(const cv::Vec3b& bgr) { return bgr[1] > 200 && bgr[2] < 110 && bgr[0] < 130; }
 bool magenta(const cv::Vec3b& p) { return p[0] > 200 && p[2] > 200 && p[1] < 60; }

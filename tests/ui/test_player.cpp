@@ -5,6 +5,7 @@
 #include "bundle/bundle.hpp"
 #include "ui/app.hpp"
 #include "support/support.hpp"
+#include "support/samples.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -24,7 +25,7 @@ using test::RunResult;
 using test::TempDir;
 using test::write_file;
 
-const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
+using test::kSample;
 
 // A scene in its own folder: a magenta picture stretched over markers 843 and 950 of the sample image (a table
 // {843, 950} given to marker() would be the range 843 to 950).
@@ -84,7 +85,7 @@ TEST(Player, ExportedBundlePlaysFromAnotherFolderWithTheMediaWhereRenderPutsThem
   r = test::run_arwb_window("play '" + tmp.str("elsewhere/played.arwb") + "' --source '" + kSample +
                             "' --frames 40 --stats --screenshot '" + tmp.str("shot.png") + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto stats = test::stats_line(r);
+  const auto stats = test::stats(r);
   EXPECT_EQ(stats["title"], "Magenta") << r.out;
   EXPECT_EQ(stats["scene_ok"], true) << r.out;
   EXPECT_EQ(stats["dictionary"], "ARUCO_ORIGINAL") << r.out;
@@ -166,7 +167,7 @@ TEST(Player, SixteenByNineSourcePlaysAtItsOwnAspectAndASquareStaysSquare) {
   r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + wide + "' --frames 10 --stats --screenshot '" +
                             tmp.str("wide_shot.png") + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  auto stats = test::stats_line(r);
+  auto stats = test::stats(r);
   // The paper's 640 width, the height from the source's 16:9 (not the paper's 640x480, which squashed it).
   EXPECT_EQ(stats["image_size"], nlohmann::ordered_json::array({640, 360})) << r.out;
   // A 16:9 picture fills the 16:9 window: no bars.
@@ -183,7 +184,7 @@ TEST(Player, SixteenByNineSourcePlaysAtItsOwnAspectAndASquareStaysSquare) {
   r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + square + "' --frames 10 --stats --screenshot '" +
                             tmp.str("square_shot.png") + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  stats = test::stats_line(r);
+  stats = test::stats(r);
   EXPECT_EQ(stats["image_size"], nlohmann::ordered_json::array({640, 640})) << r.out;
   EXPECT_EQ(stats["picture"], nlohmann::ordered_json::array({280.0, 0.0, 720.0, 720.0})) << r.out;
   shot = cv::imread(tmp.str("square_shot.png"));
@@ -204,7 +205,7 @@ TEST(Player, ResizeOptionChoosesTheWorkingSize) {
   for (const auto& [resize, size] : cases) {
     r = test::run_arwb_window("play '" + tmp.str("b.arwb") + "' --source '" + wide + "' --frames 3 --stats --resize " + resize);
     ASSERT_EQ(r.status, 0) << resize << ": " << r.err;
-    EXPECT_EQ(test::stats_line(r)["image_size"], nlohmann::ordered_json(size)) << resize << ": " << r.out;
+    EXPECT_EQ(test::stats(r)["image_size"], nlohmann::ordered_json(size)) << resize << ": " << r.out;
   }
   // Checked before the bundle is opened or a window is, as a usage error.
   for (const std::string bad : {"0", "10", "640x", "x480", "wide"}) {
@@ -227,7 +228,7 @@ TEST(Player, RefusedBundleWithErrorWindowSaysItInAWindowAndExitsOne) {
   // Still the one line on stderr, for whoever has a terminal.
   EXPECT_NE(r.err.find("extra.lua"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
-  const auto stats = test::stats_line(r);
+  const auto stats = test::stats(r);
   EXPECT_EQ(stats["window"], "error") << r.out;
   EXPECT_EQ(stats["frames"], 5) << r.out;
   EXPECT_EQ(stats["closed_by"], "frames") << r.out;
@@ -251,7 +252,7 @@ TEST(Player, ErrorWindowChangesNothingForABundleThatPlays) {
   ASSERT_EQ(r.status, 0) << r.err;
   r = test::run_arwb_window("play --error-window '" + tmp.str("b.arwb") + "' --source '" + kSample + "' --frames 5 --stats");
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto stats = test::stats_line(r);
+  const auto stats = test::stats(r);
   EXPECT_FALSE(stats.contains("window")) << r.out;
   EXPECT_EQ(stats["overlays"], 2) << r.out;
 }
@@ -303,7 +304,7 @@ TEST(WorkbenchExport, DialogSaysTheExportsMessagesInItsOwnWordsNotTheCommandLine
                                             "' --scene '" + tmp.str("author/scene.lua") + "' --frames 20 --stats --actions '3:export=" +
                                             out + ";4:export_wait;8:export=" + out + ";9:export_wait'");
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto stats = test::stats_line(r);
+  const auto stats = test::stats(r);
   const std::string error = stats["export"]["error"].get<std::string>();
   EXPECT_EQ(error, out + " exists; tick 'replace an existing bundle there' to replace it") << stats["export"].dump();
   // The warning in the log as the window says it, with no option of `arwb export` anywhere in it.

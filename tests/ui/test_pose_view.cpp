@@ -4,6 +4,7 @@
 #include "pose/marker_pose.hpp"
 #include "synth/marker_view.hpp"
 #include "support/support.hpp"
+#include "support/window.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -19,15 +20,8 @@ namespace {
 using test::RunResult;
 using test::TempDir;
 
-nlohmann::json stats(const RunResult& r) {
-  const auto s = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')), nullptr, false);
-  EXPECT_TRUE(s.is_object()) << r.out << r.err;
-  return s.is_object() ? s : nlohmann::json::object();
-}
-
-std::string window_args(const TempDir& tmp, const std::string& more) {
-  return "--config-dir '" + tmp.str("config") + "' --snapshot-dir '" + tmp.str("snaps") + "' " + more;
-}
+using test::stats;
+using test::window_args;
 
 // One 6-side-away marker tilted 30 degrees, through the default camera the workbench assumes without a
 // calibration: its pose in marker sides is then the truth.

@@ -1,6 +1,8 @@
 // Scenes in the real workbench window (xvfb-run, Mesa): the media composited onto the live view, switched off
 // and on, and a click on a web card opening the URL through the opener (a recorder here, never a shell).
 #include "support/support.hpp"
+#include "support/samples.hpp"
+#include "support/window.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -18,9 +20,8 @@ using test::RunResult;
 using test::TempDir;
 using test::write_file;
 
-const std::string kSample = std::string(ARWB_SOURCE_DIR) + "/assets/samples/markers_640x480.png";
-// The live view's region in the Inspect workspace of a 1600x900 window.
-const cv::Rect kLiveView(0, 50, 730, 500);
+using test::kLiveView;
+using test::kSample;
 
 int magenta_pixels(const cv::Mat& shot, cv::Rect area) {
   area &= cv::Rect(0, 0, shot.cols, shot.rows);
@@ -33,9 +34,7 @@ int magenta_pixels(const cv::Mat& shot, cv::Rect area) {
   return n;
 }
 
-std::string window_args(const TempDir& tmp, const std::string& more) {
-  return "--config-dir '" + tmp.str("config") + "' --snapshot-dir '" + tmp.str("snaps") + "' " + more;
-}
+using test::window_args;
 
 TEST(SceneWindow, MediaAreProjectedOnTheLiveViewAndCanBeHidden) {
   TempDir tmp;
@@ -45,7 +44,7 @@ TEST(SceneWindow, MediaAreProjectedOnTheLiveViewAndCanBeHidden) {
   const std::string common = "--source '" + kSample + "' --scene '" + tmp.str("scene.lua") + "' --frames 40 --stats";
   RunResult r = test::run_arwb_window(window_args(tmp, common + " --screenshot '" + tmp.str("on.png") + "'"));
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto stats = nlohmann::json::parse(r.out.substr(0, r.out.find('\n')), nullptr, false);
+  const auto stats = test::stats(r);
   ASSERT_TRUE(stats.is_object()) << r.out;
   EXPECT_EQ(stats["scene_ok"], true) << r.out;
   EXPECT_EQ(stats["overlays"], 2) << r.out;

@@ -5,6 +5,7 @@
 #include "synth/synth.hpp"
 #include "detect/trace.hpp"
 #include "support/support.hpp"
+#include "support/window.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -38,18 +39,8 @@ int green_pixels(const cv::Mat& shot, cv::Rect area) {
   return n;
 }
 
-// The live view's region in the Inspect workspace of a 1600x900 window: the top-left of the screen.
-const cv::Rect kLiveView(0, 50, 730, 500);
-
-// The --stats line (the output's first line) as JSON; a parse error fails the test.
-nlohmann::json stats(const std::string& out) {
-  try {
-    return nlohmann::json::parse(out.substr(0, out.find('\n')));
-  } catch (const nlohmann::json::parse_error& e) {
-    ADD_FAILURE() << e.what() << " in: " << out;
-    return nullptr;
-  }
-}
+using test::kLiveView;
+using test::stats;
 
 // A number of the --stats line (`group` names an object in it: "stages"), or -1 when it is missing.
 double stat(const std::string& out, const std::string& key, const std::string& group = "") {
@@ -74,9 +65,7 @@ cv::Mat marker_image(int id, double side, int background = 170, int black = 0) {
   return img;
 }
 
-std::string window_args(const TempDir& tmp, const std::string& more) {
-  return "--config-dir '" + tmp.str("config") + "' --snapshot-dir '" + tmp.str("snaps") + "' " + more;
-}
+using test::window_args;
 
 TEST(Workbench, ScreenshotShowsTheSyntheticMarkersOutlined) {
   TempDir tmp;

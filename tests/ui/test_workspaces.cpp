@@ -23,12 +23,8 @@ using test::RunResult;
 using test::TempDir;
 
 Json layout_of(const RunResult& r) {
-  try {
-    const Json s = Json::parse(r.out.substr(0, r.out.find('\n')));
-    if (s.contains("layout")) return s["layout"];
-  } catch (const Json::parse_error& e) {
-    ADD_FAILURE() << e.what() << " in: " << r.out;
-  }
+  const Json s = test::stats(r);
+  if (s.contains("layout")) return s["layout"];
   ADD_FAILURE() << "no layout in the --stats line: " << r.out;
   return Json::object();
 }
@@ -176,7 +172,7 @@ void fits(const Shipped& w, int width, int height) {
     const cv::Rect live_rect(rc[0].get<int>(), rc[1].get<int>(), rc[2].get<int>(), rc[3].get<int>());
     if (calibrate) {
       // The coach had something to show: views kept and solved.
-      const Json c = Json::parse(r.out.substr(0, r.out.find('\n')))["calibration"];
+      const Json c = test::stats(r)["calibration"];
       EXPECT_GE(c["views"].get<int>(), 7) << c.dump();
       EXPECT_TRUE(c.contains("checklist")) << c.dump();
     } else if (!script) {
