@@ -91,7 +91,7 @@ void open_file(Context& ctx, ScriptState& st, const std::string& path) {
   st.saved.clear();
   set_buffer(st, std::string());
   st.reading = !path.empty();
-  ctx.request(RequestKind::watch_file, path, 1);
+  ctx.request(WatchFile{path, true});
 }
 
 // A new reading of the file from the window: the text asked for, or the file changed on disk. Without edits the
@@ -142,7 +142,7 @@ bool take_reading(Context& ctx, ScriptState& st) {
 
 void save(Context& ctx, ScriptState& st) {
   if (st.path.empty()) return;
-  ctx.request(RequestKind::save_script, st.path, 0, {}, st.buffer);
+  ctx.request(SaveScript{st.path, st.buffer});
   st.save_pending = true;
   st.saved = st.buffer;
   st.save_time = ImGui::GetTime();   // the window reads the file again right after writing it
@@ -277,7 +277,10 @@ void draw_script(Context& ctx) {
   ctx.view.script_unsaved = st.dirty && st.open;
   if (std::exchange(ctx.view.script_save_now, false) && st.dirty) save(ctx, st);
   if (std::exchange(ctx.view.script_discard, false)) set_buffer(st, st.base);
-  if (ctx.view.focus_field == "script") st.take_focus = std::exchange(ctx.view.focus_field, std::string()).size() > 0;
+  if (ctx.view.focus_field == TextField::script) {
+    st.take_focus = true;
+    ctx.view.focus_field = TextField::none;
+  }
 
   if (st.path.empty()) {
     ImGui::TextDisabled("No scene loaded: the editor shows the scene file in use (see the Scene panel).");

@@ -230,7 +230,7 @@ int run_player(const PlayerOptions& options) {
   std::vector<Action> actions;
   {
     std::string err;
-    if (!parse_actions(options.actions, &actions, &err, &player_action_verbs())) {
+    if (!parse_actions(options.actions, &actions, &err, player_action_verbs())) {
       std::fprintf(stderr, "arwb play: %s\n", err.c_str());
       return 2;
     }
