@@ -250,6 +250,56 @@ std::string file_name(const std::string& path) {
   return name.empty() ? path : name;
 }
 
+// The file's name, a mark when it has unsaved edits, Save and Revert (which asks before dropping edits).
+void title_buttons(Context& ctx, ScriptState& st) {
+  ImGui::TextUnformatted(file_name(st.path).c_str());
+  if (st.dirty) {
+    ImGui::SameLine(0, 2);
+    ImGui::TextColored(kYellow, "*");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Unsaved edits");
+  }
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!st.open);
+  if (ImGui::Button("Save")) save(ctx, st);
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
+    ImGui::SetTooltip("Ctrl+S. Writes the file; the scene reloads by itself.");
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Revert")) {
+    if (st.dirty) ImGui::OpenPopup("revert?");
+    else open_file(ctx, st, st.path);
+  }
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Read the file from disk again.");
+  ImGui::EndDisabled();
+  if (ImGui::BeginPopup("revert?")) {
+    ImGui::Text("Drop your unsaved edits to %s?", file_name(st.path).c_str());
+    if (ImGui::Button("Drop them and read the file")) {
+      open_file(ctx, st, st.path);
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+}
+
+// The load error's line, else the first line of a mapping that is not ok (a runtime error, a callback disabled, a
+// marker() skipped) when `path` is the scene that runs; `problems` the first such reason and how many more.
+std::vector<int> marked_lines(const SceneStatus& scene, const std::string& path, std::string* problems) {
+  std::vector<int> marks;
+  if (scene.error_line > 0 && message_line_in(scene.error, path) > 0) marks.push_back(scene.error_line);
+  if (path != scene.file) return marks;
+  int n = 0;
+  for (const MappingRow& r : scene.mappings) {
+    if (r.health == MappingHealth::ok) continue;
+    if (r.reason_line > 0 && std::find(marks.begin(), marks.end(), r.reason_line) == marks.end())
+      marks.push_back(r.reason_line);
+    if (n++ == 0) *problems = r.reason;
+  }
+  if (n > 1) *problems += " (and " + std::to_string(n - 1) + " more in the Scene panel)";
+  return marks;
+}
+
 }  // namespace
 
 void draw_script(Context& ctx) {
@@ -289,50 +339,9 @@ void draw_script(Context& ctx) {
 
   // Title line: name, dirty mark, Save, Revert, the path.
   const bool focused = ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
-  ImGui::TextUnformatted(file_name(st.path).c_str());
-  if (st.dirty) {
-    ImGui::SameLine(0, 2);
-    ImGui::TextColored(kYellow, "*");
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Unsaved edits");
-  }
-  ImGui::SameLine();
-  ImGui::BeginDisabled(!st.open);
-  if (ImGui::Button("Save")) save(ctx, st);
-  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
-    ImGui::SetTooltip("Ctrl+S. Writes the file; the scene reloads by itself.");
-  }
-  ImGui::SameLine();
-  if (ImGui::Button("Revert")) {
-    if (st.dirty) ImGui::OpenPopup("revert?");
-    else open_file(ctx, st, st.path);
-  }
-  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Read the file from disk again.");
-  ImGui::EndDisabled();
-  if (ImGui::BeginPopup("revert?")) {
-    ImGui::Text("Drop your unsaved edits to %s?", file_name(st.path).c_str());
-    if (ImGui::Button("Drop them and read the file")) {
-      open_file(ctx, st, st.path);
-      ImGui::CloseCurrentPopup();
-    }
-    ImGui::SameLine();
-    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
-    ImGui::EndPopup();
-  }
-  // The load error's line, else the first line of a mapping that is not ok (a runtime error, a callback
-  // disabled, a marker() skipped) when this file is the scene that runs.
-  std::vector<int> marks;
+  title_buttons(ctx, st);
   std::string problems;
-  if (scene.error_line > 0 && message_line_in(scene.error, st.path) > 0) marks.push_back(scene.error_line);
-  if (st.path == scene.file) {
-    int n = 0;
-    for (const MappingRow& r : scene.mappings) {
-      if (r.health == MappingHealth::ok) continue;
-      if (r.reason_line > 0 && std::find(marks.begin(), marks.end(), r.reason_line) == marks.end())
-        marks.push_back(r.reason_line);
-      if (n++ == 0) problems = r.reason;
-    }
-    if (n > 1) problems += " (and " + std::to_string(n - 1) + " more in the Scene panel)";
-  }
+  const std::vector<int> marks = marked_lines(scene, st.path, &problems);
   const int mark_line = marks.empty() ? 0 : marks.front();
   if (opened && mark_line > 0 && st.goto_line == 0) st.goto_line = mark_line;   // a file opened with an error
   if (mark_line > 0) {
