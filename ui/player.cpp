@@ -167,13 +167,8 @@ Result<PlayerRequest> player_request(const Action& a) {
   return fail("--actions: the player has no step '" + a.verb + "' (overlay, stage, click, fullscreen, quit)");
 }
 
-template <class... F>
-struct Overloaded : F... {
-  using F::operator()...;
-};
-
 void Player::carry_out(const PlayerRequest& request) {
-  std::visit(Overloaded{
+  std::visit(ui::Overloaded{
                  [&](const ShowOverlay& r) { overlay = r.on.value_or(!overlay); },
                  [&](const CycleStage& r) { cycle_stage(r.delta); },
                  [&](const ui::ShowStage& r) { stage = r.stage ? static_cast<int>(*r.stage) : -1; },

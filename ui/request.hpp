@@ -300,4 +300,10 @@ using Request = std::variant<
     OpenExportDialog, CheckExport, WriteExport, SetExportTitle, SetExportSize, SetExportCalibration, SetExportForce,
     WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers>;
 
+// std::visit over one lambda per struct: Overloaded{[&](const A&) {...}, [&](const B&) {...}}.
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+
 }  // namespace arwb::ui

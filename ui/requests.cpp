@@ -32,11 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-template <class... F>
-struct Overloaded : F... {
-  using F::operator()...;
-};
-
 // "0-11", "3,7,9" or "0-3,8": ids below `count`, each once, in the order given.
 bool parse_id_ranges(const std::string& text, int count, std::vector<int>* ids, std::string* error) {
   std::istringstream in(text);
@@ -67,7 +62,7 @@ bool parse_id_ranges(const std::string& text, int count, std::vector<int>* ids, 
 void App::carry_out(const ui::Request& request) {
   using namespace ui;
   std::visit(
-      Overloaded{
+      ui::Overloaded{
           // Panels, workspaces and what the live view shows (ui/view_requests.cpp).
           [&](const SetPanelOpen& r) { set_panel_open(r); },
           [&](const SwitchWorkspace& r) { switch_workspace(r.name); },
