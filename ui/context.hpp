@@ -1,8 +1,8 @@
 // What every panel is handed each UI frame. Panels are immediate-mode drawers: they read the latest finished
-// frame through a const pointer, edit the user's settings and their own view state, and ask for actions by
-// appending requests. They hold no algorithm, do no I/O and never talk to the worker thread; the window
-// (ui/window.cpp, ui/requests.cpp) carries out the requests after the panels are drawn, forwards edited settings
-// to the worker, and reports back through the Status.
+// frame through a const pointer, edit the user's settings and their own view state, and ask for what they cannot
+// do themselves by appending requests (ui/request.hpp). They hold no algorithm, do no I/O and never talk to the
+// worker thread; the window (ui/requests.cpp) carries out the requests after the panels are drawn, forwards edited
+// settings to the worker (ui/window.cpp), and reports back through the Status.
 #pragma once
 
 #include "board/board_spec.hpp"
@@ -16,7 +16,9 @@
 #include "capture/source.hpp"
 #include "detect/trace.hpp"
 #include "workbench/log.hpp"
+#include "ui/panel_id.hpp"
 #include "ui/recent_files.hpp"
+#include "ui/request.hpp"
 
 #include <imgui.h>
 #include <opencv2/core.hpp>
@@ -37,14 +39,6 @@ class TextureCache;
 }
 
 namespace arwb::ui {
-
-// The panels, in the order of the View menu. Their titles are the window names ImGui saves the layout under.
-enum class Panel { live_view, pipeline, candidates, inspector, parameters, timings, dictionary, peers, source, tour,
-                   why, log, scene, script, console, calibrate, calibration_views, pose, lab, count };
-constexpr int kPanelCount = static_cast<int>(Panel::count);
-const char* panel_title(Panel p);
-const char* panel_key(Panel p);   // "live_view", "pipeline"... (for --at N:open=KEY and the saved layout)
-bool panel_from_key(std::string_view key, Panel* out);
 
 // The Calibrate workspace's settings: the board looked for, whether frames are judged and kept, and whether the
 // live view shows the frame undistorted with the newest calibration.
@@ -83,51 +77,6 @@ struct Settings {
   // 0: in marker sides.
   double marker_size = 0;
   LabSettings lab;
-};
-
-enum class RequestKind {
-  open_source,   // text: a --source spec; value 1: the unsaved-edits question was answered already
-  step,          // value: +1 / -1 (video frame, folder image)
-  seek,          // value: position
-  next_frame,    // frozen: take one new frame from the source
-  snapshot,      // save frame, stage images and trace
-  sweep,         // region: run the parameter sweep there
-  load_preset,   // text: path
-  save_preset,   // text: path
-  marker_sheet,  // text: path of the PDF to write; payload: "DICTIONARY\nIDS\nSIZE_MM" (ids as "0-11" or "3,7,9")
-  load_scene,    // text: a scene file (.lua or .xml); "" unloads the scene; value 1 as for open_source
-  save_script,   // text: path, payload: the file's new content (the scene then reloads by itself)
-  open_url,      // text: a web card's URL, opened in the system's browser
-  dictionary_stats,  // text: a dictionary's name; its distances come in Status::dictionary_stats
-  list_presets,  // the shipped presets (assets/presets) into Status::presets
-  list_examples, // the example scenes (scripts/) into Status::examples
-  watch_file,    // text: the file the script editor shows ("" none), read into Status::script_file and watched;
-                 // value 1: read it again even when unchanged (Revert)
-  list_dir,      // text: a folder, listed into Status::listing (the file browser)
-  open_file,     // text: a path or source spec typed or picked in the file browser, value: its FileKind; a folder
-                 // is listed instead (unless payload is "folder": a folder of images as the source), a file is
-                 // opened as that kind (and remembered in Status::recent)
-  toggle_favourite,  // text: a folder, starred or unstarred in Status::recent
-  calibration_drop,  // text: the name of a kept calibration view, dropped (and the views solved again)
-  calibration_reset, // forget the calibration views and their solve
-  calibration_save,  // text: the file to write the newest solve to; value 1: the paper's two files beside it too
-  lab_start,         // run Settings::lab's plan in the background (Status::lab follows it)
-  lab_stop,          // stop the run after the frame in hand (the finished cells stay)
-  lab_open_cell,     // value: a cell of the run's plan, shown in the live view; text: the frame to start on ("" 0)
-  lab_read_plan,     // text: a plan file (YAML), read into Settings::lab.plan
-  lab_save,          // text: a folder for the finished run's tables, plots and report.pdf
-  lab_save_clip,     // Settings::lab.clip for the video playing, into videos.csv (Settings::lab.videos_dir)
-  export_check,      // File > Export...'s Check: plan_export off the UI thread, its self-test shown in the dialog
-  export_write,      // File > Export...'s Export: checked again, then written (write_export)
-  play_bundle,       // text: a bundle, verified (open_bundle) off the UI thread, then `arwb play` started on it
-};
-
-struct Request {
-  RequestKind kind;
-  std::string text;
-  int value = 0;
-  cv::Rect2f region;
-  std::string payload;
 };
 
 using arwb::LogEntry;
@@ -287,13 +236,8 @@ struct View {
   bool script_unsaved = false;
   bool script_save_now = false;
   bool script_discard = false;
-  // A text field to take the keyboard at its next draw ("script", "source_path", "preset_path"): --actions focus=.
-  std::string focus_field;
-  int browse_kind = -1;          // a FileKind: a panel asks the window to open its file browser for it
-  bool save_calibration = false; // the Calibrate panel asks for the file browser to save the calibration
+  TextField focus_field = TextField::none;   // takes the keyboard at its next draw (ui::Focus)
   bool calibration_paper_files = false;   // saving also writes the paper's cameraMatrix.xml and distCoeffs.xml
-  std::string print_sheet;       // a dictionary: a panel asks for the marker sheet dialog with it, ids from
-  int print_first_id = 0;        // print_first_id
   Panel front = Panel::count;    // a panel the workspace brings to the front of its region next (added if absent)
   // Opens panel p and brings its tab to the front: what a click, a shortcut or an action that leads to a panel does.
   void show(Panel p) {
@@ -329,10 +273,8 @@ struct Context {
   // view.show_media; null otherwise. Same size and pixel coordinates as frame->image.
   ImTextureID composite = nullptr;
 
-  void request(RequestKind kind, std::string text = {}, int value = 0, cv::Rect2f region = {},
-               std::string payload = {}) {
-    requests.push_back({kind, std::move(text), value, region, std::move(payload)});
-  }
+  // Asks the window for something (ui/request.hpp); it is carried out after the panels are drawn.
+  void request(Request r) { requests.push_back(std::move(r)); }
   // An ImGui texture id for an image, uploaded only when `version` changed (usually the frame index).
   ImTextureID texture(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest = true);
 };

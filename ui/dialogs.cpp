@@ -3,9 +3,9 @@
 //   Undo         one history entry per completed edit of the parameters and dictionaries
 //   Unsaved      "save, discard or cancel" before a quit, a source or a scene change drops the editor's edits
 //   Typing       --actions type=: keys and characters fed to ImGui as a keyboard would
-//   Help         the Help menu and its pages: shortcuts, first five minutes
-//   Dialogs      drawn each frame after the panels: the browser, the unsaved-edits question, the marker sheet
-//                dialog, the Help windows and About
+//   Help         the Help windows: shortcuts, first five minutes, About
+//   Dialogs      drawn each frame after the panels: the browsers, the unsaved-edits question, the marker sheet
+//                dialog, the Help windows
 #include "ui/app.hpp"
 
 #include "base/files.hpp"
@@ -43,10 +43,10 @@ void App::note_status(const std::string& s) {
 // [SECTION] Opening
 void App::open_path(ui::FileKind kind, const std::string& path) {
   switch (kind) {
-    case ui::FileKind::source: requests.push_back({ui::RequestKind::open_source, path, 0, {}, {}}); break;
-    case ui::FileKind::scene: requests.push_back({ui::RequestKind::load_scene, path, 0, {}, {}}); break;
-    case ui::FileKind::preset: requests.push_back({ui::RequestKind::load_preset, path, 0, {}, {}}); break;
-    case ui::FileKind::bundle: requests.push_back({ui::RequestKind::play_bundle, path, 0, {}, {}}); break;
+    case ui::FileKind::source: requests.push_back(ui::OpenSource{path}); break;
+    case ui::FileKind::scene: requests.push_back(ui::LoadScene{path}); break;
+    case ui::FileKind::preset: requests.push_back(ui::LoadPreset{path}); break;
+    case ui::FileKind::bundle: requests.push_back(ui::PlayBundle{path}); break;
     case ui::FileKind::calibration:
     case ui::FileKind::count: warn("calibration files cannot be opened yet: " + path); return;
   }
@@ -72,44 +72,6 @@ void App::drop(const std::string& path) {
            "; nothing opened");
       break;
   }
-}
-
-void App::list_dir(const std::string& path) {
-  ui::DirListing& l = status.listing;
-  std::error_code ec;
-  fs::path p = fs::absolute(path.empty() ? "." : path, ec).lexically_normal();
-  if (p.has_relative_path() && !p.has_filename()) p = p.parent_path();   // "a/b/" -> "a/b"
-  if (!fs::is_directory(p, ec)) {
-    l.error = path + ": " + (fs::exists(p, ec) ? "not a folder" : "no such folder");
-    ++l.version;
-    return;
-  }
-  std::vector<ui::DirEntry> entries;
-  for (auto it = fs::directory_iterator(p, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.empty() || name[0] == '.') continue;   // hidden, as in a desktop's file dialog
-    std::error_code e;
-    entries.push_back({name, it->is_directory(e)});
-    if (entries.size() >= 20000) break;
-  }
-  if (ec) {
-    l.error = p.string() + ": " + ec.message();
-    ++l.version;
-    return;
-  }
-  auto lower = [](std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return s;
-  };
-  std::sort(entries.begin(), entries.end(), [&](const ui::DirEntry& a, const ui::DirEntry& b) {
-    if (a.folder != b.folder) return a.folder;
-    return lower(a.name) < lower(b.name);
-  });
-  l.dir = p.string();
-  l.parent = p == p.root_path() ? std::string() : p.parent_path().string();
-  l.entries = std::move(entries);
-  l.error.clear();
-  ++l.version;
 }
 
 void App::load_recent() {
@@ -164,26 +126,38 @@ void App::redo() {
 }
 
 // [SECTION] Unsaved
-bool App::ask_before(const ui::Request& r) {
-  if (r.value == 1 || !view.script_unsaved) return false;
-  if (r.kind == ui::RequestKind::load_scene && frame && r.text == frame->scene.file) return false;   // a reload
-  deferred = r;
-  deferred->value = 1;
-  quit_waiting = false;
-  unsaved_ask = true;
+namespace {
+// The question is asked when the Script editor has unsaved edits; `r` waits for the answer.
+template <class R>
+bool defer(App& app, R r) {
+  if (r.asked || !app.view.script_unsaved) return false;
+  r.asked = true;
+  Dialogs::Unsaved& u = app.dialogs.unsaved;
+  u.deferred = std::move(r);
+  u.quit_waiting = false;
+  u.ask = true;
   return true;
+}
+}  // namespace
+
+bool App::ask_before(const ui::OpenSource& r) { return defer(*this, r); }
+
+bool App::ask_before(const ui::LoadScene& r) {
+  if (frame && r.path == frame->scene.file) return false;   // a reload
+  return defer(*this, r);
 }
 
 void App::proceed() {
-  if (quit_waiting) {
-    quit_confirmed = true;
+  Dialogs::Unsaved& u = dialogs.unsaved;
+  if (u.quit_waiting) {
+    u.quit_confirmed = true;
     if (glfw_window) glfwSetWindowShouldClose(glfw_window, 1);
-  } else if (deferred) {
-    requests.push_back(*deferred);
+  } else if (u.deferred) {
+    requests.push_back(*u.deferred);
   }
-  quit_waiting = false;
-  deferred.reset();
-  save_wait = -1;
+  u.quit_waiting = false;
+  u.deferred.reset();
+  u.save_wait = -1;
 }
 
 namespace {
@@ -194,13 +168,19 @@ std::string file_name(const std::string& p) {
 }  // namespace
 
 // [SECTION] Typing
+void App::type_text(const std::string& text) {
+  for (const char c : text) dialogs.typing.push_back(static_cast<unsigned char>(c));
+}
+
 void App::feed_typing() {
   ImGuiIO& io = ImGui::GetIO();
+  int& key_down = dialogs.key_down;
   const int released = key_down;
   if (key_down >= 0) {
     io.KeysDown[key_down] = false;
     key_down = -1;
   }
+  std::deque<int>& typing = dialogs.typing;
   if (typing.empty()) return;
   const int c = typing.front();
   // ImGui 1.86 indexes keys by GLFW key code; a letter's code is its upper-case ASCII.
@@ -215,15 +195,6 @@ void App::feed_typing() {
 }
 
 // [SECTION] Help
-void App::draw_help_menu() {
-  if (!ImGui::BeginMenu("Help")) return;
-  ImGui::MenuItem("Keyboard shortcuts", nullptr, &show_shortcuts);
-  ImGui::MenuItem("First five minutes", nullptr, &show_first_steps);
-  ImGui::Separator();
-  ImGui::MenuItem("About ArUco Workbench", nullptr, &show_about);
-  ImGui::EndMenu();
-}
-
 namespace {
 
 struct Shortcut {
@@ -292,149 +263,128 @@ constexpr const char* kTeacher[] = {
 }  // namespace
 
 // [SECTION] Dialogs
-void App::draw_dialogs(ui::Context& ctx) {
-  modal.clear();
-  // A panel asked for the file browser (the Source panel's "Browse...").
-  if (view.browse_kind >= 0 && view.browse_kind < ui::kFileKindCount) {
-    const auto k = static_cast<ui::FileKind>(view.browse_kind);
-    const std::string title = std::string("Open ") + ui::file_kind_name(k);
-    const auto& recent = status.recent.of(k);
+namespace {
+
+// The file browser asked for (File > Open..., a panel's Browse...), and the Calibrate panel's Save...: where to
+// write the calibration, then a request.
+void draw_browsers(App& app, ui::Context& ctx) {
+  Dialogs& d = app.dialogs;
+  if (const std::optional<ui::FileKind> k = std::exchange(d.browse, std::nullopt)) {
+    const std::string title = std::string("Open ") + ui::file_kind_name(*k);
+    const auto& recent = app.status.recent.of(*k);
     // Where the last file of this kind came from; else the user's presets folder for presets; else here.
     std::string folder = ".";
     std::error_code ec;
+    const std::string presets = app.status.config_dir + "/presets";
     if (!recent.empty()) folder = fs::path(recent[0]).parent_path().string();
-    else if (k == ui::FileKind::preset && fs::is_directory(status.config_dir + "/presets", ec)) folder = status.config_dir + "/presets";
-    ui::open_browser(ctx, browser, k, title, folder);
-    view.browse_kind = -1;
+    else if (*k == ui::FileKind::preset && fs::is_directory(presets, ec)) folder = presets;
+    ui::open_browser(ctx, d.browser, *k, title, folder);
   }
-  ui::draw_file_browser(ctx, browser);
-  if (browser.visible) modal = "File browser";
-  // The Calibrate panel's Save...: where to write the calibration, then a request.
-  if (view.save_calibration) {
-    view.save_calibration = false;
-    const auto& recent = status.recent.of(ui::FileKind::calibration);
+  ui::draw_file_browser(ctx, d.browser);
+  if (d.browser.visible) d.modal = "File browser";
+  if (std::exchange(d.save_calibration, false)) {
+    const auto& recent = app.status.recent.of(ui::FileKind::calibration);
     const std::string folder = recent.empty() ? "." : fs::path(recent[0]).parent_path().string();
-    ui::open_browser(ctx, calibration_browser, ui::FileKind::calibration, "Save the calibration as", folder, true,
+    ui::open_browser(ctx, d.calibration_browser, ui::FileKind::calibration, "Save the calibration as", folder, true,
                      "camera.yml");
   }
-  {
-    std::string chosen;
-    if (ui::draw_file_browser(ctx, calibration_browser, &chosen))
-      requests.push_back({ui::RequestKind::calibration_save, chosen, view.calibration_paper_files ? 1 : 0, {}, {}});
-    if (calibration_browser.visible) modal = "File browser";
-  }
+  std::string chosen;
+  if (ui::draw_file_browser(ctx, d.calibration_browser, &chosen)) app.requests.push_back(ui::SaveCalibration{chosen});
+  if (d.calibration_browser.visible) d.modal = "File browser";
+}
 
-  // The unsaved-edits question.
-  if (unsaved_ask) {
-    ImGui::OpenPopup("Unsaved edits");
-    unsaved_ask = false;
-  }
+// "Save, discard or cancel" before a quit, a source or a scene change drops the Script editor's edits.
+void draw_unsaved_question(App& app) {
+  Dialogs::Unsaved& u = app.dialogs.unsaved;
+  if (std::exchange(u.ask, false)) ImGui::OpenPopup("Unsaved edits");
   ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
-  if (ImGui::BeginPopupModal("Unsaved edits", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-    modal = "Unsaved edits";
-    const std::string file = file_name(status.script_file.path);
-    std::string what = "quitting";
-    if (deferred && deferred->kind == ui::RequestKind::open_source) what = "opening the source " + deferred->text;
-    if (deferred && deferred->kind == ui::RequestKind::load_scene) {
-      what = deferred->text.empty() ? "unloading the scene" : "loading the scene " + file_name(deferred->text);
+  if (!ImGui::BeginPopupModal("Unsaved edits", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  app.dialogs.modal = "Unsaved edits";
+  const std::string file = file_name(app.status.script_file.path);
+  std::string what = "quitting";
+  if (const auto* r = u.deferred ? std::get_if<ui::OpenSource>(&*u.deferred) : nullptr) what = "opening the source " + r->spec;
+  if (const auto* r = u.deferred ? std::get_if<ui::LoadScene>(&*u.deferred) : nullptr)
+    what = r->path.empty() ? "unloading the scene" : "loading the scene " + file_name(r->path);
+  ImGui::Text("The Script editor has unsaved edits to %s.", file.c_str());
+  ImGui::Text("Save them before %s?", what.c_str());
+  ImGui::Spacing();
+  const std::optional<ui::DialogButton> a = std::exchange(app.dialogs.answer, std::nullopt);
+  if (u.save_wait >= 0) {
+    ImGui::TextDisabled("Saving...");
+  } else {
+    if (ImGui::Button("Save") || a == ui::DialogButton::save) {
+      app.view.script_save_now = true;   // the editor saves at its next draw; the request's result proceeds
+      app.view.show(ui::Panel::script);
+      u.save_wait = 0;
     }
-    ImGui::Text("The Script editor has unsaved edits to %s.", file.c_str());
-    ImGui::Text("Save them before %s?", what.c_str());
-    ImGui::Spacing();
-    const std::string a = std::exchange(answer, std::string());
-    if (save_wait >= 0) {
-      ImGui::TextDisabled("Saving...");
-    } else {
-      if (ImGui::Button("Save") || a == "save") {
-        view.script_save_now = true;   // the editor saves at its next draw; the request's result proceeds
-        view.show(ui::Panel::script);
-        save_wait = 0;
-      }
-      ImGui::SameLine();
-      if (ImGui::Button("Discard") || a == "discard") {
-        view.script_discard = true;
-        info("unsaved edits to " + file + " discarded");
-        proceed();
-        ImGui::CloseCurrentPopup();
-      }
-      ImGui::SameLine();
-      if (ImGui::Button("Cancel") || a == "cancel" || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
-        quit_waiting = false;
-        deferred.reset();
-        ImGui::CloseCurrentPopup();
-      }
-    }
-    if (save_wait >= 0 && ++save_wait > 180) {
-      error("the Script editor did not save " + file + " (is it open?); nothing else was done");
-      save_wait = -1;
-      quit_waiting = false;
-      deferred.reset();
-    }
-    if (!quit_waiting && !deferred && save_wait < 0) ImGui::CloseCurrentPopup();
-    ImGui::EndPopup();
-  }
-
-  // File > Print marker sheet..., or a panel's button (the Dictionary explorer, the tour).
-  if (!view.print_sheet.empty()) {
-    open_sheet_dialog();
-    sheet.dictionary = std::exchange(view.print_sheet, std::string());
-    int last = view.print_first_id + 11;
-    std::string err;
-    if (const auto d = dictionary_by_name(sheet.dictionary, &err)) last = std::min(last, d->size() - 1);
-    std::snprintf(sheet.ids, sizeof sheet.ids, "%d-%d", view.print_first_id, last);
-    const std::string path = status.config_dir + "/marker-sheets/" + sheet.dictionary + ".pdf";
-    std::snprintf(sheet.path, sizeof sheet.path, "%s", path.c_str());
-    view.print_first_id = 0;
-  }
-  if (sheet.opening) {
-    ImGui::OpenPopup("Print marker sheet");
-    sheet.opening = false;
-  }
-  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
-  if (ImGui::BeginPopupModal("Print marker sheet", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
-    modal = "Print marker sheet";
-    const float w = 360 * ctx.scale;
-    ImGui::SetNextItemWidth(w);
-    if (ImGui::BeginCombo("dictionary", sheet.dictionary.c_str(), ImGuiComboFlags_HeightLarge)) {
-      for (const std::string& n : dictionary_names())
-        if (ImGui::Selectable(n.c_str(), n == sheet.dictionary)) sheet.dictionary = n;
-      ImGui::EndCombo();
-    }
-    ImGui::SetNextItemWidth(w);
-    ImGui::InputTextWithHint("ids", "0-11 or 3,7,9", sheet.ids, sizeof sheet.ids);
-    ImGui::SetNextItemWidth(w);
-    ImGui::InputDouble("marker size (mm)", &sheet.size_mm, 1, 10, "%.1f");
-    sheet.size_mm = std::clamp(sheet.size_mm, kSheetMinMarkerMm, kSheetMaxMarkerMm);
-    ImGui::SetNextItemWidth(w);
-    ImGui::InputText("##sheet_path", sheet.path, sizeof sheet.path);
     ImGui::SameLine();
-    const std::string a = std::exchange(answer, std::string());
-    if (ImGui::Button("Browse...") || a == "browse") {
-      const fs::path p(sheet.path);
-      ui::open_browser(ctx, sheet.browser, ui::FileKind::calibration, "Save the marker sheet as",
-                       p.parent_path().string(), true, p.filename().string());
-    }
-    std::string chosen;
-    if (ui::draw_file_browser(ctx, sheet.browser, &chosen)) std::snprintf(sheet.path, sizeof sheet.path, "%s", chosen.c_str());
-    if (sheet.browser.visible) modal = "File browser";
-    ImGui::TextDisabled("A PDF of A4 pages; print it at 100%% and check the 100 mm bar.");
-    if (ImGui::Button("Write") || a == "write") {
-      requests.push_back({ui::RequestKind::marker_sheet, sheet.path, 0, {},
-                          sheet.dictionary + "\n" + sheet.ids + "\n" + std::to_string(sheet.size_mm)});
+    if (ImGui::Button("Discard") || a == ui::DialogButton::discard) {
+      app.view.script_discard = true;
+      app.info("unsaved edits to " + file + " discarded");
+      app.proceed();
       ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel") || a == "cancel") ImGui::CloseCurrentPopup();
-    ImGui::EndPopup();
+    if (ImGui::Button("Cancel") || a == ui::DialogButton::cancel || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+      u.quit_waiting = false;
+      u.deferred.reset();
+      ImGui::CloseCurrentPopup();
+    }
   }
+  if (u.save_wait >= 0 && ++u.save_wait > 180) {
+    app.error("the Script editor did not save " + file + " (is it open?); nothing else was done");
+    u.save_wait = -1;
+    u.quit_waiting = false;
+    u.deferred.reset();
+  }
+  if (!u.quit_waiting && !u.deferred && u.save_wait < 0) ImGui::CloseCurrentPopup();
+  ImGui::EndPopup();
+}
 
-  draw_export_dialog(ctx);   // File > Export... (ui/export_requests.cpp)
+// File > Print marker sheet..., or a panel's button (the Dictionary explorer, the tour).
+void draw_sheet_dialog(App& app, ui::Context& ctx) {
+  Dialogs::Sheet& sheet = app.dialogs.sheet;
+  if (std::exchange(sheet.opening, false)) ImGui::OpenPopup("Print marker sheet");
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
+  if (!ImGui::BeginPopupModal("Print marker sheet", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  app.dialogs.modal = "Print marker sheet";
+  const float w = 360 * ctx.scale;
+  ImGui::SetNextItemWidth(w);
+  if (ImGui::BeginCombo("dictionary", sheet.dictionary.c_str(), ImGuiComboFlags_HeightLarge)) {
+    for (const std::string& n : dictionary_names())
+      if (ImGui::Selectable(n.c_str(), n == sheet.dictionary)) sheet.dictionary = n;
+    ImGui::EndCombo();
+  }
+  ImGui::SetNextItemWidth(w);
+  ImGui::InputTextWithHint("ids", "0-11 or 3,7,9", sheet.ids, sizeof sheet.ids);
+  ImGui::SetNextItemWidth(w);
+  ImGui::InputDouble("marker size (mm)", &sheet.size_mm, 1, 10, "%.1f");
+  sheet.size_mm = std::clamp(sheet.size_mm, kSheetMinMarkerMm, kSheetMaxMarkerMm);
+  ImGui::SetNextItemWidth(w);
+  ImGui::InputText("##sheet_path", sheet.path, sizeof sheet.path);
+  ImGui::SameLine();
+  const std::optional<ui::DialogButton> a = std::exchange(app.dialogs.answer, std::nullopt);
+  if (ImGui::Button("Browse...") || a == ui::DialogButton::browse) {
+    const fs::path p(sheet.path);
+    ui::open_browser(ctx, sheet.browser, ui::FileKind::calibration, "Save the marker sheet as",
+                     p.parent_path().string(), true, p.filename().string());
+  }
+  std::string chosen;
+  if (ui::draw_file_browser(ctx, sheet.browser, &chosen)) std::snprintf(sheet.path, sizeof sheet.path, "%s", chosen.c_str());
+  if (sheet.browser.visible) app.dialogs.modal = "File browser";
+  ImGui::TextDisabled("A PDF of A4 pages; print it at 100%% and check the 100 mm bar.");
+  if (ImGui::Button("Write") || a == ui::DialogButton::write) {
+    app.requests.push_back(ui::WriteMarkerSheet{sheet.path, sheet.dictionary, sheet.ids, sheet.size_mm});
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel") || a == ui::DialogButton::cancel) ImGui::CloseCurrentPopup();
+  ImGui::EndPopup();
+}
 
-  answer.clear();   // an answer given while no dialog asked is a click on nothing
-
-  // Help windows.
-  if (show_shortcuts) {
-    centred_window("Keyboard shortcuts", &show_shortcuts, {560 * ctx.scale, 420 * ctx.scale}, {-300 * ctx.scale, 0});
+void draw_help_windows(Dialogs& d, float scale, const std::string& config_dir) {
+  if (d.show_shortcuts) {
+    centred_window("Keyboard shortcuts", &d.show_shortcuts, {560 * scale, 420 * scale}, {-300 * scale, 0});
     if (ImGui::BeginTable("##keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
       ImGui::TableSetupColumn("Keys", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("Wheel, right-drag").x);
       ImGui::TableSetupColumn("What", ImGuiTableColumnFlags_WidthStretch);
@@ -451,8 +401,8 @@ void App::draw_dialogs(ui::Context& ctx) {
     ImGui::TextDisabled("Keys do nothing while you type in a text field.");
     ImGui::End();
   }
-  if (show_first_steps) {
-    centred_window("First five minutes", &show_first_steps, {620 * ctx.scale, 460 * ctx.scale}, {300 * ctx.scale, 0});
+  if (d.show_first_steps) {
+    centred_window("First five minutes", &d.show_first_steps, {620 * scale, 460 * scale}, {300 * scale, 0});
     if (ImGui::BeginTabBar("##who")) {
       if (ImGui::BeginTabItem("Developer: inspect detection")) {
         first_steps_page(kDeveloper, std::size(kDeveloper));
@@ -470,8 +420,8 @@ void App::draw_dialogs(ui::Context& ctx) {
     }
     ImGui::End();
   }
-  if (show_about) {
-    centred_window("About ArUco Workbench", &show_about, {560 * ctx.scale, 300 * ctx.scale}, {0, 0});
+  if (d.show_about) {
+    centred_window("About ArUco Workbench", &d.show_about, {560 * scale, 300 * scale}, {0, 0});
     ImGui::Text("ArUco Workbench %s", kVersion);
     // No initials: ImGui 1.86 may wrap a line after a full stop, which would leave a lone comma.
     ImGui::TextWrapped("Seeing, teaching and scripting marker-based augmented reality, after Avola, Cinque, Foresti, "
@@ -481,9 +431,38 @@ void App::draw_dialogs(ui::Context& ctx) {
     ImGui::Text("OpenCV %s", CV_VERSION);
     ImGui::Text("Dear ImGui %s", IMGUI_VERSION);
     ImGui::Text("%s", LUA_RELEASE);
-    ImGui::Text("Configuration: %s", status.config_dir.c_str());
+    ImGui::Text("Configuration: %s", config_dir.c_str());
     ImGui::End();
   }
+}
+
+}  // namespace
+
+// File > Print marker sheet... keeps the ids as last typed; a panel's button gives its dictionary, and twelve ids
+// from its first. Into the user's own folder, never the working folder (which may be the source tree or read-only).
+void App::open_sheet_dialog(const ui::OpenSheetDialog& r) {
+  Dialogs::Sheet& sheet = dialogs.sheet;
+  sheet.opening = true;
+  sheet.dictionary = settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : settings.dictionaries[0];
+  if (!r.dictionary.empty()) {
+    sheet.dictionary = r.dictionary;
+    int last = r.first_id + 11;
+    std::string err;
+    if (const auto d = dictionary_by_name(sheet.dictionary, &err)) last = std::min(last, d->size() - 1);
+    std::snprintf(sheet.ids, sizeof sheet.ids, "%d-%d", r.first_id, last);
+  }
+  const std::string path = status.config_dir + "/marker-sheets/" + sheet.dictionary + ".pdf";
+  std::snprintf(sheet.path, sizeof sheet.path, "%s", path.c_str());
+}
+
+void App::draw_dialogs(ui::Context& ctx) {
+  dialogs.modal.clear();
+  draw_browsers(*this, ctx);
+  draw_unsaved_question(*this);
+  draw_sheet_dialog(*this, ctx);
+  draw_export_dialog(ctx);   // File > Export... (ui/export_requests.cpp)
+  dialogs.answer.reset();    // an answer given while no dialog asked is a click on nothing
+  draw_help_windows(dialogs, ctx.scale, status.config_dir);
 }
 
 }  // namespace arwb

@@ -39,7 +39,7 @@ bool ready(const std::future<T>& f) {
 // Runs on a thread of its own: the bundle verified as the player will verify it (so a refusal reaches the
 // workbench's log, naming the entry), then `arwb play BUNDLE` started as a separate process and waited for, so
 // its end is logged and it leaves no zombie. The workbench goes on meanwhile; quitting it leaves the player running.
-void play_in_background(std::shared_ptr<App::Players> players, std::string path, std::vector<std::string> more) {
+void play_in_background(std::shared_ptr<Players> players, std::string path, std::vector<std::string> more) {
   auto say = [&](LogLevel level, const std::string& text) {
     std::lock_guard lock(players->mutex);
     players->messages.emplace_back(level, text);
@@ -142,8 +142,8 @@ void App::draw_export_dialog(ui::Context& ctx) {
   }
   ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
   if (!ImGui::BeginPopupModal("Export bundle", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
-  modal = "Export bundle";
-  const std::string a = std::exchange(answer, std::string());
+  dialogs.modal = "Export bundle";
+  const std::optional<ui::DialogButton> a = std::exchange(dialogs.answer, std::nullopt);
   const float w = 420 * ctx.scale;
   const std::string scene = frame ? frame->scene.file : "";
   ImGui::PushTextWrapPos(w * 1.6f);
@@ -165,25 +165,25 @@ void App::draw_export_dialog(ui::Context& ctx) {
   ImGui::SetNextItemWidth(w);
   ImGui::InputText("##export_out", d.out, sizeof d.out);
   ImGui::SameLine();
-  if (ImGui::Button("Browse...") || a == "browse") {
+  if (ImGui::Button("Browse...") || a == ui::DialogButton::browse) {
     const fs::path p(d.out);
     ui::open_browser(ctx, d.browser, ui::FileKind::bundle, "Export the bundle as", p.parent_path().string(), true,
                      p.filename().string());
   }
   std::string chosen;
   if (ui::draw_file_browser(ctx, d.browser, &chosen)) std::snprintf(d.out, sizeof d.out, "%s", chosen.c_str());
-  if (d.browser.visible) modal = "File browser";
+  if (d.browser.visible) dialogs.modal = "File browser";
   ImGui::TextDisabled("A folder, or a zip when the name ends in .arwb or .zip.");
   ImGui::Checkbox("replace an existing bundle there", &d.force);
 
   const bool busy = d.checking.valid() || d.writing.valid();
   ImGui::BeginDisabled(busy || scene.empty());
-  if (ImGui::Button("Check") || (a == "check" && !busy)) requests.push_back({ui::RequestKind::export_check, "", 0, {}, {}});
+  if (ImGui::Button("Check") || (a == ui::DialogButton::check && !busy)) requests.push_back(ui::CheckExport{});
   ImGui::SameLine();
-  if (ImGui::Button("Export") || (a == "export" && !busy)) requests.push_back({ui::RequestKind::export_write, "", 0, {}, {}});
+  if (ImGui::Button("Export") || (a == ui::DialogButton::export_bundle && !busy)) requests.push_back(ui::WriteExport{});
   ImGui::EndDisabled();
   ImGui::SameLine();
-  if (ImGui::Button("Close") || a == "cancel") ImGui::CloseCurrentPopup();
+  if (ImGui::Button("Close") || a == ui::DialogButton::cancel) ImGui::CloseCurrentPopup();
   if (busy) {
     ImGui::SameLine();
     ImGui::TextDisabled(d.writing.valid() ? "writing..." : "checking...");
@@ -232,46 +232,49 @@ void App::draw_export_dialog(ui::Context& ctx) {
 }
 
 // [SECTION] Requests
-void App::export_request(const ui::Request& r) {
+// Check (write false) or Export: the check runs on a thread of its own, and Export writes when it passes.
+void App::start_export(bool write) {
   ExportDialog& d = export_dialog;
-  switch (r.kind) {
-    case ui::RequestKind::export_check:
-    case ui::RequestKind::export_write: {
-      if (d.checking.valid() || d.writing.valid()) return warn("export: a check or an export is running already");
-      const bundle::ExportOptions o = export_options();
-      if (o.scene.empty()) {
-        d.error = "no scene is loaded: File > Open scene... first";
-        return error("export: " + d.error);
-      }
-      d.error.clear();
-      d.written.clear();
-      d.write_after = r.kind == ui::RequestKind::export_write;
-      // Loading the scene, drawing and detecting each marker: seconds, never on the UI thread.
-      // The folder the bundle goes into is made first (the default one, in the user's config folder, may not
-      // exist yet); the bundle itself is written only by Export.
-      d.checking = std::async(std::launch::async, [o] {
-        std::error_code ec;
-        if (const fs::path parent = fs::path(o.out).parent_path(); !parent.empty()) fs::create_directories(parent, ec);
-        return bundle::plan_export(o);
-      });
-      info(std::string("export: ") + (d.write_after ? "checking, then writing " : "checking ") + o.out);
-      break;
-    }
-    case ui::RequestKind::play_bundle: {
-      std::error_code ec;
-      const std::string path = fs::absolute(r.text, ec).lexically_normal().string();
-      {
-        std::lock_guard lock(players->mutex);
-        ++players->running;
-      }
-      info("play: verifying " + path);
-      std::thread(play_in_background, players, path, play_args).detach();
-      status.recent.add(ui::FileKind::bundle, path);
-      save_recent();
-      break;
-    }
-    default: break;
+  if (d.checking.valid() || d.writing.valid()) return warn("export: a check or an export is running already");
+  const bundle::ExportOptions o = export_options();
+  if (o.scene.empty()) {
+    d.error = "no scene is loaded: File > Open scene... first";
+    return error("export: " + d.error);
   }
+  d.error.clear();
+  d.written.clear();
+  d.write_after = write;
+  // Loading the scene, drawing and detecting each marker: seconds, never on the UI thread.
+  // The folder the bundle goes into is made first (the default one, in the user's config folder, may not
+  // exist yet); the bundle itself is written only by Export.
+  d.checking = std::async(std::launch::async, [o] {
+    std::error_code ec;
+    if (const fs::path parent = fs::path(o.out).parent_path(); !parent.empty()) fs::create_directories(parent, ec);
+    return bundle::plan_export(o);
+  });
+  info(std::string("export: ") + (d.write_after ? "checking, then writing " : "checking ") + o.out);
+}
+
+// With `out`, what File > Export...'s Export button does with the dialog's values, the dialog unseen.
+void App::write_export(const std::optional<std::string>& out) {
+  if (out) {
+    open_export_dialog(*out);
+    export_dialog.opening = false;
+  }
+  start_export(true);
+}
+
+void App::play_bundle(const std::string& bundle) {
+  std::error_code ec;
+  const std::string path = fs::absolute(bundle, ec).lexically_normal().string();
+  {
+    std::lock_guard lock(players->mutex);
+    ++players->running;
+  }
+  info("play: verifying " + path);
+  std::thread(play_in_background, players, path, play_args).detach();
+  status.recent.add(ui::FileKind::bundle, path);
+  save_recent();
 }
 
 // [SECTION] Polling
@@ -314,29 +317,6 @@ void App::poll_export() {
     if (level == LogLevel::info) note_status(text);
     else log.add(level, text);
   }
-}
-
-void App::wait_export(double timeout_s) {
-  const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
-  handle_requests();   // a check or export asked for in this same frame starts first
-  while (Clock::now() < end && (export_dialog.checking.valid() || export_dialog.writing.valid())) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    poll_export();
-  }
-  if (export_dialog.checking.valid() || export_dialog.writing.valid())
-    warn("--actions export_wait: the export did not finish within " + std::to_string(int(timeout_s)) + " s");
-}
-
-void App::wait_players(double timeout_s) {
-  const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
-  handle_requests();   // a play asked for in this same frame starts first
-  auto running = [this] {
-    std::lock_guard lock(players->mutex);
-    return players->running;
-  };
-  while (Clock::now() < end && running() > 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  poll_export();
-  if (running() > 0) warn("--actions play_wait: a player still runs after " + std::to_string(int(timeout_s)) + " s");
 }
 
 }  // namespace arwb

@@ -32,7 +32,7 @@ void places(Context& ctx, FileBrowser& b) {
     ImGui::PushID(p.c_str());
     if (ImGui::Selectable(base_name(p).c_str())) {
       if (b.saving) set_path(b, p);
-      else ctx.request(RequestKind::open_file, p, static_cast<int>(b.kind));
+      else ctx.request(OpenFile{p, b.kind});
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", p.c_str());
     ImGui::PopID();
@@ -42,7 +42,7 @@ void places(Context& ctx, FileBrowser& b) {
   if (r.favourites.empty()) ImGui::TextDisabled("  star a folder to keep it here");
   for (const std::string& f : r.favourites) {
     ImGui::PushID(f.c_str());
-    if (ImGui::Selectable(base_name(f).empty() ? f.c_str() : base_name(f).c_str())) ctx.request(RequestKind::list_dir, f);
+    if (ImGui::Selectable(base_name(f).empty() ? f.c_str() : base_name(f).c_str())) ctx.request(ListDir{f});
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", f.c_str());
     ImGui::PopID();
   }
@@ -69,9 +69,9 @@ void entries(Context& ctx, FileBrowser& b) {
     const std::string label = e.folder ? e.name + "/" : e.name;
     ImGui::PushID(e.name.c_str());
     if (ImGui::Selectable(label.c_str(), full == b.path, ImGuiSelectableFlags_AllowDoubleClick)) {
-      if (e.folder && (ImGui::IsMouseDoubleClicked(0) || !b.saving)) ctx.request(RequestKind::list_dir, full);
+      if (e.folder && (ImGui::IsMouseDoubleClicked(0) || !b.saving)) ctx.request(ListDir{full});
       else if (!e.folder && ImGui::IsMouseDoubleClicked(0) && !b.saving) {
-        ctx.request(RequestKind::open_file, full, static_cast<int>(b.kind));
+        ctx.request(OpenFile{full, b.kind});
       } else {
         set_path(b, full);
       }
@@ -113,7 +113,7 @@ void open_browser(Context& ctx, FileBrowser& b, FileKind kind, const std::string
   b.opened = ctx.status.opened;
   b.listed = ctx.status.listing.version;
   set_path(b, saving ? join(folder, name) : folder);
-  ctx.request(RequestKind::list_dir, folder.empty() ? std::string(".") : folder);
+  ctx.request(ListDir{folder.empty() ? std::string(".") : folder});
 }
 
 bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
@@ -173,29 +173,29 @@ bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
       *chosen = b.path;
       done = picked = true;
     } else {
-      ctx.request(RequestKind::open_file, b.path, static_cast<int>(b.kind));
+      ctx.request(OpenFile{b.path, b.kind});
     }
   }
   ImGui::BeginDisabled(l.parent.empty());
-  if (ImGui::Button("Up")) ctx.request(RequestKind::list_dir, l.parent);
+  if (ImGui::Button("Up")) ctx.request(ListDir{l.parent});
   ImGui::EndDisabled();
   ImGui::SameLine();
   const bool fav = ctx.status.recent.is_favourite(l.dir);
   ImGui::BeginDisabled(l.dir.empty());
-  if (ImGui::Button(fav ? "Unstar folder" : "Star folder")) ctx.request(RequestKind::toggle_favourite, l.dir);
+  if (ImGui::Button(fav ? "Unstar folder" : "Star folder")) ctx.request(ToggleFavourite{l.dir});
   ImGui::EndDisabled();
   ImGui::SameLine();
   ImGui::TextDisabled("%s", l.dir.c_str());
   if (!l.error.empty()) ImGui::TextColored({1, 0.45f, 0.4f, 1}, "%s", l.error.c_str());
   if (b.kind == FileKind::source && !b.saving) {
-    if (ImGui::SmallButton("Use this folder")) ctx.request(RequestKind::open_file, l.dir, static_cast<int>(b.kind), {}, "folder");
+    if (ImGui::SmallButton("Use this folder")) ctx.request(OpenFile{l.dir, b.kind, true});
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Its images, one after another, as the source.");
     ImGui::SameLine();
-    if (ImGui::SmallButton("Synthetic source")) ctx.request(RequestKind::open_file, "synthetic", static_cast<int>(b.kind));
+    if (ImGui::SmallButton("Synthetic source")) ctx.request(OpenFile{"synthetic", b.kind});
     for (int cam : ctx.status.cameras) {
       const std::string spec = "camera:" + std::to_string(cam);
       ImGui::SameLine();
-      if (ImGui::SmallButton(spec.c_str())) ctx.request(RequestKind::open_file, spec, static_cast<int>(b.kind));
+      if (ImGui::SmallButton(spec.c_str())) ctx.request(OpenFile{spec, b.kind});
     }
     if (ctx.status.cameras.empty()) {
       ImGui::SameLine();
@@ -204,7 +204,7 @@ bool draw_file_browser(Context& ctx, FileBrowser& b, std::string* chosen) {
   }
   if (b.kind == FileKind::bundle && !b.saving) {
     // An exported bundle is a folder as often as a zip: the folder listed is the one played.
-    if (ImGui::SmallButton("Play this folder")) ctx.request(RequestKind::open_file, l.dir, static_cast<int>(b.kind), {}, "folder");
+    if (ImGui::SmallButton("Play this folder")) ctx.request(OpenFile{l.dir, b.kind, true});
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("The folder shown, as a bundle (it holds manifest.json).");
   }
   const float bottom = ImGui::GetFrameHeightWithSpacing() + ImGui::GetStyle().ItemSpacing.y;

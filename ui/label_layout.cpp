@@ -176,45 +176,69 @@ bool box_meets_quad(const LabelBox& box, const LabelQuad& q, float margin) {
   return convex_meet(corners, 4, q.data(), 4);
 }
 
-LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
-  LabelLayout out;
-  const size_t n = in.labels.size();
-  out.placements.resize(n);
-  if (n == 0) {
-    if (cache) cache->clear();
-    return out;
-  }
-  const float gap = std::max(0.0f, in.gap);
-  const float corner = std::max(gap, in.corner_margin);
+namespace {
 
-  // Cells about four label heights wide: a candidate meets a handful of cells.
-  float typical_h = 0;
-  for (const LabelRequest& r : in.labels) typical_h = std::max(typical_h, r.height);
-  Grid grid(in.bounds, std::max(typical_h * 4.0f, 32.0f));
-  std::vector<Item> items;
-  items.reserve(n * 2 + in.obstacles.size());
-  std::vector<LabelBox> anchor_boxes(n);
-  for (size_t i = 0; i < n; ++i) {
-    anchor_boxes[i] = quad_box(in.labels[i].anchor);
-    grid.add(grown(anchor_boxes[i], corner + gap), static_cast<int>(items.size()));
-    items.push_back({Kind::marker, static_cast<int>(i)});
+// One call's placing: the grid of what is on the view so far (markers, media, then each label and its leader as
+// it is placed) and the last call's positions.
+class Placer {
+ public:
+  // The grid's cells are about four label heights wide: a candidate meets a handful of cells.
+  Placer(const LabelLayoutInput& in, LabelCache* cache, LabelLayout* out)
+      : in_(in), out_(*out), gap_(std::max(0.0f, in.gap)), corner_(std::max(gap_, in.corner_margin)),
+        grid_(in.bounds, std::max(typical_height(in) * 4.0f, 32.0f)) {
+    const size_t n = in.labels.size();
+    items_.reserve(n * 4 + in.obstacles.size());
+    anchor_boxes_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      anchor_boxes_[i] = quad_box(in.labels[i].anchor);
+      add(grown(anchor_boxes_[i], corner_ + gap_), Kind::marker, i);
+    }
+    for (size_t i = 0; i < in.obstacles.size(); ++i) add(grown(quad_box(in.obstacles[i]), gap_), Kind::media, i);
+    seen_.assign(items_.size() + 2 * n, -1);
+    if (cache) {
+      previous_ = *cache;
+      std::sort(previous_.begin(), previous_.end(),
+                [](const LabelMemory& a, const LabelMemory& b) { return a.key < b.key; });
+    }
   }
-  for (size_t i = 0; i < in.obstacles.size(); ++i) {
-    grid.add(grown(quad_box(in.obstacles[i]), gap), static_cast<int>(items.size()));
-    items.push_back({Kind::media, static_cast<int>(i)});
+
+  const LabelBox& anchor_box(size_t i) const { return anchor_boxes_[i]; }
+  bool has_previous() const { return !previous_.empty(); }
+
+  // Label i at its last position (remembered_only) or at the nearest free candidate; false: no place for it.
+  bool place(size_t i, bool remembered_only) {
+    const LabelRequest& r = in_.labels[i];
+    if (!(r.width > 0 && r.height > 0 && std::isfinite(r.width) && std::isfinite(r.height))) return false;
+    for (const LabelPoint& q : r.anchor)
+      if (!std::isfinite(q.x) || !std::isfinite(q.y)) return false;
+    const bool found = remembered_only ? at_remembered(i) : (in_rings(i) || on_visible_part(i));
+    if (!found) return false;
+    const LabelPlacement& p = out_.placements[i];
+    add(grown(p.box, gap_), Kind::label, i);
+    if (p.leader) add(Segment{p.leader_from, p.leader_to}.box(), Kind::leader, i);
+    return true;
   }
-  items.reserve(items.size() + 2 * n);
-  std::vector<int> seen(items.size() + 2 * n, -1);
-  int stamp = 0;
+
+ private:
+  static float typical_height(const LabelLayoutInput& in) {
+    float h = 0;
+    for (const LabelRequest& r : in.labels) h = std::max(h, r.height);
+    return h;
+  }
+
+  void add(const LabelBox& b, Kind kind, size_t index) {
+    grid_.add(b, static_cast<int>(items_.size()));
+    items_.push_back({kind, static_cast<int>(index)});
+  }
 
   // A leader from the marker's outline (the point nearest the label's middle) to the label, when the label is
   // beyond the first ring; none otherwise.
-  auto leader_for = [&](size_t i, const LabelBox& c, Segment* out_leader) {
-    const LabelBox& a = anchor_boxes[i];
+  bool leader_for(size_t i, const LabelBox& c, Segment* out_leader) const {
+    const LabelBox& a = anchor_boxes_[i];
     const float sep_x = std::max({0.0f, a.x0 - c.x1, c.x0 - a.x1});
     const float sep_y = std::max({0.0f, a.y0 - c.y1, c.y0 - a.y1});
-    if (std::max(sep_x, sep_y) <= corner + 0.5f) return false;
-    const LabelQuad& q = in.labels[i].anchor;
+    if (std::max(sep_x, sep_y) <= corner_ + 0.5f) return false;
+    const LabelQuad& q = in_.labels[i].anchor;
     const LabelPoint mid{(c.x0 + c.x1) * 0.5f, (c.y0 + c.y1) * 0.5f};
     LabelPoint best = q[0];
     for (size_t e = 0; e < 4; ++e) {
@@ -223,107 +247,94 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
     }
     *out_leader = {{std::clamp(best.x, c.x0, c.x1), std::clamp(best.y, c.y0, c.y1)}, best};
     return true;
-  };
+  }
+
+  // Whether an item of the grid is in the way of label i at `c` (with `leader` when it has one).
+  bool in_the_way(const Item& it, size_t i, const LabelBox& c, const Segment* leader, bool on_own_marker) const {
+    const size_t k = static_cast<size_t>(it.index);
+    const LabelBox spaced = grown(c, gap_);
+    switch (it.kind) {
+      case Kind::marker: {
+        const LabelQuad& q = in_.labels[k].anchor;
+        if (!(on_own_marker && k == i) && box_meets_quad(c, q, gap_)) return true;
+        const LabelBox around = grown(c, corner_);
+        for (const LabelPoint& p : q)
+          if (p.x > around.x0 && p.x < around.x1 && p.y > around.y0 && p.y < around.y1) return true;
+        return leader && k != i && segment_meets_quad(*leader, q);
+      }
+      case Kind::media:
+        return box_meets_quad(c, in_.obstacles[k], gap_) || (leader && segment_meets_quad(*leader, in_.obstacles[k]));
+      case Kind::label:
+        return spaced.overlaps(out_.placements[k].box) ||
+               (leader && segment_meets_box(*leader, grown(out_.placements[k].box, gap_)));
+      case Kind::leader: {
+        const Segment other{out_.placements[k].leader_from, out_.placements[k].leader_to};
+        return segment_meets_box(other, spaced) || (leader && segments_cross(*leader, other));
+      }
+    }
+    return false;
+  }
 
   // Whether label i may sit at `c` (with `leader` when it has one): inside the bounds, its box off every marker
   // and its corners, the media, the other labels and their leaders; its leader across no other marker, media,
   // label or leader.
-  auto free_at = [&](size_t i, const LabelBox& c, const Segment* leader, bool on_own_marker = false) {
-    if (c.x0 < in.bounds.x0 - kEps || c.y0 < in.bounds.y0 - kEps || c.x1 > in.bounds.x1 + kEps ||
-        c.y1 > in.bounds.y1 + kEps) {
-      return false;
-    }
-    LabelBox probe = grown(c, corner + gap);
+  bool free_at(size_t i, const LabelBox& c, const Segment* leader, bool on_own_marker = false) {
+    const LabelBox& v = in_.bounds;
+    if (c.x0 < v.x0 - kEps || c.y0 < v.y0 - kEps || c.x1 > v.x1 + kEps || c.y1 > v.y1 + kEps) return false;
+    LabelBox probe = grown(c, corner_ + gap_);
     if (leader) {
       const LabelBox lb = leader->box();
       probe = {std::min(probe.x0, lb.x0), std::min(probe.y0, lb.y0), std::max(probe.x1, lb.x1),
                std::max(probe.y1, lb.y1)};
     }
-    const LabelBox spaced = grown(c, gap);
-    const bool hit = grid.any(probe, seen, ++stamp, [&](int item) {
-      const Item& it = items[static_cast<size_t>(item)];
-      const size_t k = static_cast<size_t>(it.index);
-      switch (it.kind) {
-        case Kind::marker: {
-          const LabelQuad& q = in.labels[k].anchor;
-          if (!(on_own_marker && k == i) && box_meets_quad(c, q, gap)) return true;
-          const LabelBox around = grown(c, corner);
-          for (const LabelPoint& p : q)
-            if (p.x > around.x0 && p.x < around.x1 && p.y > around.y0 && p.y < around.y1) return true;
-          return leader && k != i && segment_meets_quad(*leader, q);
-        }
-        case Kind::media:
-          return box_meets_quad(c, in.obstacles[k], gap) || (leader && segment_meets_quad(*leader, in.obstacles[k]));
-        case Kind::label:
-          return spaced.overlaps(out.placements[k].box) ||
-                 (leader && segment_meets_box(*leader, grown(out.placements[k].box, gap)));
-        case Kind::leader: {
-          const Segment other{out.placements[k].leader_from, out.placements[k].leader_to};
-          return segment_meets_box(other, spaced) || (leader && segments_cross(*leader, other));
-        }
-      }
-      return false;
+    return !grid_.any(probe, seen_, ++stamp_, [&](int item) {
+      return in_the_way(items_[static_cast<size_t>(item)], i, c, leader, on_own_marker);
     });
-    return !hit;
-  };
-
-  // The last call's positions, by key.
-  LabelCache previous;
-  if (cache) {
-    previous = *cache;
-    std::sort(previous.begin(), previous.end(),
-              [](const LabelMemory& a, const LabelMemory& b) { return a.key < b.key; });
-    cache->clear();
   }
-  auto remembered = [&](uint64_t key) -> const LabelMemory* {
-    auto it = std::lower_bound(previous.begin(), previous.end(), key,
-                               [](const LabelMemory& m, uint64_t k) { return m.key < k; });
-    return it != previous.end() && it->key == key ? &*it : nullptr;
-  };
 
-  // First the labels whose last position is still free keep it, in priority order, so a marker that appears
-  // does not push the others about; then the rest, in priority order, take the nearest free candidate.
-  constexpr int kRings = 6;
-  std::vector<char> done(n, 0);
-  auto place = [&](size_t i, bool remembered_only) {
-    const LabelRequest& r = in.labels[i];
-    const LabelBox& a = anchor_boxes[i];
-    const float h = r.height;
-    if (!(r.width > 0 && h > 0 && std::isfinite(r.width) && std::isfinite(h))) return false;
-    for (const LabelPoint& q : r.anchor)
-      if (!std::isfinite(q.x) || !std::isfinite(q.y)) return false;
-    const bool has_short = r.short_width > 0 && r.short_width < r.width;
-    const float cx = (a.x0 + a.x1) * 0.5f, cy = (a.y0 + a.y1) * 0.5f;
-    LabelPlacement& p = out.placements[i];
-    auto take = [&](const LabelBox& c, bool short_form) {
-      Segment leader;
-      const bool has_leader = leader_for(i, c, &leader);
-      if (!free_at(i, c, has_leader ? &leader : nullptr)) return false;
-      p.placed = true;
-      p.box = c;
-      p.short_form = short_form;
-      p.leader = has_leader;
-      if (has_leader) {
-        p.leader_from = leader.from;
-        p.leader_to = leader.to;
-      }
-      return true;
-    };
-    bool found = false;
-    if (remembered_only) {
-      const LabelMemory* m = remembered(r.key);
-      if (m && (!m->short_form || has_short)) {
-        const float w = m->short_form ? r.short_width : r.width;
-        found = take({a.x0 + m->dx, a.y0 + m->dy, a.x0 + m->dx + w, a.y0 + m->dy + h}, m->short_form);
-      }
+  // Label i at `c`, with a leader when it is that far, if it is free there.
+  bool take(size_t i, const LabelBox& c, bool short_form) {
+    Segment leader;
+    const bool has_leader = leader_for(i, c, &leader);
+    if (!free_at(i, c, has_leader ? &leader : nullptr)) return false;
+    LabelPlacement& p = out_.placements[i];
+    p.placed = true;
+    p.box = c;
+    p.short_form = short_form;
+    p.leader = has_leader;
+    if (has_leader) {
+      p.leader_from = leader.from;
+      p.leader_to = leader.to;
     }
-    // The first ring touches the marker's box as close as its corner marks allow. In each ring the full text
-    // first, then the short one: near and short reads better than far and full.
-    const float step = h + gap;
-    for (int k = 0; k < kRings && !found && !remembered_only; ++k) {
-      for (int form = 0; form < (has_short ? 2 : 1) && !found; ++form) {
+    return true;
+  }
+
+  bool has_short(const LabelRequest& r) const { return r.short_width > 0 && r.short_width < r.width; }
+
+  // Where the last call put it, relative to its marker, if that is still free.
+  bool at_remembered(size_t i) {
+    const LabelRequest& r = in_.labels[i];
+    const auto it = std::lower_bound(previous_.begin(), previous_.end(), r.key,
+                                     [](const LabelMemory& m, uint64_t k) { return m.key < k; });
+    if (it == previous_.end() || it->key != r.key || (it->short_form && !has_short(r))) return false;
+    const LabelBox& a = anchor_boxes_[i];
+    const float w = it->short_form ? r.short_width : r.width;
+    return take(i, {a.x0 + it->dx, a.y0 + it->dy, a.x0 + it->dx + w, a.y0 + it->dy + r.height}, it->short_form);
+  }
+
+  // The first ring touches the marker's box as close as its corner marks allow. In each ring the full text first,
+  // then the short one: near and short reads better than far and full.
+  bool in_rings(size_t i) {
+    constexpr int kRings = 6;
+    const LabelRequest& r = in_.labels[i];
+    const LabelBox& a = anchor_boxes_[i];
+    const float h = r.height;
+    const float cx = (a.x0 + a.x1) * 0.5f, cy = (a.y0 + a.y1) * 0.5f;
+    const float step = h + gap_;
+    for (int k = 0; k < kRings; ++k) {
+      for (int form = 0; form < (has_short(r) ? 2 : 1); ++form) {
         const float w = form == 0 ? r.width : r.short_width;
-        const float d = corner + static_cast<float>(k) * step;
+        const float d = corner_ + static_cast<float>(k) * step;
         const float above = a.y0 - d - h, below = a.y1 + d, left = a.x0 - d - w, right = a.x1 + d;
         const LabelBox candidates[8] = {
             {cx - w * 0.5f, above, cx + w * 0.5f, above + h},  {cx - w * 0.5f, below, cx + w * 0.5f, below + h},
@@ -331,47 +342,69 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
             {right, above, right + w, above + h},              {left, above, left + w, above + h},
             {right, below, right + w, below + h},              {left, below, left + w, below + h},
         };
-        for (const LabelBox& c : candidates) {
-          if (take(c, form == 1)) {
-            found = true;
-            break;
-          }
-        }
+        for (const LabelBox& c : candidates)
+          if (take(i, c, form == 1)) return true;
       }
     }
-    // Zoomed in, the marker runs off the view and there is no room around it: on the marker's visible part,
-    // centred, still off its corners, rather than no label at all.
-    const LabelBox& v = in.bounds;
-    if (!found && !remembered_only && (a.x0 < v.x0 || a.y0 < v.y0 || a.x1 > v.x1 || a.y1 > v.y1)) {
-      const float vx0 = std::max(a.x0, v.x0), vy0 = std::max(a.y0, v.y0);
-      const float vx1 = std::min(a.x1, v.x1), vy1 = std::min(a.y1, v.y1);
-      const float mx = (vx0 + vx1) * 0.5f, my = (vy0 + vy1) * 0.5f;
-      for (int form = 0; form < (has_short ? 2 : 1) && !found; ++form) {
-        const float w = form == 0 ? r.width : r.short_width;
-        const LabelBox c{mx - w * 0.5f, my - h * 0.5f, mx + w * 0.5f, my + h * 0.5f};
-        if (c.x0 >= vx0 && c.x1 <= vx1 && c.y0 >= vy0 && c.y1 <= vy1 && free_at(i, c, nullptr, true)) {
-          p = {};
-          p.placed = true;
-          p.box = c;
-          p.short_form = form == 1;
-          found = true;
-        }
+    return false;
+  }
+
+  // Zoomed in, the marker runs off the view and there is no room around it: on the marker's visible part,
+  // centred, still off its corners, rather than no label at all.
+  bool on_visible_part(size_t i) {
+    const LabelRequest& r = in_.labels[i];
+    const LabelBox& a = anchor_boxes_[i];
+    const LabelBox& v = in_.bounds;
+    if (!(a.x0 < v.x0 || a.y0 < v.y0 || a.x1 > v.x1 || a.y1 > v.y1)) return false;
+    const float vx0 = std::max(a.x0, v.x0), vy0 = std::max(a.y0, v.y0);
+    const float vx1 = std::min(a.x1, v.x1), vy1 = std::min(a.y1, v.y1);
+    const float mx = (vx0 + vx1) * 0.5f, my = (vy0 + vy1) * 0.5f, h = r.height;
+    for (int form = 0; form < (has_short(r) ? 2 : 1); ++form) {
+      const float w = form == 0 ? r.width : r.short_width;
+      const LabelBox c{mx - w * 0.5f, my - h * 0.5f, mx + w * 0.5f, my + h * 0.5f};
+      if (c.x0 >= vx0 && c.x1 <= vx1 && c.y0 >= vy0 && c.y1 <= vy1 && free_at(i, c, nullptr, true)) {
+        LabelPlacement& p = out_.placements[i];
+        p = {};
+        p.placed = true;
+        p.box = c;
+        p.short_form = form == 1;
+        return true;
       }
     }
-    if (!found) return false;
-    grid.add(grown(p.box, gap), static_cast<int>(items.size()));
-    items.push_back({Kind::label, static_cast<int>(i)});
-    if (p.leader) {
-      grid.add(Segment{p.leader_from, p.leader_to}.box(), static_cast<int>(items.size()));
-      items.push_back({Kind::leader, static_cast<int>(i)});
-    }
-    return true;
-  };
-  if (cache && !previous.empty()) {
-    for (size_t i = 0; i < n; ++i) done[i] = place(i, true);
+    return false;
+  }
+
+  const LabelLayoutInput& in_;
+  LabelLayout& out_;
+  const float gap_, corner_;
+  Grid grid_;
+  std::vector<Item> items_;
+  std::vector<LabelBox> anchor_boxes_;
+  std::vector<int> seen_;
+  int stamp_ = 0;
+  LabelCache previous_;   // the last call's positions, by key
+};
+
+}  // namespace
+
+LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
+  LabelLayout out;
+  const size_t n = in.labels.size();
+  out.placements.resize(n);
+  if (n == 0) {
+    if (cache) cache->clear();
+    return out;
+  }
+  Placer placer(in, cache, &out);
+  if (cache) cache->clear();
+  // First the labels whose last position is still free keep it, in priority order, so a marker that appears
+  // does not push the others about; then the rest, in priority order, take the nearest free candidate.
+  std::vector<char> done(n, 0);
+  if (placer.has_previous()) {
+    for (size_t i = 0; i < n; ++i) done[i] = placer.place(i, true);
   }
   for (size_t i = 0; i < n; ++i) {
-    if (!done[i]) done[i] = place(i, false);
+    if (!done[i]) done[i] = placer.place(i, false);
   }
   for (size_t i = 0; i < n; ++i) {
     if (!done[i]) {
@@ -379,7 +412,7 @@ LabelLayout layout_labels(const LabelLayoutInput& in, LabelCache* cache) {
       continue;
     }
     ++out.placed;
-    const LabelBox& a = anchor_boxes[i];
+    const LabelBox& a = placer.anchor_box(i);
     const LabelPlacement& p = out.placements[i];
     if (cache) cache->push_back({in.labels[i].key, p.box.x0 - a.x0, p.box.y0 - a.y0, p.short_form});
   }

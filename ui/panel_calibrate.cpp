@@ -81,11 +81,11 @@ void toolbar(Context& ctx, const CalibrationSnapshot* s) {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("The live view undistorted with the newest solve (or the calibration loaded with --calib)");
   flow(button_width("Reset"));
-  if (ImGui::Button("Reset")) ctx.request(RequestKind::calibration_reset);
+  if (ImGui::Button("Reset")) ctx.request(ResetCalibration{});
   const bool can_save = s && s->solution;
   flow(button_width("Save..."));
   ImGui::BeginDisabled(!can_save);
-  if (ImGui::Button("Save...")) ctx.view.save_calibration = true;
+  if (ImGui::Button("Save...")) ctx.request(SaveCalibrationAs{});
   ImGui::EndDisabled();
   if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
     ImGui::SetTooltip(can_save ? "Write the calibration (OpenCV FileStorage, .xml or .yml)" : "Nothing solved yet");

@@ -70,7 +70,7 @@ void error_bars(Context& ctx, const CalibrationSnapshot& s) {
   if (under >= 0) {
     const std::string& name = sol.view_names[size_t(under)];
     ImGui::SetTooltip("%s: %.3f px\nclick to drop it and solve again", name.c_str(), sol.per_view_errors[size_t(under)]);
-    if (clicked) ctx.request(RequestKind::calibration_drop, name);
+    if (clicked) ctx.request(DropCalibrationView{name});
   }
   char worst[200] = "";
   if (!sol.report.worst_first.empty())

@@ -19,7 +19,7 @@ namespace arwb::ui {
 
 namespace {
 
-// A dictionary shown: its table, and its distances once the window computed them (RequestKind::dictionary_stats,
+// A dictionary shown: its table, and its distances once the window computed them (ComputeDictionaryStats,
 // on a thread of its own: 500 000 pairs for 1000 ids).
 struct DictEntry {
   const Dictionary& dict;
@@ -55,7 +55,7 @@ const Dictionary* dictionary_for(DictionaryState& st, const std::string& name) {
 const DictionaryStats* stats_for(Context& ctx, const std::string& name) {
   const auto it = ctx.status.dictionary_stats.find(name);
   if (it != ctx.status.dictionary_stats.end()) return &it->second;
-  ctx.request(RequestKind::dictionary_stats, name);
+  ctx.request(ComputeDictionaryStats{name});
   return nullptr;
 }
 
@@ -142,8 +142,7 @@ void header(Context& ctx, DictionaryState& st, DictEntry& e) {
     if (ImGui::InputInt("first id", &st.first_id)) st.first_id = std::clamp(st.first_id, 0, std::max(0, d.size() - 1));
     flow(button_width("Print marker sheet..."));
     if (ImGui::Button("Print marker sheet...")) {   // the window's dialog: ids, size, where to save
-      ctx.view.print_sheet = d.name();
-      ctx.view.print_first_id = st.first_id;
+      ctx.request(OpenSheetDialog{d.name(), st.first_id});
     }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("A4 PDF of markers %d..%d at a true size.", st.first_id, std::min(d.size() - 1, st.first_id + 11));
   } else {

@@ -153,7 +153,7 @@ void plan_section(Context& ctx, LabView& v, bool running) {
   fit_item_width(w * 1.4f, "##plan_file");
   ImGui::InputTextWithHint("##plan_file", "a plan file (.yml)", v.plan_file, sizeof v.plan_file);
   flow(button_width("Read plan"));
-  if (ImGui::Button("Read plan") && v.plan_file[0]) ctx.request(RequestKind::lab_read_plan, v.plan_file);
+  if (ImGui::Button("Read plan") && v.plan_file[0]) ctx.request(ReadLabPlan{v.plan_file});
   flow(button_width("The paper's plan"));
   if (ImGui::Button("The paper's plan")) {
     plan = lab::paper_plan();
@@ -183,11 +183,11 @@ void run_section(Context& ctx, const lab::LabProgress* p) {
   if (!running) {
     const bool ok = !ctx.settings.lab.detectors.empty();
     ImGui::BeginDisabled(!ok);
-    if (ImGui::Button("Run")) ctx.request(RequestKind::lab_start);
+    if (ImGui::Button("Run")) ctx.request(StartLab{});
     ImGui::EndDisabled();
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Renders every cell's frames and gives them to every detector.");
   } else if (ImGui::Button("Stop")) {
-    ctx.request(RequestKind::lab_stop);
+    ctx.request(StopLab{});
   }
   if (!p || p->frames_total == 0) {
     if (!running) {
@@ -270,7 +270,7 @@ void grid(Context& ctx, LabView& v, const lab::LabProgress& p) {
           std::snprintf(b, sizeof b, "%.0f%% [%.0f-%.0f]", t.p_rec(), 100 * lo, 100 * hi);
         }
         if (t.frames) ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, rate_colour(t.p_rec(), 0.55f));
-        if (ImGui::Selectable(b, open, 0, {cell_w, 0})) ctx.request(RequestKind::lab_open_cell, {}, int(j));
+        if (ImGui::Selectable(b, open, 0, {cell_w, 0})) ctx.request(OpenLabCell{int(j)});
         if (ImGui::IsItemHovered()) {
           ImGui::SetTooltip("%s, %s: %d of %d frames (P_Rec %.1f%%)\nanother id on %d frames; %d false positives on "
                             "%d frames without a marker\nmedian %.2f ms a frame\nexposure %.1f ms, gain %.2f, "
@@ -311,7 +311,7 @@ void cell_section(Context& ctx, LabView& v, const lab::LabProgress& p) {
       if (k) ImGui::SameLine(0, 1);
       ImGui::PushID(int(d * 100000 + k));
       const ImVec2 at = ImGui::GetCursorScreenPos();
-      if (ImGui::InvisibleButton("f", {sq, sq})) ctx.request(RequestKind::seek, {}, int(k));
+      if (ImGui::InvisibleButton("f", {sq, sq})) ctx.request(Seek{int(k)});
       dl->AddRectFilled(at, {at.x + sq, at.y + sq}, mark_colour(marks[k]));
       if (int(k) == f->source.position) dl->AddRect(at, {at.x + sq, at.y + sq}, IM_COL32(255, 255, 255, 255), 0, 0, 2);
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("frame %zu: %s", k + 1, mark_words(marks[k]));
@@ -336,11 +336,11 @@ void cell_section(Context& ctx, LabView& v, const lab::LabProgress& p) {
   };
   const int prev = missed_from(int(k), -1), next = missed_from(int(k), +1);
   ImGui::BeginDisabled(prev < 0);
-  if (ImGui::Button("< missed")) ctx.request(RequestKind::seek, {}, prev);
+  if (ImGui::Button("< missed")) ctx.request(Seek{prev});
   ImGui::EndDisabled();
   flow(button_width("missed >"));
   ImGui::BeginDisabled(next < 0);
-  if (ImGui::Button("missed >")) ctx.request(RequestKind::seek, {}, next);
+  if (ImGui::Button("missed >")) ctx.request(Seek{next});
   ImGui::EndDisabled();
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("The next frame %s missed.", dets[det].c_str());
   // "Why not detected?" on the marker, from its exact corners: the region the Why panel explains.
@@ -395,7 +395,7 @@ void clip_section(Context& ctx) {
   fit_item_width(w, "light (lux)");
   ImGui::InputDouble("light (lux)", &row.lux, 50, 100, "%.0f");
   ImGui::TextDisabled("dictionary %s", row.dictionary.c_str());
-  if (ImGui::Button("Save to videos.csv")) ctx.request(RequestKind::lab_save_clip);
+  if (ImGui::Button("Save to videos.csv")) ctx.request(SaveClip{});
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("A row in videos.csv beside the clip (replacing this clip's row if there is one).");
 }
@@ -409,7 +409,7 @@ void save_section(Context& ctx, LabView& v, const lab::LabProgress& p) {
   ImGui::InputText("##save_dir", v.save_dir, sizeof v.save_dir);
   flow(button_width("Save report"));
   ImGui::BeginDisabled(ctx.status.lab_saving);
-  if (ImGui::Button("Save report")) ctx.request(RequestKind::lab_save, v.save_dir);
+  if (ImGui::Button("Save report")) ctx.request(SaveLabReport{v.save_dir});
   ImGui::EndDisabled();
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("table.txt, table.csv, results.json, the PNG plots and report.pdf, as arwb lab --out writes.");

@@ -448,7 +448,7 @@ void toolbar(Context& ctx) {
   flow(checkbox_width("Freeze"));
   if (ImGui::Checkbox("Freeze", &ctx.settings.frozen)) {}
   flow(button_width("Snapshot"));
-  if (ImGui::Button("Snapshot")) ctx.request(RequestKind::snapshot);
+  if (ImGui::Button("Snapshot")) ctx.request(Snapshot{});
   flow(button_width("Fit"));
   if (ImGui::Button("Fit")) v.image.fit = true;
 }
@@ -618,7 +618,7 @@ void draw_live_view(Context& ctx) {
     const float threshold = io.MouseDragThreshold;
     if (!ctx.view.region_tool && hovered_web >= 0 && drag < threshold * threshold &&
         f.overlays[static_cast<size_t>(hovered_web)].media.url == st.pressed_url) {
-      ctx.request(RequestKind::open_url, st.pressed_url);
+      ctx.request(OpenUrl{st.pressed_url});
     }
     st.pressed_url.clear();
   }

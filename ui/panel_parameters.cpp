@@ -124,9 +124,9 @@ void presets_section(Context& ctx, ParametersState& st) {
   const float field_w = ImGui::GetContentRegionAvail().x - button_w;
   const bool one_line = field_w >= 120.0f * ctx.scale;
   ImGui::SetNextItemWidth(one_line ? field_w : -FLT_MIN);
-  if (ctx.view.focus_field == "preset_path") {   // --actions focus=preset_path
+  if (ctx.view.focus_field == TextField::preset_path) {   // --actions focus=preset_path
     ImGui::SetKeyboardFocusHere();
-    ctx.view.focus_field.clear();
+    ctx.view.focus_field = TextField::none;
   }
   ImGui::InputText("##preset_path", st.path, sizeof st.path);
   if (ImGui::IsItemHovered()) {
@@ -135,14 +135,14 @@ void presets_section(Context& ctx, ParametersState& st) {
   }
   if (one_line) ImGui::SameLine();
   const bool has_path = st.path[0] != 0;
-  if (ImGui::Button("Load") && has_path) ctx.request(RequestKind::load_preset, st.path);
+  if (ImGui::Button("Load") && has_path) ctx.request(LoadPreset{st.path});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Every key is checked against the table; on an error nothing changes.");
   ImGui::SameLine();
   // The window writes the file, making the folder it goes into so "presets/..." works on the first save.
-  if (ImGui::Button("Save") && has_path) ctx.request(RequestKind::save_preset, st.path);
+  if (ImGui::Button("Save") && has_path) ctx.request(SavePreset{st.path});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Writes every parameter of the table with its current value.");
   ImGui::SameLine();
-  if (ImGui::Button("Browse...")) ctx.view.browse_kind = static_cast<int>(FileKind::preset);
+  if (ImGui::Button("Browse...")) ctx.request(Browse{FileKind::preset});
 
   if (!ctx.status.user_presets.empty()) {
     ImGui::Spacing();
@@ -151,7 +151,7 @@ void presets_section(Context& ctx, ParametersState& st) {
     ImGui::TextDisabled("%s/presets", ctx.status.config_dir.c_str());
     for (const PresetFile& up : ctx.status.user_presets) {
       ImGui::PushID(up.path.c_str());
-      if (ImGui::SmallButton("Load")) ctx.request(RequestKind::load_preset, up.path);
+      if (ImGui::SmallButton("Load")) ctx.request(LoadPreset{up.path});
       ImGui::SameLine();
       ImGui::TextUnformatted(up.name.c_str());
       ImGui::PopID();
@@ -160,7 +160,7 @@ void presets_section(Context& ctx, ParametersState& st) {
   ImGui::Spacing();
   ImGui::TextUnformatted("Shipped presets");
   ImGui::SameLine();
-  if (ImGui::SmallButton("Refresh")) ctx.request(RequestKind::list_presets);
+  if (ImGui::SmallButton("Refresh")) ctx.request(ListPresets{});
   if (ctx.status.presets_dir.empty()) {
     ImGui::TextDisabled("No assets/presets folder found (from the working folder or the executable).");
     return;
@@ -169,7 +169,7 @@ void presets_section(Context& ctx, ParametersState& st) {
   if (ctx.status.presets.empty()) ImGui::TextDisabled("No .yml files there.");
   for (const PresetFile& sp : ctx.status.presets) {
     ImGui::PushID(sp.path.c_str());
-    if (ImGui::SmallButton("Load")) ctx.request(RequestKind::load_preset, sp.path);
+    if (ImGui::SmallButton("Load")) ctx.request(LoadPreset{sp.path});
     ImGui::SameLine();
     ImGui::TextUnformatted(sp.name.c_str());
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", sp.path.c_str());
@@ -222,7 +222,7 @@ void draw_parameters(Context& ctx) {
   ParametersState& st = panel_state<ParametersState>(ctx.view, Panel::parameters);
   // The shipped presets are listed again whenever the panel is (re)opened.
   const int frame = ImGui::GetFrameCount();
-  if (frame - st.drawn_frame > 1) ctx.request(RequestKind::list_presets);
+  if (frame - st.drawn_frame > 1) ctx.request(ListPresets{});
   st.drawn_frame = frame;
 
   int changed = 0;

@@ -32,22 +32,22 @@ void load_controls(Context& ctx, SceneViewState& st) {
   const bool enter = ImGui::InputTextWithHint("##scene_path", "scene file (.lua or .xml)", st.path, sizeof st.path,
                                               ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::SameLine();
-  if ((ImGui::Button("Load") || enter) && st.path[0] != '\0') ctx.request(RequestKind::load_scene, st.path);
+  if ((ImGui::Button("Load") || enter) && st.path[0] != '\0') ctx.request(LoadScene{st.path});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Loads the scene; it reloads by itself whenever the file changes.");
   ImGui::SameLine();
   ImGui::BeginDisabled(!loaded);
-  if (ImGui::Button("Unload")) ctx.request(RequestKind::load_scene, "");
+  if (ImGui::Button("Unload")) ctx.request(LoadScene{""});
   ImGui::EndDisabled();
 
   ImGui::SetNextItemWidth(std::max(160.0f * ctx.scale, ImGui::GetContentRegionAvail().x * 0.45f));
   if (ImGui::BeginCombo("##examples", "Examples...", ImGuiComboFlags_HeightLarge)) {
     // The window reads the folder when the list opens, not every frame.
-    if (ImGui::IsWindowAppearing()) ctx.request(RequestKind::list_examples);
+    if (ImGui::IsWindowAppearing()) ctx.request(ListExamples{});
     for (const ExampleScene& e : ctx.status.examples) {
       const bool current = ctx.frame && ctx.frame->scene.file == e.path;
       if (ImGui::Selectable(e.label.c_str(), current)) {
         std::snprintf(st.path, sizeof st.path, "%s", e.path.c_str());
-        ctx.request(RequestKind::load_scene, e.path);
+        ctx.request(LoadScene{e.path});
       }
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", e.path.c_str());
     }

@@ -91,7 +91,7 @@ void open_file(Context& ctx, ScriptState& st, const std::string& path) {
   st.saved.clear();
   set_buffer(st, std::string());
   st.reading = !path.empty();
-  ctx.request(RequestKind::watch_file, path, 1);
+  ctx.request(WatchFile{path, true});
 }
 
 // A new reading of the file from the window: the text asked for, or the file changed on disk. Without edits the
@@ -142,7 +142,7 @@ bool take_reading(Context& ctx, ScriptState& st) {
 
 void save(Context& ctx, ScriptState& st) {
   if (st.path.empty()) return;
-  ctx.request(RequestKind::save_script, st.path, 0, {}, st.buffer);
+  ctx.request(SaveScript{st.path, st.buffer});
   st.save_pending = true;
   st.saved = st.buffer;
   st.save_time = ImGui::GetTime();   // the window reads the file again right after writing it
@@ -250,42 +250,8 @@ std::string file_name(const std::string& path) {
   return name.empty() ? path : name;
 }
 
-}  // namespace
-
-void draw_script(Context& ctx) {
-  ScriptState& st = panel_state<ScriptState>(ctx.view, Panel::script);
-  if (ctx.view.script_goto_line > 0) {
-    st.goto_line = ctx.view.script_goto_line;
-    ctx.view.script_goto_line = 0;
-  }
-  if (waiting_for_frame(ctx)) return;
-  const SceneStatus& scene = ctx.frame->scene;
-
-  // Follow the scene's file (or the one whose first load failed), unless that would drop edits.
-  const std::string target = scene_file_to_edit(scene);
-  bool switch_waiting = false;
-  if (target != st.followed) {
-    if (!st.dirty || !st.open) {
-      st.followed = target;
-      open_file(ctx, st, target);
-    } else {
-      switch_waiting = true;
-    }
-  }
-  const bool opened = take_reading(ctx, st);
-  // The window's "save, discard or cancel" question (ui/dialogs.cpp) reads the first and answers with the others.
-  ctx.view.script_unsaved = st.dirty && st.open;
-  if (std::exchange(ctx.view.script_save_now, false) && st.dirty) save(ctx, st);
-  if (std::exchange(ctx.view.script_discard, false)) set_buffer(st, st.base);
-  if (ctx.view.focus_field == "script") st.take_focus = std::exchange(ctx.view.focus_field, std::string()).size() > 0;
-
-  if (st.path.empty()) {
-    ImGui::TextDisabled("No scene loaded: the editor shows the scene file in use (see the Scene panel).");
-    return;
-  }
-
-  // Title line: name, dirty mark, Save, Revert, the path.
-  const bool focused = ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
+// The file's name, a mark when it has unsaved edits, Save and Revert (which asks before dropping edits).
+void title_buttons(Context& ctx, ScriptState& st) {
   ImGui::TextUnformatted(file_name(st.path).c_str());
   if (st.dirty) {
     ImGui::SameLine(0, 2);
@@ -315,21 +281,67 @@ void draw_script(Context& ctx) {
     if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
   }
-  // The load error's line, else the first line of a mapping that is not ok (a runtime error, a callback
-  // disabled, a marker() skipped) when this file is the scene that runs.
+}
+
+// The load error's line, else the first line of a mapping that is not ok (a runtime error, a callback disabled, a
+// marker() skipped) when `path` is the scene that runs; `problems` the first such reason and how many more.
+std::vector<int> marked_lines(const SceneStatus& scene, const std::string& path, std::string* problems) {
   std::vector<int> marks;
-  std::string problems;
-  if (scene.error_line > 0 && message_line_in(scene.error, st.path) > 0) marks.push_back(scene.error_line);
-  if (st.path == scene.file) {
-    int n = 0;
-    for (const MappingRow& r : scene.mappings) {
-      if (r.health == MappingHealth::ok) continue;
-      if (r.reason_line > 0 && std::find(marks.begin(), marks.end(), r.reason_line) == marks.end())
-        marks.push_back(r.reason_line);
-      if (n++ == 0) problems = r.reason;
-    }
-    if (n > 1) problems += " (and " + std::to_string(n - 1) + " more in the Scene panel)";
+  if (scene.error_line > 0 && message_line_in(scene.error, path) > 0) marks.push_back(scene.error_line);
+  if (path != scene.file) return marks;
+  int n = 0;
+  for (const MappingRow& r : scene.mappings) {
+    if (r.health == MappingHealth::ok) continue;
+    if (r.reason_line > 0 && std::find(marks.begin(), marks.end(), r.reason_line) == marks.end())
+      marks.push_back(r.reason_line);
+    if (n++ == 0) *problems = r.reason;
   }
+  if (n > 1) *problems += " (and " + std::to_string(n - 1) + " more in the Scene panel)";
+  return marks;
+}
+
+}  // namespace
+
+void draw_script(Context& ctx) {
+  ScriptState& st = panel_state<ScriptState>(ctx.view, Panel::script);
+  if (ctx.view.script_goto_line > 0) {
+    st.goto_line = ctx.view.script_goto_line;
+    ctx.view.script_goto_line = 0;
+  }
+  if (waiting_for_frame(ctx)) return;
+  const SceneStatus& scene = ctx.frame->scene;
+
+  // Follow the scene's file (or the one whose first load failed), unless that would drop edits.
+  const std::string target = scene_file_to_edit(scene);
+  bool switch_waiting = false;
+  if (target != st.followed) {
+    if (!st.dirty || !st.open) {
+      st.followed = target;
+      open_file(ctx, st, target);
+    } else {
+      switch_waiting = true;
+    }
+  }
+  const bool opened = take_reading(ctx, st);
+  // The window's "save, discard or cancel" question (ui/dialogs.cpp) reads the first and answers with the others.
+  ctx.view.script_unsaved = st.dirty && st.open;
+  if (std::exchange(ctx.view.script_save_now, false) && st.dirty) save(ctx, st);
+  if (std::exchange(ctx.view.script_discard, false)) set_buffer(st, st.base);
+  if (ctx.view.focus_field == TextField::script) {
+    st.take_focus = true;
+    ctx.view.focus_field = TextField::none;
+  }
+
+  if (st.path.empty()) {
+    ImGui::TextDisabled("No scene loaded: the editor shows the scene file in use (see the Scene panel).");
+    return;
+  }
+
+  // Title line: name, dirty mark, Save, Revert, the path.
+  const bool focused = ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows);
+  title_buttons(ctx, st);
+  std::string problems;
+  const std::vector<int> marks = marked_lines(scene, st.path, &problems);
   const int mark_line = marks.empty() ? 0 : marks.front();
   if (opened && mark_line > 0 && st.goto_line == 0) st.goto_line = mark_line;   // a file opened with an error
   if (mark_line > 0) {

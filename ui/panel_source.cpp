@@ -29,7 +29,7 @@ constexpr const char* kSizes[] = {"320x240", "640x480", "800x600", "1280x720", "
 void source_choice(Context& ctx, SourceViewState& st) {
   const SourceSpec& now = ctx.status.source;
   ImGui::TextWrapped("Source: %s", now.text().c_str());
-  if (ImGui::Button("Synthetic source")) ctx.request(RequestKind::open_source, "synthetic");
+  if (ImGui::Button("Synthetic source")) ctx.request(OpenSource{"synthetic"});
   flow(text_width("(markers moving in 3D, with exact truth)"));
   text_disabled_wrapped("(markers moving in 3D, with exact truth)");
 
@@ -51,7 +51,7 @@ void source_choice(Context& ctx, SourceViewState& st) {
   if (ImGui::Button("Open camera")) {
     std::string spec = "camera:" + std::to_string(st.camera);
     if (st.resolution > 0) spec += std::string("@") + kResolutions[st.resolution];
-    ctx.request(RequestKind::open_source, spec);
+    ctx.request(OpenSource{spec});
   }
   if (ctx.status.cameras.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("No camera was found at start.");
 
@@ -63,17 +63,17 @@ void source_choice(Context& ctx, SourceViewState& st) {
   const float avail = ImGui::GetContentRegionAvail().x;
   const bool one_line = avail - buttons_w >= 160 * ctx.scale;
   ImGui::SetNextItemWidth(one_line ? avail - buttons_w : avail);
-  if (ctx.view.focus_field == "source_path") {   // --actions focus=source_path
+  if (ctx.view.focus_field == TextField::source_path) {   // --actions focus=source_path
     ImGui::SetKeyboardFocusHere();
-    ctx.view.focus_field.clear();
+    ctx.view.focus_field = TextField::none;
   }
   const bool enter = ImGui::InputTextWithHint("##path", "video, image or folder path", st.path, sizeof st.path,
                                               ImGuiInputTextFlags_EnterReturnsTrue);
   if (one_line) ImGui::SameLine();
-  if ((ImGui::Button("Open file") || enter) && st.path[0] != '\0') ctx.request(RequestKind::open_source, st.path);
+  if ((ImGui::Button("Open file") || enter) && st.path[0] != '\0') ctx.request(OpenSource{st.path});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("The kind (video, image, folder) is read from the file itself.");
   ImGui::SameLine();
-  if (ImGui::Button("Browse...")) ctx.view.browse_kind = static_cast<int>(FileKind::source);
+  if (ImGui::Button("Browse...")) ctx.request(Browse{FileKind::source});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("The file browser: folders, recent sources, favourites.");
 }
 
@@ -85,9 +85,9 @@ void playback(Context& ctx) {
   section(info.kind == SourceKind::video ? "Playback" : "Images");
   if (ImGui::Button(p.playing ? "Pause" : "Play")) p.playing = !p.playing;
   flow(button_width("< Step"));
-  if (ImGui::Button("< Step")) ctx.request(RequestKind::step, {}, -1);
+  if (ImGui::Button("< Step")) ctx.request(StepFrames{-1});
   flow(button_width("Step >"));
-  if (ImGui::Button("Step >")) ctx.request(RequestKind::step, {}, +1);
+  if (ImGui::Button("Step >")) ctx.request(StepFrames{+1});
   flow(checkbox_width("Loop"));
   ImGui::Checkbox("Loop", &p.loop);
   if (info.kind == SourceKind::video) {
@@ -99,7 +99,7 @@ void playback(Context& ctx) {
     int pos = info.position;
     ImGui::SetNextItemWidth(-1);
     if (ImGui::SliderInt("##seek", &pos, 0, info.count - 1, info.kind == SourceKind::video ? "frame %d" : "image %d")) {
-      ctx.request(RequestKind::seek, {}, pos);
+      ctx.request(Seek{pos});
     }
   }
   if (!info.item.empty()) text_disabled_wrapped(info.item.c_str());

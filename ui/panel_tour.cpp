@@ -68,11 +68,11 @@ void draw_tour(Context& ctx) {
   flow(checkbox_width("Freeze"));
   ImGui::Checkbox("Freeze", &ctx.settings.frozen);
   flow(button_width("Next frame"));
-  if (ImGui::Button("Next frame")) ctx.request(RequestKind::next_frame);
+  if (ImGui::Button("Next frame")) ctx.request(NextFrame{});
   flow(checkbox_width("Presentation"));
   ImGui::Checkbox("Presentation", &v.presentation);
   flow(button_width("Print markers"));
-  if (ImGui::Button("Print markers")) ctx.view.print_sheet = ctx.settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : ctx.settings.dictionaries[0];
+  if (ImGui::Button("Print markers")) ctx.request(OpenSheetDialog{ctx.settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : ctx.settings.dictionaries[0]});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("An A4 PDF of markers at a true size, as `arwb markers` writes.");
   if (!v.tour_active) {
     flow(button_width("Start the lesson"));

@@ -49,7 +49,7 @@ void sweep_section(Context& ctx) {
     return;
   }
   if (ImGui::Button("Find the smallest change that detects it")) {
-    ctx.request(RequestKind::sweep, {}, 0, ctx.view.region);
+    ctx.request(Sweep{});
   }
   if (ImGui::IsItemHovered()) {
     ImGui::SetTooltip("Re-runs the detector on this frame with each parameter moved across its range (nearest values\n"

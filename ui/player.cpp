@@ -1,15 +1,17 @@
 // [SECTION] Index
 //   State        what the player keeps between frames
-//   Actions      --actions steps (overlay, stage, click, fullscreen, quit)
+//   Requests     what a key or an --actions step (overlay, stage, click, fullscreen, quit) asks for
 //   Drawing      the picture with black bars, the set-up overlay
 //   Frame loop   window, keys, clicks, screenshot, stats at exit
 #include "ui/player.hpp"
 
 #include "base/decimals.hpp"
+#include "base/result.hpp"
 #include "media/open_url.hpp"
 #include "render/compositor.hpp"
 #include "render/texture.hpp"
 #include "ui/gl_window.hpp"
+#include "ui/request.hpp"
 #include "workbench/actions.hpp"
 #include "workbench/engine.hpp"
 #include "workbench/log.hpp"
@@ -27,9 +29,11 @@
 #include <cstdio>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 namespace arwb {
@@ -39,6 +43,19 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 ImTextureID texture_id(unsigned id) { return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(id)); }
+
+// What the player can be asked to do, by its keys or an --actions step; the workbench's requests where the two
+// windows do the same (ui/request.hpp).
+struct ShowOverlay {
+  std::optional<bool> on;   // none: the other way round
+};
+struct CycleStage {   // to the next (+1) or previous (-1) stage with a picture on this frame
+  int delta = 1;
+};
+struct SetFullscreen {
+  bool on = true;
+};
+using PlayerRequest = std::variant<ShowOverlay, CycleStage, ui::ShowStage, ui::ClickLiveView, SetFullscreen, ui::Quit>;
 
 // [SECTION] State
 struct Player {
@@ -114,37 +131,59 @@ struct Player {
     }
   }
 
-  void run_action(const Action& a);
+  void carry_out(const PlayerRequest& request);
+  void run_step(const Action& a);
   void draw_picture(ImTextureID tex, cv::Size image, ImVec2 window_size);
   void draw_overlay();
   void handle_input();
 };
 
-// [SECTION] Actions
-void Player::run_action(const Action& a) {
+// [SECTION] Requests
+// An --actions step as the request it makes, or why it cannot be one, naming the verb and the argument.
+Result<PlayerRequest> player_request(const Action& a) {
+  const bool on_off = a.arg == "on" || a.arg == "off";
   if (a.verb == "overlay") {
-    if (a.arg.empty()) overlay = !overlay;
-    else if (a.arg == "on" || a.arg == "off") overlay = a.arg == "on";
-    else warn("--actions overlay: on or off, not '" + a.arg + "'");
-  } else if (a.verb == "stage") {
-    Stage s;
-    if (a.arg == "next") cycle_stage(1);
-    else if (a.arg == "previous") cycle_stage(-1);
-    else if (a.arg == "input") stage = -1;
-    else if (stage_from_name(a.arg, &s)) stage = static_cast<int>(s);
-    else warn("--actions: no stage '" + a.arg + "'");
-  } else if (a.verb == "click") {
-    double x = 0, y = 0;
-    if (std::sscanf(a.arg.c_str(), "%lf,%lf", &x, &y) != 2) return warn("--actions click: X,Y in image pixels, not '" + a.arg + "'");
-    click({x, y});
-  } else if (a.verb == "fullscreen") {
-    if (a.arg != "on" && a.arg != "off") return warn("--actions fullscreen: on or off, not '" + a.arg + "'");
-    set_fullscreen(a.arg == "on");
-  } else if (a.verb == "quit") {
-    glfwSetWindowShouldClose(window, 1);
-  } else {
-    warn("--actions: the player has no step '" + a.verb + "' (overlay, stage, click, fullscreen, quit)");
+    if (a.arg.empty()) return PlayerRequest(ShowOverlay{});
+    if (on_off) return PlayerRequest(ShowOverlay{a.arg == "on"});
+    return fail("--actions overlay: on or off, not '" + a.arg + "'");
   }
+  if (a.verb == "stage") {
+    Stage s;
+    if (a.arg == "next" || a.arg == "previous") return PlayerRequest(CycleStage{a.arg == "next" ? 1 : -1});
+    if (a.arg == "input") return PlayerRequest(ui::ShowStage{});
+    if (stage_from_name(a.arg, &s)) return PlayerRequest(ui::ShowStage{s});
+    return fail("--actions: no stage '" + a.arg + "'");
+  }
+  if (a.verb == "click") {
+    double x = 0, y = 0;
+    if (std::sscanf(a.arg.c_str(), "%lf,%lf", &x, &y) != 2) return fail("--actions click: X,Y in image pixels, not '" + a.arg + "'");
+    return PlayerRequest(ui::ClickLiveView{{x, y}});
+  }
+  if (a.verb == "fullscreen") {
+    if (!on_off) return fail("--actions fullscreen: on or off, not '" + a.arg + "'");
+    return PlayerRequest(SetFullscreen{a.arg == "on"});
+  }
+  if (a.verb == "quit") return PlayerRequest(ui::Quit{});
+  return fail("--actions: the player has no step '" + a.verb + "' (overlay, stage, click, fullscreen, quit)");
+}
+
+void Player::carry_out(const PlayerRequest& request) {
+  std::visit(ui::Overloaded{
+                 [&](const ShowOverlay& r) { overlay = r.on.value_or(!overlay); },
+                 [&](const CycleStage& r) { cycle_stage(r.delta); },
+                 [&](const ui::ShowStage& r) { stage = r.stage ? static_cast<int>(*r.stage) : -1; },
+                 [&](const ui::ClickLiveView& r) { click(r.at); },
+                 [&](const SetFullscreen& r) { set_fullscreen(r.on); },
+                 [&](const ui::Quit&) { glfwSetWindowShouldClose(window, 1); },
+             },
+             request);
+}
+
+// An --actions step carried out, or why it cannot be said in the log.
+void Player::run_step(const Action& a) {
+  const Result<PlayerRequest> r = player_request(a);
+  if (r) carry_out(*r);
+  else warn(r.error());
 }
 
 // [SECTION] Drawing
@@ -203,21 +242,18 @@ void Player::draw_overlay() {
 
 // [SECTION] Frame loop
 void Player::handle_input() {
-  if (ImGui::IsKeyPressed(GLFW_KEY_F1) || ImGui::IsKeyPressed(GLFW_KEY_I)) overlay = !overlay;
-  if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT)) cycle_stage(1);
-  if (ImGui::IsKeyPressed(GLFW_KEY_LEFT)) cycle_stage(-1);
-  if (ImGui::IsKeyPressed(GLFW_KEY_F11)) set_fullscreen(!fullscreen);
-  if (ImGui::IsKeyPressed(GLFW_KEY_Q)) glfwSetWindowShouldClose(window, 1);
-  if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) {
-    if (fullscreen) set_fullscreen(false);
-    else glfwSetWindowShouldClose(window, 1);
-  }
+  if (ImGui::IsKeyPressed(GLFW_KEY_F1) || ImGui::IsKeyPressed(GLFW_KEY_I)) carry_out(ShowOverlay{});
+  if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT)) carry_out(CycleStage{1});
+  if (ImGui::IsKeyPressed(GLFW_KEY_LEFT)) carry_out(CycleStage{-1});
+  if (ImGui::IsKeyPressed(GLFW_KEY_F11)) carry_out(SetFullscreen{!fullscreen});
+  if (ImGui::IsKeyPressed(GLFW_KEY_Q)) carry_out(ui::Quit{});
+  if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) carry_out(fullscreen ? PlayerRequest(SetFullscreen{false}) : ui::Quit{});
   // A click on the picture (not on the overlay) in image pixels.
   if (ImGui::IsMouseClicked(ImGuiMouseButton_Left) && !ImGui::GetIO().WantCaptureMouse && frame && picture.width > 0) {
     const ImVec2 m = ImGui::GetMousePos();
     if (picture.contains({m.x, m.y})) {
       const double s = picture.width / frame->image.cols;
-      click({(m.x - picture.x) / s, (m.y - picture.y) / s});
+      carry_out(ui::ClickLiveView{{(m.x - picture.x) / s, (m.y - picture.y) / s}});
     }
   }
 }
@@ -230,7 +266,7 @@ int run_player(const PlayerOptions& options) {
   std::vector<Action> actions;
   {
     std::string err;
-    if (!parse_actions(options.actions, &actions, &err, &player_action_verbs())) {
+    if (!parse_actions(options.actions, &actions, &err, player_action_verbs())) {
       std::fprintf(stderr, "arwb play: %s\n", err.c_str());
       return 2;
     }
@@ -274,7 +310,7 @@ int run_player(const PlayerOptions& options) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    while (next_action < actions.size() && actions[next_action].frame <= ui_frames) p.run_action(actions[next_action++]);
+    while (next_action < actions.size() && actions[next_action].frame <= ui_frames) p.run_step(actions[next_action++]);
     p.handle_input();
     const ImVec2 win = ImGui::GetIO().DisplaySize;
     if (p.frame && !p.frame->image.empty()) {

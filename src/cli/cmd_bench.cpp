@@ -232,11 +232,9 @@ void measure_trace_cost(const Detector& arwb, const std::vector<SetItem>& items,
 void bench_set(const Set& set, const SetDetectors& detectors, int reps, std::vector<Row>& rows) {
   std::map<std::string, std::map<std::string, Tally>> by_res;  // resolution -> detector -> tally
   std::map<std::string, std::map<std::string, Tally>> by_condition;
-  // Each detector over all the images, one detector after another. Taking turns on each image measured a
-  // detector in the wake of the one before it, and the hard set's images come in turn by size: on its 640x480
-  // frames, arwb's third run after AprilTag's on a 3840x2160 frame took 0.24 ms (median), after OpenCV's 0.21,
-  // after its own 0.21, and alone 0.19; the bench's median for arwb there was 0.245 with AprilTag among the peers
-  // and 0.21 without.
+  // Each detector over all the images, one detector after another: taking turns on each image measured a
+  // detector in the wake of the one before it (a small frame's runs right after another detector's run on a
+  // 3840x2160 frame were slower for several runs; docs/detector-history.md, the eleventh round).
   for (const auto& [name, fn] : detectors.fns) {
     for (const auto& item : set.items) {
       const std::string res = std::to_string(item.image.cols) + "x" + std::to_string(item.image.rows);

@@ -1,7 +1,6 @@
 #include "workbench/actions.hpp"
 
 #include <algorithm>
-#include <iterator>
 #include <stdexcept>
 
 namespace arwb {
@@ -12,7 +11,7 @@ const std::vector<std::string>& player_action_verbs() {
 }
 
 bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* out, std::string* error,
-                   const std::vector<std::string>* verbs) {
+                   const std::vector<std::string>& verbs) {
   for (const auto& spec : specs) {
     size_t start = 0;
     while (start <= spec.size()) {
@@ -35,19 +34,7 @@ bool parse_actions(const std::vector<std::string>& specs, std::vector<Action>* o
       const size_t eq = rest.find('=');
       a.verb = rest.substr(0, eq);
       a.arg = eq == std::string::npos ? "" : rest.substr(eq + 1);
-      static const char* kVerbs[] = {"open", "close", "source", "freeze", "unfreeze", "next", "snapshot", "stage",
-                                     "select", "region", "sweep", "tour", "presentation", "preset", "peers",
-                                     "scene", "click", "media", "labels", "add_dictionary", "drop", "focus", "type",
-                                     "undo", "redo", "set", "quit", "answer", "browse", "sheet", "help", "save_preset",
-                                     "workspace", "save_workspace", "move", "splitter", "calib_board", "calib_capture",
-                                     "calib_drop", "calib_reset", "calib_save", "calib_wait", "undistort", "pose",
-                                     "marker_size", "lab_plan", "lab_frames", "lab_axis", "lab_detectors", "lab_run",
-                                     "lab_stop", "lab_wait", "lab_cell", "lab_why", "lab_save", "lab_span",
-                                     "lab_clip", "export_dialog", "export", "export_title", "export_size",
-                                     "export_calibration", "export_force", "export_wait", "play", "play_args",
-                                     "play_wait"};
-      const bool known = verbs ? std::find(verbs->begin(), verbs->end(), a.verb) != verbs->end()
-                               : std::any_of(std::begin(kVerbs), std::end(kVerbs), [&](const char* v) { return a.verb == v; });
+      const bool known = std::find(verbs.begin(), verbs.end(), a.verb) != verbs.end();
       if (!known) {
         *error = "--actions '" + item + "': unknown verb '" + a.verb + "'";
         return false;

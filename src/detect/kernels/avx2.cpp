@@ -4,6 +4,13 @@
 
 #include <immintrin.h>
 
+// Highway's AVX2 target as this file's flags give it: AVX2, without the FMA, BMI2, F16C, PCLMUL and AES that
+// Highway's own AVX2 target also assumes (none of its ops used here needs them).
+#define HWY_DISABLE_BMI2_FMA
+#define HWY_DISABLE_F16C
+#define HWY_DISABLE_PCLMUL_AES
+#include <hwy/highway.h>
+
 #include <cstring>
 
 namespace arwb::kernels::avx2 {
@@ -31,6 +38,8 @@ struct Four {
 #include "detect/kernels/code_scan.inl"
 #include "detect/kernels/runs.inl"
 #include "detect/kernels/small_regions.inl"
+#include "detect/kernels/hwy_rows.inl"
+static_assert(HWY_STATIC_TARGET == HWY_AVX2, "Highway compiles for AVX2 here");
 
 // One row's sums of K along it from its widened, padded row, 16 a step (row_sums_avx2).
 template <int K>
@@ -279,6 +288,11 @@ void threshold_row(const uint16_t* v, int mw, const uint8_t* g, uint8_t* b, int 
 }
 
 
+void blend_row(const uint8_t* near, const uint8_t* far, uint16_t* v, int n) {
+  const int i = blend_row_hwy(near, far, v, n);
+  plain::blend_row(near + i, far + i, v + i, n - i);
+}
+
 void row_masks(const uint8_t* row, int w, int words, uint64_t* out, bool light) {
   const int c = light ? row_masks_k<true>(row, w, out) : row_masks_k<false>(row, w, out);
   plain::row_masks(row + 64 * c, w - 64 * c, words - c, out + c, light);
@@ -291,19 +305,18 @@ void join_row(EdgeWords above, int above_begin, const int* ends, int begin, int 
 }
 
 int drop_specks(const BitRows& bits, uint64_t* scratch, bool count) {
-  return count ? drop_specks_body<Four, true>(bits, scratch) : drop_specks_body<Four, false>(bits, scratch);
+  return drop_specks_of<Four>(bits, scratch, count);
 }
 
 int drop_small_regions(const BitRows& bits, int k, bool count, uint64_t* scratch) {
-  if (k == 5) return drop_small_regions_body<Four, 5, false>(bits, scratch);
-  return count ? drop_small_regions_body<Four, 3, true>(bits, scratch)
-               : drop_small_regions_body<Four, 3, false>(bits, scratch);
+  return drop_small_regions_of<Four>(bits, k, count, scratch);
 }
 
 Farthest farthest_point(const Point* c, int n, Point p0, Point dir, bool from_line) {
   int64_t best = -1;
   int at = -1;
-  const int k = from_line ? farthest_scan<true>(c, n, p0, dir, &best, &at) : farthest_scan<false>(c, n, p0, dir, &best, &at);
+  const int k = from_line ? farthest_scan<true>(c, n, p0, dir, &best, &at)
+                          : farthest_scan<false>(c, n, p0, dir, &best, &at);
   Farthest f{best, at};
   const Farthest rest = plain::farthest_point(c + k, n - k, p0, dir, from_line);
   if (rest.measure > f.measure) f = {rest.measure, k + rest.at};
@@ -395,7 +408,8 @@ void profile_edges(const int* profiles, const int* first, int samples, int* spre
   for (int j = 0; j + 1 < samples; ++j) {
     const __m256i step = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(steps + 8 * j));
     const __m256d w0 = _mm256_max_pd(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(step)), floor0), zero);
-    const __m256d w1 = _mm256_max_pd(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(step, 1)), floor1), zero);
+    const __m256d w1 =
+        _mm256_max_pd(_mm256_sub_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(step, 1)), floor1), zero);
     const __m256d jj = _mm256_set1_pd(double(j));
     ws0 = _mm256_add_pd(ws0, w0);
     ws1 = _mm256_add_pd(ws1, w1);

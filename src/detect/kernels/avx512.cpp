@@ -100,7 +100,7 @@ void blend_row(const uint8_t* near, const uint8_t* far, uint16_t* v, int mw) {
     const __m512i f = _mm512_cvtepu8_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(far + i)));
     _mm512_storeu_si512(v + i, _mm512_add_epi16(_mm512_add_epi16(_mm512_slli_epi16(n, 1), n), f));
   }
-  plain::blend_row(near + i, far + i, v + i, mw - i);
+  avx2::blend_row(near + i, far + i, v + i, mw - i);
 }
 
 void row_masks(const uint8_t* row, int w, int words, uint64_t* out, bool light) {

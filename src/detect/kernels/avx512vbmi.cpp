@@ -31,13 +31,10 @@ constexpr GreyIndex kIndex = grey_index();
 
 }  // namespace
 
-// 16 pixels a 512-bit vector, 64 a step. vpermb takes each pixel's B and G, and its R,
-// to the 16-bit halves of its own dword from anywhere in the vector, zeroing the bytes between (a zeroing mask), so
-// the shuffles are two a 16 pixels, not the three a 8 of AVX2's; vpdpwssd weighs and sums the pairs onto the
-// rounding.
+// 16 pixels a 512-bit vector, 64 a step. vpermb takes each pixel's B and G, and its R, to the 16-bit halves of its
+// own dword from anywhere in the vector, zeroing the bytes between (a zeroing mask), so the shuffles are two a 16
+// pixels, not the three a 8 of AVX2's; vpdpwssd weighs and sums the pairs onto the rounding.
 void grey_row(const uint8_t* s, uint8_t* o, int n) {
-  // [0]: B and G of pixel k to bytes 4k and 4k + 2; [1]: R to 4k; [2] and [3] the same from 16 bytes further
-  // into the vector.
   const __m512i take_bg = _mm512_load_si512(kIndex.ix[0]), take_r = _mm512_load_si512(kIndex.ix[1]);
   const __mmask64 bytes_bg = 0x5555555555555555ull, bytes_r = 0x1111111111111111ull;
   const __m512i w_bg = _mm512_set1_epi32((kGreyG << 16) | kGreyB), w_r = _mm512_set1_epi32(kGreyR);
@@ -69,7 +66,8 @@ void grey_row(const uint8_t* s, uint8_t* o, int n) {
 CodeMatch nearest_code(const uint64_t* flat, int ids, uint64_t code) {
   const int n = ids * 4;
   const __m512i target = _mm512_set1_epi64(int64_t(code)), zero = _mm512_setzero_si512(), eight = _mm512_set1_epi64(8);
-  __m512i best = _mm512_set1_epi64(65), where = _mm512_set1_epi64(-1), index = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  __m512i best = _mm512_set1_epi64(65), where = _mm512_set1_epi64(-1);
+  __m512i index = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
   int i = 0;
   for (; i + 8 <= n; i += 8) {
     const __m512i d = _mm512_popcnt_epi64(_mm512_xor_si512(_mm512_loadu_si512(flat + i), target));

@@ -48,6 +48,7 @@ constexpr Kernels avx2_table() {
   k.grey_row = avx2::grey_row;
   k.halve_rows = avx2::halve_rows;
   k.box_mean = avx2::box_mean;
+  k.blend_row = avx2::blend_row;
   k.threshold_row = avx2::threshold_row;
   k.row_masks = avx2::row_masks;
   k.find_edges = avx2::find_edges;

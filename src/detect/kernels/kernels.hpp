@@ -2,7 +2,8 @@
 // vector code through. A stage takes kernels() once per call and calls its entries; it holds no intrinsics and no
 // #if on instruction sets. Each level's table is the level below it with the entries that level's own file
 // (kernels/LEVEL.cpp, built with that level's flags) does faster; plain.cpp's are the reference, C++ at the
-// compiler's baseline (with OpenCV's universal intrinsics where they pay: SSE2 on x86-64, NEON on ARM).
+// compiler's baseline (with OpenCV's universal intrinsics where they pay: SSE2 on x86-64, NEON on ARM). A level's
+// kernels are hand-written intrinsics, or written once with Highway (hwy_rows.inl) where that measured as fast.
 //
 // Every entry gives the same bits at every level: the detect tests run each stage under SimdCap at every level the
 // processor has and compare it with the plain table's (kernels_test and the Stages tests).

@@ -45,6 +45,7 @@ void grey_row(const uint8_t* bgr, uint8_t* grey, int n);
 void halve_rows(const uint8_t* a, const uint8_t* b, uint8_t* out, int n);
 bool box_mean(const uint8_t* src, size_t src_step, int w, int h, int k, uint8_t* dst, size_t dst_step,
               uint16_t* scratch);
+void blend_row(const uint8_t* near, const uint8_t* far, uint16_t* v, int n);   // Highway's (hwy_rows.inl)
 void threshold_row(const uint16_t* v, int mw, const uint8_t* grey, uint8_t* binary, int offset);
 void row_masks(const uint8_t* row, int w, int words, uint64_t* out, bool light);
 int find_edges(const uint64_t* masks, int words, EdgeWords out);

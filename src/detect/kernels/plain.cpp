@@ -177,13 +177,11 @@ void join_row(EdgeWords above, int above_begin, const int* ends, int begin, int 
 }
 
 int drop_specks(const BitRows& bits, uint64_t* scratch, bool count) {
-  return count ? drop_specks_body<Scalar, true>(bits, scratch) : drop_specks_body<Scalar, false>(bits, scratch);
+  return drop_specks_of<Scalar>(bits, scratch, count);
 }
 
 int drop_small_regions(const BitRows& bits, int k, bool count, uint64_t* scratch) {
-  if (k == 5) return drop_small_regions_body<Scalar, 5, false>(bits, scratch);
-  return count ? drop_small_regions_body<Scalar, 3, true>(bits, scratch)
-               : drop_small_regions_body<Scalar, 3, false>(bits, scratch);
+  return drop_small_regions_of<Scalar>(bits, k, count, scratch);
 }
 
 Farthest farthest_point(const Point* c, int n, Point p0, Point dir, bool from_line) {

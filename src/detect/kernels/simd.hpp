@@ -14,8 +14,8 @@ enum class Simd : int {
   ssse3,         // SSSE3
   avx2,          // AVX2 and POPCNT
   avx512,        // AVX-512 F, BW and VL (Skylake-X and later)
-  avx512_vbmi,   // and VBMI, VNNI and VPOPCNTDQ (Ice Lake and later, Zen 4): the grey conversion's byte permutes and dot
-                 // products, identification's vector popcounts
+  avx512_vbmi,   // and VBMI, VNNI and VPOPCNTDQ (Ice Lake and later, Zen 4): the grey conversion's byte permutes
+                 // and dot products, identification's vector popcounts
 };
 
 namespace detail {

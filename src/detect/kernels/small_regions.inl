@@ -116,3 +116,15 @@ template <typename W, int K, bool Count>
   }
   return count;
 }
+
+// The kernels' entries (kernels.hpp's drop_specks and drop_small_regions) over words of W.
+template <typename W>
+int drop_specks_of(const BitRows& bits, uint64_t* scratch, bool count) {
+  return count ? drop_specks_body<W, true>(bits, scratch) : drop_specks_body<W, false>(bits, scratch);
+}
+template <typename W>
+int drop_small_regions_of(const BitRows& bits, int k, bool count, uint64_t* scratch) {
+  if (k == 5) return drop_small_regions_body<W, 5, false>(bits, scratch);
+  return count ? drop_small_regions_body<W, 3, true>(bits, scratch)
+               : drop_small_regions_body<W, 3, false>(bits, scratch);
+}

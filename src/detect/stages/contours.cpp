@@ -213,10 +213,11 @@ std::vector<std::vector<cv::Point>> region_contours(const cv::Mat& binary, bool 
     out[-1] = out[words] = 0;
     kern.row_masks(row, w, words, out, light);
   }
-  // Small regions: on a noisy frame nearly all regions are a few pixels, and they would make most of the runs. Those whose box could not hold a border of min_perimeter_px are taken out of the
-  // masks and only counted (the region count stays exact), never made runs: the one-pixel ones (specks), then the
-  // regions that fit in 5x5 pixels when a 5x5 box's border, 20 pixels, is short and they need no count, else in 3x3
-  // pixels (12). Not when `small` lists the small regions: it keeps them in the regions' order.
+  // Small regions: on a noisy frame nearly all regions are a few pixels, and they would make most of the runs. Those
+  // whose box could not hold a border of min_perimeter_px are taken out of the masks and only counted (the region
+  // count stays exact), never made runs: the one-pixel ones (specks), then the regions that fit in 5x5 pixels when a
+  // 5x5 box's border, 20 pixels, is short and they need no count, else in 3x3 pixels (12). Not when `small` lists the
+  // small regions: it keeps them in the regions' order.
   const int dropped = small ? 0 : drop_small_regions(kern, bits, min_perimeter_px, region_count != nullptr);
   int prev_begin = 0;
   thread_local RowEdges above, here;   // the row above's edges and this row's
