@@ -305,5 +305,8 @@ template <class... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
+// Written out for clang 14, which does not deduce an aggregate's template arguments (C++20's P1816).
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
 
 }  // namespace arwb::ui
