@@ -395,6 +395,29 @@ cv::Rect cell_rect(int r, int c, int cells) {
 // A candidate passed stage s when its fate is a later stage or acceptance (the last value of Stage).
 bool passed(const CandidateRecord& c, Stage s) { return static_cast<int>(c.fate.stage) > static_cast<int>(s); }
 
+// A red frame inside every border cell of a bit grid that reads white (a border cell should be black).
+void frame_white_border_cells(const cv::Mat& b, cv::Mat& roi) {
+  if (b.empty() || b.rows != b.cols) return;
+  const int n = b.rows;
+  for (int r = 0; r < n; ++r)
+    for (int col = 0; col < n; ++col) {
+      if (r != 0 && r != n - 1 && col != 0 && col != n - 1) continue;
+      if (b.at<uint8_t>(r, col) == 0) continue;  // black border cell: as it should be
+      cv::Rect cr = cell_rect(r, col, n);
+      cr.x += 1, cr.y += 1, cr.width -= 2, cr.height -= 2;
+      if (cr.width > 0 && cr.height > 0) cv::rectangle(roi, cr, kRed, 1, cv::LINE_8);
+    }
+}
+
+// The identification tile: the nearest id and its distance below, red where it failed, green where it passed.
+void identification_tile(const CandidateRecord& c, TileSpec& s) {
+  const DictMatch m = c.nearest();
+  s.below = m.id >= 0 ? std::to_string(m.id) + " d" + std::to_string(m.hamming) : "-";
+  s.frame = c.fate.stage == Stage::identification ? kRed
+            : passed(c, Stage::identification)   ? kGreen
+                                                 : cv::Scalar(-1, -1, -1, -1);
+}
+
 }  // namespace
 
 bool stage_view_is_mosaic(Stage s) {
@@ -529,17 +552,7 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
                                  }),
                      [&](int i, cv::Mat& roi) {
                        draw_bits(i, roi);
-                       const cv::Mat& b = trace.candidates[size_t(i)].bits;
-                       if (b.empty() || b.rows != b.cols) return;
-                       const int n = b.rows;
-                       for (int r = 0; r < n; ++r)
-                         for (int col = 0; col < n; ++col) {
-                           if (r != 0 && r != n - 1 && col != 0 && col != n - 1) continue;
-                           if (b.at<uint8_t>(r, col) == 0) continue;  // black border cell: as it should be
-                           cv::Rect cr = cell_rect(r, col, n);
-                           cr.x += 1, cr.y += 1, cr.width -= 2, cr.height -= 2;
-                           if (cr.width > 0 && cr.height > 0) cv::rectangle(roi, cr, kRed, 1, cv::LINE_8);
-                         }
+                       frame_white_border_cells(trace.candidates[size_t(i)].bits, roi);
                      });
         break;
       case Stage::identification:
@@ -548,13 +561,7 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
                            return !c.bits.empty() && c.fate.stage != Stage::otsu &&
                                   c.fate.stage != Stage::border_check;
                          },
-                         [](const CandidateRecord& c, TileSpec& s) {
-                           const DictMatch m = c.nearest();
-                           s.below = m.id >= 0 ? std::to_string(m.id) + " d" + std::to_string(m.hamming) : "-";
-                           s.frame = c.fate.stage == Stage::identification ? kRed
-                                     : passed(c, Stage::identification) ? kGreen
-                                                                        : cv::Scalar(-1, -1, -1, -1);
-                         }),
+                         identification_tile),
                      draw_bits);
         break;
       case Stage::corner_refinement:
