@@ -289,7 +289,8 @@ TEST_F(HostileZip, EntriesThatWouldLeaveTheFolderAreRefusedByName) {
 
 TEST_F(HostileZip, ALongEntryNameIsCutInTheMessage) {
   // A 600-byte name would make one huge line: the message shows its start and "…".
-  const std::string name = std::string(600, 'a') + "/../evil.txt";
+  // Appended, not std::string + "...": GCC 12 with the precompiled header warns of a false out-of-bounds copy there.
+  const std::string name = std::string(600, 'a').append("/../evil.txt");
   const Refusal r = refuse(zip({{name, "x"}}));
   EXPECT_REFUSED(r, "entry \"" + std::string(120, 'a') + "\u2026\": has \"..\"");
   EXPECT_LT(r.error.size(), 400u) << r.error;

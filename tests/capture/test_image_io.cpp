@@ -318,7 +318,10 @@ TEST(ImageIo, JpegHeaderSearchStopsAt64MiBOfStrayBytes) {
   EXPECT_FALSE(read_image_header(path, &error));
   EXPECT_EQ(error, "invalid header (no frame header in the first 64 MiB)");
   // The same with FF fill bytes, which may precede a marker.
-  write_file(path, "\xFF\xD8" + std::string(size_t{65} << 20, '\xFF'));
+  // Appended, not "..." + std::string: GCC 12 with the precompiled header warns of a false out-of-bounds copy there.
+  std::string ff = "\xFF\xD8";
+  ff.append(size_t{65} << 20, '\xFF');
+  write_file(path, ff);
   EXPECT_FALSE(read_image_header(path, &error));
   EXPECT_EQ(error, "invalid header (no frame header in the first 64 MiB)");
 }
