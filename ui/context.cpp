@@ -3,6 +3,7 @@
 #include "render/texture.hpp"
 
 #include <cstdint>
+#include <utility>
 
 namespace arwb::ui {
 
@@ -17,6 +18,8 @@ View::View() {
   // Regions too small to trace are hundreds of specks per frame: the ledger and the overlay hide them at first.
   show_rejected_stage[static_cast<size_t>(Stage::size_filter)] = false;
 }
+
+void Context::request(Request r) { requests.push_back(std::move(r)); }
 
 ImTextureID Context::texture(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest) {
   const render::Texture& t = textures.get(key, image, version, nearest);

@@ -274,7 +274,9 @@ struct Context {
   ImTextureID composite = nullptr;
 
   // Asks the window for something (ui/request.hpp); it is carried out after the panels are drawn.
-  void request(Request r) { requests.push_back(std::move(r)); }
+  // Out of line: its body instantiates the whole variant's moves, seconds of compiling in every file that includes
+  // this header.
+  void request(Request r);
   // An ImGui texture id for an image, uploaded only when `version` changed (usually the frame index).
   ImTextureID texture(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest = true);
 };
