@@ -218,8 +218,8 @@ const std::vector<Block>& all_blocks() {
   return blocks;
 }
 
-// Blocks that open a window share the X server start-up with the window tests, and are run one at a time with them
-// (tests/docs/CMakeLists.txt): the display blocks, and any block that starts xvfb-run itself.
+// Blocks that open a window (Window/...): the display blocks, and any block that starts xvfb-run itself. Each gets
+// an X server of its own (xvfb-run -a), as the window tests do.
 bool needs_x(const Block& b) { return b.kind == Kind::display || b.text.find("xvfb-run") != std::string::npos; }
 
 std::vector<Block> blocks_where(bool x) {
