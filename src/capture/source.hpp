@@ -1,11 +1,10 @@
-// Frame sources and acquisition: where frames come from (camera, video file, image, folder of images, the
-// synthetic source) and the paper's acquisition step (an fps cap and a resize, 20 fps and 640x480 by default).
+// Frame sources: where frames come from (camera, video file, image, folder of images, the synthetic source). The
+// paper's acquisition step that follows is capture/acquisition.hpp.
 //
 // A source is pulled by one thread (the workbench's worker). It never throws: a failure is returned as a
 // SourceStatus with a message naming the device, file or frame, and the caller decides what to do (the
 // workbench logs it and falls back to the synthetic source when the source is gone).
 #pragma once
-
 
 #include <opencv2/core.hpp>
 
@@ -86,22 +85,5 @@ std::unique_ptr<FrameSource> open_capture_source(const SourceSpec& spec, std::st
 
 // V4L2 devices that exist (/dev/videoN), for the UI's camera list.
 std::vector<int> list_cameras();
-
-// The paper's acquisition step: an fps cap and a resize. It is the only resize before detection: whoever pulls
-// frames applies the cap, and the detector applies the resize as its `acquisition` stage (detect/detector.hpp),
-// so the trace times it.
-struct AcquisitionSettings {
-  double fps_cap = 20;           // frames per second taken from the source; 0 = as fast as it gives them
-  bool resize = true;
-  cv::Size size{640, 480};       // the working size when resize is on (aspect is not kept, as in the paper);
-                                 // a side of 0 follows the frame's aspect, both 0 keep the frame's size
-  bool operator==(const AcquisitionSettings&) const = default;
-};
-
-// The size `in` is resized to under `s`: `in` itself when resize is off or nothing is to change.
-cv::Size acquisition_size(cv::Size in, const AcquisitionSettings& s);
-
-// Resizes `in` to the acquisition size (or copies when resize is off or the size already matches).
-void acquire(const cv::Mat& in, const AcquisitionSettings& s, cv::Mat& out);
 
 }  // namespace arwb

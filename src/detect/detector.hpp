@@ -1,7 +1,7 @@
 // The marker detector: the pipeline of pipeline.hpp run on a frame, recording what each stage did in a trace.
 #pragma once
 
-#include "capture/source.hpp"
+#include "capture/acquisition.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/params.hpp"
 #include "detect/trace.hpp"

@@ -4,7 +4,7 @@
 // code is in kernels/, reached through one table (kernels/kernels.hpp).
 #pragma once
 
-#include "capture/source.hpp"
+#include "capture/acquisition.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/kernels/types.hpp"
 #include "detect/params.hpp"
@@ -20,7 +20,7 @@
 
 namespace arwb::stages {
 
-// acquisition: the frame resized as acquisition says (capture/source.hpp) and made grey. scale_x/scale_y: input
+// acquisition: the frame resized as acquisition says (capture/acquisition.hpp) and made grey. scale_x/scale_y: input
 // pixels per output pixel. `acquired`, when given, receives the resized frame in its own channels (a copy when
 // nothing was resized), for callers that show it; the grey is then made from it.
 cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scale_x, double* scale_y,

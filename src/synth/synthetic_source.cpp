@@ -37,10 +37,4 @@ SourceInfo SyntheticSource::info() const {
   return i;
 }
 
-std::unique_ptr<FrameSource> open_source(const SourceSpec& spec, std::string* error) {
-  if (spec.kind != SourceKind::synthetic) return open_capture_source(spec, error);
-  if (error) error->clear();
-  return std::make_unique<SyntheticSource>();
-}
-
 }  // namespace arwb

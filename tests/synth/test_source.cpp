@@ -1,5 +1,5 @@
-// Tests for capture/source and synth's synthetic source: source specs, the five kinds of source, playback in time
-// and acquisition. Videos are written here with cv::VideoWriter, each frame a flat grey whose level tells its index.
+// Tests for capture/source and synth's synthetic source: source specs, the five kinds of source, playback in time.
+// Videos are written here with cv::VideoWriter, each frame a flat grey whose level tells its index.
 #include "capture/image_io.hpp"
 #include "synth/synthetic_source.hpp"
 #include "support/support.hpp"
@@ -506,43 +506,6 @@ TEST(SourceCamera, ListsDevicesSorted) {
     EXPECT_GE(c, 0);
     EXPECT_TRUE(std::filesystem::exists("/dev/video" + std::to_string(c)));
   }
-}
-
-// [SECTION] acquisition
-
-TEST(Acquire, ResizesOrCopies) {
-  AcquisitionSettings s;
-  cv::Mat big(720, 1280, CV_8UC3, cv::Scalar(1, 2, 3)), small(240, 320, CV_8UC3, cv::Scalar(4, 5, 6)), out;
-  acquire(big, s, out);
-  EXPECT_EQ(out.size(), cv::Size(640, 480));
-  EXPECT_EQ(out.at<cv::Vec3b>(100, 100), cv::Vec3b(1, 2, 3));
-  acquire(small, s, out);
-  EXPECT_EQ(out.size(), cv::Size(640, 480));
-  EXPECT_EQ(out.at<cv::Vec3b>(479, 639), cv::Vec3b(4, 5, 6));
-
-  s.resize = false;
-  acquire(big, s, out);
-  EXPECT_EQ(out.size(), big.size());
-  EXPECT_NE(out.data, big.data) << "a copy, not a view";
-  EXPECT_EQ(cv::norm(out, big, cv::NORM_INF), 0);
-
-  s.resize = true;
-  s.size = {1280, 720};
-  acquire(big, s, out);
-  EXPECT_NE(out.data, big.data);
-  EXPECT_EQ(cv::norm(out, big, cv::NORM_INF), 0);
-
-  // Aspect is not kept, as in the paper.
-  s.size = {100, 100};
-  acquire(big, s, out);
-  EXPECT_EQ(out.size(), cv::Size(100, 100));
-
-  acquire(cv::Mat(), s, out);
-  EXPECT_TRUE(out.empty());
-  // In place.
-  cv::Mat m = big.clone();
-  acquire(m, s, m);
-  EXPECT_EQ(m.size(), cv::Size(100, 100));
 }
 
 }  // namespace
