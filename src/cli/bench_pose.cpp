@@ -31,7 +31,7 @@ constexpr double kFlipDeg = 10;      // a pose this far off in rotation is the w
 constexpr double kAmbiguous = 0.3;   // resolve_with_previous's default: the corners leave the choice open
 // The sequences: a marker held nearly facing the camera (tilted up to 20 degrees) at 0.8 to 1.5 m, where the two
 // solutions of a frame are hardest to tell apart and tracking has something to do; several, for a steadier count.
-constexpr int kSequences = 3, kSequenceFrames = 200, kSequenceKeys = 5;
+constexpr int kSequences = 3, kSequenceKeys = 5;
 constexpr double kSeqNear = 0.8, kSeqTilt = 20;
 // Ids spread over ARUCO_ORIGINAL's 1024; a renderer each, as one renderer draws one id.
 constexpr std::array<int, 6> kIds{3, 128, 301, 512, 777, 1021};
@@ -179,7 +179,7 @@ class PoseBench {
   // The sequence: one marker along a smooth path through a few poses, 20 frames a second; arwb choosing each
   // frame alone, choosing by the previous frame's pose (resolve_with_previous) where the corners leave it open,
   // and the workbench's Tracker (One Euro-filtered corners, then the same choice by the track's previous pose).
-  SequenceTally sequences() const {
+  SequenceTally sequences(int frames) const {
     SequenceTally seq;
     for (int j = 0; j < kSequences; ++j) {
       const auto keys =
@@ -187,8 +187,8 @@ class PoseBench {
       std::optional<cv::Vec3d> previous;
       Tracker tracker;
       tracker.set_camera(calib_, kSide);
-      for (int i = 0; i < kSequenceFrames && keys.size() >= 2; ++i) {
-        const double s = double(i) * double(keys.size() - 1) / (kSequenceFrames - 1);
+      for (int i = 0; i < frames && keys.size() >= 2; ++i) {
+        const double s = double(i) * double(keys.size() - 1) / (frames - 1);
         const size_t k = std::min(keys.size() - 2, size_t(s));
         const auto [img, truth] =
             render(j, interpolate(keys[k], keys[k + 1], s - double(k)), seed_ * 31u + unsigned(j * 1000 + i));
@@ -338,7 +338,7 @@ void print_table(const PoseBenchOptions& options, const FrameResults& f, const S
               a.ambiguous, a.detected, kAmbiguous, a.flips, a.flips_ambiguous, a.flips_alternative_right);
   std::printf("\nsequences: %d of %d frames, each along a smooth path through %d poses nearly facing the camera "
               "(tilted up to %.0f deg) at %.2f to %.2f m; arwb found the marker in %d frames (%d ambiguous)\n",
-              kSequences, kSequenceFrames, kSequenceKeys, kSeqTilt, kSeqNear, kFar, seq.detected, seq.ambiguous);
+              kSequences, options.sequence_frames, kSequenceKeys, kSeqTilt, kSeqNear, kFar, seq.detected, seq.ambiguous);
   std::printf("flips per 100 frames: each frame alone %.1f, resolve_with_previous %.1f (it chose the other solution "
               "%d times), the Tracker (filtered corners) %.1f\n",
               100 * share(seq.flips_alone, seq.frames), 100 * share(seq.flips_tracked, seq.frames),
@@ -355,7 +355,7 @@ int run_pose_bench(const PoseBenchOptions& options) {
   cv::setNumThreads(1);
   const PoseBench bench(unsigned(options.seed));
   const FrameResults frames = bench.single_frames(options.frames);
-  const SequenceTally seq = bench.sequences();
+  const SequenceTally seq = bench.sequences(std::max(options.sequence_frames, 2));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (options.json) print_json(options, frames, seq, seconds);
   else print_table(options, frames, seq, seconds);

@@ -7,7 +7,8 @@
 namespace arwb {
 
 struct PoseBenchOptions {
-  int frames = 400;   // single frames; the sequences have their own fixed length
+  int frames = 400;            // single frames
+  int sequence_frames = 200;   // frames in each of the three sequences; at least 2
   int seed = 1;
   bool json = false;
 };

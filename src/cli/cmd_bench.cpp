@@ -79,7 +79,7 @@ void declare_options(CLI::App& app, BenchArgs& a) {
   app.add_option("--dict", a.dict_arg, "dictionaries, as for arwb detect (a DIR's truth names its own)")
       ->type_name("NAME[,NAME...]");
   app.add_option("--params", a.params_path, "a YAML preset of detector parameters for arwb")->type_name("FILE.yml");
-  app.add_option("--count", a.count, "images per synthetic set")->type_name("N")->check(whole_number(1, 100000));
+  app.add_option("--count", a.count, "images per synthetic set; --pose: frames per sequence (200)")->type_name("N")->check(whole_number(1, 100000));
   app.add_option("--seed", a.seed, "the synthetic sets' seed")->type_name("S")->check(whole_number(0, 2147483647));
   app.add_option("--reps", a.reps, "runs of each detector per image; the fastest time is kept")
       ->type_name("R")
@@ -120,11 +120,13 @@ std::optional<int> misplaced_options(const CommandLine& cl, const BenchArgs& a) 
         return 2;
       }
   if (a.pose_mode)
-    for (const char* other : {"DIR", "--dict", "--params", "--count", "--reps", "--set", "--peers"})
+    for (const char* other : {"DIR", "--dict", "--params", "--reps", "--set", "--peers"})
       if (cl.app.count(other)) {
         print_problem("arwb bench: --pose: %s does not apply (see arwb bench --help)\n", other);
         return 2;
       }
+  if (a.pose_mode && cl.app.count("--count") && a.count < 2)
+    return cl.usage_error("--count: --pose's sequences need at least 2 frames each");
   if (!a.pose_mode && !a.video && cl.app.count("--frames")) {
     print_problem("arwb bench: --frames: only with --pose or --video (see arwb bench --help)\n");
     return 2;
@@ -367,6 +369,7 @@ int cmd_bench(int argc, char** argv) {
   if (a.pose_mode) {
     a.pose.seed = a.seed;
     a.pose.json = a.as_json;
+    if (cl.app.count("--count")) a.pose.sequence_frames = a.count;
     return run_pose_bench(a.pose);
   }
   DetectorParams params;

@@ -103,13 +103,15 @@ TEST(BenchPose, OnTheSameFramesArwbBeatsOpenCvAndTrackingFlipsLess) {
   tracking_flips_no_more_than_each_frame_alone();
 }
 
-// The table names what it measured, and the same seed prints the same figures (the time line aside).
+// The table names what it measured, and the same seed prints the same figures (the time line aside). --count
+// sets the sequences' length.
 TEST(BenchPose, TheTableNamesEveryDetectorAndTheSameSeedGivesTheSameFigures) {
-  const auto r = run_arwb("bench --pose --frames 4 --seed 4");
+  const auto r = run_arwb("bench --pose --frames 4 --count 12 --seed 4");
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* s : {"arwb ", "opencv ", "opencv_aruco3 ", "rot_med", "flips per 100 frames", "one thread"})
+  for (const char* s : {"arwb ", "opencv ", "opencv_aruco3 ", "rot_med", "flips per 100 frames", "one thread",
+                        "sequences: 3 of 12 frames"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s << "\n" << r.out;
-  const auto q = run_arwb("bench --pose --frames 4 --seed 4");
+  const auto q = run_arwb("bench --pose --frames 4 --count 12 --seed 4");
   auto figures = [](const std::string& out) {
     const std::string upto_time = out.substr(0, out.rfind(" s, one thread"));
     return upto_time.substr(0, upto_time.rfind('\n'));
@@ -121,6 +123,7 @@ TEST(BenchPose, BadOptionsAreOneLineNamingTheOption) {
   for (const auto& [args, names] : {std::pair{"bench --pose --frames 0", "--frames"},
                                     std::pair{"bench --pose --frames many", "--frames"},
                                     std::pair{"bench --pose --seed -1", "--seed"},
+                                    std::pair{"bench --pose --count 1", "--count"},
                                     std::pair{"bench --pose --reps 2", "--pose"},
                                     std::pair{"bench --frames 9", "--frames"}}) {
     const auto r = run_arwb(args);
