@@ -1,6 +1,7 @@
 // arwb: the ArUco Workbench binary, the top of the house: it links the command-line tools (src/cli) and the
 // window (ui/). `arwb [options]` opens the workbench window; `arwb <subcommand> ...` runs a
 // command-line tool. See `arwb --help`.
+#include "base/allocator.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "cli/opencv_limits.hpp"
@@ -17,6 +18,7 @@
 #include <unistd.h>
 
 int main(int argc, char** argv) {
+  arwb::keep_freed_buffers();
   // FFmpeg's, OpenCV's and its error handler's own lines would duplicate arwb's one-line messages; a user can
   // still ask for them by setting OPENCV_FFMPEG_LOGLEVEL or OPENCV_LOG_LEVEL.
   arwb::keep_opencv_quiet();
