@@ -1,6 +1,7 @@
 #include "ui/message_window.hpp"
 
 #include "ui/gl_window.hpp"
+#include "base/json_text.hpp"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -65,7 +66,7 @@ int run_message_window(const MessageWindowOptions& options) {
   if (options.stats) {
     const nlohmann::ordered_json s = {{"window", "error"},   {"title", options.title}, {"heading", options.heading},
                                       {"message", options.message}, {"frames", frames},   {"closed_by", closed_by}};
-    std::printf("%s\n", s.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
+    std::printf("%s\n", json_text(s).c_str());
   }
   ui::close_gl_window(gl);
   return 1;

@@ -15,6 +15,7 @@
 #include "workbench/actions.hpp"
 #include "workbench/engine.hpp"
 #include "workbench/log.hpp"
+#include "base/json_text.hpp"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -393,7 +394,7 @@ int run_player(const PlayerOptions& options) {
     for (const LogEntry& e : p.log_copy) errors += e.level == LogLevel::error;
     s["log_errors"] = errors;
     s["opened"] = p.opened;
-    std::printf("%s\n", s.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
+    std::printf("%s\n", json_text(s).c_str());
   }
   if (!worker_stopped) {
     std::fprintf(stderr, "arwb play: the worker did not stop within 0.5 s (stuck in a scene's script?); quitting without it\n");

@@ -7,6 +7,7 @@
 #include "ui/app.hpp"
 #include "base/decimals.hpp"
 #include "pose/marker_pose.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -289,7 +290,7 @@ std::string stats_json(App& app, double elapsed, uint64_t detected) {
   s["dictionaries"] = app.settings.dictionaries;
   s["calibration"] = calibration_stats(app);
   s["layout"] = layout_stats(app);
-  return s.dump(-1, ' ', false, Json::error_handler_t::replace);
+  return json_text(s);
 }
 
 }  // namespace arwb

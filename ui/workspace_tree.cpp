@@ -6,6 +6,9 @@
 //   View         view.open and view.front followed, workspaces switched
 #include "ui/workspace_tree.hpp"
 
+#include "base/json_depth.hpp"
+#include "base/json_text.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -302,7 +305,7 @@ int tree_from(const Json& j, Layout& l, std::array<bool, kPanelCount>& seen, int
   for (const Json& k : j["tabs"]) {
     Panel p;
     if (!k.is_string() || !panel_from_key(k.get<std::string>(), &p)) {
-      throw std::runtime_error("no panel " + k.dump());
+      throw std::runtime_error("no panel " + json_text(k));
     }
     if (seen[static_cast<size_t>(p)]) continue;
     seen[static_cast<size_t>(p)] = true;
@@ -329,10 +332,14 @@ std::string workspaces_to_json(const Workspaces& w) {
     list.push_back({{"name", s.name}, {"normal", tree_json(s.normal, 0)}, {"presentation", tree_json(s.presentation, 0)}});
   }
   const Json j = {{"version", 1}, {"current", w.list[static_cast<size_t>(w.current)].name}, {"workspaces", list}};
-  return j.dump(1) + "\n";
+  return json_text(j, 1) + "\n";
 }
 
 bool workspaces_from_json(const std::string& text, Workspaces* out, std::string* error) {
+  if (arwb::Status depth = check_json_depth(text, ""); !depth) {
+    *error = depth.error();
+    return false;
+  }
   try {
     const Json j = Json::parse(text);
     if (!j.is_object() || !j.contains("workspaces") || !j["workspaces"].is_array()) {

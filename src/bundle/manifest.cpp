@@ -4,6 +4,8 @@
 #include "bundle/bundle.hpp"
 #include "bundle/bundle_files.hpp"
 #include "base/files.hpp"
+#include "base/json_depth.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -39,32 +41,12 @@ std::string manifest_json(const Manifest& m) {
   for (const WebCard& c : m.web_cards) cards.push_back({{"url", c.url}, {"title", c.title}, {"picture", c.picture}});
   j["web_cards"] = cards;
   // Invalid UTF-8 (a title from a command line) is replaced, never a reason to fail.
-  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+  return json_text(j, 2) + "\n";
 }
 
 namespace {
 
-constexpr size_t kMaxDepth = 16;
-
-// Deeper nesting than a manifest ever has is refused before parsing, so no text can make the parser or the
-// value's destructor recurse deeply.
-bool too_deep(const std::string& text) {
-  size_t depth = 0;
-  bool in_string = false, escaped = false;
-  for (const char c : text) {
-    if (in_string) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') in_string = false;
-      continue;
-    }
-    if (c == '"') in_string = true;
-    else if (c == '[' || c == '{') {
-      if (++depth > kMaxDepth) return true;
-    } else if ((c == ']' || c == '}') && depth > 0) --depth;
-  }
-  return false;
-}
+constexpr int kMaxDepth = 16;
 
 struct Reader {
   std::string error;
@@ -123,7 +105,8 @@ bool is_hex64(const std::string& s) {
 }  // namespace
 
 Result<Manifest> parse_manifest(const std::string& text) {
-  if (too_deep(text)) return fail(std::string(kManifestName) + ": nested deeper than " + std::to_string(kMaxDepth));
+  // Deeper nesting than a manifest ever has is refused before parsing.
+  if (Status depth = check_json_depth(text, kManifestName, kMaxDepth); !depth) return fail(depth.error());
   json j;
   try {
     j = json::parse(text);

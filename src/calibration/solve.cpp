@@ -2,6 +2,7 @@
 
 #include "base/decimals.hpp"
 #include "calibration/cross_validation.hpp"
+#include "base/json_text.hpp"
 
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/calib3d.hpp>
@@ -341,7 +342,7 @@ std::string solution_json(const Solution& s, const BoardSpec& board) {
                                        {"max_px", s.report.cross_validation_max_px},
                                        {"grid_px", cv_grid}};
   }
-  return j.dump();
+  return json_text(j);
 }
 
 }  // namespace arwb

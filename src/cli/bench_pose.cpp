@@ -6,6 +6,7 @@
 #include "pose/marker_pose.hpp"
 #include "synth/marker_view.hpp"
 #include "track/tracker.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
@@ -316,7 +317,7 @@ void print_json(const PoseBenchOptions& options, const FrameResults& f, const Se
                      {"rot_median_deg_resolved", round_decimals(quantile(seq.rot_resolved, 0.5), 3)},
                      {"rot_median_deg_filtered", round_decimals(quantile(seq.rot_filtered, 0.5), 3)}};
   out["seconds"] = round_decimals(seconds, 2);
-  std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
+  std::printf("%s\n", json_text(out).c_str());
 }
 
 void print_table(const PoseBenchOptions& options, const FrameResults& f, const SequenceTally& seq, double seconds) {

@@ -9,6 +9,7 @@
 #include "pose/marker_pose.hpp"
 #include "synth/marker_view.hpp"
 #include "track/tracker.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
@@ -175,7 +176,7 @@ int bench_tracking(const TrackingBenchOptions& o, bool as_json) {
                     {"d_cutoff_hz", p.tracking_d_cutoff_hz},
                     {"raw", figs(b.raw)},
                     {"filtered", figs(b.filtered)}};
-    std::printf("%s\n", j.dump().c_str());
+    std::printf("%s\n", json_text(j).c_str());
     return 0;
   }
   std::printf("Tracking: a 50 mm marker about 80 px wide at %g fps, %d frames per sequence (the first %d not "

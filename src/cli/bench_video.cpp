@@ -9,6 +9,7 @@
 #include "detect/video_search.hpp"
 #include "synth/synth.hpp"
 #include "synth/synthetic_world.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
@@ -255,7 +256,7 @@ void print_json(const VideoBenchOptions& o, const VideoFigures& v) {
         }
     out["rows"].push_back(std::move(row));
   });
-  std::printf("%s\n", out.dump().c_str());
+  std::printf("%s\n", json_text(out).c_str());
 }
 
 void print_table(const VideoBenchOptions& o, const VideoFigures& v) {

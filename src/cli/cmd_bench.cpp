@@ -14,6 +14,7 @@
 #include "detect/kernels/simd.hpp"
 #include "base/decimals.hpp"
 #include "base/text.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
@@ -311,7 +312,7 @@ void print_json(const std::vector<Row>& rows, const std::array<std::vector<doubl
                                  {"summary_ms", round_decimals(median(trace_ms[1]), 3)},
                                  {"full_ms", round_decimals(median(trace_ms[2]), 3)},
                                  {"full_over_off", round_decimals(median(trace_ms[2]) / median(trace_ms[0]), 3)}};
-  std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
+  std::printf("%s\n", json_text(out).c_str());
 }
 
 void print_table(const std::vector<Row>& rows, const std::array<std::vector<double>, 3>& trace_ms, int reps) {

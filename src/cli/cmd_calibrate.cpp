@@ -9,6 +9,7 @@
 #include "capture/video_reader.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
@@ -424,7 +425,7 @@ int cmd_calibrate(int argc, char** argv) {
     j["views_kept"] = r.views.size();
     j["not_kept"] = r.tally;
     j["not_kept"].erase("kept");
-    std::puts(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+    std::puts(json_text(j).c_str());
   } else {
     std::printf("%s\n%s", summary.c_str(), solution_text(*s).c_str());
     std::printf("wrote %s%s%s\n", a.out.c_str(), a.paper_dir.empty() ? "" : " and the paper's files in ",

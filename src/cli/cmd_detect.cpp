@@ -11,6 +11,7 @@
 #include "capture/image_io.hpp"
 #include "capture/video_reader.hpp"
 #include "base/decimals.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
@@ -132,7 +133,7 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
       line["markers"].push_back(std::move(marker));
     }
     // A path need not be UTF-8: invalid bytes are replaced rather than thrown on.
-    std::fputs((line.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n").c_str(), stdout);
+    std::fputs((json_text(line) + "\n").c_str(), stdout);
   } else {
     std::printf("%s", source.c_str());
     if (frame > 0 || source.empty()) std::printf(" frame %d", frame);

@@ -1,6 +1,7 @@
 #include "inspect/trace_json.hpp"
 
 #include "base/decimals.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -85,7 +86,7 @@ std::string trace_to_json(const FrameTrace& t) {
                             {"message", c.fate.message}}}});
   }
   // Names and messages are bytes from files and users: invalid UTF-8 is replaced rather than thrown on.
-  return j.dump(-1, ' ', false, Json::error_handler_t::replace);
+  return json_text(j);
 }
 
 }  // namespace arwb

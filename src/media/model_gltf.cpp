@@ -5,6 +5,7 @@
 #include "media/model_loader.hpp"
 
 #include "base/files.hpp"
+#include "base/json_depth.hpp"
 #include "media/media_path.hpp"
 
 #include <nlohmann/json.hpp>
@@ -117,9 +118,11 @@ bool gltf_load_image(tinygltf::Image* image, const int index, std::string*, std:
   return true;
 }
 
-// Before tinygltf sees the JSON: it must be a glTF (an object with "asset"), and every file it names must pass
-// our rules, so that the message can say which buffer or image and why.
+// Before tinygltf sees the JSON: it must nest no deeper than kMaxJsonDepth (tinygltf copies `extras` into its own
+// values recursively: 20,000 nested arrays overflowed the stack), be a glTF (an object with "asset"), and every file
+// it names must pass our rules, so that the message can say which buffer or image and why.
 Status precheck_gltf_json(Context& ctx, std::string_view json_text) {
+  if (Status depth = check_json_depth(json_text, ctx.name); !depth) return depth;
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(json_text);

@@ -52,22 +52,34 @@ class MaterialLibraries final : public tinyobj::MaterialReader {
   Context& ctx_;
 };
 
-// The line of each face statement ("f ..."), in order, so that a bad index can be reported where it was written:
-// tinyobjloader keeps faces in file order but not their lines.
-std::vector<size_t> face_lines(std::string_view text) {
+// The face statements ("f ..."), read from the text before tinyobjloader parses it: the line of each, in order,
+// so that a bad index can be reported where it was written (tinyobjloader keeps faces in file order but not their
+// lines), and the triangles they make (a face of n corners is n - 2), so that the limit is checked before the
+// parse (a 60 MB file of 7.5 million faces cost 52 s and 1.5 GB before it was refused).
+struct FaceScan {
   std::vector<size_t> lines;
+  size_t triangles = 0;
+};
+FaceScan scan_faces(std::string_view text) {
+  FaceScan scan;
   size_t line = 1;
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
   for (size_t at = 0; at < text.size();) {
     size_t end = text.find('\n', at);
     if (end == std::string_view::npos) end = text.size();
     std::string_view l = text.substr(at, end - at);
     const size_t s = l.find_first_not_of(" \t");
-    if (s != std::string_view::npos && l[s] == 'f' && s + 1 < l.size() && (l[s + 1] == ' ' || l[s + 1] == '\t'))
-      lines.push_back(line);
+    if (s != std::string_view::npos && l[s] == 'f' && s + 1 < l.size() && (l[s + 1] == ' ' || l[s + 1] == '\t')) {
+      scan.lines.push_back(line);
+      size_t corners = 0;
+      for (size_t i = s + 1; i < l.size(); ++i)
+        if (!blank(l[i]) && blank(l[i - 1])) ++corners;
+      if (corners >= 3) scan.triangles += corners - 2;
+    }
     at = end + 1;
     ++line;
   }
-  return lines;
+  return scan;
 }
 
 struct CornerKey {
@@ -86,6 +98,10 @@ struct CornerHash {
 
 Result<std::shared_ptr<Mesh>> load_obj(Context& ctx, const Bytes& bytes) {
   const std::string text(bytes.begin(), bytes.end());
+  const FaceScan scan = scan_faces(text);
+  if (scan.triangles > ctx.limits.triangles)
+    return fail(ctx.name + ": " + std::to_string(scan.triangles) + " triangles, more than the limit of " +
+                std::to_string(ctx.limits.triangles));
   std::istringstream in(text);
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
@@ -112,10 +128,10 @@ Result<std::shared_ptr<Mesh>> load_obj(Context& ctx, const Bytes& bytes) {
       ++faces;
       if (n >= 3) triangles += n - 2u;
     }
-  if (triangles > ctx.limits.triangles)
+  if (triangles > ctx.limits.triangles)   // as counted before the parse, unless the library read faces otherwise
     return fail(ctx.name + ": " + std::to_string(triangles) + " triangles, more than the limit of " +
                 std::to_string(ctx.limits.triangles));
-  const std::vector<size_t> lines = face_lines(text);
+  const std::vector<size_t>& lines = scan.lines;
   const bool lines_known = lines.size() == faces;  // else a face was dropped on the way: no line numbers
 
   auto mesh = std::make_shared<Mesh>();

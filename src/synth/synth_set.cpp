@@ -2,7 +2,9 @@
 
 #include "base/decimals.hpp"
 #include "base/files.hpp"
+#include "base/json_depth.hpp"
 #include "capture/image_io.hpp"
+#include "base/json_text.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -51,7 +53,7 @@ std::string truth_line(const SetItem& item) {
   Json line = {{"file", item.file},        {"width", item.image.cols}, {"height", item.image.rows},
                {"markers", std::move(markers)}, {"notes", item.notes}};
   if (!item.condition.empty()) line["condition"] = item.condition;
-  return line.dump(-1, ' ', false, Json::error_handler_t::replace);
+  return json_text(line);
 }
 
 namespace {
@@ -99,6 +101,10 @@ Result<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::s
     auto skip = [&](const std::string& why) {
       if (skipped) skipped->push_back(path + ":" + std::to_string(n) + ": " + why);
     };
+    if (Status depth = check_json_depth(text, ""); !depth) {
+      skip("nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+      continue;
+    }
     const Json line = Json::parse(text, nullptr, false);
     if (line.is_discarded() || !line.is_object()) {
       skip("not a JSON object");

@@ -104,9 +104,12 @@ struct Gltf {
     if (!uri.empty()) buffer["uri"] = uri;
     doc["buffers"] = json::array({buffer});
   }
-  std::string glb() {
+  // `extras`: JSON text put as the asset's extras as it is (nesting that json's own dump would recurse through).
+  std::string glb(const std::string& extras = "") {
     finish("");
+    if (!extras.empty()) doc["asset"]["extras"] = "@extras@";
     std::string text = doc.dump();
+    if (!extras.empty()) text.replace(text.find("\"@extras@\""), 10, extras);
     while (text.size() % 4) text += ' ';
     std::string chunk = bin;
     while (chunk.size() % 4) chunk += '\0';
@@ -301,6 +304,10 @@ TEST_F(ModelFile, RefusesWhatIsTooLarge) {
   ModelLimits few_triangles;
   few_triangles.triangles = 2;
   EXPECT_EQ(load("models/house.obj", few_triangles).error(), "models/house.obj: 3 triangles, more than the limit of 2");
+  // Counted from the text before the file is parsed: the faces come before a material library the parse would
+  // refuse, and the limit is what is said.
+  write("models/many.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\nf\t1 2 3\r\nmtllib ../outside.mtl\n");
+  EXPECT_EQ(load("models/many.obj", few_triangles).error(), "models/many.obj: 3 triangles, more than the limit of 2");
   ModelLimits few_vertices;
   few_vertices.vertices = 6;
   EXPECT_EQ(load("models/house.obj", few_vertices).error(), "models/house.obj: more than the limit of 6 vertices");
@@ -563,6 +570,26 @@ TEST_F(ModelFile, GltfRefusesBrokenFiles) {
   write("models/far.glb", far.glb());
   EXPECT_EQ(load("models/far.glb").error(),
             "models/far.glb: mesh 0 primitive 0 POSITION: accessor 0 reaches past the end of its buffer");
+}
+
+// tinygltf copies `extras` into its own values recursively: 20,000 nested arrays (40 KB) overflowed the stack of
+// every program that loads a model. The depth is checked first; nesting a model may have still loads.
+TEST_F(ModelFile, GltfNestedDeeperThanTheLimitIsRefusedBeforeItIsParsed) {
+  const std::string deep = std::string(20000, '[') + std::string(20000, ']');
+  write("models/deep.gltf", "{\"asset\": {\"version\": \"2.0\",\n\"extras\": " + deep + "}}");
+  EXPECT_EQ(load("models/deep.gltf").error(), "models/deep.gltf:2: nested deeper than 64 levels");
+  Gltf glb;
+  glb.mesh(kSquare, kSquareIndices);
+  write("models/deep.glb", glb.glb(deep));
+  EXPECT_EQ(load("models/deep.glb").error(), "models/deep.glb:1: nested deeper than 64 levels");
+
+  Gltf ok;
+  ok.mesh(kSquare, kSquareIndices);
+  json extras = json::array();
+  for (int i = 0; i < 60; ++i) extras = json::array({extras});
+  ok.doc["asset"]["extras"] = extras;
+  write("models/nested.glb", ok.glb());
+  EXPECT_TRUE(load("models/nested.glb").ok()) << load("models/nested.glb").error();
 }
 
 TEST_F(ModelFile, GltfWithoutTrianglesSkipsOtherModes) {
