@@ -83,6 +83,8 @@ struct App {
   StatsTotals totals;                 // ui/stats.cpp
   // The workspaces and presentation mode (ui/layout.cpp).
   ui::Workspaces workspaces;
+  bool workspaces_unsaved = false;      // its file could not be read nor set aside: never written over
+  bool layout_unsaved = false;          // the same for imgui.ini
   ui::LayoutAudit audit;                // what the last frame's layout looked like, for --stats
   ImFont* font_normal = nullptr;
   std::map<int, ImFont*> fonts_large;   // by pixel size: presentation mode picks one by the window's height
@@ -219,7 +221,8 @@ struct App {
 std::string default_config_dir();
 // ImGui's own settings (table column widths and order) in imgui.ini: loaded when it exists, saved at exit; a
 // message on stderr when it cannot be. The workspaces are in their own file (App::load_workspaces).
-void load_layout(const std::string& ini_path);
+// False when the file could not be read nor set aside: save_layout must then not write it.
+bool load_layout(const std::string& ini_path);
 void save_layout(const std::string& ini_path);
 // Presentation mode's scale for a window `height` pixels high: fonts of at least 28 px at 1080.
 float presentation_scale(float height);

@@ -9,6 +9,7 @@
 #include "ui/app.hpp"
 
 #include "base/files.hpp"
+#include "base/text.hpp"
 #include "base/version.hpp"
 #include "capture/image_io.hpp"
 #include "synth/marker_sheet.hpp"
@@ -31,7 +32,7 @@ namespace arwb {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr FileLimit kRecentFile{"a recent-files list", 64u << 10};
+constexpr FileLimit kRecentFile{"a recent-files list", 1u << 20};
 }  // namespace
 
 void App::note_status(const std::string& s) {
@@ -80,15 +81,20 @@ void App::load_recent() {
   if (!fs::exists(path, ec)) return;
   const Result<std::string> text = read_text_file(path, kRecentFile);
   if (!text) {
-    warn("recent files: " + text.error() + " (starting with none)");
+    // Set aside, never written over: the user's starred folders are in it.
+    const Result<std::string> aside = set_aside(path);
+    status.recent.unsaved = !aside;
+    warn("recent files: " + printable(text.error()) + " (starting with none; " +
+         (aside ? "the file is kept as " + printable(*aside) : printable(aside.error()) + ", and is not saved") + ")");
     return;
   }
   std::vector<std::string> problems;
   status.recent = ui::parse_recent(*text, &problems);
-  for (const auto& p : problems) warn("recent files: " + path + ": " + p + " (line skipped)");
+  for (const auto& p : problems) warn("recent files: " + path + ": " + p + " (kept as it is)");
 }
 
 void App::save_recent() {
+  if (status.recent.unsaved) return;
   std::string err;
   const std::string path = status.config_dir + "/recent.txt";
   if (!write_file_atomically(path, ui::recent_text(status.recent), &err)) warn("recent files: cannot save " + path + ": " + err);

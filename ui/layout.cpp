@@ -23,13 +23,21 @@ std::string default_config_dir() {
   return ".arwb";
 }
 
-void load_layout(const std::string& ini_path) {
+bool load_layout(const std::string& ini_path) {
   // Read through the shared file check, not ImGui's fopen: a FIFO or a device in its place must not stop the
   // window from opening.
-  if (!std::filesystem::exists(ini_path)) return;
+  if (!std::filesystem::exists(ini_path)) return true;
   const Result<std::string> ini = read_text_file(ini_path, FileLimit{"a layout file", 1u << 20});
-  if (ini) ImGui::LoadIniSettingsFromMemory(ini->data(), ini->size());
-  else std::fprintf(stderr, "arwb: %s (the default layout is used)\n", printable(ini.error()).c_str());
+  if (ini) {
+    ImGui::LoadIniSettingsFromMemory(ini->data(), ini->size());
+    return true;
+  }
+  // Set aside, so that the layout saved at exit does not replace what could not be read.
+  const Result<std::string> aside = set_aside(ini_path);
+  std::fprintf(stderr, "arwb: %s (the default layout is used; %s)\n", printable(ini.error()).c_str(),
+               aside ? ("the file is kept as " + printable(*aside)).c_str()
+                     : (printable(aside.error()) + ", and the layout is not saved").c_str());
+  return aside.ok();
 }
 
 void save_layout(const std::string& ini_path) {
@@ -58,14 +66,15 @@ void App::load_workspaces(const std::string& path) {
   if (!text) problem = text.error();
   else if (!ui::workspaces_from_json(*text, &workspaces, &problem)) problem = path + ": " + problem;
   if (problem.empty()) return;
-  // The file is set aside, not overwritten at exit, so the user can still mend it.
-  std::error_code ec;
-  std::filesystem::rename(path, path + ".bad", ec);
-  warn("workspaces: " + printable(problem) + " (the shipped workspaces are used" +
-       (ec ? std::string(")") : "; the file is kept as " + printable(path) + ".bad)"));
+  // The file is set aside (never over an older one), not overwritten at exit, so the user can still mend it.
+  const Result<std::string> aside = set_aside(path);
+  workspaces_unsaved = !aside;
+  warn("workspaces: " + printable(problem) + " (the shipped workspaces are used; " +
+       (aside ? "the file is kept as " + printable(*aside) : printable(aside.error()) + ", and is not saved") + ")");
 }
 
 void App::save_workspaces(const std::string& path) {
+  if (workspaces_unsaved) return;
   std::error_code ec;
   const auto type = std::filesystem::status(path, ec).type();
   if (type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular) {

@@ -83,6 +83,7 @@ std::string recent_text(const RecentFiles& r) {
     for (const auto& p : r.recent[static_cast<size_t>(k)]) s += std::string(file_kind_name(FileKind(k))) + "\t" + p + "\n";
   }
   for (const auto& f : r.favourites) s += "favourite\t" + f + "\n";
+  for (const auto& l : r.kept) s += l + "\n";
   return s;
 }
 
@@ -101,6 +102,7 @@ RecentFiles parse_recent(const std::string& text, std::vector<std::string>* prob
     const size_t tab = line.find('\t');
     if (tab == std::string::npos || tab + 1 >= line.size()) {
       problem("expected kind<TAB>path");
+      r.kept.push_back(line);
       continue;
     }
     const std::string kind = line.substr(0, tab), path = line.substr(tab + 1);
@@ -112,6 +114,7 @@ RecentFiles parse_recent(const std::string& text, std::vector<std::string>* prob
     while (k < kFileKindCount && kind != file_kind_name(FileKind(k))) ++k;
     if (k == kFileKindCount) {
       problem("unknown kind '" + kind + "'");
+      r.kept.push_back(line);
       continue;
     }
     auto& list = r.recent[static_cast<size_t>(k)];

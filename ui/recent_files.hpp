@@ -28,6 +28,11 @@ struct RecentFiles {
   static constexpr size_t kMax = 10;
   std::array<std::vector<std::string>, kFileKindCount> recent;   // newest first, at most kMax each
   std::vector<std::string> favourites;                           // folders, in the order starred
+  // Lines this version does not understand (a kind a later version writes, a line edited by hand), written back as
+  // they were: saving never loses what the file held.
+  std::vector<std::string> kept;
+  // The file could not be read and could not be set aside either: it must not be written over.
+  bool unsaved = false;
 
   // `path` opened as `kind`: moves to the front (once), the oldest beyond kMax dropped.
   void add(FileKind kind, const std::string& path);
@@ -38,7 +43,8 @@ struct RecentFiles {
 
 // The file's text: one "kind<TAB>path" line each ("source", "scene", "preset", "calibration", "favourite").
 std::string recent_text(const RecentFiles& r);
-// Reads it back; lines it cannot read are skipped and named in `problems` ("line 3: unknown kind 'x'").
+// Reads it back; lines it cannot read are kept as they are (RecentFiles::kept) and named in `problems`
+// ("line 3: unknown kind 'x'").
 RecentFiles parse_recent(const std::string& text, std::vector<std::string>* problems);
 
 }  // namespace arwb::ui

@@ -133,7 +133,7 @@ void App::start(const WorkbenchOptions& options) {
   const std::string config_dir = options.config_dir.empty() ? default_config_dir() : options.config_dir;
   std::error_code ec;
   fs::create_directories(config_dir, ec);
-  load_layout(config_dir + "/imgui.ini");
+  layout_unsaved = !load_layout(config_dir + "/imgui.ini");
   load_workspaces(config_dir + "/workspaces.json");
   status.config_dir = config_dir;
   load_recent();
@@ -349,7 +349,7 @@ int run_workbench(const WorkbenchOptions& options) {
   const bool worker_stopped = app.engine->stop(0.5);
 
   g_app = nullptr;
-  save_layout(app.status.config_dir + "/imgui.ini");   // ImGui's own: table columns
+  if (!app.layout_unsaved) save_layout(app.status.config_dir + "/imgui.ini");   // ImGui's own: table columns
   app.save_workspaces(app.status.config_dir + "/workspaces.json");
   if (options.stats) std::printf("%s\n", stats_json(app, elapsed, detected).c_str());
   if (!worker_stopped) {

@@ -90,4 +90,11 @@ bool write_file_atomically(const std::string& path, const std::string& text, std
 bool write_files_atomically(const std::vector<std::pair<std::string, std::string>>& path_and_text,
                             std::string* failed, std::string* error);
 
+// A file of ours that cannot be read (too large, not UTF-8, malformed) is never written over: set_aside renames
+// it to PATH.bad, or PATH.bad.2, PATH.bad.3 ... when that is taken (never replacing an older one), and returns the
+// new path for the message that tells the user where it went. An error when it cannot be renamed ("<path>: cannot
+// be set aside (reason)"), or is not a regular file ("<path>: not a regular file, left as it is": a FIFO, a device
+// or a folder is not ours to move); the caller must then not write PATH either.
+Result<std::string> set_aside(const std::string& path);
+
 }  // namespace arwb

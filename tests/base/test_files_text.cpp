@@ -124,6 +124,27 @@ TEST(ReadTextFile, TextMustBeUtf8) {
   EXPECT_FALSE(check_utf8_text("\xF4\x90\x80\x80", "x")) << "above U+10FFFF";
 }
 
+// A file of ours that could not be read goes beside the older ones, never over them; what is not a regular file
+// is left where it is.
+TEST(SetAside, NumbersTheNewOneAndLeavesFifosAlone) {
+  test::TempDir dir;
+  const std::string path = dir.str("recent.txt");
+  for (const char* text : {"first", "second", "third"}) {
+    test::write_file(path, text);
+    const Result<std::string> to = set_aside(path);
+    ASSERT_TRUE(to.ok()) << to.error();
+    EXPECT_FALSE(std::filesystem::exists(path));
+  }
+  EXPECT_EQ(test::read_file(path + ".bad"), "first");
+  EXPECT_EQ(test::read_file(path + ".bad.2"), "second");
+  EXPECT_EQ(test::read_file(path + ".bad.3"), "third");
+
+  ASSERT_EQ(::mkfifo(dir.str("fifo").c_str(), 0600), 0);
+  EXPECT_EQ(set_aside(dir.str("fifo")).error(), dir.str("fifo") + ": not a regular file, left as it is");
+  EXPECT_TRUE(std::filesystem::is_fifo(dir.str("fifo")));
+  EXPECT_EQ(set_aside(dir.str("gone")).error(), dir.str("gone") + ": cannot be set aside (No such file or directory)");
+}
+
 TEST(Printable, ControlCharactersInNamesAreEscaped) {
   EXPECT_EQ(printable("museum.png"), "museum.png");
   EXPECT_EQ(printable("a\nb\rc\td"), "a\\nb\\rc\\td");

@@ -92,6 +92,11 @@ TEST(RecentFiles, FileRoundTripsAndBadLinesAreNamed) {
   ASSERT_EQ(problems.size(), 2u);
   EXPECT_EQ(problems[0], "line 2: expected kind<TAB>path");
   EXPECT_EQ(problems[1], "line 3: unknown kind 'movie'");
+  // What this version does not understand is written back as it was.
+  EXPECT_EQ(bad.kept, (std::vector<std::string>{"nonsense", "movie\t/x"}));
+  const std::string saved = recent_text(bad);
+  EXPECT_NE(saved.find("\nnonsense\n"), std::string::npos) << saved;
+  EXPECT_NE(saved.find("\nmovie\t/x\n"), std::string::npos) << saved;
 }
 
 TEST(RecentFiles, StarringAFolderTwiceUnstarsIt) {

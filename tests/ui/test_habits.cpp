@@ -95,6 +95,18 @@ TEST(Habits, FileBrowserOpensWhatIsTypedAndRemembersIt) {
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_NE(again.err.find("recent.txt: line 2: expected kind<TAB>path"), std::string::npos) << again.err;
   EXPECT_EQ(stats(again).value("modal", ""), "File browser");
+  EXPECT_NE(test::read_file(tmp.str("config/recent.txt")).find("\ngarbage line\n"), std::string::npos)
+      << "a line this version does not understand is kept when the list is saved";
+
+  // A list that cannot be read at all (over its limit: 2,000 starred folders and more) is set aside, not
+  // written over with what this run opened.
+  std::string starred;
+  while (starred.size() <= (1u << 20)) starred += "favourite\t/data/" + std::string(500, 'f') + "\n";
+  test::write_file(tmp.str("config/recent.txt"), starred);
+  const RunResult big = run(tmp, "--frames 10");
+  ASSERT_EQ(big.status, 0) << big.err;
+  EXPECT_NE(big.err.find("the file is kept as " + tmp.str("config/recent.txt.bad")), std::string::npos) << big.err;
+  EXPECT_EQ(test::read_file(tmp.str("config/recent.txt.bad")), starred);
 }
 
 TEST(Habits, UndoAndRedoParameterAndPresetChanges) {

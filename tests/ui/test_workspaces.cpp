@@ -274,6 +274,8 @@ TEST(Workspaces, AClosedPanelReopensBesideTheOnesItBelongsWith) {
 TEST(Workspaces, ABadWorkspacesFileGivesAMessageAndTheShippedLayout) {
   TempDir tmp;
   std::filesystem::create_directories(tmp.str("config"));
+  // Each bad file is set aside beside the ones before it, never over them.
+  int n = 0;
   for (const std::string& bad :
        {std::string("{\"version\": 1, \"workspaces\": [{\"name\": \"Inspect\", \"normal\": {\"tabs\": [\"bogus\"]}, "
                     "\"presentation\": {\"tabs\": []}}]}"),
@@ -285,7 +287,9 @@ TEST(Workspaces, ABadWorkspacesFileGivesAMessageAndTheShippedLayout) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("workspaces.json"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("(the shipped workspaces are used; the file is kept as"), std::string::npos) << r.err;
-    EXPECT_EQ(test::read_file(tmp.str("config/workspaces.json.bad")), bad);
+    const std::string aside = tmp.str("config/workspaces.json.bad") + (++n == 1 ? "" : "." + std::to_string(n));
+    EXPECT_NE(r.err.find("the file is kept as " + aside + ")"), std::string::npos) << r.err;
+    EXPECT_EQ(test::read_file(aside), bad);
     const Json l = layout_of(r);
     EXPECT_EQ(l["workspace"], "Inspect");
     EXPECT_NE(region_with(l, "candidates"), nullptr) << l.dump();
