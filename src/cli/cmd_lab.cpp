@@ -7,6 +7,7 @@
 #include "lab/run.hpp"
 #include "lab/videos.hpp"
 #include "base/files.hpp"
+#include "base/text.hpp"
 
 #include <unistd.h>
 
@@ -19,6 +20,23 @@
 namespace arwb {
 
 namespace {
+
+// A run's cells.jsonl, read through the file check (base/files.hpp), as bytes: a line cut by an interruption may
+// end inside a character.
+Result<std::string> read_cells_file(const std::string& path) {
+  Result<InputFile> f = open_input_file(path, FileLimit{"a lab's cells file", std::uintmax_t(256) << 20});
+  if (!f) return fail(f.error());
+  std::string text(f->size(), '\0');
+  size_t got = 0;
+  while (got < text.size()) {
+    const long long n = f->read_at(got, text.data() + got, text.size() - got);
+    if (n < 0) return fail(path + ": cannot be read (" + std::strerror(errno) + ")");
+    if (n == 0) break;
+    got += size_t(n);
+  }
+  text.resize(got);
+  return text;
+}
 
 // The three tables, the plots and the report into `out`; false with the problem printed.
 bool write_outputs(const lab::LabResults& r, const std::string& out) {
@@ -140,21 +158,29 @@ int cmd_lab(int argc, char** argv) {
     if (restart) std::filesystem::remove(cells_path, ec);
     options.finished.resize(plan.cell_count());
     int resumed = 0;
-    if (std::FILE* in = std::fopen(cells_path.c_str(), "r")) {
-      std::string line;
-      for (int ch; (ch = std::fgetc(in)) != EOF;) {
-        if (ch != '\n') {
-          line += char(ch);
-          continue;
-        }
-        if (auto c = lab::cell_from_line(key, line, options.detectors.size());
+    if (std::filesystem::symlink_status(cells_path, ec).type() != std::filesystem::file_type::not_found) {
+      // Through the file check: a FIFO or a device in its place is refused at once instead of blocking or reading
+      // without end, and the results could not be appended to it either.
+      const Result<std::string> text = read_cells_file(cells_path);
+      if (!text) {
+        print_problem("arwb lab: %s\n", printable(text.error()).c_str());
+        return 1;
+      }
+      size_t start = 0;
+      for (int n = 1; start < text->size(); ++n) {
+        size_t end = text->find('\n', start);
+        if (end == std::string::npos) break;   // a last line without its newline: cut short by an interruption
+        std::string problem;
+        if (auto c = lab::cell_from_line(key, text->substr(start, end - start), options.detectors.size(), &problem);
             c && c->first < options.finished.size() && !options.finished[c->first]) {
           options.finished[c->first] = std::make_shared<const lab::CellResult>(std::move(c->second));
           ++resumed;
+        } else if (!problem.empty()) {
+          std::fprintf(stderr, "arwb lab: %s:%d: %s; the cell is run again\n", printable(cells_path).c_str(), n,
+                       problem.c_str());
         }
-        line.clear();
+        start = end + 1;
       }
-      std::fclose(in);
     }
     if (resumed > 0)
       std::fprintf(stderr, "arwb lab: resuming: %d of %zu cells from %s (--restart runs them again)\n", resumed,

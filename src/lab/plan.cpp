@@ -102,7 +102,10 @@ const std::vector<PlanAxis>& plan_axes() {
 namespace {
 std::string out_of_range(const PlanAxis& a, size_t i, double d) {
   char b[200];
-  std::snprintf(b, sizeof b, "%s: value %zu (%g) must be %s from %g to %g", a.key, i + 1, d, a.what, a.lo, a.hi);
+  if (!std::isfinite(d))   // not "(-nan)", which %g would print
+    std::snprintf(b, sizeof b, "%s: value %zu is not a finite number", a.key, i + 1);
+  else
+    std::snprintf(b, sizeof b, "%s: value %zu (%g) must be %s from %g to %g", a.key, i + 1, d, a.what, a.lo, a.hi);
   return b;
 }
 }  // namespace
@@ -166,10 +169,18 @@ std::string read_list(const cv::FileNode& n, const PlanAxis& axis, std::vector<d
   return {};
 }
 
-std::string read_number(const cv::FileNode& n, const char* key, double lo, double hi, double* out) {
+// One number in [lo, hi]; `whole`: a count, which 1.9 is not (it was cut to 1 without a word).
+std::string read_number(const cv::FileNode& n, const char* key, double lo, double hi, double* out,
+                        bool whole = false) {
   if (!n.isReal() && !n.isInt()) return std::string(key) + ": not a number";
   const double d = double(n);
-  if (!std::isfinite(d) || d < lo || d > hi) {
+  if (!std::isfinite(d)) return std::string(key) + ": not a finite number";
+  if (whole && d != std::floor(d)) {
+    char b[160];
+    std::snprintf(b, sizeof b, "%s: %g is not a whole number", key, d);
+    return b;
+  }
+  if (d < lo || d > hi) {
     char b[160];
     std::snprintf(b, sizeof b, "%s: %g must be from %g to %g", key, d, lo, hi);
     return b;
@@ -215,11 +226,11 @@ Result<LabPlan> read_plan(const std::string& path) {
   if (e.empty() && !at("max_tilt_deg").empty() && (e = read_number(at("max_tilt_deg"), "max_tilt_deg", 0, 80, &v)).empty())
     p.max_tilt_deg = v;
   if (e.empty() && !at("frames_per_cell").empty() &&
-      (e = read_number(at("frames_per_cell"), "frames_per_cell", 1, 100000, &v)).empty())
+      (e = read_number(at("frames_per_cell"), "frames_per_cell", 1, 100000, &v, true)).empty())
     p.frames_per_cell = int(v);
   if (e.empty() && !at("empty_share").empty() && (e = read_number(at("empty_share"), "empty_share", 0, 10, &v)).empty())
     p.empty_share = v;
-  if (e.empty() && !at("markers").empty() && (e = read_number(at("markers"), "markers", 1, 100000, &v)).empty())
+  if (e.empty() && !at("markers").empty() && (e = read_number(at("markers"), "markers", 1, 100000, &v, true)).empty())
     p.markers = int(v);
   if (!e.empty()) return fail(path + ": " + e);
   const int dict_size = dictionary_by_name(p.dictionary)->size();
@@ -227,7 +238,8 @@ Result<LabPlan> read_plan(const std::string& path) {
     return fail(path + ": markers: " + std::to_string(p.markers) + " distinct ids, but " + p.dictionary + " has " +
                 std::to_string(dict_size));
   const size_t cells = p.cell_count();
-  if (cells > 10000) return fail(path + ": " + std::to_string(cells) + " cells, more than 10000");
+  if (cells > kMaxLabCells)
+    return fail(path + ": " + std::to_string(cells) + " cells, more than " + std::to_string(kMaxLabCells));
   return p;
 }
 

@@ -80,6 +80,10 @@ Result<std::vector<double>> parse_axis(const PlanAxis& axis, const std::string& 
 // The same list as text, for the panel's field.
 std::string axis_text(const std::vector<double>& values);
 
+// The most cells a plan (or a videos.csv's grid of sizes, distances and lights) may have: checked before any is
+// made.
+inline constexpr size_t kMaxLabCells = 10000;
+
 // A plan file (YAML): any of the fields above by name, the others the paper's; the file's name (without .yml)
 // names the plan unless it says `name`. Every problem is one line naming the file and the field:
 // "p.yml: sizes_mm: value 2 (-5) must be a size in mm from 1 to 2000", "p.yml: dictionary: unknown 'X'",

@@ -4,11 +4,15 @@
 
 #include "lab/stats.hpp"
 #include "base/decimals.hpp"
+#include "base/json_depth.hpp"
+#include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace arwb::lab {
 
@@ -31,7 +35,7 @@ std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
   const SceneLight& l = options.light;
   j["light"] = {l.direct_outdoor,   l.direct_indoor,   l.direct_evening, l.shadow_chance_half_metre,
                 l.sun_diameter_rad, l.glare_chance,    l.glare_lobe_deg, l.glare_peak};
-  return j.dump();
+  return json_text(j);
 }
 
 std::string cell_to_line(const std::string& key, size_t index, const CellResult& c) {
@@ -50,11 +54,34 @@ std::string cell_to_line(const std::string& key, size_t index, const CellResult&
   for (const DetectorTally& t : c.detectors)
     ds.push_back({t.frames, t.detected, t.wrong_id, t.ms, t.empty_frames, t.false_positives, t.marks});
   j["detectors"] = ds;
-  return j.dump() + "\n";
+  return json_text(j) + "\n";
 }
 
+namespace {
+
+// Why the tally of a saved cell cannot be (empty when it can): a negative count, more found than frames.
+std::string impossible_tally(const DetectorTally& t) {
+  const std::pair<const char*, int> counts[] = {{"frames", t.frames},
+                                                {"detected", t.detected},
+                                                {"wrong_id", t.wrong_id},
+                                                {"empty_frames", t.empty_frames},
+                                                {"false_positives", t.false_positives}};
+  for (const auto& [name, v] : counts)
+    if (v < 0) return std::string(name) + " " + std::to_string(v) + " is negative";
+  // A frame counts once as detected and once as wrong_id at most (another id may be reported beside the right one).
+  for (const auto& [name, v] : {std::pair{"detected", t.detected}, std::pair{"wrong_id", t.wrong_id}})
+    if (v > t.frames) return std::string(name) + " " + std::to_string(v) + " is more than its " +
+                             std::to_string(t.frames) + " frames";
+  for (double ms : t.ms)
+    if (!(ms >= 0) || !std::isfinite(ms)) return "a time of " + std::to_string(ms) + " ms";
+  return {};
+}
+
+}  // namespace
+
 std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& key, const std::string& line,
-                                                            size_t detectors) {
+                                                            size_t detectors, std::string* problem) {
+  if (!check_json_depth(line, "")) return std::nullopt;
   const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
   try {
     if (!j.is_object() || j.value("key", std::string()) != key) return std::nullopt;
@@ -80,6 +107,10 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
       t.empty_frames = d.at(4).get<int>();
       t.false_positives = d.at(5).get<int>();
       if (d.size() > 6) t.marks = d.at(6).get<std::string>();
+      if (const std::string why = impossible_tally(t); !why.empty()) {
+        if (problem) *problem = why;
+        return std::nullopt;
+      }
       c.detectors.push_back(std::move(t));
     }
     return std::pair{j.at("index").get<size_t>(), std::move(c)};
@@ -263,7 +294,7 @@ std::string lab_results_json(const LabResults& r) {
   }
   j["cells"] = cells;
   j["seconds"] = round_decimals(r.seconds, 1);
-  return j.dump(2) + "\n";
+  return json_text(j, 2) + "\n";
 }
 
 }  // namespace arwb::lab

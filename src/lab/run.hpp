@@ -137,11 +137,13 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
 
 // Resuming an interrupted run. The key names everything the frames and tallies depend on (the plan, seed,
 // detectors and their parameters, camera, sensor): a saved cell is taken only under the same key. A cell as one
-// line of JSON, and back (nullopt for a line that is not one, or of another key).
+// line of JSON, and back: nullopt for a line that is not one, or of another key; nullopt and `problem` for a line
+// of this key whose counts cannot be (a negative count, more found than frames: an edited line), so that the
+// cell is run again and the user told why.
 std::string lab_run_key(const LabPlan& plan, const LabOptions& options);
 std::string cell_to_line(const std::string& key, size_t index, const CellResult& c);
 std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& key, const std::string& line,
-                                                            size_t detectors);
+                                                            size_t detectors, std::string* problem = nullptr);
 
 // The paper's table as text: per detector, a row per size and distance (and the added axes' values the plan
 // has: "26 mm  1.0 m   14 px tilt 60 blur 1.5"), a column per light level, each cell "P_Rec% [low-high]", then its

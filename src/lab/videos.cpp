@@ -216,6 +216,11 @@ Result<LabResults> run_videos(const std::string& dir, const std::vector<VideoRow
   out.plan.lux.assign(lux.begin(), lux.end());
   out.plan.markers = int(ids.size());
   out.ids.assign(ids.begin(), ids.end());
+  // The grid is every size by every distance by every light: checked before a cell of it is made.
+  if (const size_t cells = out.plan.cell_count(); cells > kMaxLabCells)
+    return fail("videos.csv: " + std::to_string(sizes.size()) + " sizes x " + std::to_string(distances.size()) +
+                " distances x " + std::to_string(lux.size()) + " lights make " + std::to_string(cells) +
+                " cells, more than " + std::to_string(kMaxLabCells) + " (rows with the same three share a cell)");
   const double f = options.camera.camera_matrix(0, 0);
   for (const Cell& c : out.plan.cells(f)) {
     CellResult cr;

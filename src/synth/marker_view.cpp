@@ -62,7 +62,9 @@ cv::Mat1f MarkerRenderer::render_levels(const cv::Vec3d& rvec, const cv::Vec3d& 
       const double X = (Hi(0, 0) * px + Hi(0, 1) * py + Hi(0, 2)) / bw;
       const double Y = (Hi(1, 0) * px + Hi(1, 1) * py + Hi(1, 2)) / bw;
       float value;
-      if (bw <= 0 || std::abs(X) >= paper || std::abs(Y) >= paper) {
+      // Written so that NaN falls to the background: a ray or pose that is not a number (a camera model that
+      // cannot be undone there) shows no marker instead of indexing a cell at INT_MIN.
+      if (!(bw > 0) || !(std::abs(X) < paper) || !(std::abs(Y) < paper)) {
         value = float(90 + 60.0 * sx / rays_.cols);   // background (bw <= 0: the plane is behind the camera)
       } else if (std::abs(X) >= half || std::abs(Y) >= half || cells_.empty()) {
         value = 220;   // paper

@@ -9,8 +9,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <sys/stat.h>
 
 namespace arwb {
 namespace {
@@ -90,6 +93,37 @@ TEST(LabCli, AnInterruptedRunIsResumed) {
   EXPECT_EQ(again.err.find("resuming"), std::string::npos) << again.err;
 }
 
+// A saved cell whose counts cannot be (edited by hand: the table printed -20000 %) is named and run again; a FIFO
+// or a device in place of cells.jsonl is refused at once (it hung the lab in fopen, or read without end).
+TEST(LabCli, ACellsFileThatCannotBeARunsIsNamedAndNotTaken) {
+  TempDir d;
+  test::write_file(d.str("one.yml"), "sizes_mm: [65]\ndistances_m: [1]\nlux: 800\nframes_per_cell: 2\n");
+  const std::string args = "lab --plan " + d.str("one.yml") + " --detectors arwb --out " + d.str("out");
+  ASSERT_EQ(run_arwb(args).status, 0);
+  const std::string table = slurp(d.str("out/table.txt"));
+  const std::string cells = d.str("out/cells.jsonl");
+  nlohmann::json line = nlohmann::json::parse(slurp(cells));
+  line["detectors"][0][1] = -20000;
+  test::write_file(cells, line.dump() + "\n");
+  const auto edited = run_arwb(args);
+  ASSERT_EQ(edited.status, 0) << edited.err;
+  EXPECT_NE(edited.err.find(cells + ":1: detected -20000 is negative; the cell is run again"), std::string::npos)
+      << edited.err;
+  EXPECT_EQ(edited.err.find("resuming"), std::string::npos) << edited.err;
+  EXPECT_EQ(slurp(d.str("out/table.txt")), table) << "the cell run again gives the first run's table";
+
+  std::remove(cells.c_str());
+  ASSERT_EQ(::mkfifo(cells.c_str(), 0600), 0);
+  const auto fifo = run_arwb(args);
+  EXPECT_EQ(fifo.status, 1);
+  EXPECT_EQ(fifo.err, "arwb lab: " + cells + ": not a regular file (a FIFO)\n");
+  std::remove(cells.c_str());
+  std::filesystem::create_symlink("/dev/zero", cells);
+  const auto zero = run_arwb(args);
+  EXPECT_EQ(zero.status, 1);
+  EXPECT_EQ(zero.err, "arwb lab: " + cells + ": not a regular file (a character device)\n");
+}
+
 // A plan file changes the axes (here another dictionary, which AprilTag reads); a bad one is named with its field.
 TEST(LabCli, PlanFilesAndTheirMistakes) {
   TempDir d;
@@ -107,6 +141,9 @@ TEST(LabCli, PlanFilesAndTheirMistakes) {
       {"dictionary: NOPE\n", "bad.yml: dictionary: unknown 'NOPE'"},
       {"lux: [a, 2]\n", "bad.yml: lux: value 1 is not a number"},
       {"frames_per_cell: 0\n", "bad.yml: frames_per_cell: 0 must be from 1 to 100000"},
+      {"frames_per_cell: 1.9\n", "bad.yml: frames_per_cell: 1.9 is not a whole number"},
+      {"frames_per_cell: .nan\n", "bad.yml: frames_per_cell: not a finite number"},
+      {"sizes_mm: [65, .nan]\n", "bad.yml: sizes_mm: value 2 is not a finite number"},
       {"markers: 60\ndictionary: \"4X4_50\"\n", "bad.yml: markers: 60 distinct ids, but 4X4_50 has 50"},
       {"sides_px: [20]\nsizes_mm: [65]\n",
        "bad.yml: sides_px and sizes_mm: give one of them (sides_px derives the printed size)"},

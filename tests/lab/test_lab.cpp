@@ -101,6 +101,36 @@ TEST(LabRun, ExtremeCellsBehaveForEveryDetector) {
     EXPECT_LE(r->cells[0].detectors[d].p_rec(), 10) << o.detectors[d] << ": 26 mm at 2 m";
 }
 
+// Cameras the calibration reader accepts crashed the lab's renderer (SIGSEGV in render_levels): a focal length of
+// 1e-300, a rational model with k4 = 1e6, denormals, a huge k14, and an ordinary camera far from the default one.
+// Each now runs to the end; the ordinary one sees the marker.
+TEST(LabRun, EveryCameraTheReaderAcceptsRunsToTheEnd) {
+  struct Case {
+    const char* what;
+    SynthCamera camera;
+    bool sees;   // the marker is in view in some frame
+  };
+  const std::vector<Case> cases = {
+      {"fx 1e-300", {{640, 480}, {1e-300, 0, 320, 0, 1e-300, 240, 0, 0, 1}, {0, 0, 0, 0}}, false},
+      {"k4 1e6", {{640, 480}, {560, 0, 322, 0, 555, 236, 0, 0, 1}, {-0.25, 0.08, 0, 0, 0, 1e6, 0, 0}}, false},
+      {"denormals", {{640, 480}, {560, 0, 322, 0, 555, 236, 0, 0, 1}, {4e-320, -4e-320, 1e-310, 0, 0}}, true},
+      {"k14 1e12", {{640, 480}, {560, 0, 322, 0, 555, 236, 0, 0, 1}, std::vector<double>(13, 0.0)}, false},
+      {"1920x1080 wide", {{1920, 1080}, {1400, 0, 960, 0, 1400, 540, 0, 0, 1}, {-0.3, 0.1, 0, 0, 0}}, true},
+  };
+  for (Case c : cases) {
+    if (c.camera.distortion.size() == 13) c.camera.distortion.push_back(1e12);
+    LabOptions o;
+    o.detectors = {"arwb"};
+    o.camera = c.camera;
+    const Result<LabResults> r = run_lab(one_cell(4), o);
+    ASSERT_TRUE(r.ok()) << c.what << ": " << r.error();
+    ASSERT_EQ(r->cells.size(), 1u) << c.what;
+    if (c.sees) {
+      EXPECT_GT(r->cells[0].detectors[0].frames, 0) << c.what;
+    }
+  }
+}
+
 TEST(LabRun, TheSameSeedGivesTheSameTableAndAnotherSeedAnother) {
   LabPlan p = one_cell(6);
   p.distances_m = {1, 2};

@@ -65,5 +65,23 @@ TEST(VideoRows, MistakesAreNamedAndNothingIsWritten) {
   EXPECT_FALSE(save_video_row(d.str("missing"), d.str("a.mp4"), row(0, 5)));
 }
 
+// A videos.csv of 1,000 rows each of its own size, distance and light asked for 10^9 cells and ran out of memory:
+// the grid is counted before a cell is made.
+TEST(VideoRows, AGridOfTooManyCellsIsRefusedBeforeItIsMade) {
+  std::vector<VideoRow> rows;
+  for (int i = 0; i < 1000; ++i) {
+    VideoRow r = row(0, -1);
+    r.size_mm = 10 + i, r.distance_m = 0.1 + 0.01 * i, r.lux = 1 + i, r.line = i + 2;
+    rows.push_back(r);
+  }
+  LabOptions o;
+  o.detectors = {"arwb"};
+  std::vector<std::string> warnings;
+  const Result<LabResults> r = run_videos("/nonexistent", rows, o, &warnings);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(), "videos.csv: 1000 sizes x 1000 distances x 1000 lights make 1000000000 cells, more than 10000 "
+                       "(rows with the same three share a cell)");
+}
+
 }  // namespace
 }  // namespace arwb::lab
