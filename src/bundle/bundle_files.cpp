@@ -219,7 +219,18 @@ Status write_zip(const fs::path& path, const std::vector<std::pair<std::string, 
   return {};
 }
 
-Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimits& limits) {
+namespace {
+
+// An entry of a zip, as its name pass found it.
+struct ZipEntry {
+  zip_uint64_t index;
+  std::string name;
+  bool folder;
+  zip_uint64_t comp_size;
+};
+
+// Opens the zip and checks every entry's name and kind, before anything is inflated.
+Result<std::vector<ZipEntry>> zip_entries(const fs::path& zip_path, const ZipLimits& limits, ZipPtr* opened) {
   const std::string where = zip_path.string() + ": ";
   int code = 0;
   ZipPtr z(zip_open(zip_path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code));
@@ -230,15 +241,7 @@ Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimi
   if (count < 0) return fail(where + "not a readable zip");
   if (std::uint64_t(count) > limits.max_entries)
     return fail(where + std::to_string(count) + " entries, more than the limit of " + std::to_string(limits.max_entries));
-
-  // Every name first, so a bad entry anywhere is refused before anything is extracted.
-  struct Entry {
-    zip_uint64_t index;
-    std::string name;
-    bool folder;
-    zip_uint64_t comp_size;
-  };
-  std::vector<Entry> list;
+  std::vector<ZipEntry> list;
   std::set<std::string> seen;
   for (zip_uint64_t i = 0; i < zip_uint64_t(count); ++i) {
     zip_stat_t st;
@@ -268,19 +271,39 @@ Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimi
     if ((st.valid & ZIP_STAT_ENCRYPTION_METHOD) && st.encryption_method != ZIP_EM_NONE)
       return fail(where + shown + "is encrypted");
     if (!seen.insert(name).second) return fail(where + shown + "appears twice");
+    if (limits.listed && !folder && !limits.listed->count(name)) return fail(where + shown + "not in the manifest");
     list.push_back({i, name, folder, (st.valid & ZIP_STAT_COMP_SIZE) ? st.comp_size : 0});
   }
   // A file and a folder of the same name ("a" and "a/b") cannot both be extracted.
   std::set<std::string> files;
-  for (const Entry& e : list)
+  for (const ZipEntry& e : list)
     if (!e.folder) files.insert(e.name);
-  for (const Entry& e : list)
+  for (const ZipEntry& e : list)
     for (size_t slash = e.name.find('/'); slash != std::string::npos; slash = e.name.find('/', slash + 1))
       if (files.count(e.name.substr(0, slash))) return fail(where + "entry " + quoted_name(e.name) + ": its folder is a file");
 
+  *opened = std::move(z);
+  return list;
+}
+
+}  // namespace
+
+Status check_zip(const fs::path& zip_path, const ZipLimits& limits) {
+  ZipPtr z;
+  Result<std::vector<ZipEntry>> list = zip_entries(zip_path, limits, &z);
+  if (!list) return fail(list.error());
+  return {};
+}
+
+Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimits& limits) {
+  const std::string where = zip_path.string() + ": ";
+  ZipPtr z;
+  Result<std::vector<ZipEntry>> entries = zip_entries(zip_path, limits, &z);
+  if (!entries) return fail(entries.error());
+  const std::vector<ZipEntry>& list = *entries;
   std::uint64_t total = 0;
   std::vector<char> buf(1 << 16);
-  for (const Entry& e : list) {
+  for (const ZipEntry& e : list) {
     const std::string shown = "entry " + quoted_name(e.name) + ": ";
     const fs::path target = into / e.name;
     std::error_code ec;
@@ -309,6 +332,9 @@ Status extract_zip(const fs::path& zip_path, const fs::path& into, const ZipLimi
       if (inflated > limits.max_file_bytes)
         return fail(where + shown + "inflates past " + std::to_string(limits.max_file_bytes) +
                     " bytes, the limit for one file");
+      if (limits.listed && inflated > limits.listed->at(e.name))
+        return fail(where + shown + "inflates past its " + std::to_string(limits.listed->at(e.name)) +
+                    " bytes in the manifest");
       if (total > limits.max_total_bytes)
         return fail(where + shown + "the bundle inflates past " + std::to_string(limits.max_total_bytes) +
                     " bytes, the limit for all files");

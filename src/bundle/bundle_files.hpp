@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -60,11 +61,16 @@ struct ZipLimits {
   std::size_t max_entries = 0;
   std::uint64_t max_file_bytes = 0, max_total_bytes = 0;
   double max_ratio = 0;
+  // When given, the only files the zip may hold and the size of each (a bundle's manifest, read first): an entry
+  // not among them is refused before anything is inflated, and one is stopped as soon as it inflates past its size.
+  const std::map<std::string, std::uint64_t>* listed = nullptr;
 };
 // Extracts the zip at `zip_path` into the existing empty folder `into`, refusing (naming the entry) absolute
 // names, "..", symbolic links, devices and other non-regular entries, duplicates, encrypted entries, and what
 // passes the limits, counted on the bytes really inflated. Nothing is written outside `into`.
 Status extract_zip(const std::filesystem::path& zip_path, const std::filesystem::path& into, const ZipLimits& limits);
+// extract_zip's checks of every entry's name and kind (and of `listed`, when given), inflating nothing.
+Status check_zip(const std::filesystem::path& zip_path, const ZipLimits& limits);
 
 }  // namespace arwb::bundle
 

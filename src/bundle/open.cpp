@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 #include <set>
 
 namespace arwb::bundle {
@@ -179,7 +180,18 @@ Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& li
   if (fs::is_directory(st)) {
     if (Status s = copy_folder(path, tmp->path(), limits); !s) return fail(where + s.error());
   } else if (looks_like_zip(path)) {
+    // Every entry's name and kind first; then the manifest, from the zip itself: only the files it lists, at
+    // their sizes, are inflated (a zip of other entries wrote gigabytes before it was refused).
     ZipLimits z{limits.max_entries, limits.max_file_bytes, limits.max_total_bytes, limits.max_ratio};
+    if (Status s = check_zip(path, z); !s) return fail(s.error());
+    Result<std::string> text = read_zip_entry(path, kManifestName, kMaxManifestBytes);
+    if (!text) return fail(where + "no manifest.json (not a bundle made by arwb export)");
+    Result<Manifest> m = parse_manifest(*text);
+    if (!m) return fail(where + m.error());
+    if (Status s = check_meaning(*m); !s) return fail(where + s.error());
+    std::map<std::string, std::uint64_t> listed{{kManifestName, text->size()}};
+    for (const BundleFile& f : m->files) listed[f.path] = f.size;
+    z.listed = &listed;
     // extract_zip names the zip itself.
     if (Status s = extract_zip(path, tmp->path(), z); !s) return fail(s.error());
   } else {

@@ -94,6 +94,10 @@ Status check_out(const ExportOptions& o) {
 }
 
 std::string out_name_problem(const std::string& out) {
+  // ".arwb" alone has no extension to the file system, and was written as a folder of that name.
+  const std::string file = out_path(out).filename().string();
+  if (const std::string ext = lower_ext(fs::path("x" + file)); (ext == ".arwb" || ext == ".zip") && file.size() == ext.size())
+    return "the bundle has no name before " + file + " (write NAME" + file + ")";
   // "mz.arwb/" once replaced the zip mz.arwb with a folder of that name: a zip's name stays a zip's name.
   if (!out.empty() && !is_zip_name(out) && is_zip_name(out_path(out).string()))
     return "a name ending in " + lower_ext(out_path(out)) +

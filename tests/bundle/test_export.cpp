@@ -421,6 +421,11 @@ TEST(ExportWrite, AZipsNameWithATrailingSlashIsRefused) {
   EXPECT_FALSE(fs::exists(out.path() / "MZ.ZIP"));
   EXPECT_EQ(out_name_problem(out.str("mz.arwb")), "");
   EXPECT_EQ(out_name_problem(out.str("folder/")), "");
+  // ".arwb" alone was written as a folder of that name.
+  EXPECT_EQ(out_name_problem(out.str(".arwb")), "the bundle has no name before .arwb (write NAME.arwb)");
+  EXPECT_EQ(out_name_problem(".ZIP"), "the bundle has no name before .ZIP (write NAME.ZIP)");
+  EXPECT_FALSE(export_to(scene, out.str(".arwb")).ok());
+  EXPECT_FALSE(fs::exists(out.path() / ".arwb"));
 }
 
 TEST(ExportReadme, UnderlineCountsCharactersAndThePlayLineIsShellQuoted) {

@@ -287,6 +287,32 @@ TEST_F(HostileZip, EntriesThatWouldLeaveTheFolderAreRefusedByName) {
   EXPECT_FALSE(fs::exists("/tmp/evil.txt") && fs::last_write_time("/tmp/evil.txt") > fs::file_time_type::clock::now() - std::chrono::minutes(5));
 }
 
+// The manifest is read from the zip first: an entry it does not list is refused before anything is inflated (a
+// 6 MB zip of unlisted entries wrote 4 GB to the temporary folder first), and a listed one as soon as it inflates
+// past its size.
+TEST_F(HostileZip, OnlyWhatTheManifestListsIsInflated) {
+  const fs::path src = out_.path() / "museum";
+  export_museum(src);
+  std::vector<RawEntry> files;   // as RawZip.TheTestsOwnWriterMakesAZipThatOpens: a zip that opens
+  for (const std::string& rel : listing(src))
+    if (rel.back() != '/') files.push_back({rel, read_file((src / rel).string())});
+  const auto zip_of = [&](const std::string& name, const std::vector<RawEntry>& entries) {
+    const fs::path dir = out_.path() / name;
+    fs::create_directory(dir);
+    write_file((dir / "bundle.arwb").string(), raw_zip(entries));
+    return dir / "bundle.arwb";
+  };
+  std::vector<RawEntry> extra = files;
+  extra.push_back({"extra.bin", std::string(1 << 20, 'x')});
+  EXPECT_REFUSED(refuse(zip_of("extra", extra)), "entry \"extra.bin\": not in the manifest");
+  std::vector<RawEntry> longer = files;
+  for (RawEntry& e : longer)
+    if (e.name == "scene/museum.lua") e.data += std::string(1 << 20, '-');
+  const std::string size = std::to_string(read_file((src / "scene/museum.lua").string()).size());
+  EXPECT_REFUSED(refuse(zip_of("longer", longer)),
+                 "entry \"scene/museum.lua\": inflates past its " + size + " bytes in the manifest");
+}
+
 TEST_F(HostileZip, ALongEntryNameIsCutInTheMessage) {
   // A 600-byte name would make one huge line: the message shows its start and "…".
   // Appended, not std::string + "...": GCC 12 with the precompiled header warns of a false out-of-bounds copy there.
@@ -326,25 +352,33 @@ fs::path libzip_zip(const fs::path& dir, const std::string& zip_name, std::uint6
 }
 
 TEST_F(HostileZip, ABombIsRefusedOnTheBytesReallyInflated) {
-  // 64 MiB of zeros deflate to about 64 KiB: the default limits refuse its ratio as soon as it passes 1000,
-  // whatever the entry declares.
+  // A zip without a manifest is refused before anything is inflated; the limits below are extract_zip's, which
+  // hold for the files a manifest lists too.
   const fs::path dir = out_.path() / "bomb";
   fs::create_directory(dir);
+  // 64 MiB of zeros deflate to about 64 KiB: the default limits refuse its ratio as soon as it passes 1000,
+  // whatever the entry declares.
   const fs::path bomb = libzip_zip(dir, "bomb.zip", 64ull << 20, 1, true);
   EXPECT_LT(fs::file_size(bomb), 100u << 10);
-  EXPECT_REFUSED(refuse(bomb), "entry \"zeros-0.bin\": inflates more than 1000 times its compressed size");
+  EXPECT_REFUSED(refuse(bomb), "no manifest.json");
+  const auto extract_refuses = [&](const fs::path& zip, const BundleLimits& l, const std::string& text) {
+    TempDir into;
+    const Status s = extract_zip(zip, into.path(), {l.max_entries, l.max_file_bytes, l.max_total_bytes, l.max_ratio});
+    EXPECT_NE(s.ok() ? std::string::npos : s.error().find(text), std::string::npos) << (s.ok() ? "extracted" : s.error());
+  };
+  extract_refuses(bomb, {}, "entry \"zeros-0.bin\": inflates more than 1000 times its compressed size");
   // Lowered limits: one file's size, all files' size, the count of entries.
   const fs::path small = libzip_zip(dir, "small.zip", 2u << 20, 3, false);
   BundleLimits l;
   l.max_file_bytes = 1u << 20;
-  EXPECT_REFUSED(refuse(small, l), "entry \"data-0.bin\": inflates past 1048576 bytes");
+  extract_refuses(small, l, "entry \"data-0.bin\": inflates past 1048576 bytes");
   l = {};
   l.max_total_bytes = 5u << 20;
-  EXPECT_REFUSED(refuse(small, l), "entry \"data-2.bin\": the bundle inflates past 5242880 bytes");
+  extract_refuses(small, l, "entry \"data-2.bin\": the bundle inflates past 5242880 bytes");
   l = {};
   l.max_ratio = 100;
   const fs::path zeros = libzip_zip(dir, "zeros.zip", 1u << 20, 1, true);
-  EXPECT_REFUSED(refuse(zeros, l), "entry \"zeros-0.bin\": inflates more than 100 times");
+  extract_refuses(zeros, l, "entry \"zeros-0.bin\": inflates more than 100 times");
   l = {};
   l.max_entries = 2;
   EXPECT_REFUSED(refuse(small, l), "3 entries, more than the limit of 2");
