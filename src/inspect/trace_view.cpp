@@ -431,6 +431,24 @@ bool stage_view_is_mosaic(Stage s) {
   }
 }
 
+void thumbnail(const cv::Mat& in, cv::Mat& out, cv::Size fit) {
+  if (in.empty() || fit.width < 1 || fit.height < 1) {
+    out.release();
+    return;
+  }
+  const int k = std::max(1, int(std::ceil(std::max(double(in.cols) / fit.width, double(in.rows) / fit.height))));
+  if (k == 1) {
+    in.copyTo(out);
+    return;
+  }
+  const cv::Size size(in.cols / k, in.rows / k);
+  if (size.width < 1 || size.height < 1) {   // a sliver thinner than k: the general area resize, to 1 pixel across
+    cv::resize(in, out, cv::Size(std::max(1, size.width), std::max(1, size.height)), 0, 0, cv::INTER_AREA);
+    return;
+  }
+  cv::resize(in(cv::Rect(0, 0, size.width * k, size.height * k)), out, size, 0, 0, cv::INTER_AREA);
+}
+
 void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out) {
   for (auto& m : out) m = cv::Mat();  // before taking buffers: the caller's old pictures may be reused
   if (trace.level != TraceLevel::full || trace.stages.empty()) return;

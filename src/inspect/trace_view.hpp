@@ -19,6 +19,11 @@ namespace arwb {
 // True for the stages drawn as mosaics of per-candidate tiles (not aligned with the frame).
 bool stage_view_is_mosaic(Stage s);
 
+// `in` shrunk to fit `fit` for a thumbnail: the mean of each k x k block, k the smallest whole number that fits
+// (OpenCV's area resize has a fast path for whole-number factors, and the worker makes 18 thumbnails a frame);
+// the last columns and rows that make no whole block, fewer than k, are left out. Empty in, empty out.
+void thumbnail(const cv::Mat& in, cv::Mat& out, cv::Size fit = {192, 144});
+
 // Fills `out[stage]` for every stage the trace has (full level); others are left empty. BGR images.
 void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out);
 

@@ -39,12 +39,6 @@ void match_with_arwb(const std::vector<Marker>& ours, PeerDetections& pd) {
   for (size_t& i : pd.matching.only_reference) i = index[i];
 }
 
-// A thumbnail of at most 192x144.
-void shrink(const cv::Mat& in, cv::Mat& out) {
-  if (in.empty()) return;
-  const double s = std::min({192.0 / in.cols, 144.0 / in.rows, 1.0});
-  cv::resize(in, out, cv::Size(std::max(1, int(in.cols * s)), std::max(1, int(in.rows * s))), 0, 0, cv::INTER_AREA);
-}
 }  // namespace
 
 void Engine::State::run() {
@@ -312,8 +306,8 @@ void Engine::State::detect_and_publish(bool fresh, double now) {
   // scene, when there is one, runs on its tracks.
   camera(w, *f);
   run_scene(*f, now);
-  shrink(f->image, f->image_thumb);
-  for (int i = 0; i < kStageCount; ++i) shrink(f->views[size_t(i)], f->thumbs[size_t(i)]);
+  thumbnail(f->image, f->image_thumb);
+  for (int i = 0; i < kStageCount; ++i) thumbnail(f->views[size_t(i)], f->thumbs[size_t(i)]);
   run_peers(*f);
   calibrate(w, *f, fresh, sx, sy);
   const double done = seconds_since(w.t0);

@@ -128,6 +128,28 @@ cv::Point work_point(const cv::Point2f& p, const FrameTrace& t) {
 
 }  // namespace
 
+// A thumbnail fits 192x144 by whole blocks: each pixel the mean of its k x k block of the picture.
+TEST(Thumbnail, EachPixelIsTheMeanOfItsBlock) {
+  cv::Mat in(480, 642, CV_8UC3);
+  cv::randu(in, 0, 256);
+  cv::Mat out;
+  thumbnail(in, out);
+  ASSERT_EQ(out.size(), cv::Size(160, 120)) << "k = 4: 642 / 4 leaves two columns out";
+  for (const cv::Point p : {cv::Point(0, 0), cv::Point(159, 119), cv::Point(77, 31)}) {
+    const cv::Scalar mean = cv::mean(in(cv::Rect(p.x * 4, p.y * 4, 4, 4)));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out.at<cv::Vec3b>(p)[c], mean[c], 0.5) << p;
+  }
+  thumbnail(cv::Mat(720, 1280, CV_8UC1, cv::Scalar(9)), out);
+  EXPECT_EQ(out.size(), cv::Size(182, 102));
+  EXPECT_EQ(out.at<uchar>(101, 181), 9);
+  thumbnail(cv::Mat(100, 150, CV_8UC1, cv::Scalar(3)), out);
+  EXPECT_EQ(out.size(), cv::Size(150, 100)) << "a small picture is kept as it is";
+  thumbnail(cv::Mat(2000, 3, CV_8UC1, cv::Scalar(5)), out);
+  EXPECT_EQ(out.size(), cv::Size(1, 142)) << "thinner than a block";
+  thumbnail(cv::Mat(), out);
+  EXPECT_TRUE(out.empty());
+}
+
 TEST(TraceView, MosaicStagesAreThePerCandidateOnes) {
   for (int s = 0; s < kStageCount; ++s) {
     const Stage st = Stage(s);
