@@ -106,7 +106,8 @@ bool is_hex64(const std::string& s) {
 
 Result<Manifest> parse_manifest(const std::string& text) {
   // Deeper nesting than a manifest ever has is refused before parsing.
-  if (Status depth = check_json_depth(text, kManifestName, kMaxDepth); !depth) return fail(depth.error());
+  if (Status depth = check_json_depth(text, "", kMaxDepth); !depth)
+    return fail(std::string(kManifestName) + ": " + depth.error());   // "manifest.json: line 3: nested deeper ..."
   json j;
   try {
     j = json::parse(text);
