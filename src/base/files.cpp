@@ -163,7 +163,7 @@ Result<InputFile> open_input_file(const std::string& path, const FileLimit& limi
   return f;
 }
 
-Result<std::string> read_text_file(const std::string& path, const FileLimit& limit) {
+Result<std::string> read_file_bytes(const std::string& path, const FileLimit& limit) {
   Result<InputFile> f = open_input_file(path, limit);
   if (!f) return fail(f.error());
   // Read to the end rather than trusting the size: the file may grow or shrink meanwhile, and never past the cap.
@@ -177,6 +177,13 @@ Result<std::string> read_text_file(const std::string& path, const FileLimit& lim
       return fail(path + ": larger than " + byte_size(limit.max_bytes) + ", the limit for " + limit.kind);
     if (n == 0) break;
   }
+  return text;
+}
+
+Result<std::string> read_text_file(const std::string& path, const FileLimit& limit) {
+  Result<std::string> bytes = read_file_bytes(path, limit);
+  if (!bytes) return bytes;
+  std::string text = std::move(*bytes);
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
   if (Status st = check_utf8_text(text, path); !st) return fail(st.error());
   return text;

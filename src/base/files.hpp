@@ -79,6 +79,9 @@ Result<InputFile> open_input_file(const std::string& path, const FileLimit& limi
 // on it). The one way the project reads a text file a user names (scenes, tours, presets, dictionaries, truth
 // sets, the script editor's file). Messages as open_input_file's, and check_utf8_text's.
 Result<std::string> read_text_file(const std::string& path, const FileLimit& limit);
+// The same bytes without the text checks, for files of ours that may end inside a character (a line cut short by
+// an interruption).
+Result<std::string> read_file_bytes(const std::string& path, const FileLimit& limit);
 
 // Replaces `path` with `text`: the new text goes to a temporary file beside the old one and replaces it in one
 // rename, so a full disk or a crash never leaves half a script (and the watcher never reads one).

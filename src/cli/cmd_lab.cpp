@@ -21,23 +21,6 @@ namespace arwb {
 
 namespace {
 
-// A run's cells.jsonl, read through the file check (base/files.hpp), as bytes: a line cut by an interruption may
-// end inside a character.
-Result<std::string> read_cells_file(const std::string& path) {
-  Result<InputFile> f = open_input_file(path, FileLimit{"a lab's cells file", std::uintmax_t(256) << 20});
-  if (!f) return fail(f.error());
-  std::string text(f->size(), '\0');
-  size_t got = 0;
-  while (got < text.size()) {
-    const long long n = f->read_at(got, text.data() + got, text.size() - got);
-    if (n < 0) return fail(path + ": cannot be read (" + std::strerror(errno) + ")");
-    if (n == 0) break;
-    got += size_t(n);
-  }
-  text.resize(got);
-  return text;
-}
-
 // The three tables, the plots and the report into `out`; false with the problem printed.
 bool write_outputs(const lab::LabResults& r, const std::string& out) {
   if (const Status s = lab::write_lab_outputs(r, out); !s) {
@@ -161,7 +144,8 @@ int cmd_lab(int argc, char** argv) {
     if (std::filesystem::symlink_status(cells_path, ec).type() != std::filesystem::file_type::not_found) {
       // Through the file check: a FIFO or a device in its place is refused at once instead of blocking or reading
       // without end, and the results could not be appended to it either.
-      const Result<std::string> text = read_cells_file(cells_path);
+      const Result<std::string> text =
+          read_file_bytes(cells_path, FileLimit{"a lab's cells file", std::uintmax_t(256) << 20});
       if (!text) {
         print_problem("arwb lab: %s\n", printable(text.error()).c_str());
         return 1;
