@@ -3,6 +3,7 @@
 #pragma once
 
 #include "base/result.hpp"
+#include "base/temp_dir.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -120,7 +121,7 @@ class OpenedBundle {
   ~OpenedBundle();   // removes the folder
   OpenedBundle(OpenedBundle&&) noexcept;
   OpenedBundle& operator=(OpenedBundle&&) noexcept;
-  const std::filesystem::path& dir() const;   // absolute: $TMPDIR (or /tmp)/arwb-bundle-XXXXXX
+  const std::filesystem::path& dir() const;   // absolute: $TMPDIR (or /tmp)/arwb-bundle-XXXXXX, locked
   const Manifest& manifest() const;
   std::string scene_path() const;          // absolute
   std::string calibration_path() const;    // absolute, "" when none
@@ -129,7 +130,7 @@ class OpenedBundle {
  private:
   friend Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& limits);
   OpenedBundle() = default;
-  std::filesystem::path dir_;
+  TempDir dir_;
   Manifest manifest_;
   std::string source_;
 };

@@ -130,38 +130,6 @@ Status write_new_file(const fs::path& path, std::string_view bytes) {
   return {};
 }
 
-Result<TempDir> TempDir::make(const fs::path& near, const std::string& stem) {
-  std::error_code ec;
-  const fs::path base = fs::absolute(near.empty() ? fs::temp_directory_path(ec) : near, ec);
-  if (ec) return fail("no temporary folder (" + ec.message() + ")");
-  std::string templ = (base / (stem + "-XXXXXX")).string();
-  if (!::mkdtemp(templ.data())) return fail("cannot create a folder in " + base.string() + " (" + errno_text(errno) + ")");
-  TempDir t;
-  t.path_ = templ;
-  return t;
-}
-
-TempDir& TempDir::operator=(TempDir&& o) noexcept {
-  if (this != &o) {
-    std::error_code ec;
-    if (!path_.empty()) fs::remove_all(path_, ec);
-    path_ = std::move(o.path_);
-    o.path_.clear();
-  }
-  return *this;
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  if (!path_.empty()) fs::remove_all(path_, ec);
-}
-
-fs::path TempDir::keep() {
-  fs::path p = std::move(path_);
-  path_.clear();
-  return p;
-}
-
 bool looks_like_zip(const fs::path& path) {
   const Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
   if (fd.get() < 0) return false;

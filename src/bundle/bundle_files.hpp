@@ -1,8 +1,9 @@
 // What the bundle's files share inside src/bundle: digests, the rule for a path inside a bundle, reading a
-// whole file under a limit, a temporary folder removed unless kept, and the zip (libzip) reading and writing.
+// whole file under a limit, and the zip (libzip) reading and writing.
 #pragma once
 
 #include "base/result.hpp"
+#include "base/temp_dir.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -29,25 +30,6 @@ std::string quoted_name(std::string_view name);
 Result<std::string> read_whole_file(const std::filesystem::path& path, std::uint64_t max_bytes, bool no_follow);
 // Writes a new file (it must not exist; never through a symbolic link), mode 0644, flushed to disk.
 Status write_new_file(const std::filesystem::path& path, std::string_view bytes);
-
-// A new private folder (0700) beside `near` (or in the system's temporary folder when `near` is empty), named
-// after `stem`; removed with everything in it when this is destroyed, unless keep() was called.
-class TempDir {
- public:
-  static Result<TempDir> make(const std::filesystem::path& near, const std::string& stem);
-  TempDir() = default;
-  TempDir(TempDir&& o) noexcept : path_(std::move(o.path_)) { o.path_.clear(); }
-  TempDir& operator=(TempDir&& o) noexcept;
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  ~TempDir();
-  const std::filesystem::path& path() const { return path_; }
-  // Forgets the folder: the caller owns it now.
-  std::filesystem::path keep();
-
- private:
-  std::filesystem::path path_;
-};
 
 // True when the file's first bytes are a zip's (a local file header or an empty archive's end record).
 bool looks_like_zip(const std::filesystem::path& path);

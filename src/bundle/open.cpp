@@ -140,33 +140,15 @@ Status check_meaning(const Manifest& m) {
 
 }  // namespace
 
-OpenedBundle::~OpenedBundle() {
-  std::error_code ec;
-  if (!dir_.empty()) fs::remove_all(dir_, ec);
-}
+OpenedBundle::~OpenedBundle() = default;
+OpenedBundle::OpenedBundle(OpenedBundle&&) noexcept = default;
+OpenedBundle& OpenedBundle::operator=(OpenedBundle&&) noexcept = default;
 
-OpenedBundle::OpenedBundle(OpenedBundle&& o) noexcept
-    : dir_(std::move(o.dir_)), manifest_(std::move(o.manifest_)), source_(std::move(o.source_)) {
-  o.dir_.clear();
-}
-
-OpenedBundle& OpenedBundle::operator=(OpenedBundle&& o) noexcept {
-  if (this != &o) {
-    std::error_code ec;
-    if (!dir_.empty()) fs::remove_all(dir_, ec);
-    dir_ = std::move(o.dir_);
-    manifest_ = std::move(o.manifest_);
-    source_ = std::move(o.source_);
-    o.dir_.clear();
-  }
-  return *this;
-}
-
-const fs::path& OpenedBundle::dir() const { return dir_; }
+const fs::path& OpenedBundle::dir() const { return dir_.path(); }
 const Manifest& OpenedBundle::manifest() const { return manifest_; }
-std::string OpenedBundle::scene_path() const { return (dir_ / manifest_.scene).string(); }
+std::string OpenedBundle::scene_path() const { return (dir_.path() / manifest_.scene).string(); }
 std::string OpenedBundle::calibration_path() const {
-  return manifest_.calibration.empty() ? std::string() : (dir_ / manifest_.calibration).string();
+  return manifest_.calibration.empty() ? std::string() : (dir_.path() / manifest_.calibration).string();
 }
 const std::string& OpenedBundle::source() const { return source_; }
 
@@ -215,7 +197,7 @@ Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& li
                   why + ")");
     }
   OpenedBundle b;
-  b.dir_ = tmp->keep();
+  b.dir_ = std::move(*tmp);
   b.manifest_ = std::move(*m);
   b.source_ = path;
   return b;

@@ -2,6 +2,7 @@
 // window (ui/). `arwb [options]` opens the workbench window; `arwb <subcommand> ...` runs a
 // command-line tool. See `arwb --help`.
 #include "base/allocator.hpp"
+#include "base/temp_dir.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "cli/opencv_limits.hpp"
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
   // OpenCV reads its image limits while its library loads, before main(): when they had to be set, start again
   // with them (once; exec only returns on failure, and then OpenCV's own defaults stay).
   if (arwb::set_opencv_image_limits()) execv("/proc/self/exe", argv);
+  // A played bundle's copy and an unfinished export go with the process, however it is stopped.
+  arwb::remove_temp_dirs_on_exit_and_signals();
   // No subcommand, or options first (--help among them): the workbench, whose help lists the subcommands.
   if (argc < 2 || argv[1][0] == '-') {
     try {

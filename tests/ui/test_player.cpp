@@ -12,6 +12,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -138,6 +140,55 @@ TEST(Player, TamperedBundleIsRefusedNamingTheEntryWithoutAWindow) {
   EXPECT_NE(r.err.find(media_entry), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("window"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+}
+
+// A player stopped by SIGTERM leaves no copy of its bundle behind; one killed with SIGKILL leaves its copy, which
+// the next player removes once it is a minute old (nobody holds its lock).
+std::string copies_in(const std::string& dir) {
+  std::string names;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().rfind("arwb-bundle-", 0) == 0) names += e.path().filename().string() + " ";
+  return names;
+}
+
+TEST(Player, AStoppedPlayersCopyIsRemovedAndAKilledOnesGoesAtTheNextStart) {
+  TempDir tmp;
+  write_scene(tmp.str("author"));
+  RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  fs::create_directory(tmp.str("t"));
+  // The player runs until the signal; the script waits for its copy to appear first (at most 60 s).
+  auto play_and_send = [&](const char* sig) {
+    const std::string script =
+        "export TMPDIR='" + tmp.str("t") + "'; xvfb-run -a -s '-screen 0 1920x1080x24' sh -c '" +
+        "\"$0\" play \"$1\" --source synthetic & p=$!; i=0; "
+        "while ! ls \"$TMPDIR\" | grep -q arwb-bundle- && [ $i -lt 600 ]; do sleep 0.1; i=$((i+1)); done; "
+        "sleep 0.5; kill -" + sig + " $p; wait $p; echo status=$?' '" + ARWB_BINARY + "' '" + tmp.str("b.arwb") +
+        "' > '" + tmp.str("status.txt") + "' 2>&1";
+    EXPECT_EQ(std::system(script.c_str()), 0);
+    return test::read_file(tmp.str("status.txt"));
+  };
+  // Ended by the signal, as without the handler (the shell adds its own "Terminated" line).
+  std::string said = play_and_send("TERM");
+  EXPECT_NE(said.find("status=143\n"), std::string::npos) << said;
+  EXPECT_EQ(copies_in(tmp.str("t")), "");
+  said = play_and_send("KILL");
+  EXPECT_NE(said.find("status=137\n"), std::string::npos) << said;
+  const std::string left = copies_in(tmp.str("t"));
+  ASSERT_NE(left, "");
+  for (const auto& e : fs::directory_iterator(tmp.str("t")))
+    fs::last_write_time(e.path(), fs::last_write_time(e.path()) - std::chrono::minutes(2));
+  const char* was = std::getenv("TMPDIR");
+  const std::string tmpdir_before = was ? was : "";
+  ::setenv("TMPDIR", tmp.str("t").c_str(), 1);
+  r = test::run_arwb("play '" + tmp.str("nowhere.arwb") + "'");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(copies_in(tmp.str("t")), left) << "a bundle that does not exist makes no copy";
+  r = test::run_arwb("play '" + tmp.str("author") + "'");   // not a bundle, but copied first, so orphans are looked for
+  if (was) ::setenv("TMPDIR", tmpdir_before.c_str(), 1);
+  else ::unsetenv("TMPDIR");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(copies_in(tmp.str("t")), "");
 }
 
 // The bounding box of the dark pixels (all channels under 60) inside `area` of a screenshot.
