@@ -1,5 +1,6 @@
 #include "calibration/calibration_file.hpp"
 
+#include "calibration/camera_rule.hpp"
 #include "detect/yaml_file.hpp"
 
 #include <cmath>
@@ -78,12 +79,6 @@ Status open_storage(const std::string& path, cv::FileStorage* fs) {
   return {};
 }
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 bool is_number(const cv::FileNode& n) { return n.isInt() || n.isReal(); }
 
 struct Numbers {
@@ -144,10 +139,9 @@ Status read_camera_matrix(const cv::FileNode& root, const std::string& path, con
     return fail(where + ": expected 3x3 values, found " + std::to_string(rows) + "x" + std::to_string(cols));
   const std::vector<double>& v = m->values;
   c->camera_matrix = cv::Matx33d(v.data());
-  if (!(v[0] > 0)) return fail(where + ": focal length fx " + num(v[0]) + " is not positive");
-  if (!(v[4] > 0)) return fail(where + ": focal length fy " + num(v[4]) + " is not positive");
   if (v[3] != 0 || v[6] != 0 || v[7] != 0 || std::abs(v[8] - 1) > 1e-9)
     return fail(where + ": not a camera matrix (its last row must be 0 0 1 and the value under fx 0)");
+  if (const std::string why = camera_matrix_problem(c->camera_matrix); !why.empty()) return fail(where + ": " + why);
   return {};
 }
 
@@ -204,6 +198,8 @@ Result<Calibration> read_root(const cv::FileNode& root, const std::string& path,
     if (iw < 1 || ih < 1 || iw > 65536 || ih > 65536)
       return fail(path + ": image size " + std::to_string(iw) + "x" + std::to_string(ih) + " is not 1..65536");
     c.image_size = cv::Size(int(iw), int(ih));
+    if (const std::string why = camera_picture_problem(c.camera_matrix, c.distortion, c.image_size); !why.empty())
+      return fail(path + ": " + why);
   }
   return c;
 }
@@ -259,20 +255,28 @@ Result<Calibration> read_calibration_pair(const std::string& camera_matrix_path,
 }
 
 Result<Calibration> calibration_for_size(const Calibration& c, cv::Size size) {
-  if (c.image_size.area() == 0 || c.image_size == size) return c;
-  const double a = double(c.image_size.width) * size.height, b = double(size.width) * c.image_size.height;
-  if (std::abs(a - b) > 0.005 * std::max(a, b))
-    return fail(c.source + ": made for " + size_text(c.image_size) + " (" + ratio_text(c.image_size) +
-                "), the source is " + size_text(size) + " (" + ratio_text(size) + "); calibrate at this size");
   Calibration out = c;
-  const double sx = double(size.width) / c.image_size.width, sy = double(size.height) / c.image_size.height;
-  // Pixel centres sit at integers, so the principal point scales about the image's corner at (-0.5, -0.5).
-  out.camera_matrix(0, 0) *= sx;
-  out.camera_matrix(0, 1) *= sx;
-  out.camera_matrix(0, 2) = (c.camera_matrix(0, 2) + 0.5) * sx - 0.5;
-  out.camera_matrix(1, 1) *= sy;
-  out.camera_matrix(1, 2) = (c.camera_matrix(1, 2) + 0.5) * sy - 0.5;
-  out.image_size = size;
+  if (!c.image_size.empty() && c.image_size != size) {   // empty(), not area(): 65536x65536 overflows an int
+    const double a = double(c.image_size.width) * size.height, b = double(size.width) * c.image_size.height;
+    if (std::abs(a - b) > 0.005 * std::max(a, b))
+      return fail(c.source + ": made for " + size_text(c.image_size) + " (" + ratio_text(c.image_size) +
+                  "), the source is " + size_text(size) + " (" + ratio_text(size) + "); calibrate at this size");
+    const double sx = double(size.width) / c.image_size.width, sy = double(size.height) / c.image_size.height;
+    // Pixel centres sit at integers, so the principal point scales about the image's corner at (-0.5, -0.5).
+    out.camera_matrix(0, 0) *= sx;
+    out.camera_matrix(0, 1) *= sx;
+    out.camera_matrix(0, 2) = (c.camera_matrix(0, 2) + 0.5) * sx - 0.5;
+    out.camera_matrix(1, 1) *= sy;
+    out.camera_matrix(1, 2) = (c.camera_matrix(1, 2) + 0.5) * sy - 0.5;
+    out.image_size = size;
+    // Scaled, the focal length may leave the rule's range.
+    if (std::string why = camera_matrix_problem(out.camera_matrix); !why.empty())
+      return fail(c.source + ": at " + size_text(size) + ", " + why);
+  }
+  // A file that names no size is checked here, over the source's picture, the first time it meets one.
+  if (c.image_size != size)
+    if (std::string why = camera_picture_problem(out.camera_matrix, out.distortion, size); !why.empty())
+      return fail(c.source + ": " + why);
   return out;
 }
 

@@ -10,6 +10,7 @@
 
 #include "base/files.hpp"
 #include "base/result.hpp"
+#include "calibration/camera_rule.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -30,7 +31,7 @@ struct Calibration {
 
 // Reads a calibration. Every failure is one line naming the file and, where it is about a value, the key:
 // "cam.yml: camera_matrix: expected 3x3 values, found 2x3", "cam.yml: distortion_coefficients: value 3 is not a
-// finite number", "cam.yml: camera_matrix: focal length fy -500 is not positive", "cam.yml: no camera matrix
+// finite number", "cam.yml: camera_matrix: focal length fy -500 is not 1 to 1e+07 pixels", "cam.yml: no camera matrix
 // (looked for camera_matrix, cameraMatrix)". The paper's cameraMatrix.xml, which has no distortion, is completed
 // from the distCoeffs.xml beside it.
 Result<Calibration> read_calibration(const std::string& path);
@@ -39,7 +40,8 @@ Result<Calibration> read_calibration_pair(const std::string& camera_matrix_path,
 
 // The calibration for a source of `size`: unchanged when the file gives no size or the same one; scaled when the
 // aspect ratio is the same (a 1280x720 calibration used at 640x360); refused otherwise ("cam.yml: made for
-// 640x480 (4:3), the source is 1280x720 (16:9); calibrate at this size").
+// 640x480 (4:3), the source is 1280x720 (16:9); calibrate at this size"). The result keeps to camera_rule.hpp's
+// rule at that size, or is refused with its reason ("cam.yml: its distortion cannot be undone at pixel ...").
 Result<Calibration> calibration_for_size(const Calibration& c, cv::Size size);
 
 // What is written beside the camera and its distortion.

@@ -156,6 +156,9 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
                                                                                : " (ambiguous: see the alternative)")
                                                       : "",
                     p->assumed_camera ? " [assumed camera: no --calib]" : "");
+      } else if (out.marker_size > 0) {
+        // Said, not left out: a quad of no area, or one no pose of the marker projects to through this camera.
+        std::printf("    pose: none (no pose of the marker projects to these corners through this camera)\n");
       }
     }
   }

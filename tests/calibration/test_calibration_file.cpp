@@ -274,7 +274,7 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"not_finite", sample_with("-0.25, 0.08, 0.001", "-0.25, 0.08, .nan"),
                 "distortion_coefficients: value 2 is not a finite number"},
         Refusal{"negative_focal", sample_with("0., 555., 236.", "0., -555., 236."),
-                "camera_matrix: focal length fy -555 is not positive"},
+                "camera_matrix: focal length fy -555 is not 1 to 1e+07 pixels"},
         Refusal{"text_value", sample_with("560., 0., 322.", "abc, 0., 322."),
                 "camera_matrix: value 0 is not a number"},
         Refusal{"count_mismatch", sample_with("cols: 5\n   dt: d\n   data: [ -0.25, 0.08, 0.001, -0.002, 0. ]",

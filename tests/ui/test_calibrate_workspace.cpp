@@ -200,9 +200,10 @@ TEST(CalibrateWorkspace, AGoodCalibrationFileDrivesTheUndistortedView) {
   TempDir tmp;
   const std::string good = tmp.str("cam.yml");
   Calibration c;
-  c.camera_matrix = cv::Matx33d(560, 0, 322, 0, 555, 236, 0, 0, 1);
+  // The synthetic webcam at twice its size (the same aspect ratio: scaled to the 640x480 working image).
+  c.camera_matrix = cv::Matx33d(1120, 0, 644.5, 0, 1110, 472.5, 0, 0, 1);
   c.distortion = {-0.25, 0.08, 0, 0, 0};
-  c.image_size = {1280, 960};   // the same aspect ratio: scaled to the 640x480 working image
+  c.image_size = {1280, 960};
   ASSERT_TRUE(write_calibration(good, c, {}).ok());
   const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") +
                                             "' --source synthetic --frames 40 --stats --calib '" + good +
