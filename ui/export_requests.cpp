@@ -154,7 +154,7 @@ void App::draw_export_dialog(ui::Context& ctx) {
   ImGui::InputText("title", d.title, sizeof d.title);
   ImGui::SetNextItemWidth(w);
   ImGui::InputDouble("marker size (mm)", &d.size_mm, 1, 10, "%.1f");
-  d.size_mm = std::clamp(d.size_mm, 1.0, 1000.0);
+  d.size_mm = std::clamp(d.size_mm, bundle::kMinMarkerSizeMm, bundle::kMaxMarkerSizeMm);
   if (opt.engine.calibration_file.empty()) {
     ImGui::TextDisabled("Calibration: none (the workbench was started without one); the player uses the paper's "
                         "default camera.");

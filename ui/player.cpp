@@ -282,7 +282,11 @@ int run_player(const PlayerOptions& options) {
   ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 0.75f;
 
   p.dictionary = options.engine.dictionaries.empty() ? "" : options.engine.dictionaries.front();
-  p.engine = std::make_unique<Engine>(options.engine, [&p](int level, const std::string& m) {
+  p.engine = std::make_unique<Engine>(options.engine, [&p, &options](int level, std::string m) {
+    if (!options.private_dir.empty()) {
+      const std::string from = options.private_dir + "/", to = options.bundle + "/";
+      for (size_t at = m.find(from); at != std::string::npos; at = m.find(from, at + to.size())) m.replace(at, from.size(), to);
+    }
     p.log.add(level == 0 ? LogLevel::info : (level == 1 ? LogLevel::warning : LogLevel::error), m);
   });
   // Without a camera, the synthetic source shows the bundle's own markers in its dictionary.

@@ -65,6 +65,10 @@ struct Manifest {
 std::string manifest_json(const Manifest& m);
 Result<Manifest> parse_manifest(const std::string& text);
 
+// A bundle's printed marker side, in mm: what arwb export and the workbench's dialog take, and so all a manifest may
+// say (within that, the marker sheet's own limit for the dictionary applies).
+inline constexpr double kMinMarkerSizeMm = 1, kMaxMarkerSizeMm = 1000;
+
 struct ExportOptions {
   std::string scene;             // FILE.lua or FILE.xml
   std::string out;               // a folder, or FILE.arwb / FILE.zip (a zip)

@@ -152,8 +152,9 @@ Result<Manifest> parse_manifest(const std::string& text) {
       m.ids.push_back(id.get<int>());
     }
   if (const auto it = j.find("marker_size_mm"); it == j.end()) r.bad("marker_size_mm", "missing");
-  else if (!it->is_number() || !(it->get<double>() > 0) || it->get<double>() > 10'000)
-    r.bad("marker_size_mm", "not a size in millimetres");
+  else if (!it->is_number() || !(it->get<double>() >= kMinMarkerSizeMm) || it->get<double>() > kMaxMarkerSizeMm)
+    r.bad("marker_size_mm", "not a size of " + std::to_string(int(kMinMarkerSizeMm)) + " to " +
+                                std::to_string(int(kMaxMarkerSizeMm)) + " mm");
   else m.marker_size_mm = it->get<double>();
   if (r.str(j, "scene", "scene", &m.scene)) r.path(m.scene, "scene", false);
   if (r.str(j, "calibration", "calibration", &m.calibration)) r.path(m.calibration, "calibration", true);

@@ -28,18 +28,24 @@ constexpr double kTestMarkerPx = 120;
 
 // The self-test's frame for a calibration: its own image size scaled to a 640-pixel width (a 16:9 camera's
 // 1280x720 gives 640x360), or the size itself when rounding the height would change the aspect more than
-// calibration_for_size allows (a very wide strip); the small default frame when it names no size.
-cv::Size test_frame(const Calibration& c) {
+// calibration_for_size allows (a very wide strip); the small default frame when it names no size. A shape whose
+// frame would be over 4096x4096 pixels (a 1x65536 strip: 640x41943040) is refused with the sizes.
+Result<cv::Size> test_frame(const Calibration& c) {
   const cv::Size own = c.image_size;
   if (own.width <= 0 || own.height <= 0) return kTestFrame;
   const int height = std::max(1, int(std::lround(double(kCalibratedTestWidth) * own.height / own.width)));
   const cv::Size scaled{kCalibratedTestWidth, height};
   const double a = double(own.width) * scaled.height, b = double(scaled.width) * own.height;
   const bool same_aspect = std::abs(a - b) <= 0.004 * std::max(a, b);
+  // In doubles: cv::Size::area() is an int, which 640x41943040 overflows.
+  const auto small_enough = [](cv::Size s) { return double(s.width) * double(s.height) <= 4096.0 * 4096.0; };
   // The marker (kTestMarkerPx) must fit well inside the frame either way.
-  if (same_aspect && height >= 2 * kTestMarkerPx) return scaled;
-  if (own.width >= 2 * kTestMarkerPx && own.height >= 2 * kTestMarkerPx && own.area() <= 4096 * 4096) return own;
-  return scaled;
+  if (same_aspect && height >= 2 * kTestMarkerPx && small_enough(scaled)) return scaled;
+  if (own.width >= 2 * kTestMarkerPx && own.height >= 2 * kTestMarkerPx && small_enough(own)) return own;
+  if (small_enough(scaled)) return scaled;
+  return fail("made for " + std::to_string(own.width) + "x" + std::to_string(own.height) +
+              ", a shape the self-test cannot render (640 pixels wide, a frame of it would be " +
+              std::to_string(scaled.width) + "x" + std::to_string(scaled.height) + ")");
 }
 
 }  // namespace
@@ -52,8 +58,11 @@ Result<TestResult> self_test(SceneStage& stage, const Dictionary& dict, const st
     for (const int id : expand(mapping_ids[mi])) by_id[id].push_back(mi);
   Detector detector({dict});
   std::shared_ptr<const Calibration> camera;
-  const cv::Size frame_size = calib ? test_frame(*calib) : kTestFrame;
+  cv::Size frame_size = kTestFrame;
   if (calib) {
+    const Result<cv::Size> size = test_frame(*calib);
+    if (!size) return fail("calibration: " + size.error());
+    frame_size = *size;
     Result<Calibration> fitted = calibration_for_size(*calib, frame_size);
     if (!fitted) return fail("calibration: " + fitted.error());
     camera = std::make_shared<const Calibration>(std::move(*fitted));

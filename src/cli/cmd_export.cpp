@@ -51,7 +51,7 @@ int cmd_export(int argc, char** argv) {
   // fits a page) are checked with the scene loaded, naming them.
   cl.app.add_option("--marker-size-mm", o.marker_size_mm, "the printed markers' side")
       ->type_name("S")
-      ->check(real_number(1, 1000));
+      ->check(real_number(bundle::kMinMarkerSizeMm, bundle::kMaxMarkerSizeMm));
   cl.app.add_flag("--force", o.force, "replace an existing OUT (only a bundle arwb wrote)");
   cl.app.add_flag("--quiet", quiet, "print only the last line");
   if (const auto status = cl.parse(argc, argv)) return *status;

@@ -97,6 +97,8 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&),
   o.engine.marker_size = m.marker_size_mm;
   o.ids = m.ids;
   o.title = m.title;
+  o.private_dir = opened->dir().string();
+  o.bundle = bundle_path;
   return run(o);   // `opened` lives until the player ends: its folder holds the scene and media
 }
 

@@ -32,6 +32,9 @@ struct PlayerOptions {
   EngineConfig engine;
   std::vector<int> ids;           // the bundle's ids: what the synthetic source shows, so the media appear without a camera
   std::string title;              // the bundle's title: the window's title and the overlay's first line
+  // The bundle's private copy and the bundle as the user named it: messages say "museum.arwb/scene.lua:3: ..."
+  // where the engine names "/tmp/arwb-bundle-Xa81Qz/scene.lua:3: ...", a folder the user never saw.
+  std::string private_dir, bundle;
   int frames = 0;                 // > 0: draw this many frames, then exit (scripted runs, tests)
   std::string screenshot;         // write the window to this PNG before exiting
   bool stats = false;             // print one JSON line of figures at exit

@@ -196,6 +196,16 @@ TEST(ManifestText, RoundTrip) {
   EXPECT_EQ(parse_manifest(manifest_json(m)).error(), "manifest.json: scene: \"scene/other.lua\" is not among files");
   // Deep nesting is refused before parsing.
   EXPECT_EQ(parse_manifest(std::string(100000, '[')).error(), "manifest.json: line 1: nested deeper than 16 levels");
+  // The marker size is what arwb export takes, no more (1e-300 mm made poses of 10^300 m).
+  m.scene = "scene/s.lua";
+  for (const double mm : {1e-300, 0.5, 1000.5, 1e300}) {
+    m.marker_size_mm = mm;
+    EXPECT_EQ(parse_manifest(manifest_json(m)).error(), "manifest.json: marker_size_mm: not a size of 1 to 1000 mm") << mm;
+  }
+  for (const double mm : {kMinMarkerSizeMm, kMaxMarkerSizeMm}) {
+    m.marker_size_mm = mm;
+    EXPECT_TRUE(parse_manifest(manifest_json(m)).ok()) << mm;
+  }
 }
 
 // --- Hostile zips --------------------------------------------------------------------------------------------

@@ -301,11 +301,15 @@ TEST(Player, ErrorWindowChangesNothingForABundleThatPlays) {
   write_scene(tmp.str("author"));
   RunResult r = test::run_arwb("export --scene '" + tmp.str("author/scene.lua") + "' --out '" + tmp.str("b.arwb") + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  r = test::run_arwb_window("play --error-window '" + tmp.str("b.arwb") + "' --source '" + kSample + "' --frames 5 --stats");
+  r = test::run_arwb_window("play --error-window '" + tmp.str("b.arwb") + "' --source '" + kSample +
+                            "' --frames 5 --stats --verbose");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto stats = test::stats(r);
   EXPECT_FALSE(stats.contains("window")) << r.out;
   EXPECT_EQ(stats["overlays"], 2) << r.out;
+  // The log names the bundle the user gave, not the private copy the player reads it from.
+  EXPECT_NE(r.err.find("scene: " + tmp.str("b.arwb") + "/scene/scene.lua"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("arwb-bundle-"), std::string::npos) << r.err;
 }
 
 TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleStartsThePlayer) {
