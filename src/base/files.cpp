@@ -91,7 +91,8 @@ ResolvedPath resolve_inside(const std::filesystem::path& folder, const std::stri
     if (part == "..") return fail("leaves " + folder_name);
 
   std::error_code ec;
-  const fs::path base = fs::canonical(folder, ec);
+  // A scene named without a folder ("scene.lua") lies in the current one: its parent_path() is empty.
+  const fs::path base = fs::canonical(folder.empty() ? fs::path(".") : folder, ec);
   if (ec) return fail(folder_name + " " + folder.string() + " cannot be resolved (" + ec.message() + ")");
   // Symbolic links are resolved, so one inside the folder that leads out is caught by the containment test
   // (and so is a `from` that is itself a link leading out).

@@ -41,9 +41,10 @@ std::shared_ptr<MediaContent> SceneRuntime::Impl::content_for(
       if (inst.content_key != key) {
         inst.content_key = key;
         inst.content = store.image(spec.path, &err);
-        if (!inst.content) report(2, at + (err.empty() ? spec.source + ": cannot be loaded" : err));
+        inst.load_error = inst.content ? "" : err.empty() ? spec.source + ": cannot be loaded" : err;
+        if (!inst.content) report(2, at + inst.load_error);
       }
-      if (!inst.content) inst.error = "cannot load " + spec.source;
+      if (!inst.content) inst.error = inst.load_error;
       return inst.content;
     }
     case MediaKind::web: {

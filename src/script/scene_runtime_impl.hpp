@@ -37,6 +37,7 @@ struct Instance {
   std::shared_ptr<media::VideoContent> video;
   std::string mesh_key;        // a 3D media's mesh, made or loaded once per key
   std::shared_ptr<const Mesh> mesh;
+  std::string load_error;      // why content or mesh could not be loaded (the loader's words), kept with its key
   double position = 0;         // seconds into the video: grows while the marker is tracked
   bool inside = false;
   bool fresh = false;          // entered on this frame (no dt to add yet)

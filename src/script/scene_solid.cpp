@@ -58,6 +58,7 @@ bool SceneRuntime::Impl::solid_overlay(Program& p, const Mapping& m, Instance& i
   if (inst.mesh_key != key) {
     inst.mesh_key = key;
     inst.mesh.reset();
+    inst.load_error.clear();
     std::string err;
     switch (spec.kind) {
       case MediaKind::cube: {
@@ -82,7 +83,10 @@ bool SceneRuntime::Impl::solid_overlay(Program& p, const Mapping& m, Instance& i
         std::string warning;
         inst.mesh = store.model(std::filesystem::path(p.path).parent_path(), spec.source, &err, &warning);
         if (!warning.empty()) report(1, at + warning);
-        if (!inst.mesh) report(2, at + (err.empty() ? spec.source + ": cannot be loaded" : err));
+        if (!inst.mesh) {
+          inst.load_error = err.empty() ? spec.source + ": cannot be loaded" : err;
+          report(2, at + inst.load_error);
+        }
         if (inst.mesh && !spec.lit) {   // the store's mesh is shared: an unlit copy for this media
           auto flat = std::make_shared<Mesh>(*inst.mesh);
           for (MeshPart& part : flat->parts) part.lit = false;
@@ -94,7 +98,7 @@ bool SceneRuntime::Impl::solid_overlay(Program& p, const Mapping& m, Instance& i
     }
   }
   if (!inst.mesh) {
-    inst.error = "cannot load " + spec.source;
+    inst.error = inst.load_error.empty() ? "cannot load " + spec.source : inst.load_error;
     return false;
   }
 

@@ -145,6 +145,21 @@ TEST(SetAside, NumbersTheNewOneAndLeavesFifosAlone) {
   EXPECT_EQ(set_aside(dir.str("gone")).error(), dir.str("gone") + ": cannot be set aside (No such file or directory)");
 }
 
+// A scene named without a folder ("arwb render --scene scene.lua" in its folder) has an empty parent_path(): its
+// files resolve in the current folder (render said "the scene's folder  cannot be resolved").
+TEST(ResolveInside, AnEmptyFolderIsTheCurrentOne) {
+  test::TempDir d;
+  test::write_file(d.str("m.obj"), "v 0 0 0\n");
+  const std::filesystem::path was = std::filesystem::current_path();
+  std::filesystem::current_path(d.path());
+  const ResolvedPath r = resolve_inside({}, "m.obj", {}, "the scene's folder");
+  const ResolvedPath out = resolve_inside({}, "../m.obj", {}, "the scene's folder");
+  std::filesystem::current_path(was);
+  EXPECT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.path, std::filesystem::canonical(d.path() / "m.obj").string());
+  EXPECT_EQ(out.error, "../m.obj: leaves the scene's folder");
+}
+
 TEST(Printable, ControlCharactersInNamesAreEscaped) {
   EXPECT_EQ(printable("museum.png"), "museum.png");
   EXPECT_EQ(printable("a\nb\rc\td"), "a\\nb\\rc\\td");

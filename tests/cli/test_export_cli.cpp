@@ -61,6 +61,19 @@ TEST(ExportCli, ASceneThatCannotBeExportedIsOneLineAndWritesNothing) {
   EXPECT_FALSE(fs::exists(out.path() / "b"));
 }
 
+// A model that does not load is refused in the loader's own words, as render says them, not "cannot load m/a.glb".
+TEST(ExportCli, AModelThatDoesNotLoadIsRefusedWithTheLoadersReason) {
+  TempDir out;
+  fs::create_directories(out.path() / "m");
+  write_file(out.str("m/b.glb"), "garbage");
+  write_file(out.str("scene.lua"), "marker(843, { media = model \"m/b.glb\", place = on_marker {} })\n");
+  const auto r = run_arwb("export --scene '" + out.str("scene.lua") + "' --out '" + out.str("b.arwb") + "'");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("m/b.glb: not a 3D model (OBJ, glTF or GLB)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out.path() / "b.arwb"));
+}
+
 TEST(ExportCli, UsageErrors) {
   TempDir out;
   auto r = run_arwb("export --out '" + out.str("b") + "'");
