@@ -124,6 +124,12 @@ TEST(Export, MuseumToAZipOpensElsewhere) {
     ASSERT_EQ(zip_file_get_external_attributes(z, zip_uint64_t(i), 0, &opsys, &attr), 0);
     EXPECT_EQ(opsys, ZIP_OPSYS_UNIX);
     EXPECT_TRUE(S_ISREG(attr >> 16));
+    // Pictures and videos stored as they are (compressed already); text deflated.
+    zip_stat_t st;
+    ASSERT_EQ(zip_stat_index(z, zip_uint64_t(i), 0, &st), 0);
+    const std::string name = st.name;
+    const bool packed = name.size() > 4 && (name.substr(name.size() - 4) == ".png" || name.substr(name.size() - 4) == ".mp4");
+    EXPECT_EQ(st.comp_method, packed ? ZIP_CM_STORE : ZIP_CM_DEFLATE) << name;
   }
   zip_discard(z);
   EXPECT_EQ(names, (std::set<std::string>{"README.txt", "manifest.json", "markers.pdf", "scene/media/composition.png",
