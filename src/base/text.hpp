@@ -40,6 +40,11 @@ std::string nearest_name(std::string_view word, const Names& known) {
 // Applied where messages reach the terminal or the log (the workbench's Log, the command line's report()).
 std::string printable(std::string_view text);
 
+// `text` with each byte that does not start UTF-8 replaced by U+FFFD, as json_text writes it: for a label made
+// from a file name (a plan named after caf\xE9_plan.yml), which then reads the same in the terminal, the JSON, the
+// plots (PLplot refuses text that is not UTF-8) and the report.
+std::string utf8_replaced(std::string_view text);
+
 // Whether `text` (a whole file, without its UTF-8 byte order mark) is UTF-8 that a text file may hold. Refused,
 // with `name` first: "<name>: UTF-16 text; save it as UTF-8" (a UTF-16 byte order mark, or a NUL in every other
 // byte of the start: Windows' "Unicode"), the same for UTF-32, "<name>:LINE:COL: not UTF-8 (byte 0xE9); save it

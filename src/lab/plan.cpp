@@ -195,7 +195,7 @@ Result<LabPlan> read_plan(const std::string& path) {
   cv::FileStorage fs;
   if (Status s = open_yaml_file(path, kPlanFile, &fs); !s) return fail(s.error());
   LabPlan p;
-  p.name = std::filesystem::path(path).stem().string();
+  p.name = utf8_replaced(std::filesystem::path(path).stem().string());
   const cv::FileNode root = fs.root();
   if (!root.isMap()) return fail(path + ": a plan is a map of fields (sizes_mm: [65, 39, 26], ...)");
   static const std::vector<std::string_view> kKnown = {"name", "dictionary", "markers", "sizes_mm", "distances_m",

@@ -160,6 +160,14 @@ TEST(ResolveInside, AnEmptyFolderIsTheCurrentOne) {
   EXPECT_EQ(out.error, "../m.obj: leaves the scene's folder");
 }
 
+TEST(Utf8Replaced, EachBadByteIsOneReplacementCharacterAndUtf8IsKept) {
+  EXPECT_EQ(utf8_replaced("caf\xe9_plan"), "caf\xef\xbf\xbd_plan");
+  EXPECT_EQ(utf8_replaced("caf\xc3\xa9 \xe2\x82\xac"), "caf\xc3\xa9 \xe2\x82\xac");
+  EXPECT_EQ(utf8_replaced("\xc0\xaf"), "\xef\xbf\xbd\xef\xbf\xbd");   // an overlong '/'
+  EXPECT_EQ(utf8_replaced("\xed\xa0\x80"), "\xef\xbf\xbd\xef\xbf\xbd\xef\xbf\xbd");   // a surrogate
+  EXPECT_EQ(utf8_replaced(""), "");
+}
+
 TEST(Printable, ControlCharactersInNamesAreEscaped) {
   EXPECT_EQ(printable("museum.png"), "museum.png");
   EXPECT_EQ(printable("a\nb\rc\td"), "a\\nb\\rc\\td");

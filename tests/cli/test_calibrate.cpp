@@ -68,6 +68,23 @@ TEST(Calibrate, AFolderOfViewsGivesTheKnownCameraInTheFileAndTheJson) {
   EXPECT_EQ(paper->distortion, file->distortion);
 }
 
+// Views named in Latin-1 (vue_\xe9t\xe9_00.png: not UTF-8): the JSON names them with U+FFFD for each bad byte and
+// the run exits 0 having written its file (it wrote the calibration, then exited 1 with nlohmann's type_error.316).
+TEST(Calibrate, ViewsNamedInLatin1AreInTheJsonWithTheBadBytesReplaced) {
+  TempDir dir;
+  write_views(dir.str("views"), 14);
+  for (const auto& e : std::filesystem::directory_iterator(dir.str("views"))) {
+    const std::string name = e.path().filename().string();
+    std::filesystem::rename(e.path(), e.path().parent_path() / ("vue_\xe9t\xe9_" + name.substr(5)));
+  }
+  const auto r = run_arwb("calibrate --input " + q(dir.str("views")) + " --out " + q(dir.str("cam.yml")) + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = test::parse(r.out);   // throws on text that is not UTF-8
+  EXPECT_NE(r.out.find("vue_\xef\xbf\xbdt\xef\xbf\xbd_"), std::string::npos) << r.out.substr(0, 2000);
+  EXPECT_EQ(j["frames_read"], 14);
+  EXPECT_TRUE(read_calibration(dir.str("cam.yml")).ok());
+}
+
 TEST(Calibrate, AVideoKeepsOnlyStillViewsAndSaysWhyOthersWereNot) {
   TempDir dir;
   cv::VideoWriter w(dir.str("board.avi"), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, kCamera.size, false);

@@ -125,6 +125,22 @@ TEST(LabCli, ACellsFileThatCannotBeARunsIsNamedAndNotTaken) {
 }
 
 // A plan file changes the axes (here another dictionary, which AprilTag reads); a bad one is named with its field.
+// A plan named in Latin-1 (caf\xe9_plan.yml: not UTF-8), whose file name names the plan: the run goes to the end and
+// it names the plan with U+FFFD for the bad byte everywhere (it stopped at once with nlohmann's type_error.316).
+TEST(LabCli, APlanNamedInLatin1RunsAndItsJsonIsUtf8) {
+  TempDir d;
+  const std::string plan = d.str("caf\xe9_plan.yml");
+  test::write_file(plan, "sizes_mm: [65]\ndistances_m: [1]\nlux: [850]\nframes_per_cell: 1\n");
+  const auto r = run_arwb("lab --plan " + test::q(plan) + " --detectors arwb --out " + test::q(d.str("out")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string json = slurp(d.str("out/results.json"));
+  const nlohmann::json j = nlohmann::json::parse(json);   // throws on text that is not UTF-8
+  EXPECT_EQ(j["plan"]["name"], "caf\xef\xbf\xbd_plan") << json.substr(0, 400);
+  // The terminal and the plots say it alike (PLplot printed "UTF-8 string is malformed" and dropped the title).
+  EXPECT_NE(r.out.find("Plan caf\xef\xbf\xbd_plan: 1 cells"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("PLPLOT"), std::string::npos) << r.err;
+}
+
 TEST(LabCli, PlanFilesAndTheirMistakes) {
   TempDir d;
   test::write_file(d.str("tags.yml"), "sizes_mm: [50]\ndistances_m: [0.5, 3]\nlux: 800\nframes_per_cell: 3\n"
