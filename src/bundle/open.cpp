@@ -2,6 +2,7 @@
 // there against its manifest, so what is checked is what runs (the original can change or vanish meanwhile).
 #include "bundle/bundle.hpp"
 #include "bundle/bundle_files.hpp"
+#include "bundle/export_parts.hpp"
 
 #include "base/files.hpp"
 #include "calibration/calibration_file.hpp"
@@ -17,8 +18,6 @@ namespace arwb::bundle {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr std::uint64_t kMaxManifestBytes = 16u << 20;
 
 // Copies the folder `from` into `into` (empty), regular files and folders only, refusing symbolic links and
 // anything else by name, within the limits.
@@ -138,6 +137,30 @@ Status check_meaning(const Manifest& m) {
   return {};
 }
 
+// The scene, loaded as the player loads it (offline, from the copy): its dictionary and the markers it maps must be
+// the manifest's, which the player's synthetic source shows. A manifest edited to list others is refused, naming
+// the first id that differs.
+Status check_scene(const std::filesystem::path& dir, const Manifest& m) {
+  SceneStage stage(media::StoreMode::offline);
+  if (!stage.load((dir / m.scene).string())) {
+    std::string why = stage.status().error;
+    const std::string prefix = dir.string() + "/";
+    for (size_t at = why.find(prefix); at != std::string::npos; at = why.find(prefix)) why.erase(at, prefix.size());
+    return bad("scene", quoted_name(m.scene) + " does not load (" + why + ")");
+  }
+  if (stage.runtime().dictionary_name() != m.dictionary)
+    return bad("dictionary", quoted_name(m.dictionary) + " is not the scene's (" + stage.runtime().dictionary_name() + ")");
+  std::set<int> mapped;
+  for (const auto& ranges : stage.runtime().mapping_ids())
+    for (const int id : expand(ranges)) mapped.insert(id);
+  for (const int id : m.ids)
+    if (!mapped.count(id)) return bad("ids", std::to_string(id) + " is not a marker the scene maps");
+  for (const int id : mapped)
+    if (!std::binary_search(m.ids.begin(), m.ids.end(), id))
+      return bad("ids", "the scene maps " + std::to_string(id) + ", which is not listed");
+  return {};
+}
+
 }  // namespace
 
 OpenedBundle::~OpenedBundle() = default;
@@ -196,6 +219,7 @@ Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& li
       return fail(where + std::string(kManifestName) + ": calibration: " + quoted_name(m->calibration) + " does not read (" +
                   why + ")");
     }
+  if (Status s = check_scene(tmp->path(), *m); !s) return fail(where + s.error());
   OpenedBundle b;
   b.dir_ = std::move(*tmp);
   b.manifest_ = std::move(*m);

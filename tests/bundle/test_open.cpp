@@ -135,6 +135,18 @@ TEST_F(Tampered, ManifestThatMeansSomethingArwbNeverWrites) {
   refused(e, "manifest.json: ids: empty");
   e.ids = {2, 1};
   refused(e, "manifest.json: ids[1]: not in ascending order");
+  // Ids and a dictionary the scene does not map (the player's synthetic source would show markers that do nothing).
+  e = *m;
+  e.ids.push_back(1000);
+  refused(e, "manifest.json: ids: 1000 is not a marker the scene maps");
+  e = *m;
+  const int dropped = e.ids.back();
+  e.ids.pop_back();
+  refused(e, "manifest.json: ids: the scene maps " + std::to_string(dropped) + ", which is not listed");
+  e = *m;
+  e.dictionary = "4X4_50";
+  e.ids = {0};
+  refused(e, "manifest.json: dictionary: \"4X4_50\" is not the scene's (ARUCO_ORIGINAL)");
   e = *m;
   e.files[0].role = "weird";
   refused(e, "manifest.json: files[0].role: \"weird\" is not one of scene, media, calibration, sheet, readme, card");
