@@ -102,6 +102,23 @@ TEST(LabWorkspace, AStoppedRunKeepsItsFinishedCells) {
   EXPECT_EQ(rated, lab["cells_done"].get<int>());
 }
 
+// A plan file named in Latin-1 (caf\xe9.yml: not UTF-8) run and saved from the panel: Save report made the whole
+// window exit (nlohmann's type_error.316); the report's JSON now names the plan with U+FFFD for the bad byte.
+TEST(LabWorkspace, SaveReportOfAPlanNamedInLatin1WritesUtf8AndTheWindowGoesOn) {
+  TempDir tmp;
+  const std::string plan = tmp.str("caf\xe9.yml");
+  test::write_file(plan, "%YAML:1.0\n---\nsizes_mm: [65]\ndistances_m: [1]\nlux: [1000]\nframes_per_cell: 2\n");
+  const RunResult r = test::run_arwb_window(
+      "--config-dir '" + tmp.str("config") + "' --stats --frames 12 --actions '1:workspace=Lab;1:lab_plan=" + plan +
+      ";2:lab_detectors=arwb;3:lab_run;3:lab_wait;4:lab_save=" + tmp.str("report") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json s = stats(r);
+  EXPECT_EQ(s["lab"]["plan"], "caf\xef\xbf\xbd") << s["lab"].dump();
+  EXPECT_EQ(s["problems"], 0) << r.err;
+  const Json saved = Json::parse(test::read_file(tmp.str("report/results.json")));   // throws if not UTF-8
+  EXPECT_EQ(saved["plan"]["name"], "caf\xef\xbf\xbd");
+}
+
 TEST(LabWorkspace, ABadPlanFileIsNamedAndThePlanAndTheWindowCarryOn) {
   TempDir tmp;
   const std::string bad = tmp.str("bad.yml");
