@@ -57,8 +57,10 @@ struct ConsoleEcho {
 
 // The safety net under the scene limits (each call 250 ms, a frame's calls 150 ms): if one step of the scene has
 // not returned after kStuckSeconds, something no limit foresaw holds it (a library call that never returns), and
-// the render exits with a message rather than hang.
-constexpr double kStuckSeconds = 5;
+// the render exits with a message rather than hang. A step also loads the media it shows the first time: a model
+// within every limit (2 million triangles, 4 textures) can take seconds on a slow machine, and once took more than
+// the 5 s this was, which stopped a good render with "stuck in a script?".
+constexpr double kStuckSeconds = 60;
 
 class SceneWatchdog {
  public:
@@ -87,7 +89,7 @@ class SceneWatchdog {
     std::unique_lock lock(mutex_);
     while (!stop_) {
       if (armed_ && std::chrono::duration<double>(std::chrono::steady_clock::now() - since_).count() > kStuckSeconds) {
-        print_problem("arwb render: %s has not returned after %g s (stuck in a script?); stopping\n",
+        print_problem("arwb render: %s has not returned after %g s (stuck in a script or a library call?); stopping\n",
                      what_.c_str(), kStuckSeconds);
         std::fflush(stdout);
         std::fflush(stderr);
