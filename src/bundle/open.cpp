@@ -137,17 +137,21 @@ Status check_meaning(const Manifest& m) {
   return {};
 }
 
+// A reader's message about a file of the private copy, with the copy's folder taken out: the bundle's own path,
+// which the caller puts first, says more ("scene/scene.lua:3: ..." rather than "/tmp/arwb-bundle-X/scene/...").
+std::string without_copy_folder(std::string text, const fs::path& dir) {
+  const std::string prefix = dir.string() + "/";
+  for (size_t at = text.find(prefix); at != std::string::npos; at = text.find(prefix)) text.erase(at, prefix.size());
+  return text;
+}
+
 // The scene, loaded as the player loads it (offline, from the copy): its dictionary and the markers it maps must be
 // the manifest's, which the player's synthetic source shows. A manifest edited to list others is refused, naming
 // the first id that differs.
 Status check_scene(const std::filesystem::path& dir, const Manifest& m) {
   SceneStage stage(media::StoreMode::offline);
-  if (!stage.load((dir / m.scene).string())) {
-    std::string why = stage.status().error;
-    const std::string prefix = dir.string() + "/";
-    for (size_t at = why.find(prefix); at != std::string::npos; at = why.find(prefix)) why.erase(at, prefix.size());
-    return bad("scene", quoted_name(m.scene) + " does not load (" + why + ")");
-  }
+  if (!stage.load((dir / m.scene).string()))
+    return bad("scene", quoted_name(m.scene) + " does not load (" + without_copy_folder(stage.status().error, dir) + ")");
   if (stage.runtime().dictionary_name() != m.dictionary)
     return bad("dictionary", quoted_name(m.dictionary) + " is not the scene's (" + stage.runtime().dictionary_name() + ")");
   std::set<int> mapped;
@@ -211,14 +215,9 @@ Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& li
   // The calibration, now known to be the file that was exported, must read (with its distCoeffs.xml when it is
   // the paper's pair), as the player will read it.
   if (!m->calibration.empty())
-    if (Result<Calibration> c = read_calibration((tmp->path() / m->calibration).string()); !c) {
-      std::string why = c.error();
-      const std::string dir = tmp->path().string() + "/";
-      // The reader names the private copy; the bundle's own path says more.
-      for (size_t at = why.find(dir); at != std::string::npos; at = why.find(dir)) why.erase(at, dir.size());
+    if (Result<Calibration> c = read_calibration((tmp->path() / m->calibration).string()); !c)
       return fail(where + std::string(kManifestName) + ": calibration: " + quoted_name(m->calibration) + " does not read (" +
-                  why + ")");
-    }
+                  without_copy_folder(c.error(), tmp->path()) + ")");
   if (Status s = check_scene(tmp->path(), *m); !s) return fail(where + s.error());
   OpenedBundle b;
   b.dir_ = std::move(*tmp);

@@ -273,10 +273,10 @@ Result<Calibration> calibration_for_size(const Calibration& c, cv::Size size) {
     if (std::string why = camera_matrix_problem(out.camera_matrix); !why.empty())
       return fail(c.source + ": at " + size_text(size) + ", " + why);
   }
-  // A file that names no size is checked here, over the source's picture, the first time it meets one.
-  if (c.image_size != size)
-    if (std::string why = camera_picture_problem(out.camera_matrix, out.distortion, size); !why.empty())
-      return fail(c.source + ": " + why);
+  // Over the source's picture, whatever the reader checked: a file that names no size, and the paper's pair, whose
+  // distortion is read from the second file after the size, are first checked here.
+  if (std::string why = camera_picture_problem(out.camera_matrix, out.distortion, size); !why.empty())
+    return fail(c.source + ": " + why);
   return out;
 }
 

@@ -342,5 +342,21 @@ TEST(CalibrationFile, ScalesToASourceOfTheSameAspectRatioAndRefusesAnother) {
             dir.str("hd.xml") + ": made for 1280x720 (16:9), the source is 640x480 (4:3); calibrate at this size");
 }
 
+// The rule holds at the source's size even when the size is the file's own: the paper's pair reads its distortion
+// from distCoeffs.xml after the camera file's size, so the reader alone never sees the two together.
+TEST(CalibrationFile, TheCameraRuleHoldsAtTheFilesOwnSizeToo) {
+  Calibration c;
+  c.camera_matrix = cv::Matx33d(560, 0, 322, 0, 555, 236, 0, 0, 1);
+  c.distortion = {-0.25, 0.08, 0, 0, 0, 1e6, 0, 0};
+  c.image_size = {640, 480};
+  c.source = "cameraMatrix.xml + distCoeffs.xml";
+  const Result<Calibration> r = calibration_for_size(c, {640, 480});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().rfind("cameraMatrix.xml + distCoeffs.xml: its distortion cannot be undone at pixel (0, 0) of a "
+                            "640x480 picture", 0), 0u) << r.error();
+  c.distortion = {-0.25, 0.08, 0, 0, 0};
+  EXPECT_TRUE(calibration_for_size(c, {640, 480}).ok());
+}
+
 }  // namespace
 }  // namespace arwb
