@@ -470,8 +470,8 @@ void status_line(Context& ctx, const ImageMapping& m) {
   int accepted = static_cast<int>(t.markers.size());
   // In parts that wrap (flow) in a narrow region; draw_live_view leaves room for status_lines() lines.
   char part[96];
-  std::snprintf(part, sizeof part, "frame %llu  %dx%d  %.0f%%", static_cast<unsigned long long>(f.index), f.image.cols,
-                f.image.rows, static_cast<double>(m.zoom) * 100.0);
+  std::snprintf(part, sizeof part, "%s  %dx%d  %.0f%%", frame_label(f).c_str(), f.image.cols, f.image.rows,
+                static_cast<double>(m.zoom) * 100.0);
   ImGui::TextUnformatted(part);
   std::snprintf(part, sizeof part, "%d markers, %zu candidates", accepted, t.candidates.size());
   flow(text_width(part));
@@ -517,8 +517,7 @@ void draw_live_view(Context& ctx) {
   // The lines status_line's three parts take when they wrap as flow() wraps them (the zoom at its widest).
   float lines = 1, x = 0;
   char parts[3][96];
-  std::snprintf(parts[0], sizeof parts[0], "frame %llu  %dx%d  0000%%", static_cast<unsigned long long>(f.index),
-                f.image.cols, f.image.rows);
+  std::snprintf(parts[0], sizeof parts[0], "%s  %dx%d  0000%%", frame_label(f).c_str(), f.image.cols, f.image.rows);
   std::snprintf(parts[1], sizeof parts[1], "%zu markers, %zu candidates", f.trace.markers.size(), f.trace.candidates.size());
   detect_part(f, parts[2], sizeof parts[2]);
   for (const char* part : parts) {

@@ -24,7 +24,14 @@ void section(const char* title) {
 }
 
 constexpr const char* kResolutions[] = {"device default", "640x480", "1280x720", "1920x1080"};
-constexpr const char* kSizes[] = {"320x240", "640x480", "800x600", "1280x720", "1920x1080"};
+// A width keeps the source's aspect (the height follows); two sides are exact, and squash another aspect.
+const cv::Size kSizes[] = {{320, 0}, {640, 0}, {800, 0}, {1280, 0}, {1920, 0}, {640, 480}, {1280, 720}};
+
+void size_label(cv::Size s, char* out, size_t n) {
+  if (s.height == 0) std::snprintf(out, n, "%d wide", s.width);
+  else if (s.width == 0) std::snprintf(out, n, "%d high", s.height);
+  else std::snprintf(out, n, "%dx%d exactly", s.width, s.height);
+}
 
 void source_choice(Context& ctx, SourceViewState& st) {
   const SourceSpec& now = ctx.status.source;
@@ -114,23 +121,31 @@ void acquisition(Context& ctx) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Frames taken from the source per second (the paper uses 20). 0: no cap.");
   ImGui::Checkbox("resize", &a.resize);
   flow(130 * ctx.scale);
-  char cur[32];
-  std::snprintf(cur, sizeof cur, "%dx%d", a.size.width, a.size.height);
+  char cur[48];
+  size_label(a.size, cur, sizeof cur);
   ImGui::SetNextItemWidth(130 * ctx.scale);
   if (ImGui::BeginCombo("##size", cur)) {
-    for (const char* s : kSizes) {
-      int w = 0, h = 0;
-      std::sscanf(s, "%dx%d", &w, &h);
-      if (ImGui::Selectable(s, w == a.size.width && h == a.size.height)) a.size = {w, h};
+    for (const cv::Size s : kSizes) {
+      size_label(s, cur, sizeof cur);
+      if (ImGui::Selectable(cur, s == a.size)) a.size = s;
     }
     ImGui::EndCombo();
   }
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("A width keeps the source's aspect; WxH exactly squashes a source of another aspect.");
   if (ctx.frame) {
     const SourceInfo& i = ctx.frame->source;
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    const cv::Size work = ctx.frame->image.size();
     ImGui::TextWrapped("source %dx%d%s -> working %dx%d", i.size.width, i.size.height,
                         i.native_fps > 0 ? (" at " + std::to_string(static_cast<int>(i.native_fps)) + " fps").c_str() : "",
-                        ctx.frame->image.cols, ctx.frame->image.rows);
+                        work.width, work.height);
+    // Said, not left to be noticed: markers, poses and calibrations of a squashed picture are squashed too.
+    if (i.size.area() > 0 && work.area() > 0) {
+      const double from = double(i.size.width) / i.size.height, to = double(work.width) / work.height;
+      if (std::abs(to / from - 1) > 0.01)
+        ImGui::TextWrapped("squashed: aspect %.2f -> %.2f; choose a width to keep the source's", from, to);
+    }
     ImGui::PopStyleColor();
   }
 }

@@ -90,7 +90,10 @@ void App::carry_out(const ui::Request& request) {
           [&](const ClickLiveView& r) { click_live_view(r.at); },
           // Sources and frames.
           [&](const OpenSource& r) { open_source(r); },
-          [&](const StepFrames& r) { engine->step(r.by); },
+          [&](const StepFrames& r) {
+            settings.playback.playing = false;   // a step pauses the video (FrameSource::step): the button says Play
+            engine->step(r.by);
+          },
           [&](const Seek& r) { engine->seek(r.position); },
           [&](const NextFrame& r) { r.wait ? next_frame_shown() : void(engine->next_frame()); },
           [&](const Freeze& r) { settings.frozen = r.on; },

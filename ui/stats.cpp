@@ -272,6 +272,9 @@ std::string stats_json(App& app, double elapsed, uint64_t detected) {
                  {"shortened", lr.shortened}, {"overlaps", lr.overlaps},     {"on_corners", lr.on_corners},
                  {"boxes", lr.boxes}};
   s["source"] = app.engine->source().text();
+  s["frame_label"] = app.frame ? frame_label(*app.frame) : "";   // the live view's
+  s["source_position"] = app.frame ? app.frame->source.position : -1;   // the Source panel slider's
+  s["working_size"] = app.frame ? std::to_string(app.frame->image.cols) + "x" + std::to_string(app.frame->image.rows) : "";
   s["synthetic_board"] = app.settings.synthetic.board;   // what the synthetic source shows: "" markers, or a board
   s["problems"] = app.log.problems();
   if (app.view.has_region) s["why"] = why_stats(app);

@@ -10,12 +10,11 @@
 namespace arwb {
 
 // The source's next frame, shown: two steps a few frames apart had reached the worker as one. A video or folder
-// steps to the frame after the one shown (Next frame in the window takes what a playing video's clock has reached:
-// possibly none yet); other sources give their next frame, and a still image none.
+// steps to the frame after the one shown (the worker's next_frame), other sources give their next frame, and a
+// still image none.
 void App::next_frame_shown() {
   forward_settings();   // a freeze of this same frame reaches the worker first
-  const bool stepped = frame && (frame->source.kind == SourceKind::video || frame->source.kind == SourceKind::folder);
-  const uint64_t ticket = stepped ? engine->step(1) : engine->next_frame();
+  const uint64_t ticket = engine->next_frame();
   const auto end = Clock::now() + std::chrono::seconds(2);
   while (engine->served() < ticket && engine->running() && Clock::now() < end)
     std::this_thread::sleep_for(std::chrono::milliseconds(2));

@@ -6,14 +6,15 @@
 
 namespace arwb {
 
-// The paper's acquisition step: an fps cap and a resize (20 fps and 640x480 by default). It is the only resize before detection: whoever pulls
-// frames applies the cap, and the detector applies the resize as its `acquisition` stage (detect/detector.hpp),
-// so the trace times it.
+// The paper's acquisition step: an fps cap and a resize (20 fps, and the paper's 640 pixels across by default, the
+// height following the source's aspect: a 16:9 picture squashed into 640x480 shows its markers squashed, and
+// loses some). It is the only resize before detection: whoever pulls frames applies the cap, and the detector
+// applies the resize as its `acquisition` stage (detect/detector.hpp), so the trace times it.
 struct AcquisitionSettings {
   double fps_cap = 20;           // frames per second taken from the source; 0 = as fast as it gives them
   bool resize = true;
-  cv::Size size{640, 480};       // the working size when resize is on (aspect is not kept, as in the paper);
-                                 // a side of 0 follows the frame's aspect, both 0 keep the frame's size
+  cv::Size size{640, 0};         // the working size when resize is on; a side of 0 follows the frame's aspect,
+                                 // both 0 keep the frame's size; two sides are exact (aspect not kept)
   bool operator==(const AcquisitionSettings&) const = default;
 };
 

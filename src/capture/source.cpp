@@ -104,7 +104,10 @@ class VideoSource : public FrameSource {
     return i;
   }
 
-  void set_playback(const Playback& p) override { pb_ = clamped(p); }
+  void set_playback(const Playback& p) override {
+    if (p.playing && !pb_.playing) have_last_ = false;   // a pause ends where it began: its time is not played
+    pb_ = clamped(p);
+  }
   void step(int delta) override {
     pb_.playing = false;
     want_ = std::max(0, want_.value_or(pos_) + delta);
@@ -237,7 +240,10 @@ class FolderSource : public FrameSource {
     i.item = file_name(files_[size_t(pos_)]);
     return i;
   }
-  void set_playback(const Playback& p) override { pb_ = clamped(p); }
+  void set_playback(const Playback& p) override {
+    if (p.playing && !pb_.playing) have_last_ = false;   // a pause ends where it began: its time is not played
+    pb_ = clamped(p);
+  }
   void step(int delta) override { want_ = want_.value_or(pos_) + delta; }
   void seek(int position) override { want_ = std::clamp(position, 0, int(files_.size()) - 1); }
 

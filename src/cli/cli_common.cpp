@@ -260,6 +260,32 @@ CLI::Validator frame_size(cv::Size lo, cv::Size hi, std::string word) {
       range);
 }
 
+CLI::Validator resize_value() {
+  return CLI::Validator(
+      [](std::string& t) {
+        const CLI::Validator width = whole_number(16, 8192), size = frame_size({16, 16}, {8192, 8192}, "off");
+        if (width(t).empty() || size(t).empty()) return std::string();
+        return std::string("expected a width W in 16..8192, WxH between 16x16 and 8192x8192, or off");
+      },
+      "16..8192 or 16x16..8192x8192 or off");
+}
+
+CLI::Option* add_resize_option(CLI::App& app, std::string& text) {
+  return app
+      .add_option("--resize", text,
+                  "the size each frame is resized to before detection: W (that width, the height from the source's "
+                  "aspect), WxH (exactly, aspect not kept), or off (the source's own size)")
+      ->type_name("W|WxH|off")
+      ->check(resize_value());
+}
+
+void apply_resize_option(const std::string& text, AcquisitionSettings& a) {
+  a.resize = text != "off";
+  if (!a.resize) return;
+  if (const auto size = parse_frame_size(text)) a.size = *size;
+  else a.size = {std::stoi(text), 0};   // checked: a width
+}
+
 void print_problem(const char* format, ...) {
   va_list args;
   va_start(args, format);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "calibration/board.hpp"
+#include "capture/acquisition.hpp"
 #include "detect/dictionary.hpp"
 #include "detect/params.hpp"
 
@@ -48,6 +49,13 @@ CLI::Validator real_number(double lo, double hi);                 // "expected a
 CLI::Validator frame_size(cv::Size lo, cv::Size hi, std::string word = "");
 // "640x480" as a size; nullopt unless the whole text is WxH of positive whole numbers.
 std::optional<cv::Size> parse_frame_size(std::string_view text);
+
+// --resize W|WxH|off, the acquisition's resize, declared once for every command that detects frames: W gives that
+// width and the height of the source's aspect, WxH exactly that size (a picture of another aspect is squashed), off
+// the source's own size. `text` holds the default and then what was given; apply_resize_option sets `a` from it.
+CLI::Option* add_resize_option(CLI::App& app, std::string& text);
+CLI::Validator resize_value();   // what --resize accepts, for an option of another name that means the same
+void apply_resize_option(const std::string& text, AcquisitionSettings& a);   // text as checked by the option
 
 // Prints one line to stderr, formatted as printf does, with control characters escaped (base/text's printable):
 // every problem the command line reports goes through here, so a file name holding "\x1B[31m", "\r" or a newline

@@ -106,19 +106,22 @@ std::vector<cv::Point2f> undistorted(const Calibration& c, const Marker& m) {
 // a still image.
 void report(Output& out, const std::string& source, int frame, const cv::Mat& image, const Detector& det,
             int threads, VideoSearch* video = nullptr) {
+  // The markers' pixels are the image's, also when --resize detected them at another size (`work`).
+  const cv::Size size = image.size(), work = acquisition_size(size, det.acquisition());
   const Calibration* calib = nullptr;
-  if (out.calib && !(calib = calibration_for(out, source, image.size()))) return;
+  if (out.calib && !(calib = calibration_for(out, source, size))) return;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Marker> markers =
       video ? video->detect(det, image, nullptr, TraceLevel::off, threads) : det.detect(image, nullptr, TraceLevel::off, threads);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ++out.frames;
-  const Calibration camera = calib ? *calib : default_calibration(image.size());
+  const Calibration camera = calib ? *calib : default_calibration(size);
   const std::vector<std::optional<MarkerPose>> poses = poses_of(out, markers, camera, frame > 0);
   if (out.json) {
     using Json = nlohmann::ordered_json;
-    Json line = {{"source", source}, {"frame", frame}, {"width", image.cols}, {"height", image.rows},
+    Json line = {{"source", source}, {"frame", frame}, {"width", size.width}, {"height", size.height},
                  {"ms", round_decimals(ms, 3)}, {"markers", Json::array()}};
+    if (work != size) line["detected_at"] = {work.width, work.height};
     for (size_t i = 0; i < markers.size(); ++i) {
       const Marker& m = markers[i];
       Json corners = Json::array();
@@ -137,8 +140,9 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
   } else {
     std::printf("%s", source.c_str());
     if (frame > 0 || source.empty()) std::printf(" frame %d", frame);
-    std::printf(": %zu marker%s (%dx%d, %.2f ms)\n", markers.size(), markers.size() == 1 ? "" : "s", image.cols,
-                image.rows, ms);
+    std::printf(": %zu marker%s (%dx%d", markers.size(), markers.size() == 1 ? "" : "s", size.width, size.height);
+    if (work != size) std::printf(", detected at %dx%d", work.width, work.height);
+    std::printf(", %.2f ms)\n", ms);
     for (size_t i = 0; i < markers.size(); ++i) {
       const Marker& m = markers[i];
       std::printf("  id %d %s hamming %d corners", m.id, m.dict.c_str(), m.hamming);
@@ -220,7 +224,7 @@ int cmd_detect(int argc, char** argv) {
                  "Problems with one PATH are reported on stderr and the others still processed; the exit status is "
                  "non-zero only when no frame could be processed.");
   Output out;
-  std::string dict_arg = "ARUCO_ORIGINAL", params_path, calib_path;
+  std::string dict_arg = "ARUCO_ORIGINAL", params_path, calib_path, resize = "off";
   int threads = 1;
   std::vector<std::string> paths;
   cl.app.add_option("PATH", paths, "an image, a folder of images or a video")->required();
@@ -243,6 +247,7 @@ int cmd_detect(int argc, char** argv) {
                     "marked assumed")
       ->type_name("L")
       ->check(real_number(0.0001, 100000));
+  add_resize_option(cl.app, resize);
   cl.app.add_option("--threads", threads, "threads for the detector")->type_name("N")->check(whole_number(1, 64));
   cl.app.add_flag("--json", out.json,
                   "one line per frame: {\"source\",\"frame\",\"width\",\"height\",\"ms\",\"markers\":[...]}");
@@ -258,7 +263,10 @@ int cmd_detect(int argc, char** argv) {
     out.calib = std::move(*c);
   }
   cv::setNumThreads(threads);
-  const Detector det(std::move(*dicts), params);
+  Detector det(std::move(*dicts), params);
+  AcquisitionSettings acquisition{.fps_cap = 0};
+  apply_resize_option(resize, acquisition);
+  det.set_acquisition(acquisition);
 
   for (const std::string& path : paths) {
     switch (classify_path(path)) {

@@ -32,19 +32,7 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&),
                     "what to show (default: the first camera, else the synthetic source showing the bundle's own "
                     "markers)")
       ->type_name("camera:N[@WxH]|VIDEO|DIR|IMAGE|synthetic");
-  // The paper's working width, but the source's own aspect: a 16:9 camera squashed into 640x480 would show its
-  // media and everything else squashed too (the workbench keeps the paper's 640x480, for comparing with it).
-  cl.app.add_option("--resize", resize,
-                    "the size every frame is resized to before detection: W (that width, the height from the "
-                    "source's aspect), WxH (exactly, aspect not kept), or off (the source's own size)")
-      ->type_name("W|WxH|off")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            const CLI::Validator width = whole_number(16, 8192), size = frame_size({16, 16}, {8192, 8192}, "off");
-            if (width(text).empty() || size(text).empty()) return std::string();
-            return std::string("expected a width W in 16..8192, WxH between 16x16 and 8192x8192, or off");
-          },
-          "16..8192 or 16x16..8192x8192 or off"));
+  add_resize_option(cl.app, resize);
   cl.app.add_flag("--fullscreen", o.fullscreen, "full screen on the primary monitor, at its own resolution");
   cl.app.add_option("--window", window, "the window's size when not full screen")
       ->type_name("WxH")
@@ -83,13 +71,7 @@ int cmd_play(int argc, char** argv, int (*run)(const PlayerOptions&),
   std::string err;
   if (!parse_source_or_default(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
   o.window = *parse_frame_size(window);  // checked by frame_size
-  if (resize == "off") {
-    o.engine.acquisition.resize = false;
-  } else if (const auto size = parse_frame_size(resize)) {
-    o.engine.acquisition.size = *size;
-  } else {
-    o.engine.acquisition.size = {std::stoi(resize), 0};  // checked: a width
-  }
+  apply_resize_option(resize, o.engine.acquisition);
   o.engine.scene_file = opened->scene_path();
   o.engine.calibration_file = opened->calibration_path();
   if (!m.dictionary.empty()) o.engine.dictionaries = {m.dictionary};

@@ -109,7 +109,7 @@ class SceneWatchdog {
 
 // What the command line asked for.
 struct RenderArgs {
-  std::string scene_file, input, out, size_text, dict_opt, params_file, calib_file;
+  std::string scene_file, input, out, resize = "off", dict_opt, params_file, calib_file;
   int max_frames = 0, samples = 4;
   double fps_opt = 0, marker_size = 0;
   bool force = false;
@@ -132,10 +132,8 @@ void declare_options(CLI::App& app, RenderArgs& a) {
   app.add_option("--fps", a.fps_opt, "the scene's clock and the video's rate; 0: the input video's, else 20")
       ->type_name("F")
       ->check(real_number(0, 1000));
-  app.add_option("--size", a.size_text,
-                 "resize frames to WxH first, as the workbench's acquisition does (default: the input's size)")
-      ->type_name("WxH")
-      ->check(frame_size({16, 16}, {8192, 8192}));
+  add_resize_option(app, a.resize);
+  app.add_option("--size", a.resize, "the old name of --resize")->group("")->check(resize_value());
   app.add_option("--dict", a.dict_opt, "the detector's dictionaries (default: the scene's `dictionary`, else "
                                        "ARUCO_ORIGINAL)")
       ->type_name("NAME[,NAME...]");
@@ -299,13 +297,8 @@ int cmd_render(int argc, char** argv) {
   declare_options(cl.app, a);
   if (const auto status = cl.parse(argc, argv)) return *status;
   auto usage_error = [&cl](const std::string& m) { return cl.usage_error(m); };
-  AcquisitionSettings acq;
-  acq.fps_cap = 0;
-  acq.resize = false;
-  if (!a.size_text.empty()) {
-    acq.resize = true;
-    acq.size = *parse_frame_size(a.size_text);  // checked by frame_size
-  }
+  AcquisitionSettings acq{.fps_cap = 0};
+  apply_resize_option(a.resize, acq);
   SourceSpec spec;
   std::string err;
   if (!parse_source_spec(a.input, &spec, &err)) return usage_error("--input " + err);

@@ -63,7 +63,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
 
   cl.app.set_version_flag("--version", std::string("arwb ") + kVersion, "print the version and exit");
   WorkbenchOptions o;
-  std::string source, dict = "ARUCO_ORIGINAL", params, size = "1600x900", resize = "640x480", actions;
+  std::string source, dict = "ARUCO_ORIGINAL", params, size = "1600x900", resize = "640", actions;
   cl.app.add_option("--source", source,
                     "what to show (default: the first camera, else the built-in synthetic source; a camera that "
                     "fails falls back to the synthetic source, with a message)")
@@ -80,9 +80,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   cl.app.add_option("--fps-cap", o.engine.acquisition.fps_cap, "frames per second taken from the source; 0: no cap")
       ->type_name("F")
       ->check(real_number(0, 240));
-  cl.app.add_option("--resize", resize, "resize every frame to WxH before detection, or off")
-      ->type_name("WxH|off")
-      ->check(frame_size({16, 16}, {8192, 8192}, "off"));
+  add_resize_option(cl.app, resize);
   cl.app.add_flag("--presentation", o.presentation, "start in presentation mode (F5): fonts and sizes scaled to the window's height (30 px text at 1080 lines), the live view and stage large");
   cl.app.add_option("--config-dir", o.config_dir,
                     "layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)")
@@ -115,11 +113,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
   std::string err;
   if (!parse_source_or_default(source, &o.engine.source, &err)) return cl.usage_error("--source " + err);
   o.window = *parse_frame_size(size);  // checked by frame_size
-  if (resize == "off") {
-    o.engine.acquisition.resize = false;
-  } else {
-    o.engine.acquisition.size = *parse_frame_size(resize);
-  }
+  apply_resize_option(resize, o.engine.acquisition);
   if (!dictionaries_option(dict, "arwb")) return 2;
   o.engine.dictionaries.clear();
   for (size_t start = 0; start <= dict.size();) {

@@ -41,14 +41,14 @@ class Detector {
   void set_params(const DetectorParams& p) { params_ = p; }
   const std::vector<Dictionary>& dictionaries() const { return dictionaries_; }
   // The acquisition step's resize (its fps cap is for whoever pulls frames). Off until set: the frame is
-  // detected at its own size, as `arwb detect` and `arwb bench` do; the workbench and render set theirs.
+  // detected at its own size, as `arwb bench` does and `arwb detect` unless given --resize.
   const AcquisitionSettings& acquisition() const { return acquisition_; }
   void set_acquisition(const AcquisitionSettings& a) { acquisition_ = a; }
 
  private:
   std::vector<Dictionary> dictionaries_;
   DetectorParams params_;
-  AcquisitionSettings acquisition_{.fps_cap = 0, .resize = false, .size = {640, 480}};
+  AcquisitionSettings acquisition_{.fps_cap = 0, .resize = false};
 };
 
 }  // namespace arwb

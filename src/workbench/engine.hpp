@@ -79,7 +79,7 @@ class Engine {
   void seek(int position);
   void set_synthetic(const SyntheticControls& c);
   void set_frozen(bool frozen);
-  uint64_t next_frame();                     // while frozen: take one new frame
+  uint64_t next_frame();   // while frozen: one new frame; a video or folder's is the one after the frame shown
   uint64_t served() const;
   bool running() const;   // the worker is running (started, not stopped)
   void set_peers(bool opencv, bool apriltag);

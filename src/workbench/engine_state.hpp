@@ -107,6 +107,7 @@ struct Engine::State {
   void apply_source(Pending& p);
   void apply_detector(const Pending& p);
   void apply_playback(const Pending& p);
+  Playback source_playback() const;
   void apply_scene(const Pending& p);
   void apply_calibration(const Pending& p);
   // detect_and_publish()'s parts, on the frame being made.

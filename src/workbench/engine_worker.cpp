@@ -67,7 +67,7 @@ void Engine::State::adopt(std::unique_ptr<FrameSource> src) {
   Worker& w = *worker_;
   w.source = std::move(src);
   if (!w.source) return;
-  w.source->set_playback(w.playback);
+  w.source->set_playback(source_playback());
   if (auto* syn = dynamic_cast<SyntheticSource*>(w.source.get())) {
     syn->world().set_controls(w.synthetic);
     syn->set_frame_step(w.config.synthetic_step_s);
@@ -163,33 +163,44 @@ void Engine::State::apply_detector(const Pending& p) {
   }
 }
 
+// What a file source is told to do: a freeze pauses a video or folder, which resumes from the frame shown.
+Playback Engine::State::source_playback() const {
+  Playback pb = worker_->playback;
+  pb.playing = pb.playing && !worker_->frozen;
+  return pb;
+}
+
 // Playback, steps, seeking, the synthetic world's sliders, freezing and the next frame asked for.
 void Engine::State::apply_playback(const Pending& p) {
   Worker& w = *worker_;
   if (p.playback) w.playback = *p.playback;
   if (p.synthetic) w.synthetic = *p.synthetic;
-  if (w.source) {
-    if (p.playback) w.source->set_playback(*p.playback);
-    for (int d : p.steps) {
-      w.source->step(d);
-      w.take_one = true;
-    }
-    if (p.seek) {
-      w.source->seek(*p.seek);
-      w.take_one = true;
-    }
-    if (p.seek || !p.steps.empty()) {   // the next frame does not follow the last
-      w.video.reset();
-      w.video_before.reset();
-    }
-    auto* syn = dynamic_cast<SyntheticSource*>(w.source.get());
-    if (p.synthetic && syn) {
-      syn->world().set_controls(*p.synthetic);
-      if (w.frozen) w.take_one = true;   // a frozen synthetic source still shows the new slider values
-    }
-  }
   if (p.frozen) w.frozen = *p.frozen;
-  if (p.next_frame) w.take_one = true;
+  if (!w.source) return;
+  if (p.playback || p.frozen) w.source->set_playback(source_playback());
+  for (int d : p.steps) {
+    w.source->step(d);
+    w.take_one = true;
+  }
+  if (p.seek) {
+    w.source->seek(*p.seek);
+    w.take_one = true;
+  }
+  if (p.seek || !p.steps.empty()) {   // the next frame does not follow the last
+    w.video.reset();
+    w.video_before.reset();
+  }
+  auto* syn = dynamic_cast<SyntheticSource*>(w.source.get());
+  if (p.synthetic && syn) {
+    syn->world().set_controls(*p.synthetic);
+    if (w.frozen) w.take_one = true;   // a frozen synthetic source still shows the new slider values
+  }
+  if (p.next_frame) {
+    // A video or folder shows the frame after the one shown, not the one a playing video's clock has reached
+    // meanwhile (which showed frame 25 after frame 2).
+    if (w.info.kind == SourceKind::video || w.info.kind == SourceKind::folder) w.source->step(1);
+    w.take_one = true;
+  }
 }
 
 void Engine::State::apply_scene(const Pending& p) {

@@ -84,4 +84,12 @@ struct Frame {
   std::string undistorted_by;
 };
 
+// What the window calls the frame: a video's or folder's own number, as its slider says it ("frame 2", "image 2";
+// the published count would say 25), else the count of frames published ("frame 25").
+inline std::string frame_label(const Frame& f) {
+  if (f.source.kind == SourceKind::video) return "frame " + std::to_string(f.source.position);
+  if (f.source.kind == SourceKind::folder) return "image " + std::to_string(f.source.position);
+  return "frame " + std::to_string(f.index);
+}
+
 }  // namespace arwb

@@ -3,6 +3,7 @@
 // once, counted as what could be decoded. Videos are written here with cv::VideoWriter, frame i showing i in
 // stripes, so a test can tell which frame it got.
 #include "capture/video_reader.hpp"
+#include "support/numbered_video.hpp"
 #include "support/support.hpp"
 
 #include <gtest/gtest.h>
@@ -23,27 +24,12 @@ using test::write_file;
 constexpr int kFrames = 40;
 constexpr double kFps = 10;
 const cv::Size kSize(64, 48);
-constexpr int kBits = 6, kStripe = 10;  // frame i: stripe b white when bit b of i is set (survives lossy codecs)
 
 bool write_grey_video(const std::string& path, const char (&fourcc)[5], int frames) {
-  cv::VideoWriter w(path, cv::CAP_FFMPEG, cv::VideoWriter::fourcc(fourcc[0], fourcc[1], fourcc[2], fourcc[3]), kFps,
-                    kSize);
-  if (!w.isOpened()) return false;
-  for (int i = 0; i < frames; ++i) {
-    cv::Mat m(kSize, CV_8UC3, cv::Scalar::all(0));
-    for (int bit = 0; bit < kBits; ++bit)
-      if (i >> bit & 1) m(cv::Rect(bit * kStripe, 0, kStripe, kSize.height)).setTo(cv::Scalar::all(255));
-    w.write(m);
-  }
-  return true;
+  return test::write_numbered_video(path, fourcc, frames, kSize, kFps);
 }
 
-int frame_index(const cv::Mat& m) {
-  int i = 0;
-  for (int bit = 0; bit < kBits; ++bit)
-    if (cv::mean(m(cv::Rect(bit * kStripe + 3, 8, kStripe - 6, kSize.height - 16)))[0] > 128) i |= 1 << bit;
-  return i;
-}
+int frame_index(const cv::Mat& m) { return test::numbered_frame(m); }
 
 // A copy of `whole` cut to half its bytes.
 std::string cut_in_half(const TempDir& dir, const std::string& whole, const std::string& name) {

@@ -170,7 +170,7 @@ TEST(CommandLine, TopLevelHelpListsSubcommandsAndWorkbenchOptions) {
   EXPECT_TRUE(r.err.empty()) << r.err;
   for (const char* s : {"usage: arwb [options]", "subcommands", "  detect ", "  markers ", "  synth ", "  bench ",
                         "  make-media ", "  render ", "--source synthetic|camera:N[@WxH]|PATH", "--frames N",
-                        "--fps-cap F", "(0..240; default 20)", "--resize WxH|off", "--actions STEPS", "Keys:"})
+                        "--fps-cap F", "(0..240; default 20)", "--resize W|WxH|off", "default 640", "--actions STEPS", "Keys:"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s << "\n" << r.out;
   EXPECT_EQ(run_arwb("-h").out, r.out);
   const auto bad = run_arwb("--fps-cap 500");

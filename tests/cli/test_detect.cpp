@@ -98,6 +98,27 @@ TEST(CliDetect, TextOutputThreadsAndDictionaryNames) {
   EXPECT_EQ(a, b);
 }
 
+// --resize detects at the workbench's working size; the corners stay in the image's pixels, and the line says the
+// size it was detected at.
+TEST(CliDetect, ResizeDetectsAtTheWorkingSizeAndGivesTheImagesPixels) {
+  test::TempDir dir;
+  const auto truth = write_scene(dir.str("scene.png"));
+  const auto text = run_arwb("detect --resize 480 " + q(dir.str("scene.png")));
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find(": 2 markers (640x480, detected at 480x360, "), std::string::npos) << text.out;
+  const auto r = run_arwb("detect --json --resize 480 " + q(dir.str("scene.png")));
+  Json j = parse(r.out);
+  EXPECT_EQ(j["width"], 640);
+  EXPECT_EQ(j["detected_at"], Json::array({480, 360})) << r.out;
+  ASSERT_EQ(j["markers"].size(), 2u) << r.out;
+  for (size_t k = 0; k < 2; ++k)
+    for (size_t c = 0; c < 4; ++c)
+      EXPECT_NEAR(j["markers"][k]["corners"][c][0].get<double>(), truth[k].corners[c].x, 1.0) << k << " " << c;
+  const auto bad = run_arwb("detect --resize 9x " + q(dir.str("scene.png")));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--resize 9x: expected a width W in 16..8192"), std::string::npos) << bad.err;
+}
+
 TEST(CliDetect, FolderInNameOrderAndSynthTruthAgrees) {
   test::TempDir dir;
   const auto s = run_arwb("synth --out " + q(dir.str("set")) + " --count 4 --seed 3 --size 640x480");

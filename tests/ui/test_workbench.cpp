@@ -120,7 +120,8 @@ TEST(Workbench, SwitchesPanelsAndSourcesWhileRunning) {
     for (int i = 0; i < 30; ++i) w.write(marker_image(9, 100 + 2 * i));
   }
   const std::string actions = "5:open=all;10:source=" + tmp.str("one.png") + ";35:stage=otsu;40:source=" +
-                              tmp.str("folder") + ";70:close=all;71:open=live_view;75:source=" + tmp.str("clip.avi");
+                              tmp.str("folder") + ";70:close=all;71:open=live_view;75:source=" + tmp.str("clip.avi") +
+                              ";90:freeze;95:next;100:next";
   const RunResult r = test::run_arwb_window(window_args(
       tmp, "--frames 110 --verbose --stats --screenshot '" + tmp.str("shot.png") + "' --actions '" + actions + "'"));
   ASSERT_EQ(r.status, 0) << r.err;
@@ -129,6 +130,9 @@ TEST(Workbench, SwitchesPanelsAndSourcesWhileRunning) {
   EXPECT_EQ(stat_text(r.out, "source"), tmp.str("clip.avi")) << r.out;
   EXPECT_EQ(stat(r.out, "problems"), 0) << r.err;
   EXPECT_EQ(stat(r.out, "markers"), 1) << r.out;   // the video's marker, id 9
+  // The live view's label and the Source panel's slider name the same frame of the video.
+  EXPECT_EQ(stat_text(r.out, "frame_label"), "frame " + std::to_string(int(stat(r.out, "source_position")))) << r.out;
+  EXPECT_EQ(stat_text(r.out, "working_size"), "640x480") << r.out;
   EXPECT_GT(green_pixels(cv::imread(tmp.str("shot.png")), kLiveView), 100);
 }
 

@@ -3,6 +3,7 @@
 // goes away while running.
 #include "workbench/engine.hpp"
 #include "synth/synth.hpp"
+#include "support/numbered_video.hpp"
 #include "support/support.hpp"
 
 #include <gtest/gtest.h>
@@ -237,6 +238,72 @@ TEST(Engine, FallsBackToTheSyntheticSceneWhenTheFolderGoes) {
   f = e.wait_newer(e.latest()->index, 5.0);
   ASSERT_TRUE(f);
   EXPECT_EQ(f->source.kind, SourceKind::synthetic);
+}
+
+// Next frame on a frozen, playing video shows the frame after the one shown, whatever its clock has reached
+// meanwhile, and the frame's source position is the picture's number; it plays on from there when unfrozen.
+class FrozenVideo : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FrozenVideo, NextFrameIsTheFrameAfterTheOneShown) {
+  test::TempDir tmp;
+  const std::string ext = GetParam(), path = tmp.str("clip." + ext);
+  if (!test::write_numbered_video(path, ext == "avi" ? "MJPG" : "mp4v", 60, {128, 96}, 25))
+    GTEST_SKIP() << "no writer for " << ext << " in this OpenCV";
+  EngineConfig c = synthetic_config();
+  c.source.kind = SourceKind::video;
+  c.source.path = path;
+  Logged log;
+  Engine e(c, log.fn());
+  e.start();
+  auto f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  for (int i = 0; i < 100 && f->source.position < 3; ++i) f = e.wait_newer(f->index, 1.0);   // playing
+  e.set_frozen(true);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));   // a frame in flight lands
+  f = e.latest();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));   // the clock would pass 12 frames
+  for (int k = 0; k < 3; ++k) {
+    const int shown = f->source.position;
+    EXPECT_EQ(test::numbered_frame(f->image), shown);
+    const uint64_t ticket = e.next_frame();
+    for (int i = 0; i < 500 && e.served() < ticket; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    f = e.latest();
+    EXPECT_EQ(f->source.position, shown + 1);
+    EXPECT_EQ(test::numbered_frame(f->image), shown + 1) << "the picture is the frame its position says";
+    EXPECT_EQ(frame_label(*f), "frame " + std::to_string(shown + 1));
+  }
+  const int held = f->source.position;
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));   // frozen longer than the gap a clock skips
+  e.set_frozen(false);
+  f = e.wait_newer(f->index, 5.0);
+  ASSERT_TRUE(f);
+  EXPECT_GT(f->source.position, held) << "it plays on";
+  EXPECT_LT(f->source.position, held + 15) << "from where it was, not from where its clock ran to";
+}
+
+INSTANTIATE_TEST_SUITE_P(Containers, FrozenVideo, ::testing::Values("mp4", "avi"));
+
+// Acquisition's default resize keeps the source's aspect: a 799x533 photograph is worked at 640x427, not
+// squashed into 640x480, and its markers are those the detector finds in the whole picture.
+TEST(Engine, TheDefaultResizeKeepsTheSourcesAspect) {
+  test::TempDir tmp;
+  const Dictionary d = make_aruco_original();
+  cv::Mat photo(533, 799, CV_8UC3, cv::Scalar::all(225));
+  for (int i = 0; i < 12; ++i)
+    draw_marker(photo, d, 100 + i, project_square({70.0 + 130 * (i % 6), 150.0 + 230 * (i / 6)}, 70, 8.0 * i, 0, 0, 800));
+  cv::imwrite(tmp.str("photo.png"), photo);
+  EngineConfig c = synthetic_config();
+  c.source.kind = SourceKind::image;
+  c.source.path = tmp.str("photo.png");
+  Logged log;
+  Engine e(c, log.fn());
+  e.start();
+  const auto f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->image.size(), cv::Size(640, 427));
+  const Detector whole({d}, DetectorParams{});
+  EXPECT_EQ(whole.detect(photo, nullptr, TraceLevel::off, 1).size(), 12u);
+  EXPECT_EQ(f->trace.markers.size(), 12u);
 }
 
 // Acquisition's resize is the detector's first stage: a 1280x960 image becomes the 640x480 working frame, the
