@@ -7,6 +7,7 @@
 //   Dialogs      drawn each frame after the panels: the browsers, the unsaved-edits question, the marker sheet
 //                dialog, the Help windows
 #include "ui/app.hpp"
+#include "ui/help_text.hpp"
 
 #include "base/files.hpp"
 #include "base/text.hpp"
@@ -18,6 +19,8 @@
 #include <imgui.h>
 #include <lua.hpp>
 #include <opencv2/core/version.hpp>
+
+#include <span>
 
 #include <algorithm>
 #include <cctype>
@@ -203,25 +206,6 @@ void App::feed_typing() {
 // [SECTION] Help
 namespace {
 
-struct Shortcut {
-  const char* keys;
-  const char* what;
-};
-constexpr Shortcut kShortcuts[] = {
-    {"S", "snapshot: the frame, every stage's image and the trace"},
-    {"Space", "freeze / unfreeze the frame"},
-    {"N", "next frame (when frozen)"},
-    {"T", "the guided tour"},
-    {"F5", "presentation mode"},
-    {"Ctrl+Z", "undo a parameter, preset or dictionary change"},
-    {"Ctrl+Shift+Z", "redo"},
-    {"Ctrl+S", "save the scene file (Script editor)"},
-    {"Ctrl+Q", "quit (asks first when the Script editor has unsaved edits)"},
-    {"Enter", "in a path field: open what is typed"},
-    {"Ctrl+click", "a slider: type a value"},
-    {"Wheel, right-drag", "zoom and pan an image; right double-click fits it"},
-};
-
 // `shift` in screen pixels from the centre, so the Help windows opened together do not hide each other.
 void centred_window(const char* title, bool* open, ImVec2 size, ImVec2 shift) {
   const ImGuiViewport* vp = ImGui::GetMainViewport();
@@ -230,41 +214,12 @@ void centred_window(const char* title, bool* open, ImVec2 size, ImVec2 shift) {
   ImGui::Begin(title, open, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
 }
 
-void first_steps_page(const char* const lines[], size_t n) {
-  for (size_t i = 0; i < n; ++i) {
+void first_steps_page(std::span<const char* const> lines) {
+  for (const char* line : lines) {
     ImGui::Bullet();
-    ImGui::TextWrapped("%s", lines[i]);
+    ImGui::TextWrapped("%s", line);
   }
 }
-
-constexpr const char* kDeveloper[] = {
-    "The live view outlines every marker found in green and every rejected candidate in the colour of the stage "
-    "that dropped it.",
-    "Pipeline shows each stage's image; click one to see it large with the live view's zoom.",
-    "Candidates lists every candidate and its fate; click a row and the Inspector shows its contour, frontal view, "
-    "histogram and bits.",
-    "A marker not found? Drag a rectangle over it with the region tool: the Why panel names the stage and the "
-    "parameter, and Sweep tries the parameter table there.",
-    "Parameters: every slider says what raising it trades; Ctrl+Z undoes a change, presets save your tuning.",
-    "Space freezes the frame, S writes a snapshot of every stage for a bug report.",
-};
-constexpr const char* kAuthor[] = {
-    "File > Open scene... loads a .lua scene or the paper's .xml database; or drop the file on the window.",
-    "The Scene panel lists the mappings (marker id -> media) and the markers in view; the example scenes are a "
-    "click away there.",
-    "The Script editor shows the scene file: edit, Ctrl+S saves and the scene reloads by itself; an error's line "
-    "is marked in red.",
-    "The Console shows the scene's print output and errors. docs/scene-api.md is the reference.",
-    "Print marker sheet (File menu) writes the markers your scene maps, at a true size.",
-};
-constexpr const char* kTeacher[] = {
-    "F5 (or --presentation) enlarges everything for a projector.",
-    "T starts the guided tour: it freezes the frame and walks through the pipeline one stage at a time, with the "
-    "stage's image; Next frame moves on.",
-    "The synthetic source (File menu) shows markers moving in 3D with exact truth: its sliders add blur, noise, "
-    "tilt and poor light, so a class sees each stage fail and recover.",
-    "Print marker sheet writes markers at a true size for the class to hold up to the camera.",
-};
 
 }  // namespace
 
@@ -395,7 +350,7 @@ void draw_help_windows(Dialogs& d, float scale, const std::string& config_dir) {
       ImGui::TableSetupColumn("Keys", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("Wheel, right-drag").x);
       ImGui::TableSetupColumn("What", ImGuiTableColumnFlags_WidthStretch);
       ImGui::TableHeadersRow();
-      for (const Shortcut& s : kShortcuts) {
+      for (const ui::Shortcut& s : ui::shortcuts()) {
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
         ImGui::TextUnformatted(s.keys);
@@ -410,17 +365,11 @@ void draw_help_windows(Dialogs& d, float scale, const std::string& config_dir) {
   if (d.show_first_steps) {
     centred_window("First five minutes", &d.show_first_steps, {620 * scale, 460 * scale}, {300 * scale, 0});
     if (ImGui::BeginTabBar("##who")) {
-      if (ImGui::BeginTabItem("Developer: inspect detection")) {
-        first_steps_page(kDeveloper, std::size(kDeveloper));
-        ImGui::EndTabItem();
-      }
-      if (ImGui::BeginTabItem("Author: script scenes")) {
-        first_steps_page(kAuthor, std::size(kAuthor));
-        ImGui::EndTabItem();
-      }
-      if (ImGui::BeginTabItem("Teacher")) {
-        first_steps_page(kTeacher, std::size(kTeacher));
-        ImGui::EndTabItem();
+      for (const ui::FirstStepsPage& page : ui::first_steps_pages()) {
+        if (ImGui::BeginTabItem(page.tab)) {
+          first_steps_page(page.lines);
+          ImGui::EndTabItem();
+        }
       }
       ImGui::EndTabBar();
     }

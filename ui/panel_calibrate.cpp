@@ -6,6 +6,7 @@
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
+#include "calibration/coach.hpp"
 #include "calibration/session.hpp"
 #include "detect/dictionary.hpp"
 
@@ -101,7 +102,7 @@ void toolbar(Context& ctx, const CalibrationSnapshot* s) {
   }
 }
 
-void frames_so_far(const CalibrationSnapshot& s) {
+void frames_so_far(const CalibrationSnapshot& s, SourceKind source) {
   if (!s.frame_name.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, s.verdict.keep ? kGood : (s.detection.found ? kPoor : IM_COL32(170, 170, 170, 255)));
     ImGui::TextWrapped("%s: %s", s.frame_name.c_str(), s.verdict.reason.c_str());
@@ -109,8 +110,10 @@ void frames_so_far(const CalibrationSnapshot& s) {
   }
   ImGui::TextWrapped("%d frames judged, board in %d, %zu views kept", s.frames, s.boards, s.views.size());
   if (s.skipped > 0) {
-    text_disabled_wrapped((std::to_string(s.skipped) + " frames went by while the board was being searched for "
-                           "(hold the board still: a view needs two frames alike)").c_str());
+    // Only a person holding a board can hold it still; the synthetic board moves as its source moves it.
+    const char* why = source == SourceKind::synthetic ? "" : " (hold the board still: a view needs two frames alike)";
+    text_disabled_wrapped((std::to_string(s.skipped) + " frames went by while the board was being searched for" +
+                           why).c_str());
   }
   std::string refused;
   for (const auto& [kind, n] : s.tally)
@@ -141,7 +144,7 @@ void checklist(const CalibrationSnapshot& s) {
   }
 }
 
-void coverage(const CalibrationSnapshot& s, float scale) {
+void coverage(const CalibrationSnapshot& s) {
   heading("Coverage");
   const float label = ImGui::CalcTextSize("skew").x + ImGui::GetStyle().ItemSpacing.x;
   const std::pair<const char*, double> bars[] = {{"X", s.bars.x}, {"Y", s.bars.y}, {"size", s.bars.size}, {"skew", s.bars.skew}};
@@ -153,8 +156,7 @@ void coverage(const CalibrationSnapshot& s, float scale) {
     ImGui::ProgressBar(float(v), {-FLT_MIN, ImGui::GetTextLineHeight() * 1.1f}, overlay.c_str());
     ImGui::PopStyleColor();
   }
-  (void)scale;
-  text_disabled_wrapped("Move the board left and right (X), up and down (Y), nearer and farther (size) and tilt it (skew).");
+  ImGui::TextWrapped("%s", coverage_advice(s.bars, s.grid, int(s.views.size())).c_str());
 }
 
 // fx fy cx cy and the distortion: the value, one standard deviation, and the truth and the difference when known.
@@ -233,9 +235,9 @@ void draw_calibrate(Context& ctx) {
     return;
   }
   ImGui::Separator();
-  frames_so_far(*s);
+  frames_so_far(*s, ctx.frame->source.kind);
   checklist(*s);
-  coverage(*s, ctx.scale);
+  coverage(*s);
   camera(s, *ctx.frame);
 }
 

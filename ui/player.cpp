@@ -401,7 +401,7 @@ int run_player(const PlayerOptions& options) {
     std::printf("%s\n", json_text(s).c_str());
   }
   if (!worker_stopped) {
-    std::fprintf(stderr, "arwb play: the worker did not stop within 0.5 s (stuck in a scene's script?); quitting without it\n");
+    std::fprintf(stderr, "arwb play: %s\n", p.engine->stuck_message(0.5).c_str());
     std::fflush(stdout);
     std::fflush(stderr);
     std::_Exit(0);

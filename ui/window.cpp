@@ -354,7 +354,7 @@ int run_workbench(const WorkbenchOptions& options) {
   if (options.stats) std::printf("%s\n", stats_json(app, elapsed, detected).c_str());
   if (!worker_stopped) {
     // The layout is saved; the worker still runs on its own state, so leave without the destructors it could race.
-    std::fprintf(stderr, "arwb: the worker did not stop within 0.5 s (stuck in a scene's script?); quitting without it\n");
+    std::fprintf(stderr, "arwb: %s\n", app.engine->stuck_message(0.5).c_str());
     std::fflush(stdout);
     std::fflush(stderr);
     std::_Exit(0);

@@ -2,12 +2,14 @@
 
 #include "base/text.hpp"
 
+#include <cctype>
 #include <cstdarg>
 
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 #include <vector>
@@ -277,6 +279,30 @@ CLI::Option* add_resize_option(CLI::App& app, std::string& text) {
                   "aspect), WxH (exactly, aspect not kept), or off (the source's own size)")
       ->type_name("W|WxH|off")
       ->check(resize_value());
+}
+
+CLI::Validator out_kinds(std::vector<std::string> files, bool folder) {
+  std::string kinds;
+  for (size_t i = 0; i < files.size(); ++i)
+    kinds += std::string(i == 0 ? "" : (i + 1 == files.size() && !folder ? " or " : ", ")) + "FILE" + files[i];
+  if (folder) kinds += std::string(files.empty() ? "" : " or ") + "a folder (a folder's name may end in '/')";
+  return CLI::Validator(
+      [files, folder, kinds](std::string& out) -> std::string {
+        if (out.empty()) return "";   // said as "needs a value" by the command
+        if (folder && out.back() == '/') return "";
+        std::error_code ec;
+        if (folder && std::filesystem::is_directory(out, ec)) return "";
+        std::string ext = std::filesystem::path(out).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (std::find(files.begin(), files.end(), ext) != files.end()) return "";
+        // A folder may have a dot in its name; a suffix of letters and digits after it reads as a file's kind.
+        const bool looks_like_a_file = ext.size() >= 2 && ext.size() <= 6 &&
+                                       std::all_of(ext.begin() + 1, ext.end(), [](unsigned char c) { return std::isalnum(c); });
+        if (folder && !looks_like_a_file) return "";
+        return "a " + (ext.empty() ? std::string("name without an extension") : ext + " file") +
+               " is not written here; expected " + kinds;
+      },
+      "", "output kind");
 }
 
 void apply_resize_option(const std::string& text, AcquisitionSettings& a) {

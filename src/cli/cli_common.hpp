@@ -57,6 +57,11 @@ CLI::Option* add_resize_option(CLI::App& app, std::string& text);
 CLI::Validator resize_value();   // what --resize accepts, for an option of another name that means the same
 void apply_resize_option(const std::string& text, AcquisitionSettings& a);   // text as checked by the option
 
+// --out: a file of one of the kinds `files` (lower-case extensions with their dot, ".mp4"), or a folder when
+// `folder`. A name with another extension (x.gif, x.txt) is refused naming the kinds accepted, not made into a
+// folder of that name; a folder that exists, or a name ending in '/', is a folder whatever its name.
+CLI::Validator out_kinds(std::vector<std::string> files, bool folder);
+
 // Prints one line to stderr, formatted as printf does, with control characters escaped (base/text's printable):
 // every problem the command line reports goes through here, so a file name holding "\x1B[31m", "\r" or a newline
 // can neither act on the terminal nor forge a line. A trailing newline in the format is the line's own.

@@ -202,6 +202,11 @@ struct SetDetectors {
     if (!ocv.empty()) fns.emplace_back("opencv", combine(ocv));
     if (!aruco3.empty()) fns.emplace_back("aruco3", combine(aruco3));
     if (!april.empty() && april.size() == used.size()) fns.emplace_back("apriltag", combine(april));
+    // Named, not dropped: a peer asked for that cannot search every dictionary of the set.
+    if (wants("apriltag") && april.size() != used.size())
+      for (const auto& d : used)
+        if (!AprilTagPeer::supports(d.name()))
+          not_run.emplace_back("apriltag", "AprilTag reads its own families only (APRILTAG_*), not " + d.name());
   }
   SetDetectors(const SetDetectors&) = delete;
   SetDetectors& operator=(const SetDetectors&) = delete;
@@ -210,7 +215,16 @@ struct SetDetectors {
   std::vector<OpenCvArucoPeer> ocv, aruco3;
   std::vector<AprilTagPeer> april;
   std::vector<std::pair<std::string, DetectFn>> fns;   // in the order of the rows
+  std::vector<std::pair<std::string, std::string>> not_run;   // a peer asked for, and why it cannot run here
 };
+
+// A peer that could not run on a set, and why.
+struct NotRun {
+  std::string set, detector, why;
+};
+
+// Fewer 640x480 images than this give a median of the trace's cost too noisy to print.
+constexpr size_t kMinTraceCostImages = 3;
 
 // What recording the trace costs, on the set's 640x480 images: the fastest of `reps` runs at each level.
 void measure_trace_cost(const Detector& arwb, const std::vector<SetItem>& items, int reps,
@@ -282,6 +296,7 @@ const Row* find_row(const std::vector<Row>& rows, const Row& r, const char* det)
 }
 
 void print_json(const std::vector<Row>& rows, const std::array<std::vector<double>, 3>& trace_ms,
+                const std::vector<NotRun>& not_run,
                 const std::vector<std::string>& peers, int reps) {
   using Json = nlohmann::ordered_json;
   Json out = {{"cpu", cpu_model()}, {"vector_code", simd_name(simd())}, {"threads", 1}, {"reps", reps},
@@ -306,7 +321,9 @@ void print_json(const std::vector<Row>& rows, const std::array<std::vector<doubl
           row[std::string("time_ratio_") + peer] = round_decimals(median(t.ms) / median(p->tally.ms), 3);
     out["rows"].push_back(std::move(row));
   }
-  if (!trace_ms[0].empty())
+  out["not_run"] = Json::array();
+  for (const NotRun& n : not_run) out["not_run"].push_back({{"set", n.set}, {"detector", n.detector}, {"why", n.why}});
+  if (trace_ms[0].size() >= kMinTraceCostImages)
     out["trace_cost_640x480"] = {{"images", trace_ms[0].size()},
                                  {"off_ms", round_decimals(median(trace_ms[0]), 3)},
                                  {"summary_ms", round_decimals(median(trace_ms[1]), 3)},
@@ -315,7 +332,8 @@ void print_json(const std::vector<Row>& rows, const std::array<std::vector<doubl
   std::printf("%s\n", json_text(out).c_str());
 }
 
-void print_table(const std::vector<Row>& rows, const std::array<std::vector<double>, 3>& trace_ms, int reps) {
+void print_table(const std::vector<Row>& rows, const std::array<std::vector<double>, 3>& trace_ms,
+                 const std::vector<NotRun>& not_run, int reps) {
   std::printf("processor: %s; arwb's vector code: %s\n", cpu_model().c_str(), simd_name(simd()));
   std::string last_set;
   for (const Row& r : rows) {
@@ -327,6 +345,8 @@ void print_table(const std::vector<Row>& rows, const std::array<std::vector<doub
                   images == 1 ? "" : "s", reps, reps == 1 ? "" : "s");
       std::printf("%-12s %-9s %9s %8s %9s %6s %9s %11s %s\n", "resolution", "detector", "median_ms", "recall",
                   "found", "FP", "FP_empty", "corner_px", "time ratio");
+      for (const NotRun& n : not_run)
+        if (n.set == r.set) std::printf("(%s not run: %s)\n", n.detector.c_str(), n.why.c_str());
       last_set = r.set;
     }
     const Tally& t = r.tally;
@@ -344,7 +364,10 @@ void print_table(const std::vector<Row>& rows, const std::array<std::vector<doub
                 t.false_pos_empty, t.empty_images,
                 t.corner_n ? decimals_text(t.corner_err / t.corner_n, 3).c_str() : "-", ratio.c_str());
   }
-  if (!trace_ms[0].empty())
+  if (!trace_ms[0].empty() && trace_ms[0].size() < kMinTraceCostImages)
+    std::printf("\ntrace cost: not measured (%zu image%s at 640x480; a median needs %zu)\n", trace_ms[0].size(),
+                trace_ms[0].size() == 1 ? "" : "s", kMinTraceCostImages);
+  if (trace_ms[0].size() >= kMinTraceCostImages)
     std::printf("\ntrace cost at 640x480 (%zu images, median ms): off %.2f, summary %.2f (%.2fx), full %.2f (%.2fx)\n",
                 trace_ms[0].size(), median(trace_ms[0]), median(trace_ms[1]), median(trace_ms[1]) / median(trace_ms[0]),
                 median(trace_ms[2]), median(trace_ms[2]) / median(trace_ms[0]));
@@ -405,13 +428,15 @@ int cmd_bench(int argc, char** argv) {
   std::vector<Row> rows;
   // What recording the trace costs, on the first set's 640x480 images: median ms at each level.
   std::array<std::vector<double>, 3> trace_ms;
+  std::vector<NotRun> not_run;
   for (const Set& set : *sets) {
     const SetDetectors detectors(set.dicts, params, peers);
+    for (const auto& [detector, why] : detectors.not_run) not_run.push_back({set.name, detector, why});
     if (trace_ms[0].empty()) measure_trace_cost(detectors.arwb, set.items, a.reps, trace_ms);
     bench_set(set, detectors, a.reps, rows);
   }
-  if (a.as_json) print_json(rows, trace_ms, peers, a.reps);
-  else print_table(rows, trace_ms, a.reps);
+  if (a.as_json) print_json(rows, trace_ms, not_run, peers, a.reps);
+  else print_table(rows, trace_ms, not_run, a.reps);
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "detect/detector.hpp"
+#include "inspect/diagnose.hpp"
 #include "detect/video_search.hpp"
 #include "capture/image_io.hpp"
 #include "capture/video_reader.hpp"
@@ -22,6 +23,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -36,7 +38,27 @@ struct Output {
   double marker_size = 0;                                  // --marker-size; 0: no pose
   // In a video, each id's pose on the previous frame (when the id was there once): it resolves the ambiguity.
   std::map<std::pair<std::string, int>, cv::Vec3d> previous;
+  std::set<std::string> hinted;   // sources whose quads were found to read as another dictionary, said once
 };
+
+// A frame with no marker whose quads read as a dictionary not searched: said on stderr in one line, as the Why
+// panel says it, once per source. Only then is the frame traced whole, which costs what the full trace costs.
+void hint_other_dictionary(Output& out, const std::string& source, const cv::Mat& image, const Detector& det,
+                           int threads) {
+  if (out.hinted.count(source)) return;
+  FrameTrace trace;
+  det.detect(image, &trace, TraceLevel::full, threads);
+  std::vector<int> all(trace.candidates.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = int(i);
+  std::vector<std::string> searched;
+  for (const Dictionary& d : det.dictionaries()) searched.push_back(d.name());
+  const std::vector<OtherDictionary> other = read_other_dictionaries(trace, all, det.params(), searched);
+  if (other.empty()) return;
+  out.hinted.insert(source);
+  const OtherDictionary& o = other.front();
+  print_problem("%s: 0 markers; %d quad%s read as %s: try --dict %s\n", source.c_str(), o.in_frame,
+                o.in_frame == 1 ? "" : "s", o.dict.c_str(), o.dict.c_str());
+}
 
 nlohmann::ordered_json vec_json(const cv::Vec3d& v) {
   return {round_decimals(v[0], 6), round_decimals(v[1], 6), round_decimals(v[2], 6)};
@@ -115,6 +137,7 @@ void report(Output& out, const std::string& source, int frame, const cv::Mat& im
       video ? video->detect(det, image, nullptr, TraceLevel::off, threads) : det.detect(image, nullptr, TraceLevel::off, threads);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ++out.frames;
+  if (markers.empty()) hint_other_dictionary(out, source, image, det, threads);
   const Calibration camera = calib ? *calib : default_calibration(size);
   const std::vector<std::optional<MarkerPose>> poses = poses_of(out, markers, camera, frame > 0);
   if (out.json) {

@@ -41,7 +41,8 @@ int cmd_export(int argc, char** argv) {
   cl.app.add_option("--out", o.out, "the bundle: a folder, or a zip (FILE.arwb, FILE.zip)")
       ->type_name("DIR|FILE.arwb|FILE.zip")
       ->required()
-      ->check(CLI::Validator([](std::string& out) { return bundle::out_name_problem(out); }, "", "bundle name"));
+      ->check(CLI::Validator([](std::string& out) { return bundle::out_name_problem(out); }, "", "bundle name"))
+      ->check(out_kinds({".arwb", ".zip"}, true));
   cl.app.add_option("--calib", o.calibration,
                     "the camera's calibration (XML or YAML, as arwb calibrate writes); without it the player uses "
                     "the paper's default values")

@@ -97,7 +97,8 @@ int cmd_lab(int argc, char** argv) {
   cl.app.add_option("--out", out, "a folder for table.txt, table.csv, results.json, report.pdf and PNG plots; each "
                                   "finished cell is saved in cells.jsonl there, and a run interrupted is resumed "
                                   "from it")
-      ->type_name("DIR");
+      ->type_name("DIR")
+      ->check(out_kinds({}, true));
   cl.app.add_flag("--restart", restart, "with --out: forget the cells saved by an earlier run");
   cl.app.add_flag("--json", json, "print results.json instead of the table");
   if (const auto status = cl.parse(argc, argv)) return *status;

@@ -104,7 +104,7 @@ int cmd_make_media(int argc, char** argv) {
                  "museum/media/orbit.mp4 and lab/media/flask.png. Existing files are kept unless --force.");
   std::string out = "scripts";
   bool force = false;
-  cl.app.add_option("--out", out, "the folder the example scenes live in")->type_name("DIR");
+  cl.app.add_option("--out", out, "the folder the example scenes live in")->type_name("DIR")->check(out_kinds({}, true));
   cl.app.add_flag("--force", force, "replace files that exist");
   if (const auto status = cl.parse(argc, argv)) return *status;
   int written = 0, kept = 0, failed = 0;

@@ -152,7 +152,8 @@ int cmd_markers(int argc, char** argv) {
                     "With --board: FILE.pdf or FILE.svg, one page with the board, what it is, the `arwb calibrate` "
                     "line that reads it and the 100 mm bar.")
       ->type_name("DIR|FILE.pdf|FILE.svg")
-      ->required();
+      ->required()
+      ->check(out_kinds({".pdf", ".svg"}, true));
   cl.app.add_option("--size-mm", size_mm,
                     "sheets: the outer black edge of each marker, small enough to fit on the page with its quiet zone")
       ->type_name("MM")

@@ -48,8 +48,15 @@ struct ConsoleEcho {
     if (shown > s.console.size()) shown = 0;
     for (size_t i = shown; i < s.console.size(); ++i) {
       const ConsoleLine& l = s.console[i];
-      // Escaped like every other line: neither a file name in a message nor a print() acts on the terminal.
-      std::fprintf(l.level == 0 ? stdout : stderr, "%s%s\n", l.level == 2 ? "scene: " : "", printable(l.text).c_str());
+      // Escaped like every other line: neither a file name in a message nor a print() acts on the terminal. The
+      // tabs print() puts between its arguments stay tabs, as in the window's console: a tab moves the cursor only.
+      std::string text;
+      for (size_t from = 0; from <= l.text.size();) {
+        const size_t tab = std::min(l.text.find('\t', from), l.text.size());
+        text += printable(std::string_view(l.text).substr(from, tab - from)) + (tab < l.text.size() ? "\t" : "");
+        from = tab + 1;
+      }
+      std::fprintf(l.level == 0 ? stdout : stderr, "%s%s\n", l.level == 2 ? "scene: " : "", text.c_str());
     }
     shown = s.console.size();
   }
@@ -125,7 +132,8 @@ void declare_options(CLI::App& app, RenderArgs& a) {
       ->required();
   app.add_option("--out", a.out, "a video (.mp4, .avi, .mkv) or a folder for PNG frames")
       ->type_name("OUT.mp4|OUT.avi|DIR")
-      ->required();
+      ->required()
+      ->check(out_kinds({".mp4", ".avi", ".mkv"}, true));
   app.add_option("--frames", a.max_frames, "stop after N frames; 0: the whole input (synthetic: 100)")
       ->type_name("N")
       ->check(whole_number(0, 10'000'000));

@@ -64,7 +64,10 @@ int cmd_synth(int argc, char** argv) {
                  "the same set.");
   std::string out, dict_arg = "ARUCO_ORIGINAL", size_arg = "mixed";
   int count = 30, seed = 1;
-  cl.app.add_option("--out", out, "the folder to write (created if needed)")->type_name("DIR")->required();
+  cl.app.add_option("--out", out, "the folder to write (created if needed)")
+      ->type_name("DIR")
+      ->required()
+      ->check(out_kinds({}, true));
   cl.app.add_option("--count", count, "images")->type_name("N")->check(whole_number(1, 100000));
   cl.app.add_option("--seed", seed, "the random seed")->type_name("S")->check(whole_number(0, 2147483647));
   bool chessboard = false;

@@ -58,29 +58,35 @@ std::string truth_line(const SetItem& item) {
 
 namespace {
 
-// One truth.jsonl line's markers, or why they cannot be used.
+// One truth.jsonl line's markers, or why they cannot be used. A marker without its own "dict" takes the line's.
 Result<std::vector<TruthMarker>> read_markers(const Json& line) {
   std::vector<TruthMarker> out;
   const auto it = line.find("markers");
   if (it == line.end()) return out;
   if (!it->is_array()) return fail("\"markers\" is not a list");
+  const auto line_dict = line.find("dict");
+  if (line_dict != line.end() && !line_dict->is_string()) return fail("\"dict\" is not a dictionary's name");
   for (const Json& m : *it) {
     const std::string which = "marker " + std::to_string(out.size() + 1);
     if (!m.is_object()) return fail(which + " is not an object");
-    const auto id = m.find("id"), dict = m.find("dict"), corners = m.find("corners");
-    if (id == m.end() || !id->is_number_integer() || *id < 0 || *id > 1000000)
+    const auto id = m.find("id"), own_dict = m.find("dict"), corners = m.find("corners");
+    if (id == m.end()) return fail(which + ": \"id\" is missing");
+    if (!id->is_number_integer() || *id < 0 || *id > 1000000)
       return fail(which + ": \"id\" is not a whole number from 0 to 1000000");
-    if (dict == m.end() || !dict->is_string()) return fail(which + ": \"dict\" is not a name");
+    const Json* dict = own_dict != m.end() ? &*own_dict : line_dict != line.end() ? &*line_dict : nullptr;
+    if (!dict) return fail(which + ": \"dict\" is missing (give it per marker, or once for the line)");
+    if (!dict->is_string()) return fail(which + ": \"dict\" is not a dictionary's name");
+    if (corners == m.end()) return fail(which + ": \"corners\" is missing");
     TruthMarker t;
     t.id = id->get<int>();
     t.dict = dict->get<std::string>();
-    bool pairs = corners != m.end() && corners->is_array() && corners->size() == 4;
+    bool pairs = corners->is_array() && corners->size() == 4;
     for (size_t k = 0; pairs && k < 4; ++k) {
       const Json& c = (*corners)[k];
       pairs = c.is_array() && c.size() == 2 && c[0].is_number() && c[1].is_number();
       if (pairs) t.corners[k] = {c[0].get<float>(), c[1].get<float>()};
     }
-    if (!pairs) return fail("a marker's corners are not four [x,y] pairs");
+    if (!pairs) return fail(which + ": \"corners\" are not four [x,y] pairs");
     out.push_back(std::move(t));
   }
   return out;

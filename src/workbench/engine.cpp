@@ -45,16 +45,20 @@ bool Engine::stop(double timeout_s) {
     std::unique_lock lock(s_->mutex_);
     if (!s_->published_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return s_->done_; })) {
       lock.unlock();
-      char b[32];
-      std::snprintf(b, sizeof b, "%.1f", timeout_s);
-      s_->log_(2, std::string("the worker did not stop within ") + b +
-                      " s (stuck in a scene's script?); quitting without it");
+      s_->log_(2, stuck_message(timeout_s));
       thread_.detach();
       return false;
     }
   }
   thread_.join();
   return true;
+}
+
+std::string Engine::stuck_message(double timeout_s) const {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f", timeout_s);
+  return std::string("the worker did not stop within ") + b + " s (it was " + s_->doing_.load() +
+         "); quitting without it";
 }
 
 std::shared_ptr<const Frame> Engine::latest() const {

@@ -58,6 +58,9 @@ class Engine {
   // Stops the worker and waits for it up to timeout_s (negative: for ever). False when it did not finish in time:
   // it is then detached (logged), and the process should exit rather than wait.
   bool stop(double timeout_s = -1);
+  // "the worker did not stop within 0.5 s (it was running the scene's script); quitting without it": what the
+  // worker was doing when stop(timeout_s) gave up on it.
+  std::string stuck_message(double timeout_s) const;
 
   // The newest finished frame, or null before the first. Never blocks on detection.
   std::shared_ptr<const Frame> latest() const;

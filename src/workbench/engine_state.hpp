@@ -136,6 +136,8 @@ struct Engine::State {
   std::atomic<uint64_t> frames_{0};
   std::atomic<uint64_t> asked_{0}, served_{0};   // next_frame()'s and step()'s tickets, and the last one served
   std::atomic<double> detect_fps_{0};
+  // What the worker is doing now, said when it does not stop in time ("running the scene's script").
+  std::atomic<const char*> doing_{"waiting for a frame"};
   SourceSpec source_in_use_;
 };
 

@@ -49,8 +49,10 @@ void Engine::State::run() {
       p = std::move(*pending_);
       *pending_ = Pending{};
     }
+    doing_ = "applying new settings";
     apply(p);
     const double now = seconds_since(worker_->t0);
+    doing_ = "reading the source";
     const bool fresh = capture(now);
     Worker& w = *worker_;
     if ((fresh || w.redetect) && !w.raw.empty() && w.detector) {
@@ -59,6 +61,7 @@ void Engine::State::run() {
       continue;
     }
     served_ = w.asked;   // the source gave nothing new (a still image, a paused video, its end)
+    doing_ = "waiting for a frame";
     idle();
   }
 }
@@ -207,6 +210,7 @@ void Engine::State::apply_scene(const Pending& p) {
   if (!p.scene_file) return;
   Worker& w = *worker_;
   if (!w.stage) w.stage = std::make_unique<SceneStage>(media::StoreMode::live);
+  doing_ = "loading the scene's script";
   if (w.stage->load(*p.scene_file)) {
     log_(0, p.scene_file->empty() ? "scene unloaded" : "scene: " + *p.scene_file);
   } else {
@@ -302,6 +306,7 @@ void Engine::State::detect_and_publish(bool fresh, double now) {
   const auto d0 = Clock::now();
   if (fresh) w.video_before = w.video;
   else w.video = w.video_before;
+  doing_ = "detecting markers";
   w.video.detect(*w.detector, w.raw, &f->trace, w.config.level, w.config.threads, &f->image);
   f->detect_ms = ms_between(d0, Clock::now());
   f->params = w.config.params;
@@ -316,10 +321,14 @@ void Engine::State::detect_and_publish(bool fresh, double now) {
   // The tracker runs on every frame (its tracks carry the poses the Pose panel and the 3D overlays show); the
   // scene, when there is one, runs on its tracks.
   camera(w, *f);
+  doing_ = "running the scene's script";
   run_scene(*f, now);
+  doing_ = "drawing the stage pictures";
   thumbnail(f->image, f->image_thumb);
   for (int i = 0; i < kStageCount; ++i) thumbnail(f->views[size_t(i)], f->thumbs[size_t(i)]);
+  doing_ = "running the peer detectors";
   run_peers(*f);
+  doing_ = "searching for the calibration board";
   calibrate(w, *f, fresh, sx, sy);
   const double done = seconds_since(w.t0);
   w.finished.push_back(done);

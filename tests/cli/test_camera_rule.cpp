@@ -79,7 +79,7 @@ TEST(CameraRule, WhatTheRuleRefusesEachCommandRefusesWithTheReason) {
     auto r = run_arwb("detect " + q(test::kSample) + " --calib " + q(calib) + " --marker-size 50");
     EXPECT_NE(r.err.find(why), std::string::npos) << file << ": " << r.err;
     r = run_arwb("render --scene " + q(d.str("scene.lua")) + " --input " + q(test::kSample) + " --calib " + q(calib) +
-                 " --out " + q(d.str("r.png")));
+                 " --out " + q(d.str("rendered")));
     EXPECT_NE(r.status, 0) << file;
     EXPECT_NE(r.err.find(why), std::string::npos) << file << ": " << r.err;
   }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -179,3 +180,36 @@ TEST(CommandLine, TopLevelHelpListsSubcommandsAndWorkbenchOptions) {
 }
 
 }  // namespace
+
+// --out of a kind the command does not write is refused naming the kinds it does, not made into a folder of that
+// name; a folder with a dot in its name is still one when it exists or ends in '/'.
+TEST(CommandLine, AnOutOfAnotherKindIsRefusedWithTheKindsAccepted) {
+  test::TempDir d;
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {"render --scene s.lua --input synthetic --out " + d.str("x.gif"),
+       "arwb render: --out " + d.str("x.gif") + ": a .gif file is not written here; expected FILE.mp4, FILE.avi, "
+       "FILE.mkv or a folder (a folder's name may end in '/') (see arwb render --help)\n"},
+      {"markers --out " + d.str("x.txt"),
+       "arwb markers: --out " + d.str("x.txt") + ": a .txt file is not written here; expected FILE.pdf, FILE.svg or "
+       "a folder (a folder's name may end in '/') (see arwb markers --help)\n"},
+      {"synth --out " + d.str("x.png"),
+       "arwb synth: --out " + d.str("x.png") + ": a .png file is not written here; expected a folder (a folder's "
+       "name may end in '/') (see arwb synth --help)\n"},
+      {"export --scene s.lua --out " + d.str("x.tar"),
+       "arwb export: --out " + d.str("x.tar") + ": a .tar file is not written here; expected FILE.arwb, FILE.zip or "
+       "a folder (a folder's name may end in '/') (see arwb export --help)\n"}};
+  for (const Case& c : cases) {
+    const auto r = run_arwb(c.args);
+    EXPECT_EQ(r.status, 2) << c.args;
+    EXPECT_EQ(r.err, c.expected);
+    EXPECT_FALSE(std::filesystem::exists(d.str("x.gif")) || std::filesystem::exists(d.str("x.txt")));
+  }
+  // A folder whose name has a dot: ending in '/', or existing.
+  EXPECT_EQ(run_arwb("markers --ids 0-1 --out " + d.str("set.v2/")).status, 0);
+  EXPECT_TRUE(std::filesystem::is_directory(d.str("set.v2")));
+  EXPECT_EQ(run_arwb("markers --ids 2 --out " + d.str("set.v2")).status, 0);
+  EXPECT_EQ(run_arwb("markers --ids 2 --out " + d.str("run.2026")).status, 2);
+}

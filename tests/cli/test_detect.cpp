@@ -119,6 +119,23 @@ TEST(CliDetect, ResizeDetectsAtTheWorkingSizeAndGivesTheImagesPixels) {
   EXPECT_NE(bad.err.find("--resize 9x: expected a width W in 16..8192"), std::string::npos) << bad.err;
 }
 
+// No marker found, where the quads read as a dictionary not searched: said on stderr in one line, as the Why panel
+// says it; nothing is said when the dictionary is given.
+TEST(CliDetect, NoMarkerButQuadsOfAnotherDictionaryIsSaid) {
+  test::TempDir dir;
+  const Dictionary d = *dictionary_by_name("6X6_250");
+  cv::Mat img(480, 640, CV_8UC3, cv::Scalar::all(200));
+  for (int i = 0; i < 3; ++i) draw_marker(img, d, 200 + i, project_square({120.0 + 200 * i, 240}, 110, 10.0 * i, 0, 0, 800));
+  cv::imwrite(dir.str("six.png"), img);
+  auto r = run_arwb("detect " + q(dir.str("six.png")));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find(": 0 markers"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err, dir.str("six.png") + ": 0 markers; 3 quads read as 6X6_250: try --dict 6X6_250\n");
+  r = run_arwb("detect --dict 6X6_250 " + q(dir.str("six.png")));
+  EXPECT_NE(r.out.find(": 3 markers"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err, "");
+}
+
 TEST(CliDetect, FolderInNameOrderAndSynthTruthAgrees) {
   test::TempDir dir;
   const auto s = run_arwb("synth --out " + q(dir.str("set")) + " --count 4 --seed 3 --size 640x480");
@@ -244,7 +261,7 @@ TEST(CliDetect, BadOptionsAreNamed) {
 }
 
 TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
-  const auto r = run_arwb("bench --count 6 --reps 1 --json --dict APRILTAG_36h11 --set standard");
+  const auto r = run_arwb("bench --count 9 --reps 1 --json --dict APRILTAG_36h11 --set standard");
   ASSERT_EQ(r.status, 0) << r.err;
   Json j = parse(r.out);
   Json& rows = j["rows"];
@@ -260,9 +277,10 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   ASSERT_NE(arwb_all, rows.end()) << r.out;
   for (const char* key : {"time_ratio_opencv", "time_ratio_aruco3", "time_ratio_apriltag", "corner_error_px"})
     EXPECT_TRUE(arwb_all->contains(key)) << key;
-  EXPECT_EQ((*arwb_all)["images"], 6);
+  EXPECT_EQ((*arwb_all)["images"], 9);
   EXPECT_TRUE((*arwb_all)["median_ms"].is_number());
-  EXPECT_EQ(j["trace_cost_640x480"]["images"], 2);
+  EXPECT_EQ(j["trace_cost_640x480"]["images"], 3);
+  EXPECT_EQ(j["not_run"], Json::array()) << "every peer reads APRILTAG_36h11";
   EXPECT_TRUE(j["trace_cost_640x480"].contains("full_over_off"));
   // The figures' record: the processor and the vector code the detector took on it.
   EXPECT_TRUE(j["cpu"].is_string() && !j["cpu"].get<std::string>().empty());
@@ -277,6 +295,11 @@ TEST(CliBench, ComparesWithOpenCvAndAprilTagOnTheSameFrames) {
   const auto from_dir = run_arwb("bench " + q(dir.str("set")) + " --reps 1");
   EXPECT_EQ(from_dir.status, 0) << from_dir.err;
   EXPECT_NE(from_dir.out.find(" arwb "), std::string::npos) << from_dir.out;   // a row of the table
+  // A peer that cannot read the set's dictionary is named; a median of one image is not printed.
+  EXPECT_NE(from_dir.out.find("(apriltag not run: AprilTag reads its own families only (APRILTAG_*), not "
+                              "ARUCO_ORIGINAL)"), std::string::npos) << from_dir.out;
+  EXPECT_NE(from_dir.out.find("trace cost: not measured (1 image at 640x480; a median needs 3)"), std::string::npos)
+      << from_dir.out;
   EXPECT_NE(from_dir.out.find(std::string("arwb's vector code: ") + simd_name(simd())), std::string::npos)
       << from_dir.out;
   EXPECT_EQ(run_arwb("bench " + q(dir.str("nowhere"))).status, 1);

@@ -149,13 +149,17 @@ TEST(Render, RefusesToOverwriteFramesAndReportsSceneErrors) {
   EXPECT_NE(r.err.find("broken.lua:2:"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(d.str("out2/frame_000000.png")));
 
-  // A bad value in one mapping is reported with its line; the rest of the scene still renders.
+  // A bad value in one mapping is reported with its line; the rest of the scene still renders. print()'s
+  // arguments are printed with the tabs between them, as the window's console shows them; a control character
+  // is still escaped.
   write_file(d.str("partial.lua"),
+             "print(\"a\", 1, \"b\\27[31m\")\n"
              "marker(-1, { media = image \"magenta.png\" })\n"
              "marker(843, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n");
   r = run_arwb("render --scene " + d.str("partial.lua") + " --input " + kSample + " --out " + d.str("out3"));
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.err.find("partial.lua:1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("partial.lua:2:"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("a\t1\tb\\x1B[31m\n"), std::string::npos) << r.out;
   const cv::Mat img = cv::imread(d.str("out3/frame_000000.png"));
   expect_colour_in_plane_rect(img, plane(sample_markers().at(843)), 0, 0, 1, 1, kMagenta, 3, "after a bad line");
 }

@@ -55,19 +55,32 @@ TEST(SynthSet, BadLinesAreNamedWithTheirLineAndSkipped) {
                    "{\"file\": \"missing.png\"}\n"                                    // 6
                    "{\"file\": \"img_00000.png\", \"markers\": [{\"id\": 1, \"dict\": \"ARUCO_ORIGINAL\", "
                    "\"corners\": [[0,0],[1,1]]}]}\n"                                  // 7
-                   "[1, 2]\n");                                                       // 8
+                   "[1, 2]\n"                                                         // 8
+                   "{\"file\": \"img_00000.png\", \"markers\": [{\"dict\": \"ARUCO_ORIGINAL\"}]}\n"  // 9
+                   "{\"file\": \"img_00000.png\", \"dict\": 7, \"markers\": []}\n"                 // 10
+                   "{\"file\": \"img_00000.png\", \"markers\": [{\"id\": 1, \"dict\": \"X\"}]}\n"    // 11
+                   // 12: the dictionary once for the line, kept
+                   "{\"file\": \"img_00000.png\", \"dict\": \"4X4_50\", \"markers\": [{\"id\": 3, "
+                   "\"corners\": [[0,0],[9,0],[9,9],[0,9]]}, {\"id\": 4, \"dict\": \"ARUCO_ORIGINAL\", "
+                   "\"corners\": [[0,0],[9,0],[9,9],[0,9]]}]}\n");
   std::vector<std::string> skipped;
   const auto set = read_set(dir.str(), &skipped);
   ASSERT_TRUE(set) << set.error();
-  EXPECT_EQ(set->size(), 1u);
+  ASSERT_EQ(set->size(), 2u);
+  ASSERT_EQ(set->back().truth.size(), 2u);
+  EXPECT_EQ(set->back().truth[0].dict, "4X4_50");
+  EXPECT_EQ(set->back().truth[1].dict, "ARUCO_ORIGINAL");
   const std::string at = dir.str("truth.jsonl") + ":";
-  const std::vector<std::string> want = {at + "2: marker 1: \"dict\" is not a name",
+  const std::vector<std::string> want = {at + "2: marker 1: \"dict\" is missing (give it per marker, or once for the line)",
                                          at + "3: not a JSON object",
                                          at + "4: no \"file\"",
                                          at + "5: file '../x.png' must be a name inside the set's folder",
                                          at + "6: " + dir.str("missing.png") + ": no such file",
-                                         at + "7: a marker's corners are not four [x,y] pairs",
-                                         at + "8: not a JSON object"};
+                                         at + "7: marker 1: \"corners\" are not four [x,y] pairs",
+                                         at + "8: not a JSON object",
+                                         at + "9: marker 1: \"id\" is missing",
+                                         at + "10: \"dict\" is not a dictionary's name",
+                                         at + "11: marker 1: \"corners\" is missing"};
   EXPECT_EQ(skipped, want);
 
   const auto none = read_set(dir.str("nowhere"), &skipped);

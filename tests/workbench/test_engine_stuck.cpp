@@ -73,7 +73,7 @@ TEST(EngineStuck, StoppingGivesUpOnAWorkerStuckInAScriptAndTheEngineGoesAtOnce) 
     EXPECT_LT(seconds_since(t0), 2.0);
   }
   EXPECT_LT(seconds_since(t0), 2.0);   // destroying it did not wait either
-  EXPECT_TRUE(messages->has("the worker did not stop within 0.5 s (stuck in a scene's script?); quitting without it"));
+  EXPECT_TRUE(messages->has("the worker did not stop within 0.5 s (it was loading the scene's script); quitting without it"));
 
   // Let the worker finish, so the test leaves nothing running: the call returns past its time, so the load fails
   // with the limit's message, the worker sees it should stop and ends.
