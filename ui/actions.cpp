@@ -293,9 +293,13 @@ const Verb kVerbs[] = {
     {"region", region},
     {"sweep", [](Arg, Arg) -> Result<Request> { return Request(Sweep{}); }},
     {"tour", [](Arg, Arg a) -> Result<Request> {
-       return Request(StartTour{a.empty() ? std::nullopt : std::optional<int>(std::atoi(a.c_str()))});
+       return Request(StartTour{a});   // a name or a number, checked against the tour when it opens
      }},
     {"presentation", [](Arg, Arg) -> Result<Request> { return Request(TogglePresentation{}); }},
+    {"fullscreen", [](Arg v, Arg a) -> Result<Request> {
+       const Result<bool> on = on_off(v, a);
+       return on ? Result<Request>(SetFullscreen{*on}) : fail(on.error());
+     }},
     {"preset", [](Arg, Arg a) -> Result<Request> { return Request(LoadPreset{a}); }},
     {"peers", [](Arg, Arg) -> Result<Request> { return Request(EnablePeers{}); }},
     {"scene", [](Arg, Arg a) -> Result<Request> { return Request(LoadScene{a}); }},

@@ -156,7 +156,7 @@ struct App {
   void switch_workspace(const std::string& name);
   void move_panel(const ui::MovePanel& r);
   void set_splitter(const ui::SetSplitter& r);
-  void start_tour(std::optional<int> step);
+  void start_tour(const std::string& step);
   void select_candidate(std::optional<int> index);
   void set_labels(const ui::SetLabels& r);
   void set_pose_drawing(const ui::SetPoseDrawing& r);

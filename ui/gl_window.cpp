@@ -18,6 +18,18 @@ namespace {
 void glfw_error(int code, const char* text) { std::fprintf(stderr, "arwb: GLFW error %d: %s\n", code, text); }
 }  // namespace
 
+std::string set_fullscreen(GLFWwindow* window, bool on, cv::Size window_size) {
+  if (on == is_fullscreen(window)) return "";
+  GLFWmonitor* monitor = on ? glfwGetPrimaryMonitor() : nullptr;
+  const GLFWvidmode* mode = monitor ? glfwGetVideoMode(monitor) : nullptr;
+  if (on && !mode) return "no monitor";
+  if (on) glfwSetWindowMonitor(window, monitor, 0, 0, mode->width, mode->height, mode->refreshRate);
+  else glfwSetWindowMonitor(window, nullptr, 80, 80, window_size.width, window_size.height, GLFW_DONT_CARE);
+  return "";
+}
+
+bool is_fullscreen(GLFWwindow* window) { return glfwGetWindowMonitor(window) != nullptr; }
+
 bool open_gl_window(const char* program, const char* title, cv::Size size, bool fullscreen, GlWindow* out) {
   glfwSetErrorCallback(glfw_error);
   if (!glfwInit()) {

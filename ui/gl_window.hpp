@@ -25,6 +25,10 @@ struct GlWindow {
 // OpenGL 3.3; false then, and nothing is left open. ImGui's ini file is off (io.IniFilename): callers that keep
 // settings load and save them by hand.
 bool open_gl_window(const char* program, const char* title, cv::Size size, bool fullscreen, GlWindow* out);
+// Full screen on the primary monitor at its own mode, or back to a window of `window_size`. The reason when it
+// cannot ("no monitor"), else "".
+std::string set_fullscreen(GLFWwindow* window, bool on, cv::Size window_size);
+bool is_fullscreen(GLFWwindow* window);
 // Shuts ImGui's back ends and context down, destroys the window and ends GLFW. Textures must be freed before.
 void close_gl_window(GlWindow& w);
 // The window's framebuffer as a PNG (or any format OpenCV writes by the extension). False when it cannot be

@@ -9,6 +9,7 @@ constexpr Shortcut kShortcuts[] = {
     {"N", "next frame (when frozen): a video's or folder's next one"},
     {"T", "the guided tour"},
     {"F5", "presentation mode"},
+    {"F11", "full screen"},
     {"Ctrl+Z", "undo a parameter, preset or dictionary change"},
     {"Ctrl+Shift+Z", "redo"},
     {"Ctrl+S", "save the scene file ('Script editor')"},

@@ -1,6 +1,7 @@
 // The window's menu bar, its keys and its status bar. Each menu item and key makes the request (ui/request.hpp) an
 // --actions step or a panel would, carried out at once.
 #include "ui/app.hpp"
+#include "ui/gl_window.hpp"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -76,6 +77,7 @@ void App::draw_menu() {
     }
     ImGui::Separator();
     if (ImGui::MenuItem("Presentation mode", "F5", view.presentation)) carry_out(ui::TogglePresentation{});
+    if (ImGui::MenuItem("Full screen", "F11", ui::is_fullscreen(glfw_window))) carry_out(ui::SetFullscreen{});
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Teach")) {
@@ -103,6 +105,7 @@ void App::handle_keys() {
   if (ImGui::IsKeyPressed(GLFW_KEY_N) && !io.KeyCtrl) carry_out(ui::NextFrame{});
   if (ImGui::IsKeyPressed(GLFW_KEY_T) && !io.KeyCtrl) carry_out(ui::StartTour{});
   if (ImGui::IsKeyPressed(GLFW_KEY_F5)) carry_out(ui::TogglePresentation{});
+  if (ImGui::IsKeyPressed(GLFW_KEY_F11)) carry_out(ui::SetFullscreen{});
   if (ImGui::IsKeyPressed(GLFW_KEY_Z) && io.KeyCtrl) carry_out(io.KeyShift ? ui::Request(ui::Redo{}) : ui::Undo{});
 }
 

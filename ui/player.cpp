@@ -88,13 +88,9 @@ struct Player {
 
   // Full screen on the primary monitor at its own mode, or back to a window of the size asked for.
   void set_fullscreen(bool on) {
-    if (on == fullscreen) return;
-    GLFWmonitor* monitor = on ? glfwGetPrimaryMonitor() : nullptr;
-    const GLFWvidmode* mode = monitor ? glfwGetVideoMode(monitor) : nullptr;
-    if (on && !mode) return warn("full screen: no monitor");
-    if (on) glfwSetWindowMonitor(window, monitor, 0, 0, mode->width, mode->height, mode->refreshRate);
-    else glfwSetWindowMonitor(window, nullptr, 80, 80, opt.window.width, opt.window.height, GLFW_DONT_CARE);
-    fullscreen = on;
+    if (const std::string problem = ui::set_fullscreen(window, on, opt.window); !problem.empty())
+      return warn("full screen: " + problem);
+    fullscreen = ui::is_fullscreen(window);
   }
 
   // The stage after (or before) the current one that has a picture on this frame; -1 is the input image.

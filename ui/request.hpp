@@ -45,13 +45,16 @@ struct SetSplitter {   // what dragging a splitter does
   float ratio = 0.5f;
 };
 struct TogglePresentation {};
+struct SetFullscreen {          // full screen on the primary monitor, or back to a window
+  std::optional<bool> on;       // nullopt: the other of the two (F11)
+};
 enum class HelpPage { shortcuts, first_steps, about };
 struct ShowHelp {
   HelpPage page;
   bool on = true;
 };
 struct StartTour {   // freezes the frame and opens the Tour panel
-  std::optional<int> step;
+  std::string step;    // a step's name ("adaptive_threshold") or number from 0; "" keeps the step shown
 };
 
 // [SECTION] What the live view shows
@@ -286,7 +289,8 @@ struct WaitForPlayers {   // a script's: until every player started has ended
 };
 
 using Request = std::variant<
-    SetPanelOpen, SwitchWorkspace, SaveWorkspace, MovePanel, SetSplitter, TogglePresentation, ShowHelp, StartTour,
+    SetPanelOpen, SwitchWorkspace, SaveWorkspace, MovePanel, SetSplitter, TogglePresentation, SetFullscreen, ShowHelp,
+    StartTour,
     ShowStage, SelectCandidate, SetRegion, ShowMedia, SetLabels, SetPoseDrawing, ClickLiveView,
     OpenSource, StepFrames, Seek, NextFrame, Freeze, Snapshot, Drop, OpenRecent, OpenUrl,
     LoadPreset, SavePreset, ListPresets, LoadScene, ListExamples, SaveScript, WatchFile, Browse, ListDir, OpenFile,

@@ -6,6 +6,7 @@
 // When: the window's menus and keys, a dropped file and a due --actions step are carried out at once; what panels
 // and dialogs ask for waits in App::requests until the frame has been shown (handle_requests).
 #include "ui/app.hpp"
+#include "ui/gl_window.hpp"
 
 #include "capture/opencv_error.hpp"
 
@@ -72,6 +73,11 @@ void App::carry_out(const ui::Request& request) {
           [&](const MovePanel& r) { move_panel(r); },
           [&](const SetSplitter& r) { set_splitter(r); },
           [&](const TogglePresentation&) { set_presentation(!view.presentation); },
+          [&](const SetFullscreen& r) {
+            const bool on = r.on.value_or(!ui::is_fullscreen(glfw_window));
+            if (const std::string problem = ui::set_fullscreen(glfw_window, on, opt.window); !problem.empty())
+              warn("full screen: " + problem);
+          },
           [&](const ShowHelp& r) {
             (r.page == HelpPage::shortcuts ? dialogs.show_shortcuts
              : r.page == HelpPage::first_steps ? dialogs.show_first_steps : dialogs.show_about) = r.on;

@@ -5,6 +5,7 @@
 #include "ui/stats.hpp"
 
 #include "ui/app.hpp"
+#include "ui/gl_window.hpp"
 #include "base/decimals.hpp"
 #include "pose/marker_pose.hpp"
 #include "base/json_text.hpp"
@@ -282,7 +283,10 @@ std::string stats_json(App& app, double elapsed, uint64_t detected) {
   s["export"] = export_stats(app.export_dialog);
   s["players"] = players_stats(*app.players);
   s["frozen"] = app.settings.frozen;
+  s["fullscreen"] = ui::is_fullscreen(app.glfw_window);
   s["tour_active"] = app.view.tour_active;
+  const size_t step = size_t(std::max(0, app.view.tour_step));
+  s["tour_step"] = step < app.tour.size() ? app.tour[step].key : "";   // the step's name
   s["modal"] = app.dialogs.modal;
   s["script_unsaved"] = app.view.script_unsaved;
   s["undo"] = app.history.undo_name();

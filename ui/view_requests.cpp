@@ -41,11 +41,28 @@ void App::set_splitter(const ui::SetSplitter& r) {
   l.nodes[static_cast<size_t>(s[static_cast<size_t>(r.index)])].ratio = r.ratio;
 }
 
-void App::start_tour(std::optional<int> step) {
+void App::start_tour(const std::string& step) {
   view.tour_active = true;
   settings.frozen = true;   // a lesson explains one frame; "Next frame" moves on
   view.show(ui::Panel::tour);
-  if (step) view.tour_step = *step;
+  if (step.empty()) return;
+  const int n = static_cast<int>(tour.size());
+  for (int i = 0; i < n; ++i)
+    if (tour[size_t(i)].key == step) {
+      view.tour_step = i;
+      return;
+    }
+  if (step.find_first_not_of("0123456789") == std::string::npos && step.size() < 6) {
+    if (const int i = std::stoi(step); i < n) {
+      view.tour_step = i;
+      return;
+    }
+    return warn("tour=" + step + (n == 0 ? std::string(": the tour has no steps")
+                                         : ": the tour has " + std::to_string(n) + " steps, 0 to " + std::to_string(n - 1)));
+  }
+  std::string names;
+  for (const TourStep& s : tour) names += (names.empty() ? "" : ", ") + s.key;
+  warn("tour=" + step + ": no step of that name; the steps are " + names);
 }
 
 void App::select_candidate(std::optional<int> index) {

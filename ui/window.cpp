@@ -311,7 +311,7 @@ int run_workbench(const WorkbenchOptions& options) {
     return 2;
   }
   ui::GlWindow gl;
-  if (!ui::open_gl_window("arwb", "ArUco Workbench", options.window, false, &gl)) return 1;
+  if (!ui::open_gl_window("arwb", "ArUco Workbench", options.window, options.fullscreen, &gl)) return 1;
   App app;
   app.glfw_window = gl.window;
   app.font_normal = gl.font_normal;

@@ -19,7 +19,8 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "source=SPEC, freeze, unfreeze, next (the next frame; of a video or folder the one after the "
                  "frame shown; waits up to 2 s until it is shown), snapshot, "
                  "stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
-                 "sweep, tour[=STEP], presentation, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
+                 "sweep, tour[=STEP] (a step's name, such as adaptive_threshold, or its number from 0), presentation, "
+                 "fullscreen=on|off, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "
                  "pixels; opens a web card), labels=KINDS (what the live view shows, a comma list of ids, dict, "
                  "rejected, truth, peers, or all or none), add_dictionary=NAME (searched too, as the Why panel's button does), "
                  "drop=PATH (as dropped on the window), focus=script|source_path|preset_path, "
@@ -47,7 +48,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "(waits until the players started have ended).\n"
                  "Panels: live_view pipeline candidates inspector parameters timings dictionary peers source tour why "
                  "log scene script console calibrate calibration_views pose lab.\n"
-                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, Ctrl+1/2/3/4/5 workspaces Inspect/Script/Teach/Calibrate/Lab, Ctrl+Z undo, Ctrl+Shift+Z "
+                 "Keys: S snapshot, Space freeze, N next frame, T tour, F5 presentation mode, F11 full screen, Ctrl+1/2/3/4/5 workspaces Inspect/Script/Teach/Calibrate/Lab, Ctrl+Z undo, Ctrl+Shift+Z "
                  "redo, Ctrl+Q quit; none of them while typing in a text field. Help > Keyboard shortcuts lists them "
                  "all. Drop a scene (.lua, .xml), preset (.yml), image, video or folder on the window to open it.");
   std::vector<std::pair<std::string, std::string>> subcommands;
@@ -81,6 +82,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
       ->type_name("F")
       ->check(real_number(0, 240));
   add_resize_option(cl.app, resize);
+  cl.app.add_flag("--fullscreen", o.fullscreen, "full screen on the primary monitor, at its own resolution (F11)");
   cl.app.add_flag("--presentation", o.presentation, "start in presentation mode (F5): fonts and sizes scaled to the window's height (30 px text at 1080 lines), the live view and stage large");
   cl.app.add_option("--config-dir", o.config_dir,
                     "layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)")

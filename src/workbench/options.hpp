@@ -17,6 +17,7 @@ struct WorkbenchOptions {
   bool verbose = false;           // every log line to stderr, not only warnings and errors
   cv::Size window{1600, 900};
   bool presentation = false;
+  bool fullscreen = false;        // on the primary monitor at its own resolution (F11 toggles)
   std::string config_dir;         // layout and settings (default $XDG_CONFIG_HOME/arwb or ~/.config/arwb)
   std::string snapshot_dir = "snapshots";
   std::string tour_path;          // default assets/teaching/tour.txt

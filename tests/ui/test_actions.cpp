@@ -36,7 +36,7 @@ TEST(Actions, EveryVerbTheHelpListsMakesARequest) {
   const std::vector<std::pair<std::string, std::string>> samples = {
       {"open", "timings"}, {"close", "all"}, {"source", "synthetic"}, {"freeze", ""}, {"unfreeze", ""}, {"next", ""},
       {"snapshot", ""}, {"stage", "otsu"}, {"select", "marker"}, {"region", "1,2,3,4"}, {"sweep", ""},
-      {"tour", "2"}, {"presentation", ""}, {"preset", "fast"}, {"peers", ""}, {"scene", "a.lua"},
+      {"tour", "2"}, {"presentation", ""}, {"fullscreen", "on"}, {"preset", "fast"}, {"peers", ""}, {"scene", "a.lua"},
       {"click", "1,2"}, {"media", "off"}, {"labels", "ids"}, {"add_dictionary", "ARUCO_ORIGINAL"},
       {"drop", "a.png"}, {"focus", "script"}, {"type", "x"}, {"undo", ""}, {"redo", ""},
       {"set", "threshold_window_px=31"}, {"quit", ""}, {"answer", "save"}, {"browse", "scene"}, {"sheet", ""},
@@ -70,8 +70,10 @@ TEST(Actions, ArgumentsLandInNamedFields) {
   EXPECT_FALSE(request_of<SelectCandidate>("select", "marker").index.has_value());
   EXPECT_EQ(request_of<SelectCandidate>("select", "7").index, 7);
   EXPECT_EQ(request_of<SetRegion>("region", "290,178,52,42").region, cv::Rect2f(290, 178, 52, 42));
-  EXPECT_EQ(request_of<StartTour>("tour", "4").step, 4);
-  EXPECT_FALSE(request_of<StartTour>("tour").step.has_value());
+  EXPECT_EQ(request_of<StartTour>("tour", "4").step, "4");
+  EXPECT_EQ(request_of<StartTour>("tour", "otsu").step, "otsu");
+  EXPECT_EQ(request_of<StartTour>("tour").step, "");
+  EXPECT_EQ(request_of<SetFullscreen>("fullscreen", "off").on, false);
   EXPECT_FALSE(request_of<ShowMedia>("media", "off").on);
   const SetLabels labels = request_of<SetLabels>("labels", "ids,truth");
   EXPECT_TRUE(labels.ids && labels.truth);

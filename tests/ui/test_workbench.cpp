@@ -258,10 +258,17 @@ TEST(Workbench, AFifoAsTheLayoutFileNeitherBlocksStartNorQuit) {
 TEST(Workbench, TourAndPresentationModeRun) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(
-      window_args(tmp, "--frames 40 --stats --screenshot '" + tmp.str("shot.png") + "' --actions '5:tour=4;6:presentation'"));
+      window_args(tmp, "--frames 40 --stats --screenshot '" + tmp.str("shot.png") +
+                           "' --actions '5:tour=4;6:presentation;7:fullscreen=on;10:tour=otsu;12:tour=otsuu;13:tour=99'"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err.find("tour:"), std::string::npos) << r.err;   // the shipped tour loads cleanly
   EXPECT_FALSE(cv::imread(tmp.str("shot.png")).empty());
+  // A step by its name; a name or number the tour does not have is said, and the step shown stays.
+  EXPECT_EQ(stat_text(r.out, "tour_step"), "otsu") << r.out;
+  EXPECT_NE(r.err.find("tour=otsuu: no step of that name; the steps are overview, acquisition, "), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("tour=99: the tour has "), std::string::npos) << r.err;
+  EXPECT_EQ(stats(r.out)["fullscreen"], true) << r.out;
 }
 
 TEST(Workbench, BrokenTourFileIsReportedWithItsLine) {
