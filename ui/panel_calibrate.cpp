@@ -124,7 +124,8 @@ void frames_so_far(const CalibrationSnapshot& s, SourceKind source) {
 void checklist(const CalibrationSnapshot& s) {
   heading("Checklist");
   if (!s.solution) {
-    for (const char* name : {"enough views", "RMS reprojection error", "95 % intervals under 5 %", "image coverage"}) {
+    for (const char* name : {"enough views", "RMS reprojection error", "95 % intervals under 5 %", "square pixels",
+                             "image coverage"}) {
       chip("no", kPoor, false);
       ImGui::SameLine();
       ImGui::TextDisabled("%s", name);
@@ -182,7 +183,7 @@ void camera(const CalibrationSnapshot* s, const Frame& f) {
     ImGui::TableSetupColumn("diff");
   }
   ImGui::TableHeadersRow();
-  auto row = [&](const char* name, double v, double sd, bool has_sd, double t, bool pixels) {
+  auto row = [&](const char* name, double v, double sd, bool has_sd, bool fixed, double t, bool pixels) {
     const char* f4 = pixels ? "%.2f" : "%.4f";
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
@@ -190,7 +191,8 @@ void camera(const CalibrationSnapshot* s, const Frame& f) {
     ImGui::TableNextColumn();
     ImGui::TextUnformatted(fmt(f4, v).c_str());
     ImGui::TableNextColumn();
-    if (has_sd) ImGui::TextUnformatted(fmt(f4, sd).c_str());
+    if (fixed) ImGui::TextDisabled("fixed");   // not estimated: no interval, rather than one of 0
+    else if (has_sd) ImGui::TextUnformatted(fmt(f4, sd).c_str());
     if (truth) {
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(fmt(f4, t).c_str());
@@ -205,13 +207,14 @@ void camera(const CalibrationSnapshot* s, const Frame& f) {
     const bool has = sol && sol->std_intrinsics.size() > size_t(i);
     const double t = truth ? (i == 0 ? truth->camera_matrix(0, 0) : i == 1 ? truth->camera_matrix(1, 1)
                              : i == 2 ? truth->camera_matrix(0, 2) : truth->camera_matrix(1, 2)) : 0;
-    row(kn[i], kv[i], has ? sol->std_intrinsics[size_t(i)] : 0, has, t, true);
+    row(kn[i], kv[i], has ? sol->std_intrinsics[size_t(i)] : 0, has, sol && i >= 2 && sol->fixed_principal_point, t,
+        true);
   }
   const char* dn[5] = {"k1", "k2", "p1", "p2", "k3"};
   for (size_t i = 0; i < c->distortion.size() && i < 5; ++i) {
     const bool has = sol && sol->std_distortion.size() > i;
     const double t = truth && truth->distortion.size() > i ? truth->distortion[i] : 0;
-    row(dn[i], c->distortion[i], has ? sol->std_distortion[i] : 0, has, t, false);
+    row(dn[i], c->distortion[i], has ? sol->std_distortion[i] : 0, has, sol && i == 4 && sol->fixed_k3, t, false);
   }
   ImGui::EndTable();
   if (sol) {

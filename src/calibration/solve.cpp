@@ -21,6 +21,8 @@ constexpr int kEnoughViews = 10;           // the interactive-calibration app's 
 constexpr double kMaxRmsPx = 1.0;
 constexpr double kMaxRelativeInterval = 0.05;
 constexpr double kMinGridCoverage = 0.75;
+constexpr double kMaxCentreInterval = 0.025;  // of the image's side: wider, and the principal point is fixed
+constexpr double kMaxPixelAspectError = 0.05;  // fy/fx further from 1: a squashed picture, not a camera
 constexpr int kGridCols = 8, kGridRows = 6;
 // ROS's useful range of each term: a bar is full when the views span this much of it.
 constexpr double kRangeX = 0.7, kRangeY = 0.7, kRangeSize = 0.4, kRangeSkew = 0.5;
@@ -126,6 +128,34 @@ bool QualityReport::good() const {
   return std::all_of(checklist.begin(), checklist.end(), [](const Check& c) { return c.ok; });
 }
 
+// What the views can determine, measured by the free solve's own uncertainty rather than guessed from where the
+// board was (a board spanning a third of the width pinned the centre within a pixel, where fixing it at the
+// image's middle put it 7.6 px off): the principal point is fixed at the image's centre when its 95 % interval is
+// wider than kMaxCentreInterval of the image (a lens's centre is nearer the middle than that), and k3 at 0 when
+// its interval holds 0 (the views cannot tell it from none, and it would trade against k1 and k2). The flags to
+// add, each with its note.
+int fixed_by_measure(const std::vector<CalibrationView>& views, const BoardSpec& board, cv::Size size,
+                     const cv::Mat& K0, std::vector<std::string>& notes) {
+  const Result<Run> free = run_opencv(views, board, size, cv::CALIB_USE_INTRINSIC_GUESS, K0);
+  if (!free) return cv::CALIB_FIX_K3;   // the solve proper says why, if it fails too
+  const cv::Mat sd = free->std_intrinsics.reshape(1, 1);
+  int flags = 0;
+  const double cx95 = 1.96 * sd.at<double>(0, 2), cy95 = 1.96 * sd.at<double>(0, 3);
+  if (cx95 > kMaxCentreInterval * size.width || cy95 > kMaxCentreInterval * size.height) {
+    flags |= cv::CALIB_FIX_PRINCIPAL_POINT;
+    notes.push_back("principal point fixed at the image centre: the views leave it uncertain (cx ± " + num(cx95, 1) +
+                    " px, cy ± " + num(cy95, 1) + " px at 95 %, more than " + num(100 * kMaxCentreInterval, 1) +
+                    " % of the image); move the board to the image's edges and tilt it");
+  }
+  const double k3 = free->D.at<double>(0, 4), k3_95 = 1.96 * sd.at<double>(0, 8);
+  if (!(std::abs(k3) > k3_95)) {
+    flags |= cv::CALIB_FIX_K3;
+    notes.push_back("k3 fixed at 0: the views cannot tell it from 0 (" + num(k3, 3) + " ± " + num(k3_95, 3) +
+                    " at 95 %)");
+  }
+  return flags;
+}
+
 Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, const BoardSpec& board, cv::Size size,
                                    const SolveOptions& opt) {
   if (int(all.size()) < opt.min_views)
@@ -144,20 +174,9 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
   int flags = cv::CALIB_USE_INTRINSIC_GUESS;
   cv::Mat K0 = (cv::Mat_<double>(3, 3) << size.width, 0, (size.width - 1) / 2.0, 0, size.width,
                 (size.height - 1) / 2.0, 0, 0, 1);
-  // k3 only matters far from the centre and trades against k1 and k2: without many views reaching the image's
-  // outer parts it fits noise.
-  if (int(all.size()) < 15 || rep.grid_coverage < 0.85) {
-    flags |= cv::CALIB_FIX_K3;
-    s.notes.push_back("k3 fixed at 0: " + std::to_string(all.size()) + " views covering " +
-                      num(100 * rep.grid_coverage, 0) + " % of the image (k3 needs 15 views and 85 %)");
-  }
-  if (rep.bars.x < 0.5 || rep.bars.y < 0.5) {
-    flags |= cv::CALIB_FIX_PRINCIPAL_POINT;
-    s.notes.push_back("principal point fixed at the image centre: the board's positions spanned too little of the "
-                      "image (X " + num(100 * rep.bars.x, 0) + " %, Y " + num(100 * rep.bars.y, 0) +
-                      " %; need 50 %) to determine it");
-  }
-
+  flags |= fixed_by_measure(all, board, size, K0, s.notes);
+  s.fixed_principal_point = flags & cv::CALIB_FIX_PRINCIPAL_POINT;
+  s.fixed_k3 = flags & cv::CALIB_FIX_K3;
   std::vector<CalibrationView> views = all;
   Result<Run> run = run_opencv(views, board, size, flags, K0);
   if (!run) return fail(run.error());
@@ -208,11 +227,23 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
   std::string detail;
   bool intervals_ok = true;
   for (int i = 0; i < 4; ++i) {
+    if (i >= 2 && s.fixed_principal_point) {   // a value fixed has no interval, not one of 0
+      detail += std::string(", ") + names[i] + " fixed";
+      continue;
+    }
     const double rel = 1.96 * s.std_intrinsics[size_t(i)] / std::abs(values[i]);
     intervals_ok = intervals_ok && rel < kMaxRelativeInterval;
     detail += std::string(i ? ", " : "") + names[i] + " " + num(100 * rel, 2) + " %";
   }
   rep.checklist.push_back({"95 % intervals under 5 %", intervals_ok, detail});
+  // Square pixels: a picture resized without keeping its aspect calibrates as a camera with fy/fx far from 1, and
+  // every check above would still pass.
+  const double aspect = values[1] / values[0];
+  rep.checklist.push_back({"square pixels", std::abs(aspect - 1) <= kMaxPixelAspectError,
+                           "fy/fx " + num(aspect, 3) + (std::abs(aspect - 1) <= kMaxPixelAspectError
+                                                             ? std::string(" (need 1 ± ") + num(kMaxPixelAspectError, 2) + ")"
+                                                             : std::string(": the pictures are squashed or stretched "
+                                                                           "(resized without keeping their aspect?)"))});
   rep.checklist.push_back({"image coverage", rep.grid_coverage >= kMinGridCoverage,
                            num(100 * rep.grid_coverage, 0) + " % of an 8x6 grid holds corners (need " +
                                num(100 * kMinGridCoverage, 0) + " %)"});
@@ -253,13 +284,15 @@ Result<Solution> solve_calibration(const std::vector<CalibrationView>& all, cons
 std::string solution_text(const Solution& s) {
   const cv::Matx33d& K = s.calibration.camera_matrix;
   std::string t;
-  t += "fx " + num(K(0, 0)) + " ± " + num(s.std_intrinsics[0]) + "  fy " + num(K(1, 1)) + " ± " +
-       num(s.std_intrinsics[1]) + "  cx " + num(K(0, 2)) + " ± " + num(s.std_intrinsics[2]) + "  cy " + num(K(1, 2)) +
-       " ± " + num(s.std_intrinsics[3]) + " px\n";
+  // A value fixed is said to be, not given an interval of 0.
+  const auto sd = [](bool fixed, double v, int decimals) { return fixed ? std::string(" (fixed)") : " ± " + num(v, decimals); };
+  t += "fx " + num(K(0, 0)) + sd(false, s.std_intrinsics[0], 2) + "  fy " + num(K(1, 1)) +
+       sd(false, s.std_intrinsics[1], 2) + "  cx " + num(K(0, 2)) + sd(s.fixed_principal_point, s.std_intrinsics[2], 2) +
+       "  cy " + num(K(1, 2)) + sd(s.fixed_principal_point, s.std_intrinsics[3], 2) + " px\n";
   const char* dn[5] = {"k1", "k2", "p1", "p2", "k3"};
   for (size_t i = 0; i < s.calibration.distortion.size() && i < 5; ++i)
-    t += std::string(i ? "  " : "") + dn[i] + " " + num(s.calibration.distortion[i], 4) + " ± " +
-         num(s.std_distortion[i], 4);
+    t += std::string(i ? "  " : "") + dn[i] + " " + num(s.calibration.distortion[i], 4) +
+         sd(i == 4 && s.fixed_k3, s.std_distortion[i], 4);
   t += "\nRMS reprojection error " + num(s.rms, 3) + " px over " + std::to_string(s.view_names.size()) + " views\n";
   if (!s.opencv_defaults.distortion.empty()) {
     const cv::Matx33d& O = s.opencv_defaults.camera_matrix;
@@ -302,6 +335,9 @@ std::string solution_json(const Solution& s, const BoardSpec& board) {
   j["distortion_coefficients"] = s.calibration.distortion;
   j["std_dev_intrinsics_fx_fy_cx_cy"] = s.std_intrinsics;
   j["std_dev_distortion"] = s.std_distortion;
+  j["fixed"] = json::array();   // the values the solve did not estimate (their std_dev is 0)
+  if (s.fixed_principal_point) j["fixed"].push_back("cx"), j["fixed"].push_back("cy");
+  if (s.fixed_k3) j["fixed"].push_back("k3");
   j["avg_reprojection_error"] = s.rms;
   j["view_count"] = s.view_names.size();
   if (!s.opencv_defaults.distortion.empty()) {

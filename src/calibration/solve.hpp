@@ -38,7 +38,8 @@ CoverageBars coverage_bars(const std::vector<ViewPose>& poses);
 cv::Mat1i corner_grid(const std::vector<CalibrationView>& views, cv::Size size);
 
 struct Check {
-  std::string name;     // "enough views", "RMS reprojection error", "95 % intervals under 5 %", "image coverage"
+  std::string name;     // "enough views", "RMS reprojection error", "95 % intervals under 5 %", "square pixels",
+                        // "image coverage"
   bool ok = false;
   std::string detail;   // the figures behind it: "14 views (need 10)"
 };
@@ -65,6 +66,8 @@ struct Solution {
   std::vector<std::string> view_names;    // the views used, in input order
   std::vector<double> per_view_errors;    // theirs, px
   std::vector<double> std_intrinsics;     // fx fy cx cy, one standard deviation (0 for a fixed one)
+  bool fixed_principal_point = false;     // cx, cy fixed at the image's centre (notes say why)
+  bool fixed_k3 = false;                  // k3 fixed at 0
   std::vector<double> std_distortion;     // as calibration.distortion
   std::vector<std::string> notes;         // "k3 fixed at 0: ...", "dropped frame 12 (2.31 px, median 0.22 px)"
   QualityReport report;

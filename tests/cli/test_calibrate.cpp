@@ -57,7 +57,7 @@ TEST(Calibrate, AFolderOfViewsGivesTheKnownCameraInTheFileAndTheJson) {
   EXPECT_NEAR(j["cy"].get<double>(), 236, 2);
   EXPECT_NEAR(j["distortion_coefficients"][0].get<double>(), -0.25, 0.02);
   EXPECT_EQ(j["frames_read"], 14);
-  EXPECT_EQ(j["report"]["checklist"].size(), 4u);
+  EXPECT_EQ(j["report"]["checklist"].size(), 5u);
   EXPECT_TRUE(j["report"]["per_view_errors_worst_first"].is_array());
   const Result<Calibration> file = read_calibration(dir.str("cam.yml"));
   ASSERT_TRUE(file.ok()) << file.error();

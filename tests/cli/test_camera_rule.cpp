@@ -42,9 +42,9 @@ TEST(CameraRule, EveryExtremeTheReaderAcceptsGoesThroughDetectRenderExportAndThe
     EXPECT_EQ(r.status, 0) << name << ": " << r.err;
     EXPECT_EQ(test::lines(r.out).size(), 5u) << name << ": a pose line per marker, or why there is none\n" << r.out;
     r = run_arwb("render --scene " + q(d.str("scene.lua")) + " --input " + q(test::kSample) + " --calib " + q(calib) +
-                 " --out " + q(d.str(name + ".png")));
+                 " --out " + q(d.str(name + "_frames")));
     EXPECT_EQ(r.status, 0) << name << ": " << r.err;
-    EXPECT_TRUE(std::filesystem::exists(d.str(name + ".png"))) << name;
+    EXPECT_TRUE(std::filesystem::exists(d.str(name + "_frames/frame_000000.png"))) << name;
     // The self-test renders the scene through the camera: it passes, or says in one line why not.
     r = run_arwb("export --scene " + q(d.str("scene.lua")) + " --calib " + q(calib) + " --out " +
                  q(d.str(name + ".arwb")));

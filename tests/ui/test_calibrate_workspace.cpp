@@ -59,7 +59,7 @@ TEST(CalibrateWorkspace, FillsUpOverTheFramesAndSolvesNearTheTruth) {
   EXPECT_GE(c["frames"].get<int>(), 10) << c.dump();
   EXPECT_GE(c["views"].get<int>(), 10) << c.dump();
   ASSERT_TRUE(c.contains("checklist")) << "no solve: " << c.dump();
-  EXPECT_EQ(c["checklist"].size(), 4u);
+  EXPECT_EQ(c["checklist"].size(), 5u);
   EXPECT_EQ(c["checklist"][0]["name"], "enough views");
   EXPECT_TRUE(c["checklist"][0]["ok"].get<bool>()) << c.dump();
   EXPECT_LT(c["rms"].get<double>(), 1.0);
