@@ -7,7 +7,7 @@ local stations = { [0] = "Reagents", [1] = "Centrifuge", [2] = "Microscope", [3]
 
 marker(0, { media = image "media/flask.png", place = on_marker { scale = 0.8, opacity = 0.9 } })
 
-marker({0, 1023}, {
+marker({from = 0, to = 1023}, {
   name = "station label",
   media = text(function(m)
     local name = stations[m.id] or ("Station " .. m.id)

@@ -16,14 +16,14 @@ marker(2, { name = "film", media = video("media/orbit.mp4", { loop = true }),
             place = beside { side = "right", gap = 0.25, size = 1.5 } })
 
 -- Captions under every exhibit, in the marker's plane, so they tilt with the wall.
-marker({0, 2}, {
+marker({from = 0, to = 2}, {
   name = "caption",
   media = text(function(m) return captions[m.id] or ("exhibit " .. m.id) end, { size = 28 }),
   place = beside { side = "bottom", gap = 0.1, size = 0.45 },
 })
 
 -- Visitors' counter: how long each exhibit has been looked at this visit.
-marker({0, 2}, {
+marker({from = 0, to = 2}, {
   on_enter = function(m) print("visitor looks at exhibit " .. m.id) end,
   on_leave = function(m) print(string.format("exhibit %d left after %.1f s", m.id, m.seconds)) end,
 })

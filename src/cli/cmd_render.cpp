@@ -198,6 +198,7 @@ struct FrameCamera {
     }
     f.loaded_calibration = calib;
     f.pose_marker_side = marker_size > 0 ? marker_size : 1.0;
+    f.pose_unit = marker_size > 0 ? "mm" : "marker sides";
     return true;
   }
 };

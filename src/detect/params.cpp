@@ -109,6 +109,11 @@ const ParamInfo kTable[] = {
              "lets more jitter through while it moves."),
     ARWB_DBL(tracking_d_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,
              "Cutoff of the corner speed that the cutoff follows. Higher reacts sooner to a start, and to noise."),
+    ARWB_DBL(tracking_hold_s, kTrackingStage, "s", 0.25, 0, 5,
+             "How long a marker unseen stays, its media on its last corners, before it leaves (a scene's on_leave "
+             "runs). It also stays while missed on no more than two frames in a row, so a slow source's missed "
+             "frame does not make it leave and enter again. Higher rides out longer gaps; media then linger longer "
+             "after a marker is taken away."),
 };
 
 #undef ARWB_INT

@@ -57,6 +57,7 @@ struct DetectorParams {
   double tracking_min_cutoff_hz = 0;
   double tracking_beta = 0;
   double tracking_d_cutoff_hz = 0;
+  double tracking_hold_s = 0;
 
   DetectorParams();  // every field at its table default
   bool operator==(const DetectorParams&) const = default;

@@ -131,27 +131,59 @@ int w_dictionary(lua_State* L) {
   });
 }
 
-// The ids argument of marker(): an id, {first, last}, or ids(...). "" or the problem.
-std::string read_ids(lua_State* L, int idx, const SceneDef& def, IdSet* out) {
+// More ids than any dictionary holds (the largest has 1024): a list longer is a mistake, not a scene.
+constexpr lua_Unsigned kMaxIdList = 4096;
+
+// A table of ids: {from = 100, to = 199}, a range that cannot be read as a list; {3, 7, 12}, a list; and the old
+// {first, last}, still the range from first to last, with a `warning` that it reads as one ({0, 2} covered 1 too).
+std::string read_id_table(lua_State* L, int idx, const SceneDef& def, IdSet* out, std::string* warning) {
   long long a = 0, b = 0;
-  if (get_integer(L, idx, &a)) {
-    if (std::string e = check_id(def, a); !e.empty()) return e;
-    out->ranges.push_back({static_cast<int>(a), static_cast<int>(a)});
-    return {};
-  }
-  if (lua_type(L, idx) == LUA_TTABLE) {
-    const lua_Unsigned n = lua_rawlen(L, idx);
-    lua_rawgeti(L, idx, 1);
-    lua_rawgeti(L, idx, 2);
-    const bool ok = n == 2 && get_integer(L, -2, &a) && get_integer(L, -1, &b);
-    lua_pop(L, 2);
-    if (!ok) return "an id range is {first, last} with two integers; for a list use ids(1, 5, 9)";
-    if (a > b) return "the id range {" + std::to_string(a) + ", " + std::to_string(b) + "} is empty (first > last)";
+  lua_getfield(L, idx, "from");
+  lua_getfield(L, idx, "to");
+  const bool named = !lua_isnil(L, -2) || !lua_isnil(L, -1);
+  const bool both = get_integer(L, -2, &a) && get_integer(L, -1, &b);
+  lua_pop(L, 2);
+  const lua_Unsigned n = lua_rawlen(L, idx);
+  if (named || n == 2) {
+    if (named && !both) return "an id range is {from = first, to = last} with two integers";
+    if (!named) {
+      lua_rawgeti(L, idx, 1);
+      lua_rawgeti(L, idx, 2);
+      const bool ok = get_integer(L, -2, &a) && get_integer(L, -1, &b);
+      lua_pop(L, 2);
+      if (!ok) return "an id list holds integers only, such as {3, 7, 12}";
+      *warning = "{" + std::to_string(a) + ", " + std::to_string(b) + "} is read as the range " + std::to_string(a) +
+                 " to " + std::to_string(b) + "; write {from = " + std::to_string(a) + ", to = " + std::to_string(b) +
+                 "} for the range, or ids(" + std::to_string(a) + ", " + std::to_string(b) + ") for the two ids";
+    }
+    if (a > b) return "the id range " + std::to_string(a) + " to " + std::to_string(b) + " is empty (first > last)";
     if (std::string e = check_id(def, a); !e.empty()) return e;
     if (std::string e = check_id(def, b); !e.empty()) return e;
     out->ranges.push_back({static_cast<int>(a), static_cast<int>(b)});
     return {};
   }
+  if (n == 0) return "an empty table has no ids; a list is {3, 7, 12}, a range {from = 100, to = 199}";
+  if (n > kMaxIdList) return "a list of more than " + std::to_string(kMaxIdList) + " ids; use a range";
+  for (lua_Unsigned i = 1; i <= n; ++i) {
+    lua_rawgeti(L, idx, lua_Integer(i));
+    const bool ok = get_integer(L, -1, &a);
+    lua_pop(L, 1);
+    if (!ok) return "an id list holds integers only, such as {3, 7, 12}";
+    if (std::string e = check_id(def, a); !e.empty()) return e;
+    out->ranges.push_back({static_cast<int>(a), static_cast<int>(a)});
+  }
+  return {};
+}
+
+// The ids argument of marker(): an id, a table (read_id_table), or ids(...). "" or the problem.
+std::string read_ids(lua_State* L, int idx, const SceneDef& def, IdSet* out, std::string* warning) {
+  long long a = 0;
+  if (get_integer(L, idx, &a)) {
+    if (std::string e = check_id(def, a); !e.empty()) return e;
+    out->ranges.push_back({static_cast<int>(a), static_cast<int>(a)});
+    return {};
+  }
+  if (lua_type(L, idx) == LUA_TTABLE) return read_id_table(L, idx, def, out, warning);
   if (const IdsValue* v = test_value<IdsValue>(L, idx, kIdsMeta)) {
     if (!v->error.empty()) return v->error;
     for (int id : v->ids) {
@@ -162,7 +194,8 @@ std::string read_ids(lua_State* L, int idx, const SceneDef& def, IdSet* out) {
   }
   if (lua_type(L, idx) == LUA_TNUMBER)
     return "id must be an integer, got " + describe_value(L, idx);
-  return "the first argument must be an id, {first, last} or ids(...), got " + describe_value(L, idx);
+  return "the first argument must be an id, a list {3, 7}, a range {from = 100, to = 199} or ids(...), got " +
+         describe_value(L, idx);
 }
 
 int w_marker(lua_State* L) {
@@ -191,7 +224,9 @@ int w_marker(lua_State* L) {
       keep_skipped(msg);
       return 0;
     };
-    if (std::string e = read_ids(L, 1, def, &m.ids); !e.empty()) return skip("marker: " + e);
+    std::string ids_warning;
+    if (std::string e = read_ids(L, 1, def, &m.ids, &ids_warning); !e.empty()) return skip("marker: " + e);
+    if (!ids_warning.empty()) report(L, 1, w.prefix + "marker: " + ids_warning);
     const std::string label = "marker(" + m.ids.text() + ")";
     if (lua_type(L, 2) != LUA_TTABLE)
       return skip(label + ": the second argument must be a table {media = ..., place = ...}, got " +

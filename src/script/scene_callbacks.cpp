@@ -4,11 +4,18 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string_view>
 
 namespace arwb::script {
 namespace {
 
-void push_marker(lua_State* L, const TrackedMarker& t, const std::string& dict, bool held) {
+// The pose's unit: its name, and the marker's side in it (m.pose.x / m.pose.side is in marker sides either way).
+struct PoseUnit {
+  const std::string& name;
+  double side;
+};
+
+void push_marker(lua_State* L, const TrackedMarker& t, const std::string& dict, bool held, const PoseUnit& unit) {
   lua_createtable(L, 0, 10);
   lua_pushinteger(L, t.id);
   lua_setfield(L, -2, "id");
@@ -41,7 +48,7 @@ void push_marker(lua_State* L, const TrackedMarker& t, const std::string& dict, 
   lua_pushboolean(L, held);
   lua_setfield(L, -2, "held");
   if (!t.pose) return;
-  // Its pose (pose/marker_pose.hpp) through the loaded calibration or the default camera, in marker sides.
+  // Its pose (pose/marker_pose.hpp) through the loaded calibration or the default camera, in `unit`.
   const PoseAngles a = pose_angles(t.pose->pose);
   lua_createtable(L, 0, 10);
   const std::pair<const char*, double> fields[] = {
@@ -54,6 +61,10 @@ void push_marker(lua_State* L, const TrackedMarker& t, const std::string& dict, 
   }
   lua_pushboolean(L, t.pose->assumed_camera);
   lua_setfield(L, -2, "assumed");
+  lua_pushlstring(L, unit.name.data(), unit.name.size());
+  lua_setfield(L, -2, "unit");
+  lua_pushnumber(L, unit.side);
+  lua_setfield(L, -2, "side");
   lua_setfield(L, -2, "pose");
 }
 
@@ -84,7 +95,7 @@ bool SceneRuntime::Impl::call(Program& p, int mi, int fn, const TrackedMarker& t
   lua_State* L = ls.L();
   lua_checkstack(L, 8);
   lua_rawgeti(L, LUA_REGISTRYINDEX, fn);
-  push_marker(L, t, dict_of(p, t), held);
+  push_marker(L, t, dict_of(p, t), held, PoseUnit{pose_unit, pose_side});
   int nargs = 1;
   if (dt) {
     lua_pushnumber(L, *dt);
@@ -219,8 +230,10 @@ void SceneRuntime::Impl::apply_return(Program& p, int fn, Instance& inst, const 
 void SceneRuntime::Impl::run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held,
                                       const double* dt, const char* what, Instance& inst) {
   if (fn == LUA_NOREF || !p.lua) return;
-  if (call(p, mi, fn, t, held, dt, what, &inst))
-    apply_return(p, fn, inst, std::string(what) + " of marker " + std::to_string(t.id));
+  const bool event = std::string_view(what) != "on_update";
+  const bool ran = call(p, mi, fn, t, held, dt, what, &inst);
+  if (event && size_t(mi) < p.event_error.size()) p.event_error[size_t(mi)] = ran ? std::string() : inst.error;
+  if (ran) apply_return(p, fn, inst, std::string(what) + " of marker " + std::to_string(t.id));
 }
 
 Instance& SceneRuntime::Impl::instance_of(Program& p, int mi, const TrackedMarker& t) {

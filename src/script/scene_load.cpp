@@ -123,6 +123,7 @@ bool SceneRuntime::Impl::load(const std::string& path) {
   if (!ok) return fail_load(msg, line);
 
   p->mapping_error.assign(p->def.mappings.size(), std::string());
+  p->event_error.assign(p->def.mappings.size(), std::string());
   prog = std::move(p);   // the old scene (its Lua state, players and overrides) goes only now
   store.trim();
   status.file = path;

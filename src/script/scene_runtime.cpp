@@ -49,6 +49,8 @@ int line_in(const std::string& msg, const std::string& display) {
 
 std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   frame_ms = 0;
+  pose_side = in.marker_side > 0 ? in.marker_side : 1;
+  pose_unit = in.pose_unit;
   ++frame_no;
   skipped = false;
   std::vector<Overlay> overlays;
@@ -264,6 +266,7 @@ void SceneRuntime::Impl::fill_rows(const std::vector<const TrackedMarker*>* seen
       }
     if (mi < p.mapping_error.size() && !p.mapping_error[mi].empty()) fault(MappingHealth::disabled, p.mapping_error[mi]);
     else if (!error.empty()) fault(MappingHealth::error, error);
+    else if (mi < p.event_error.size() && !p.event_error[mi].empty()) fault(MappingHealth::error, p.event_error[mi]);
     else if (visible > 0)
       row.state = "visible " + fmt1(longest) + " s" +
                   (visible + held > 1 ? " (" + std::to_string(visible + held) + " markers)" : "");

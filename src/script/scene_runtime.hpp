@@ -57,6 +57,7 @@ struct SceneInput {
   // and the marker side their tvec is measured in. Null: 3D media cannot be drawn.
   const Calibration* camera = nullptr;
   double marker_side = 1.0;
+  std::string pose_unit = "marker sides";   // what tvec's unit is called: "mm" with a printed size given
 };
 
 class SceneRuntime {

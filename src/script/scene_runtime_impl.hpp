@@ -57,6 +57,9 @@ struct Program {
   };
   std::map<std::pair<int, int>, Streak> streaks;       // (function, marker id)
   std::vector<std::string> mapping_error;              // per mapping: why part of it is disabled
+  // Per mapping: the last on_enter or on_leave that failed, until one of them runs cleanly. They run once per
+  // visit (on_leave with the marker gone), so a frame's own errors would show them for one frame, or never.
+  std::vector<std::string> event_error;
   std::map<uint64_t, int> inside;                      // tracks entered and not left -> their slot
   std::map<uint64_t, TrackedMarker> last;              // their last state (for on_leave)
   bool stage_note = false;                             // "no stage pictures" was said
@@ -83,6 +86,8 @@ struct SceneRuntime::Impl : Reporter {
   std::string attempt_path;
   FileSig attempt_sig;
   double frame_ms = 0;      // script time on this frame so far
+  double pose_side = 1;     // this frame's marker side in the poses' unit, and the unit's name (m.pose.side, .unit)
+  std::string pose_unit = "marker sides";
   uint64_t frame_no = 0;    // frames updated since construction
   bool skipped = false;     // an on_update or text call waited for the next frame (ScriptLimits::frame_ms)
   // Error lines not yet handed to the workbench's log (take_errors), each text once until the next load; at most

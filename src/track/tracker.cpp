@@ -134,9 +134,10 @@ std::vector<TrackEvent> Tracker::update(const std::vector<Marker>& markers, doub
       pose(t);
       t.last_seen_s = t_s;
       t.detected = true;
+      t.missed = 0;
     } else {
       t.detected = false;
-      if (t_s - t.last_seen_s > settings_.hold_s) {
+      if (++t.missed > kMaxMissedFrames && t_s - t.last_seen_s > settings_.hold_s) {
         leaves.push_back({TrackEvent::Kind::leave, t.id, t.track_id});
         filters_.erase(t.track_id);
         continue;

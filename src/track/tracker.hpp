@@ -36,6 +36,7 @@ struct TrackedMarker {
   double last_seen_s = 0;      // when it was last detected
   double visible_s = 0;        // seconds since it entered
   bool detected = false;       // detected on this frame (false while held)
+  int missed = 0;              // frames missed in a row (0 while detected)
   std::optional<MarkerPose> pose;   // from `corners` with the tracker's camera and marker side
 };
 
@@ -54,8 +55,13 @@ struct SmoothingSettings {
   double d_cutoff_hz = 1.0;     // cutoff of the speed estimate the cutoff follows
 };
 
+// A marker missed on this many frames in a row or fewer stays, whatever the time: at 4 fps one missed frame is
+// already half a second.
+inline constexpr int kMaxMissedFrames = 2;
+
 struct TrackerSettings {
-  double hold_s = 0.25;        // how long a missed marker stays (with its last corners) before it leaves
+  double hold_s = 0.25;        // how long a missed marker stays (with its last corners) before it leaves; it also
+                               // stays while missed on at most kMaxMissedFrames frames in a row
   double gate_sides = 2.0;     // a detection joins a track whose predicted centre is within this many sides
   SmoothingSettings smoothing{};
 };
@@ -85,6 +91,7 @@ class Tracker {
   void clear();
 
   void set_smoothing(const SmoothingSettings& s) { settings_.smoothing = s; }
+  void set_hold(double hold_s) { settings_.hold_s = hold_s; }
   // The camera poses are computed with, and the marker's side (tvec in its unit; 1: in marker sides). Without a
   // camera (the default) tracks have no pose.
   void set_camera(const Calibration& camera, double marker_side = 1.0);

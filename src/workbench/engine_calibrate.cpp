@@ -23,7 +23,9 @@ void Engine::State::camera(Worker& w, Frame& f) {
   }
   if (!w.loaded_raw) w.loaded.reset();
   f.loaded_calibration = w.loaded;
-  f.pose_marker_side = w.marker_size > 0 && std::isfinite(w.marker_size) ? w.marker_size : 1.0;
+  const bool sized = w.marker_size > 0 && std::isfinite(w.marker_size);
+  f.pose_marker_side = sized ? w.marker_size : 1.0;
+  f.pose_unit = sized ? "mm" : "marker sides";
 }
 
 void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double sy) {

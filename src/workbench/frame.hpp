@@ -64,6 +64,7 @@ struct Frame {
   // values for this frame's size) and the marker side they are in units of.
   Calibration pose_camera;
   double pose_marker_side = 1;
+  std::string pose_unit = "marker sides";   // "mm" when a printed size was given (--marker-size, a bundle's)
   std::vector<Overlay> overlays;
   SceneStatus scene;
   // Calibration. The session's state while the Calibrate workspace is shown (null otherwise: no board is looked

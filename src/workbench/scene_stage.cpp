@@ -43,9 +43,10 @@ void SceneStage::run(Frame& f, double t_s, double poll_s) {
   sm.beta = f.params.tracking_beta;
   sm.d_cutoff_hz = f.params.tracking_d_cutoff_hz;
   tracker_.set_smoothing(sm);
+  tracker_.set_hold(f.params.tracking_hold_s);
   if (f.loaded_calibration) f.pose_camera = *f.loaded_calibration;
   else if (f.image.cols > 0 && f.image.rows > 0) f.pose_camera = default_calibration(f.image.size());
-  if (!(f.pose_marker_side > 0)) f.pose_marker_side = 1;
+  if (!(f.pose_marker_side > 0)) f.pose_marker_side = 1, f.pose_unit = "marker sides";
   tracker_.set_camera(f.pose_camera, f.pose_marker_side);
   const std::vector<TrackEvent> events = tracker_.update(f.trace.markers, t_s);
   if (file_.empty()) {   // no scene: the tracks alone (with their poses)
@@ -64,6 +65,7 @@ void SceneStage::run(Frame& f, double t_s, double poll_s) {
   in.frame_index = f.index;
   in.camera = &f.pose_camera;
   in.marker_side = f.pose_marker_side;
+  in.pose_unit = f.pose_unit;
   f.overlays = runtime_->update(in);
   f.tracks = tracker_.tracks();
   f.scene = runtime_->status();

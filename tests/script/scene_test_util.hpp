@@ -90,6 +90,8 @@ struct SceneFixture {
     in.views = views;
     in.frame_index = ++frame_index;
     in.camera = camera;
+    in.marker_side = marker_side;
+    in.pose_unit = pose_unit;
     return runtime.update(in);
   }
 
@@ -130,6 +132,8 @@ struct SceneFixture {
   const std::array<cv::Mat, kStageCount>* views = nullptr;
   uint64_t frame_index = 0;
   const Calibration* camera = nullptr;   // the tracks' poses' camera (3D media need it)
+  double marker_side = 1;                 // the poses' marker side and its unit's name
+  std::string pose_unit = "marker sides";
 
  private:
   std::vector<TrackedMarker> tracks_;

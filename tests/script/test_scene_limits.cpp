@@ -183,7 +183,7 @@ TEST(Limits, TheMainChunkIsStoppedByTimeAndTheLastGoodSceneStays) {
 TEST(Limits, AFramesCallsTogetherAreBounded) {
   SceneFixture s;
   const auto p = s.write("scene.lua", R"(
-marker({0, 39}, { on_update = function(m)
+marker({from = 0, to = 39}, { on_update = function(m)
   local t = os.clock() while os.clock() - t < 0.03 do end
   print("ran", m.id)
 end })

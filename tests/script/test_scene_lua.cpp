@@ -12,7 +12,7 @@ const char* kExample = R"(dictionary "ARUCO_ORIGINAL"
 marker(7,  { media = image "media/painting.png", place = on_marker() })
 marker(8,  { media = video("media/clip.avi", { loop = true }), place = beside { side = "right", gap = 0.25, size = 1.5 } })
 marker(20, { media = web "https://opencv.org", place = beside { side = "top" } })
-marker({100, 199}, { media = text(function(m) return "ID " .. m.id end), place = billboard() })
+marker({from = 100, to = 199}, { media = text(function(m) return "ID " .. m.id end), place = billboard() })
 marker(30, { on_enter = function(m) print("enter", m.id) end,
              on_update = function(m, dt) print("update", m.id, dt) end,
              on_leave = function(m) print("leave", m.id) end })
@@ -99,7 +99,7 @@ TEST(SceneLua, ApiExampleGivesTheOverlays) {
 TEST(SceneLua, ComputedTextFollowsEachMarkerEveryFrame) {
   SceneFixture s;
   const auto p = s.write("scene.lua", R"(
-marker({100, 199}, { media = text(function(m) return string.format("%d %.1f", m.id, m.seconds) end) })
+marker({from = 100, to = 199}, { media = text(function(m) return string.format("%d %.1f", m.id, m.seconds) end) })
 )");
   ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
   auto ov = s.update({track(100, 100, 100, 60, true, 0.5), track(199, 300, 100, 60, true, 2.0)});
@@ -114,7 +114,7 @@ marker({100, 199}, { media = text(function(m) return string.format("%d %.1f", m.
 TEST(SceneLua, RangesAndIdListsCoverExactlyTheirIds) {
   SceneFixture s;
   const auto p = s.write("scene.lua", R"(
-marker({100, 199}, { media = text "range" })
+marker({from = 100, to = 199}, { media = text "range" })
 marker(ids(1, 5, 9), { media = text "list" })
 marker(5, { media = text "five" })
 )");
@@ -136,10 +136,38 @@ marker(5, { media = text "five" })
   EXPECT_EQ(s.runtime.status().mappings[1].ids, "1, 5, 9");
 }
 
+// A list of ids is a table of the ids; a range says so ({from = a, to = b}); the old {a, b} still means the range
+// a to b, with a warning naming its line, since it reads like the two ids.
+TEST(SceneLua, AListIsItsIdsAndTheOldTwoIdRangeIsSaid) {
+  SceneFixture s;
+  const auto p = s.write("scene.lua", R"(
+marker({3, 7, 12}, { media = text "list" })
+marker({0, 2}, { media = text "old range" })
+marker({}, { media = text "none" })
+marker({from = 5}, { media = text "half" })
+marker({1, "x"}, { media = text "bad" })
+)");
+  ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
+  const auto ov = s.update({track(1, 50, 50), track(3, 150, 50), track(7, 250, 50), track(8, 350, 50),
+                            track(12, 50, 250)});
+  EXPECT_EQ(count_overlays(ov, 3), 1);
+  EXPECT_EQ(count_overlays(ov, 7), 1);
+  EXPECT_EQ(count_overlays(ov, 12), 1);
+  EXPECT_EQ(count_overlays(ov, 8), 0) << "a list is not a range";
+  EXPECT_EQ(count_overlays(ov, 1), 1) << "the old form is still the range 0 to 2";
+  EXPECT_EQ(s.runtime.status().mappings[0].ids, "3, 7, 12");
+  ASSERT_TRUE(s.has("scene.lua:3: marker: {0, 2} is read as the range 0 to 2; write {from = 0, to = 2} for the "
+                    "range, or ids(0, 2) for the two ids")) << s.console();
+  EXPECT_EQ(s.lines("is read as the range")[0].level, 1) << "a warning";
+  EXPECT_TRUE(s.has("scene.lua:4: marker: an empty table has no ids")) << s.console();
+  EXPECT_TRUE(s.has("scene.lua:5: marker: an id range is {from = first, to = last} with two integers")) << s.console();
+  EXPECT_TRUE(s.has("scene.lua:6: marker: an id list holds integers only")) << s.console();
+}
+
 TEST(SceneLua, CallbackReturnsChangeMediaAndPlacementOfThatMarkerOnly) {
   SceneFixture s;
   const auto p = s.write("scene.lua", R"(
-marker({1, 2}, {
+marker({from = 1, to = 2}, {
   media = text "start",
   on_enter = function(m)
     if m.id == 1 then return { media = text "entered", place = beside { side = "left" } } end
@@ -200,7 +228,7 @@ TEST(SceneLua, EnterAndLeaveRunInEventOrderThenDeclarationOrder) {
   SceneFixture s;
   const auto p = s.write("scene.lua", R"(
 local function log(what) return function(m) print(what, m.id) end end
-marker({1, 9}, { on_enter = log("A enter"), on_leave = log("A leave") })
+marker({from = 1, to = 9}, { on_enter = log("A enter"), on_leave = log("A leave") })
 marker(2, { on_enter = log("B enter"), on_leave = log("B leave"), on_update = log("B update") })
 )");
   ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
@@ -272,7 +300,7 @@ marker(8, { on_enter = function(m) error("custom failure") end })
 TEST(SceneLua, AMappingWithAMissingMediaFileKeepsItsRowSkippedAndNothingRuns) {
   SceneFixture s;
   const auto p = s.write("scene.lua", R"(marker(7, { media = text "fine" })
-marker({8, 9}, { media = image "logo.png", on_enter = function(m) print("entered", m.id) end })
+marker({from = 8, to = 9}, { media = image "logo.png", on_enter = function(m) print("entered", m.id) end })
 )");
   ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
   const auto ov = s.update({track(7, 100, 100), track(8, 300, 100)}, enters({7, 8}));
@@ -292,6 +320,31 @@ marker({8, 9}, { media = image "logo.png", on_enter = function(m) print("entered
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0], rows[1].reason);
   EXPECT_TRUE(s.runtime.take_errors().empty());
+}
+
+// An error in on_enter or on_leave marks its row and line as one in on_update does, and keeps it marked after the
+// frame it happened on (they run once per visit; on_leave with the marker gone), until one of them runs cleanly.
+TEST(SceneLua, AnEnterOrLeaveErrorMarksItsRowWithItsLine) {
+  SceneFixture s;
+  const auto p = s.write("scene.lua", R"(marker(7, { media = text "seven",
+  on_enter = function(m) error("enter failed") end })
+marker(8, { media = text "eight",
+  on_leave = function(m) error("leave failed") end })
+)");
+  ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
+  s.update({track(7, 100, 100), track(8, 300, 100)}, enters({7, 8}));
+  s.update({track(7, 100, 100), track(8, 300, 100)});
+  const auto& rows = s.runtime.status().mappings;
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].health, MappingHealth::error) << "still marked on the next frame";
+  EXPECT_EQ(rows[0].reason_line, 2);
+  EXPECT_NE(rows[0].reason.find("enter failed"), std::string::npos) << rows[0].reason;
+  EXPECT_EQ(rows[1].health, MappingHealth::ok);
+  s.update({track(7, 100, 100)}, {leave_event(8)});
+  s.update({track(7, 100, 100)});
+  EXPECT_EQ(rows[1].health, MappingHealth::error) << "marked with the marker gone";
+  EXPECT_EQ(rows[1].reason_line, 4);
+  EXPECT_NE(rows[1].reason.find("leave failed"), std::string::npos) << rows[1].reason;
 }
 
 TEST(SceneLua, ARuntimeErrorMarksItsRowWithTheFailingLineThenDisabled) {
@@ -335,7 +388,7 @@ TEST(SceneLua, ErrorsAlternatingBetweenTwoMarkersStillCollapse) {
   patient.failures_in_a_row = 1000;   // collapsing alone, not the disabling of ErrorsOnEveryFrameDisableTheCallback
   SceneFixture s(patient);
   const auto p = s.write("scene.lua", R"(
-marker({1, 2}, { on_update = function(m) error("bad " .. m.id) end })
+marker({from = 1, to = 2}, { on_update = function(m) error("bad " .. m.id) end })
 )");
   ASSERT_TRUE(s.runtime.load(p));
   for (int i = 0; i < 5; ++i) s.update({track(1, 100, 100), track(2, 300, 100)});
@@ -381,7 +434,7 @@ marker(9, { media = text "diagonal", place = beside { side = "diagonal" } })
 marker(1024, { media = text "too big" })
 marker(10, { media = "painting.png" })
 marker(11, { media = text "zero", place = on_marker { scale = 0 } })
-marker({5, 3}, { media = text "empty range" })
+marker({from = 5, to = 3}, { media = text "empty range" })
 marker(12, { media = text "fine" })
 )");
   ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error;
@@ -540,7 +593,7 @@ marker(4, { media = stage "no_such_stage" })
 TEST(SceneLua, EachMarkerHasItsOwnVideoPlayerKeptWhileAway) {
   SceneFixture s;
   make_avi(s.dir.path() / "clip.avi");
-  const auto p = s.write("scene.lua", "marker({1, 2}, { media = video(\"clip.avi\", { loop = true }) })\n");
+  const auto p = s.write("scene.lua", "marker({from = 1, to = 2}, { media = video(\"clip.avi\", { loop = true }) })\n");
   ASSERT_TRUE(s.runtime.load(p)) << s.runtime.status().error << s.console();
   auto ov = s.update({track(1, 100, 100), track(2, 300, 100)}, enters({1, 2}));
   ASSERT_EQ(ov.size(), 2u) << s.console();
@@ -630,7 +683,8 @@ TEST(SceneLua, CallbacksSeeTheMarkersPoseWhenItHasOne) {
   SceneFixture s;
   const auto p = s.write("scene.lua", R"(
 marker(1, { on_update = function(m)
-  if m.pose then print(string.format("%.2f %.1f %.2f %s", m.pose.distance, m.pose.tilt, m.pose.z, tostring(m.pose.assumed)))
+  if m.pose then print(string.format("%.2f %.1f %.2f %s %s %g", m.pose.distance, m.pose.tilt, m.pose.z,
+                                     tostring(m.pose.assumed), m.pose.unit, m.pose.side))
   else print("no pose") end
 end })
 )");
@@ -643,7 +697,13 @@ end })
   with.pose = pose;
   s.update({with}, enters({1}));
   s.update({track(1, 100, 100)}, {});
-  const std::vector<std::string> want = {"5.00 36.9 4.00 true", "no pose"};
+  // Poses of a printed size: the unit says mm, and z / side is in marker sides.
+  s.marker_side = 50;
+  s.pose_unit = "mm";
+  pose.pose.tvec = cv::Vec3d(0, 150, 200);
+  with.pose = pose;
+  s.update({with}, {});
+  const std::vector<std::string> want = {"5.00 36.9 4.00 true marker sides 1", "no pose", "250.00 36.9 200.00 true mm 50"};
   EXPECT_EQ(s.printed(), want) << s.console();
 }
 

@@ -42,7 +42,9 @@ TEST(Tracker, EntersHoldsAndLeaves) {
   EXPECT_NEAR(t.tracks()[1].visible_s, 0.1, 1e-12);
   EXPECT_FLOAT_EQ(t.tracks()[1].corners[0].x, 12);
 
-  ev = t.update({at(7, 14)}, 0.4);   // 3 missed for 0.4 s > hold: leaves
+  ev = t.update({at(7, 13)}, 0.2);   // missed on two frames, for less than the hold: held
+  EXPECT_TRUE(ev.empty());
+  ev = t.update({at(7, 14)}, 0.4);   // 3 missed on three frames, for 0.4 s > hold: leaves
   ASSERT_EQ(ev.size(), 1u);
   EXPECT_EQ(ev[0].kind, TrackEvent::Kind::leave);
   EXPECT_EQ(ev[0].id, 3);
@@ -53,6 +55,27 @@ TEST(Tracker, EntersHoldsAndLeaves) {
   EXPECT_EQ(ev[0].kind, TrackEvent::Kind::enter);
   EXPECT_NEAR(t.tracks()[0].visible_s, 0.0, 1e-12);
   EXPECT_NEAR(t.tracks()[1].visible_s, 0.5, 1e-12);
+}
+
+// A marker missed on a frame or two does not leave and enter again, at 4 fps as at 30 (at 4 fps one missed frame
+// is half a second unseen); missed for longer than the hold and on more than two frames, it leaves once.
+TEST(Tracker, AMarkerMissedOnAFrameOrTwoDoesNotFlapAt4Or30Fps) {
+  for (const double fps : {4.0, 30.0}) {
+    Tracker t(unsmoothed());
+    int enters = 0, leaves = 0, frame = 0;
+    auto step = [&](bool seen) {
+      for (const TrackEvent& e : t.update(seen ? std::vector<Marker>{at(5, 100)} : std::vector<Marker>{}, frame++ / fps))
+        (e.kind == TrackEvent::Kind::enter ? enters : leaves)++;
+    };
+    for (const bool seen : {true, true, false, true, true, false, false, true, true}) step(seen);
+    EXPECT_EQ(enters, 1) << fps << " fps";
+    EXPECT_EQ(leaves, 0) << fps << " fps";
+    int missed = 0;
+    while (leaves == 0 && missed < 100) step(false), ++missed;
+    EXPECT_EQ(leaves, 1) << fps << " fps";
+    // It left on the first frame both unseen past the hold (0.25 s) and missed on a third frame in a row.
+    EXPECT_EQ(missed, std::max(3, int(std::floor(0.25 * fps)) + 1)) << fps << " fps";
+  }
 }
 
 TEST(Tracker, CentreSideAndDuplicates) {

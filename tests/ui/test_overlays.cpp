@@ -186,7 +186,7 @@ TEST(Overlays, ProjectedMediaCoverTheLabelsAndOutlines) {
   // Both markers of the sample covered by an opaque magenta picture, stretched over the marker.
   cv::imwrite(tmp.str("magenta.png"), cv::Mat(64, 64, CV_8UC3, cv::Scalar(255, 0, 255)));
   test::write_file(tmp.str("scene.lua"),
-                   "marker({843, 950}, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n");
+                   "marker({from = 843, to = 950}, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n");
   const RunResult r = test::run_arwb_window(
       window_args(tmp, "--source '" + kSample + "' --scene '" + tmp.str("scene.lua") +
                            "' --frames 40 --stats --screenshot '" + tmp.str("shot.png") + "'"));

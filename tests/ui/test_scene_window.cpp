@@ -40,7 +40,7 @@ TEST(SceneWindow, MediaAreProjectedOnTheLiveViewAndCanBeHidden) {
   TempDir tmp;
   cv::imwrite(tmp.str("magenta.png"), cv::Mat(64, 64, CV_8UC3, cv::Scalar(255, 0, 255)));
   write_file(tmp.str("scene.lua"),
-             "marker({843, 950}, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n");
+             "marker({from = 843, to = 950}, { media = image \"magenta.png\", place = on_marker { fit = \"stretch\" } })\n");
   const std::string common = "--source '" + kSample + "' --scene '" + tmp.str("scene.lua") + "' --frames 40 --stats";
   RunResult r = test::run_arwb_window(window_args(tmp, common + " --screenshot '" + tmp.str("on.png") + "'"));
   ASSERT_EQ(r.status, 0) << r.err;

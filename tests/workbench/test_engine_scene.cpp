@@ -50,7 +50,7 @@ bool console_has(const Frame& f, const std::string& part) {
 TEST(EngineScene, PlacesMediaOnTheSyntheticMarkers) {
   TempDir d;
   cv::imwrite(d.str("red.png"), cv::Mat(20, 20, CV_8UC3, cv::Scalar(0, 0, 255)));
-  write_file(d.str("scene.lua"), "marker({0, 1023}, { media = image \"red.png\", place = on_marker() })\n");
+  write_file(d.str("scene.lua"), "marker({from = 0, to = 1023}, { media = image \"red.png\", place = on_marker() })\n");
   Engine e(config_with_scene(d.str("scene.lua")), [](int, const std::string&) {});
   e.start();
   auto f = wait_for(e, [](const Frame& fr) { return !fr.overlays.empty(); });
@@ -67,8 +67,8 @@ TEST(EngineScene, PlacesMediaOnTheSyntheticMarkers) {
 
 TEST(EngineScene, SkippedMappingsAndRuntimeErrorsReachTheLogAndTheFrame) {
   TempDir d;
-  write_file(d.str("scene.lua"), R"(marker({0, 1023}, { media = image "missing.png" })
-marker({0, 1023}, {
+  write_file(d.str("scene.lua"), R"(marker({from = 0, to = 1023}, { media = image "missing.png" })
+marker({from = 0, to = 1023}, {
   on_update = function(m, dt)
     local t = nil
     return t.field
@@ -108,7 +108,7 @@ marker({0, 1023}, {
 TEST(EngineScene, ReloadsWhenTheFileChangesAndKeepsTheLastGoodScene) {
   TempDir d;
   cv::imwrite(d.str("a.png"), cv::Mat(20, 40, CV_8UC3, cv::Scalar(0, 0, 255)));
-  write_file(d.str("scene.lua"), "marker({0, 1023}, { media = image \"a.png\" })\n");
+  write_file(d.str("scene.lua"), "marker({from = 0, to = 1023}, { media = image \"a.png\" })\n");
   Engine e(config_with_scene(d.str("scene.lua")), [](int, const std::string&) {});
   e.start();
   auto f = wait_for(e, [](const Frame& fr) { return fr.scene.ok && !fr.overlays.empty(); });
@@ -117,7 +117,7 @@ TEST(EngineScene, ReloadsWhenTheFileChangesAndKeepsTheLastGoodScene) {
 
   // A broken edit: reported with its line, the scene in use stays.
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));   // a new modification time
-  write_file(d.str("scene.lua"), "marker({0, 1023}, { media = image \"a.png\" })\nthis is not lua\n");
+  write_file(d.str("scene.lua"), "marker({from = 0, to = 1023}, { media = image \"a.png\" })\nthis is not lua\n");
   f = wait_for(e, [](const Frame& fr) { return !fr.scene.error.empty(); });
   ASSERT_TRUE(f) << "the broken edit was not noticed";
   EXPECT_NE(f->scene.error.find("scene.lua:2:"), std::string::npos) << f->scene.error;
@@ -129,7 +129,7 @@ TEST(EngineScene, ReloadsWhenTheFileChangesAndKeepsTheLastGoodScene) {
 
   // The fix is picked up by itself.
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));
-  write_file(d.str("scene.lua"), "marker({0, 1023}, { media = text \"fixed\", place = billboard() })\n");
+  write_file(d.str("scene.lua"), "marker({from = 0, to = 1023}, { media = text \"fixed\", place = billboard() })\n");
   f = wait_for(e, [&](const Frame& fr) { return fr.scene.generation > first && fr.scene.error.empty(); });
   ASSERT_TRUE(f) << "the fixed file was not reloaded";
   f = wait_for(e, [](const Frame& fr) { return !fr.overlays.empty(); });
@@ -142,9 +142,9 @@ TEST(EngineScene, RunawayCallbackAndMemoryBombAreStoppedWhileFramesKeepComing) {
   TempDir d;
   cv::imwrite(d.str("a.png"), cv::Mat(20, 20, CV_8UC3, cv::Scalar(0, 255, 0)));
   write_file(d.str("scene.lua"),
-             "marker({0, 1023}, { media = image \"a.png\" })\n"
-             "marker({0, 1023}, { on_update = function(m, dt) while true do end end })\n"
-             "marker({0, 1023}, { on_enter = function(m) local s = string.rep(\"x\", 1e9) end })\n");
+             "marker({from = 0, to = 1023}, { media = image \"a.png\" })\n"
+             "marker({from = 0, to = 1023}, { on_update = function(m, dt) while true do end end })\n"
+             "marker({from = 0, to = 1023}, { on_enter = function(m) local s = string.rep(\"x\", 1e9) end })\n");
   Engine e(config_with_scene(d.str("scene.lua")), [](int, const std::string&) {});
   e.start();
   auto f = wait_for(e, [](const Frame& fr) {
