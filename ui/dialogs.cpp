@@ -209,7 +209,12 @@ namespace {
 // `shift` in screen pixels from the centre, so the Help windows opened together do not hide each other.
 void centred_window(const char* title, bool* open, ImVec2 size, ImVec2 shift) {
   const ImGuiViewport* vp = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos({vp->GetCenter().x + shift.x, vp->GetCenter().y + shift.y}, ImGuiCond_Appearing, {0.5f, 0.5f});
+  // On the screen at any scale (presentation mode doubles the sizes): no larger than it, and moved in from an
+  // edge the shift would take it past; two opened together may then overlap, neither is cut.
+  size = {std::min(size.x, vp->Size.x * 0.96f), std::min(size.y, vp->Size.y * 0.9f)};
+  const float cx = std::clamp(vp->GetCenter().x + shift.x, vp->Pos.x + size.x / 2, vp->Pos.x + vp->Size.x - size.x / 2);
+  const float cy = std::clamp(vp->GetCenter().y + shift.y, vp->Pos.y + size.y / 2, vp->Pos.y + vp->Size.y - size.y / 2);
+  ImGui::SetNextWindowPos({cx, cy}, ImGuiCond_Appearing, {0.5f, 0.5f});
   ImGui::SetNextWindowSize(size, ImGuiCond_Appearing);
   ImGui::Begin(title, open, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
 }

@@ -116,7 +116,11 @@ void App::draw_status_bar(float height) {
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
                                  ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav |
                                  ImGuiWindowFlags_NoBringToFrontOnFocus;
+  // Its one line is lower than ImGui's smallest window (32 px, 64 in presentation mode), which made it reach a
+  // few pixels past the screen's bottom (the layout audit's off_screen).
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowMinSize, {0, 0});
   ImGui::Begin("##status", nullptr, flags);
+  ImGui::PopStyleVar();
   ImGui::Text("%s | UI %.0f fps | detection %.0f fps | %s", status.source.text().c_str(), status.ui_fps, status.detect_fps,
               settings.frozen ? "FROZEN" : "live");
   // A note (undo, redo, a file written) stays for a while; then the newest warning or error.

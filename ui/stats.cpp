@@ -204,7 +204,8 @@ Json layout_stats(App& app) {
           {"font_px", round_decimals(ImGui::GetFontSize(), 1)},
           {"regions", regions},
           {"overlaps", app.audit.overlaps},
-          {"clipped", clipped}};
+          {"clipped", clipped},
+          {"off_screen", app.audit.off_screen}};
 }
 
 // The Why panel's report on the last frame: its headline and the dictionary it advises adding.

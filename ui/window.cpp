@@ -9,6 +9,7 @@
 
 #include "ui/actions.hpp"
 #include "ui/app.hpp"
+#include "ui/workspace_audit.hpp"
 #include "ui/gl_window.hpp"
 #include "base/data_dirs.hpp"
 #include "ui/panels.hpp"
@@ -273,6 +274,7 @@ bool App::run_frame() {
   handle_keys();
   track_edits();
   draw_status_bar(status_h);
+  audit.off_screen = ui::windows_off_screen();
 
   ImGui::Render();
   int fw = 0, fh = 0;

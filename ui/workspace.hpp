@@ -31,6 +31,10 @@ struct LayoutAudit {
   // Frames each panel has been drawn in a row: its entries are taken from the third on, once ImGui's tables and
   // scrollbars have fitted themselves to it (they lag a frame or two behind a change).
   std::array<int, kPanelCount> drawn_in_a_row{};
+  // Top-level windows (Help windows, dialogs, open menus and popups; the workspace's and the status bar's own
+  // are placed inside) that reach past the screen's edge in the last frame, by title: cut, for a class at a
+  // projector ("Keyboard shortcuts 1240x840 at -60,120").
+  std::vector<std::string> off_screen;
 };
 
 // Draws the switcher row, then the current workspace's regions and splitters in the rectangle given, each panel

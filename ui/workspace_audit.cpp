@@ -135,4 +135,22 @@ void audit_layout(const Layout& l, const std::vector<int>& leaves,
   audit_windows_and_tables(shown, audit);
 }
 
+std::vector<std::string> windows_off_screen() {
+  std::vector<std::string> out;
+  const ImGuiContext& g = *ImGui::GetCurrentContext();
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  const ImVec2 lo = vp->Pos, hi{vp->Pos.x + vp->Size.x, vp->Pos.y + vp->Size.y};
+  for (const ImGuiWindow* w : g.Windows) {
+    if (!w->Active || w->Hidden || (w->Flags & (ImGuiWindowFlags_ChildWindow | ImGuiWindowFlags_Tooltip))) continue;
+    const float slack = 1.0f;   // rounding of positions
+    if (w->Pos.x >= lo.x - slack && w->Pos.y >= lo.y - slack && w->Pos.x + w->Size.x <= hi.x + slack &&
+        w->Pos.y + w->Size.y <= hi.y + slack)
+      continue;
+    char where[96];
+    std::snprintf(where, sizeof where, " %.0fx%.0f at %.0f,%.0f", w->Size.x, w->Size.y, w->Pos.x, w->Pos.y);
+    out.push_back(std::string(w->Name, std::strcspn(w->Name, "#")) + where);
+  }
+  return out;
+}
+
 }  // namespace arwb::ui

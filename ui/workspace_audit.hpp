@@ -16,4 +16,8 @@ namespace arwb::ui {
 void audit_layout(const Layout& l, const std::vector<int>& leaves,
                   const std::vector<std::pair<ImGuiWindow*, Panel>>& shown, LayoutAudit* audit);
 
+// The top-level windows (not tooltips) that reach past the main viewport this frame, for LayoutAudit::off_screen.
+// Called after everything is drawn.
+std::vector<std::string> windows_off_screen();
+
 }  // namespace arwb::ui

@@ -131,6 +131,7 @@ void fits(const Shipped& w, int width, int height) {
     EXPECT_EQ(l["presentation"], present);
     EXPECT_EQ(l["overlaps"], 0) << l.dump();
     EXPECT_TRUE(l["clipped"].empty()) << "cut off: " << l["clipped"].dump(1);
+    EXPECT_EQ(l["off_screen"], Json::array()) << "past the screen's edge";
     // Every panel is in some region, and the regions cover the main area (no hole, no overlap: the sum).
     for (const char* p : w.panels) EXPECT_NE(region_with(l, p), nullptr) << p << " not shown: " << l.dump();
     double covered = 0;
@@ -178,6 +179,22 @@ void fits(const Shipped& w, int width, int height) {
     } else if (!script) {
       EXPECT_GT(green_pixels(img, live_rect), 100);
     }
+  }
+}
+
+// A teacher at a projector opens both Help windows, and the marker sheet dialog: in presentation mode, whose
+// sizes are twice the normal ones at 1080 lines, each stays on the screen (they ran off its left and right edges).
+TEST(Workspaces, HelpWindowsAndDialogsStayOnScreenInPresentationMode) {
+  for (const char* size : {"1920x1080", "1280x720"}) {
+    SCOPED_TRACE(size);
+    TempDir tmp;
+    const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --size " + size +
+                                              " --presentation --frames 14 --stats --actions "
+                                              "'2:help=shortcuts;3:help=first;4:sheet'");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const Json l = layout_of(r);
+    EXPECT_EQ(l["presentation"], true);
+    EXPECT_EQ(l["off_screen"], Json::array()) << l.dump();
   }
 }
 
