@@ -6,7 +6,6 @@
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
 
-#include "calibration/coach.hpp"
 #include "calibration/session.hpp"
 #include "detect/dictionary.hpp"
 
@@ -157,7 +156,7 @@ void coverage(const CalibrationSnapshot& s) {
     ImGui::ProgressBar(float(v), {-FLT_MIN, ImGui::GetTextLineHeight() * 1.1f}, overlay.c_str());
     ImGui::PopStyleColor();
   }
-  ImGui::TextWrapped("%s", coverage_advice(s.bars, s.grid, int(s.views.size())).c_str());
+  ImGui::TextWrapped("%s", s.advice.c_str());
 }
 
 // fx fy cx cy and the distortion: the value, one standard deviation, and the truth and the difference when known.

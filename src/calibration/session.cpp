@@ -1,5 +1,7 @@
 #include "calibration/session.hpp"
 
+#include "calibration/coach.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <thread>
@@ -13,12 +15,13 @@ constexpr size_t kRecent = 12;
 void CalibrationSession::update_coverage() {
   state_.grid = corner_grid(state_.views, state_.image_size);
   state_.bars = coverage_bars(state_.poses);
+  state_.advice = coverage_advice(state_.bars, state_.grid, int(state_.views.size()));
 }
 
 CalibrationSession::CalibrationSession(BoardSpec board, SelectOptions select, SolveOptions solve)
     : board_(std::move(board)), select_(select), solve_opt_(solve), selector_(board_, select_) {
   state_.board = board_;
-  state_.grid = corner_grid({}, {});
+  update_coverage();
 }
 
 CalibrationSession::~CalibrationSession() {
@@ -54,7 +57,7 @@ void CalibrationSession::reset() {
   base_revision_ = revision;
   state_.solving = running_.valid();
   selector_ = ViewSelector(board_, select_);
-  state_.grid = corner_grid({}, {});
+  update_coverage();
   changed();
 }
 

@@ -39,6 +39,7 @@ struct CalibrationSnapshot {
   // kept up to date with every view, so the bars fill up before there are enough views to solve.
   CoverageBars bars;
   cv::Mat1i grid;
+  std::string advice;   // the coach's next step from the two (calibration/coach.hpp)
   std::map<std::string, int> tally;       // verdicts by kind ("kept", "no board", "moving", ...)
   int dropped = 0;                        // views the user dropped (kept, then taken out)
   struct Judged {

@@ -38,14 +38,15 @@ struct Output {
   double marker_size = 0;                                  // --marker-size; 0: no pose
   // In a video, each id's pose on the previous frame (when the id was there once): it resolves the ambiguity.
   std::map<std::pair<std::string, int>, cv::Vec3d> previous;
-  std::set<std::string> hinted;   // sources whose quads were found to read as another dictionary, said once
+  std::set<std::string> looked;   // sources whose first frame without markers was read as other dictionaries
 };
 
 // A frame with no marker whose quads read as a dictionary not searched: said on stderr in one line, as the Why
-// panel says it, once per source. Only then is the frame traced whole, which costs what the full trace costs.
+// panel says it. Only the first such frame of a source is looked at, traced whole (what the full trace costs):
+// a video's other empty frames would each cost that again.
 void hint_other_dictionary(Output& out, const std::string& source, const cv::Mat& image, const Detector& det,
                            int threads) {
-  if (out.hinted.count(source)) return;
+  if (!out.looked.insert(source).second) return;
   FrameTrace trace;
   det.detect(image, &trace, TraceLevel::full, threads);
   std::vector<int> all(trace.candidates.size());
@@ -54,7 +55,6 @@ void hint_other_dictionary(Output& out, const std::string& source, const cv::Mat
   for (const Dictionary& d : det.dictionaries()) searched.push_back(d.name());
   const std::vector<OtherDictionary> other = read_other_dictionaries(trace, all, det.params(), searched);
   if (other.empty()) return;
-  out.hinted.insert(source);
   const OtherDictionary& o = other.front();
   print_problem("%s: 0 markers; %d quad%s read as %s: try --dict %s\n", source.c_str(), o.in_frame,
                 o.in_frame == 1 ? "" : "s", o.dict.c_str(), o.dict.c_str());

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <string_view>
 
 namespace arwb::script {
 namespace {
@@ -227,13 +226,18 @@ void SceneRuntime::Impl::apply_return(Program& p, int fn, Instance& inst, const 
   lua_settop(L, r - 1);
 }
 
-void SceneRuntime::Impl::run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held,
+bool SceneRuntime::Impl::run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held,
                                       const double* dt, const char* what, Instance& inst) {
-  if (fn == LUA_NOREF || !p.lua) return;
-  const bool event = std::string_view(what) != "on_update";
-  const bool ran = call(p, mi, fn, t, held, dt, what, &inst);
-  if (event && size_t(mi) < p.event_error.size()) p.event_error[size_t(mi)] = ran ? std::string() : inst.error;
-  if (ran) apply_return(p, fn, inst, std::string(what) + " of marker " + std::to_string(t.id));
+  if (fn == LUA_NOREF || !p.lua) return true;
+  if (!call(p, mi, fn, t, held, dt, what, &inst)) return false;
+  apply_return(p, fn, inst, std::string(what) + " of marker " + std::to_string(t.id));
+  return true;
+}
+
+void SceneRuntime::Impl::run_event(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const char* what,
+                                   Instance& inst) {
+  const bool ran = run_callback(p, mi, fn, t, held, nullptr, what, inst);
+  p.event_error[size_t(mi)] = ran ? std::string() : inst.error;
 }
 
 Instance& SceneRuntime::Impl::instance_of(Program& p, int mi, const TrackedMarker& t) {
@@ -256,7 +260,7 @@ void SceneRuntime::Impl::enter(Program& p, const TrackedMarker& t) {
     Instance& inst = instance_of(p, static_cast<int>(mi), t);
     inst.inside = true;
     inst.fresh = true;
-    run_callback(p, static_cast<int>(mi), m.on_enter, t, !t.detected, nullptr, "on_enter", inst);
+    run_event(p, static_cast<int>(mi), m.on_enter, t, !t.detected, "on_enter", inst);
   }
 }
 
@@ -273,7 +277,7 @@ void SceneRuntime::Impl::leave(Program& p, uint64_t track_id) {
     Instance& inst = instance_of(p, static_cast<int>(mi), t);
     inst.inside = false;
     if (inst.video) inst.video->set_clock(inst.position, false);   // paused where it stopped
-    run_callback(p, static_cast<int>(mi), m.on_leave, t, false, nullptr, "on_leave", inst);
+    run_event(p, static_cast<int>(mi), m.on_leave, t, false, "on_leave", inst);
   }
   p.inside.erase(track_id);
   p.last.erase(track_id);

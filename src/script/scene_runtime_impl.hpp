@@ -57,8 +57,9 @@ struct Program {
   };
   std::map<std::pair<int, int>, Streak> streaks;       // (function, marker id)
   std::vector<std::string> mapping_error;              // per mapping: why part of it is disabled
-  // Per mapping: the last on_enter or on_leave that failed, until one of them runs cleanly. They run once per
-  // visit (on_leave with the marker gone), so a frame's own errors would show them for one frame, or never.
+  // Per mapping: the last on_enter or on_leave that failed, until the next of them runs cleanly (or is absent).
+  // They run once per visit (on_leave with the marker gone), so a frame's own errors showed them for one frame,
+  // or never.
   std::vector<std::string> event_error;
   std::map<uint64_t, int> inside;                      // tracks entered and not left -> their slot
   std::map<uint64_t, TrackedMarker> last;              // their last state (for on_leave)
@@ -122,8 +123,11 @@ struct SceneRuntime::Impl : Reporter {
   void set_media(Program& p, Instance& inst, const MediaSpec& spec, int text_fn);
   // A callback's result (on top of the stack, popped): nothing, or {media = ..., place = ...}.
   void apply_return(Program& p, int fn, Instance& inst, const std::string& ctx);
-  void run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt,
+  // Calls `fn` (when there is one) and applies what it returns; false when it failed (call() reported it).
+  bool run_callback(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const double* dt,
                     const char* what, Instance& inst);
+  // on_enter or on_leave: the same, and the mapping's event_error set or cleared by how it went.
+  void run_event(Program& p, int mi, int fn, const TrackedMarker& t, bool held, const char* what, Instance& inst);
   void enter(Program& p, const TrackedMarker& t);
   void leave(Program& p, uint64_t track_id);
   // The instance of mapping `mi` for a track in view.

@@ -2,6 +2,7 @@
 // views of a known camera go in, views are kept, the solve (on its own thread) gives the camera back within fx, fy
 // 0.5 % and cx, cy 2 px, and dropping a view solves again with one view fewer. The engine publishes the session's
 // state on its frames while calibrating, and none while not.
+#include "calibration/coach.hpp"
 #include "calibration/session.hpp"
 #include "synth/chessboard_view.hpp"
 #include "synth/synthetic_world.hpp"
@@ -57,6 +58,8 @@ TEST(CalibrationSession, KeepsViewsSolvesNearTheTruthAndSolvesAgainWithoutADropp
   EXPECT_GE(s->views.size(), 14u) << "most views should be kept";
   EXPECT_GE(s->tally.at("moving"), 14);
   EXPECT_EQ(s->tally.at("kept"), int(s->views.size()));
+  // The coach's advice is made with the coverage it reads, by the session, not by the panel.
+  EXPECT_EQ(s->advice, coverage_advice(s->bars, s->grid, int(s->views.size())));
   ASSERT_TRUE(s->solution) << s->solve_error;
   EXPECT_TRUE(s->current());
   expect_near_truth(s->solution->calibration);

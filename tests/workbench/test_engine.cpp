@@ -41,6 +41,14 @@ EngineConfig synthetic_config() {
   return c;
 }
 
+// The same on a file source.
+EngineConfig file_config(SourceKind kind, const std::string& path) {
+  EngineConfig c = synthetic_config();
+  c.source.kind = kind;
+  c.source.path = path;
+  return c;
+}
+
 TEST(Engine, PublishesDetectedFramesOfTheSyntheticScene) {
   Logged log;
   Engine e(synthetic_config(), log.fn());
@@ -220,9 +228,7 @@ TEST(Engine, FallsBackToTheSyntheticSceneWhenTheFolderGoes) {
     cv::imwrite(folder + "/" + std::to_string(i) + ".png", img);
   }
   Logged log;
-  EngineConfig c = synthetic_config();
-  c.source.kind = SourceKind::folder;
-  c.source.path = folder;
+  const EngineConfig c = file_config(SourceKind::folder, folder);
   Engine e(c, log.fn());
   e.set_playback({true, true, 8.0});   // eight images a second
   e.start();
@@ -249,9 +255,7 @@ TEST_P(FrozenVideo, NextFrameIsTheFrameAfterTheOneShown) {
   const std::string ext = GetParam(), path = tmp.str("clip." + ext);
   if (!test::write_numbered_video(path, ext == "avi" ? "MJPG" : "mp4v", 60, {128, 96}, 25))
     GTEST_SKIP() << "no writer for " << ext << " in this OpenCV";
-  EngineConfig c = synthetic_config();
-  c.source.kind = SourceKind::video;
-  c.source.path = path;
+  const EngineConfig c = file_config(SourceKind::video, path);
   Logged log;
   Engine e(c, log.fn());
   e.start();
@@ -292,9 +296,7 @@ TEST(Engine, TheDefaultResizeKeepsTheSourcesAspect) {
   for (int i = 0; i < 12; ++i)
     draw_marker(photo, d, 100 + i, project_square({70.0 + 130 * (i % 6), 150.0 + 230 * (i / 6)}, 70, 8.0 * i, 0, 0, 800));
   cv::imwrite(tmp.str("photo.png"), photo);
-  EngineConfig c = synthetic_config();
-  c.source.kind = SourceKind::image;
-  c.source.path = tmp.str("photo.png");
+  const EngineConfig c = file_config(SourceKind::image, tmp.str("photo.png"));
   Logged log;
   Engine e(c, log.fn());
   e.start();
@@ -314,9 +316,7 @@ TEST(Engine, AcquisitionResizeIsTheDetectorsFirstStage) {
   cv::Mat big(960, 1280, CV_8UC3, cv::Scalar::all(230));
   draw_marker(big, d, 12, Quad{cv::Point2f(400, 300), {800, 300}, {800, 700}, {400, 700}});
   cv::imwrite(tmp.str("big.png"), big);
-  EngineConfig c = synthetic_config();
-  c.source.kind = SourceKind::image;
-  c.source.path = tmp.str("big.png");
+  const EngineConfig c = file_config(SourceKind::image, tmp.str("big.png"));
   Logged log;
   Engine e(c, log.fn());
   e.start();
