@@ -31,7 +31,7 @@ std::vector<std::string> quoted(const std::string& text) {
 
 TEST(HelpText, EveryQuotedNameIsAPanelOrAControlOfTheWindow) {
   std::string sources;
-  for (const auto& e : std::filesystem::directory_iterator(std::string(ARWB_SOURCE_DIR) + "/ui"))
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(ARWB_SOURCE_DIR) / "ui"))
     if (e.path().extension() == ".cpp" && e.path().filename() != "help_text.cpp") sources += test::read_file(e.path().string());
   std::vector<std::string> names;
   for (const Shortcut& s : shortcuts())
