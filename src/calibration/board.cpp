@@ -85,6 +85,30 @@ bool all_corners_cross(const cv::Mat& grey, const BoardSpec& board, const std::v
   return *typical > 0 && crossing * 10 >= x.size() * 9;
 }
 
+// Each corner refined by cornerSubPix with a window of a `divisor`-th of the distance to its nearest neighbour
+// on the grid (2 px to `max_win`), so that the window holds one corner and no other feature. ids: each corner's
+// place on a grid `grid_width` wide, row by row (empty: the corners are the whole grid in order).
+void refine_corners(const cv::Mat& grey, std::vector<cv::Point2f>& corners, const std::vector<int>& ids,
+                    int grid_width, int divisor, int max_win) {
+  const auto id_of = [&](size_t i) { return ids.empty() ? int(i) : ids[i]; };
+  std::map<int, size_t> at;
+  for (size_t i = 0; i < corners.size(); ++i) at[id_of(i)] = i;
+  const std::vector<cv::Point2f> found = corners;   // the neighbours' distances before any is moved
+  for (size_t i = 0; i < found.size(); ++i) {
+    const int id = id_of(i), c = id % grid_width;
+    double nearest = 1e9;
+    for (const int n : {c > 0 ? id - 1 : -1, c + 1 < grid_width ? id + 1 : -1, id - grid_width, id + grid_width})
+      if (const auto it = at.find(n); n >= 0 && it != at.end())
+        nearest = std::min(nearest, double(cv::norm(found[it->second] - found[i])));
+    if (nearest > 1e8) continue;
+    const int win = std::clamp(int(nearest / divisor), 2, max_win);
+    std::vector<cv::Point2f> one{found[i]};
+    cv::cornerSubPix(grey, one, cv::Size(win, win), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 0.001));
+    corners[i] = one[0];
+  }
+}
+
 }  // namespace
 
 BoardDetection detect_chessboard(const cv::Mat& frame, const BoardSpec& board) {
@@ -94,6 +118,10 @@ BoardDetection detect_chessboard(const cv::Mat& frame, const BoardSpec& board) {
   try {
     d.found = cv::findChessboardCornersSB(grey, pattern, d.corners,
                                           cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_ACCURACY);
+    // findChessboardCornersSB's corners are pulled toward the image's centre on tilted views (0.01 to 0.03 px,
+    // which biased fx by 0.2 %, four of its own deviations); refined by cornerSubPix with a window of a quarter
+    // of a square they are not, and the solve's 95 % intervals hold the true camera (tested over seeds).
+    if (d.found) refine_corners(grey, d.corners, {}, board.cols, 4, 8);
     if (d.found) d.edge_width_px = cv::estimateChessboardSharpness(grey, pattern, d.corners)[0];
   } catch (const cv::Exception&) {   // a frame OpenCV cannot work on is a frame without a board
     d = {};
@@ -201,23 +229,9 @@ BoardDetection detect_charuco(const cv::Mat& frame, const BoardSpec& board) {
     }
     // OpenCV 4.6's interpolation leaves its corners about half a pixel down and right of where they are (measured
     // on synthetic views: (+0.5, +0.5) px), and further off on tilted views; refined again, each with a window that
-    // stays clear of the markers' corners (a fourteenth of its nearest neighbour's distance, 2 to 4 px), they come
-    // within a tenth of a pixel.
-    std::map<int, size_t> at;
-    for (size_t i = 0; i < d.ids.size(); ++i) at[d.ids[i]] = i;
-    for (size_t i = 0; i < d.ids.size(); ++i) {
-      const int id = d.ids[i], c = id % grid.width;
-      double nearest = 1e9;
-      for (const int n : {c > 0 ? id - 1 : -1, c + 1 < grid.width ? id + 1 : -1, id - grid.width, id + grid.width})
-        if (const auto it = at.find(n); n >= 0 && it != at.end())
-          nearest = std::min(nearest, double(cv::norm(d.corners[it->second] - d.corners[i])));
-      if (nearest > 1e8) continue;
-      const int win = std::clamp(int(nearest / 14), 2, 4);
-      std::vector<cv::Point2f> one{d.corners[i]};
-      cv::cornerSubPix(grey, one, cv::Size(win, win), cv::Size(-1, -1),
-                       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 0.001));
-      d.corners[i] = one[0];
-    }
+    // stays clear of the markers' corners (a fourteenth of its nearest neighbour's distance), they come within a
+    // tenth of a pixel.
+    refine_corners(grey, d.corners, d.ids, grid.width, 14, 4);
   } catch (const cv::Exception&) {   // a frame OpenCV cannot work on is a frame without a board
     return {};
   }

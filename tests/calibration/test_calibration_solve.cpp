@@ -22,15 +22,15 @@ struct Views {
   double mean_corner_error = 0;   // detected against true corners, px
 };
 
-Views make_views(int count, double noise) {
+Views make_views(int count, double noise, unsigned seed = 7) {
   Views v;
   const SynthChessboard board{kBoard.cols, kBoard.rows, kBoard.square_mm / 1000, 1.0};
   static const ChessboardRenderer renderer(v.camera, board);   // one per binary: it undistorts every pixel
   double err = 0;
   int n = 0;
-  const auto poses = chessboard_poses(v.camera, board, count, 7);
+  const auto poses = chessboard_poses(v.camera, board, count, seed);
   for (size_t i = 0; i < poses.size(); ++i) {
-    const ChessboardView view = renderer.render(poses[i].first, poses[i].second, 0.6, noise, unsigned(i + 1));
+    const ChessboardView view = renderer.render(poses[i].first, poses[i].second, 0.6, noise, unsigned(seed * 1000 + i + 1));
     const BoardDetection d = detect_chessboard(view.image, kBoard);
     if (!d.found) continue;
     // The board may be found turned half a turn: compare with the truth in whichever order matches.
@@ -82,6 +82,37 @@ TEST(CalibrationSolve, FindsTheKnownCameraFromSyntheticChessboardViews) {
   // The benchmark the report carries is that same run.
   EXPECT_NEAR(s->opencv_defaults.camera_matrix(0, 0), K2.at<double>(0, 0), 1e-6);
   EXPECT_NEAR(s->opencv_defaults_rms, rms2, 1e-9);
+}
+
+// The 95 % intervals are honest: over seeds (other poses, other noise), the true camera lies within them about 95
+// times in 100, and they are not made honest by being wide. findChessboardCornersSB's own corners, pulled toward
+// the image's centre on tilted views, put fx and fy outside their intervals in 5 seeds of 10.
+TEST(CalibrationSolve, TheTruthLiesWithinThe95PercentIntervalsInMostSeeds) {
+  constexpr int kSeeds = 10;
+  const char* names[5] = {"fx", "fy", "cx", "cy", "k1"};
+  int inside[5] = {};
+  for (unsigned seed = 1; seed <= kSeeds; ++seed) {
+    const Views v = make_views(16, 2.0, 100 + seed);
+    const Result<Solution> s = solve_calibration(v.views, kBoard, v.camera.size);
+    ASSERT_TRUE(s.ok()) << s.error();
+    ASSERT_FALSE(s->fixed_principal_point) << "these views determine the principal point";
+    const cv::Matx33d& K = s->calibration.camera_matrix;
+    const cv::Matx33d& T = v.camera.camera_matrix;
+    const double got[5] = {K(0, 0), K(1, 1), K(0, 2), K(1, 2), s->calibration.distortion[0]};
+    const double truth[5] = {T(0, 0), T(1, 1), T(0, 2), T(1, 2), v.camera.distortion[0]};
+    const double sd[5] = {s->std_intrinsics[0], s->std_intrinsics[1], s->std_intrinsics[2], s->std_intrinsics[3],
+                          s->std_distortion[0]};
+    std::printf("seed %u:", seed);
+    for (int i = 0; i < 5; ++i) {
+      inside[i] += std::abs(got[i] - truth[i]) <= 1.96 * sd[i];
+      std::printf(" %s %.2f sd (%.4g +- %.3g)", names[i], (got[i] - truth[i]) / sd[i], got[i], 1.96 * sd[i]);
+    }
+    std::printf("\n");
+    EXPECT_LT(1.96 * sd[0], 0.005 * truth[0]) << "fx's interval is too wide to say anything";
+    EXPECT_LT(1.96 * sd[2], 3.0) << "cx's interval is too wide to say anything";
+  }
+  // 8 of 10 or more: 95 % coverage gives fewer than 8 one time in 90.
+  for (int i = 0; i < 5; ++i) EXPECT_GE(inside[i], 8) << names[i] << " within its 95 % interval in " << inside[i] << " seeds of " << kSeeds;
 }
 
 TEST(CalibrationSolve, ReportsTheChecklistCoverageAndWorstViewFirst) {
