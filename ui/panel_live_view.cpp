@@ -37,6 +37,15 @@ struct LiveViewState : PanelState {
 // The labels' text size in pixels at scale 1 (the window's normal font).
 constexpr float kLabelFontPx = 15.0f;
 
+// A line of text on a dark box in the view's top-left corner (or its bottom-left): what the picture is.
+void corner_tag(ImDrawList* dl, const ImageMapping& m, const std::string& text, bool bottom = false,
+                ImU32 col = IM_COL32(255, 255, 255, 255)) {
+  const float h = ImGui::GetTextLineHeight(), w = ImGui::CalcTextSize(text.c_str()).x;
+  const float y = bottom ? m.max.y - 10 - h : m.min.y + 4;
+  dl->AddRectFilled({m.min.x + 4, y}, {m.min.x + 10 + w, y + h + 4}, IM_COL32(0, 0, 0, 170), 3);
+  dl->AddText({m.min.x + 7, y + 2}, col, text.c_str());
+}
+
 void overlay_candidates(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   const FrameTrace& t = ctx.frame->trace;
   const View& v = ctx.view;
@@ -302,27 +311,23 @@ void overlay_pose(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
     }
   }
   if (any && f.pose_camera.assumed) {
-    const char* text = "poses with an assumed camera (no calibration loaded)";
-    dl->AddRectFilled({m.min.x + 4, m.max.y - 10 - ImGui::GetTextLineHeight()},
-                      {m.min.x + 10 + ImGui::CalcTextSize(text).x, m.max.y - 4}, IM_COL32(0, 0, 0, 170), 3);
-    dl->AddText({m.min.x + 7, m.max.y - 7 - ImGui::GetTextLineHeight()}, IM_COL32(255, 220, 60, 255), text);
+    corner_tag(dl, m, "poses with an assumed camera (no calibration loaded)", true, IM_COL32(255, 220, 60, 255));
   }
 }
 
 // The calibration board as the worker found it on this frame: its corners joined in their order (the line runs
 // row by row, so a board found turned shows at once), the first corner marked, the outline of a full board, all
-// green when the frame was kept as a view and orange otherwise, with the reason above the board.
-void overlay_board(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
+// green when the frame was kept as a view and orange otherwise, with the reason above the board. m shows the
+// frame the search judged (s.searched); `behind`: not the newest frame, which is said at the top left.
+void overlay_board(Context& ctx, const ImageMapping& m, ImDrawList* dl, bool behind) {
   const CalibrationSnapshot& s = *ctx.frame->calibration;
   const BoardDetection& d = s.detection;
-  // The search runs behind the frames: its corners are drawn only on the frame they were found in.
-  const bool this_frame = s.frame_name == ctx.frame->calibration_name;
-  if (!this_frame || !d.found || d.corners.empty()) {
-    const std::string text = !this_frame ? "looking for the board..." : "no " + s.board.describe() + " in view";
-    dl->AddRectFilled({m.min.x + 4, m.min.y + 4}, {m.min.x + 10 + ImGui::CalcTextSize(text.c_str()).x,
-                                                   m.min.y + 8 + ImGui::GetTextLineHeight()}, IM_COL32(0, 0, 0, 170), 3);
-    dl->AddText({m.min.x + 7, m.min.y + 6}, IM_COL32(255, 255, 255, 255), text.c_str());
-    return;
+  const bool found = d.found && !d.corners.empty();
+  if (behind || !found) {
+    const std::string none = "no " + s.board.describe() + " in view";
+    const std::string text = !behind ? none : "board search: " + s.frame_name + (found ? " (behind the camera)" : ": " + none);
+    corner_tag(dl, m, text);
+    if (!found) return;
   }
   const ImU32 col = s.verdict.keep ? IM_COL32(80, 220, 100, 255) : IM_COL32(255, 160, 40, 255);
   const float t = 1.5f * ctx.scale;
@@ -351,7 +356,9 @@ void overlay_board(Context& ctx, const ImageMapping& m, ImDrawList* dl) {
   }
   const std::string text = s.verdict.keep ? "kept as view " + std::to_string(s.views.size()) : s.verdict.reason;
   const ImVec2 ts = ImGui::CalcTextSize(text.c_str());
-  const ImVec2 at{std::max(left, m.min.x + 2), std::max(top - ts.y - 8 * ctx.scale, m.min.y + 2)};
+  // Above the board, kept inside the view (a long reason on a board at the right edge ran off it).
+  const ImVec2 at{std::max(std::min(left, m.max.x - ts.x - 5), m.min.x + 2), std::max(top - ts.y - 8 * ctx.scale,
+                                                                                 m.min.y + (behind ? ts.y + 10 : 2))};
   dl->AddRectFilled({at.x - 3, at.y - 2}, {at.x + ts.x + 3, at.y + ts.y + 2}, IM_COL32(0, 0, 0, 170), 3);
   dl->AddText(at, col, text.c_str());
 }
@@ -535,11 +542,19 @@ void draw_live_view(Context& ctx) {
   if (ctx.settings.calibration.undistort && !f.undistorted.empty()) {
     const ImageMapping m = image_view(ctx, "live", "undistorted", f.undistorted, f.index, ctx.view.image, avail);
     ImDrawList* dl = ImGui::GetWindowDrawList();
-    const std::string text = "undistorted with " + f.undistorted_by;
-    dl->AddRectFilled({m.min.x + 4, m.min.y + 4},
-                      {m.min.x + 10 + ImGui::CalcTextSize(text.c_str()).x, m.min.y + 8 + ImGui::GetTextLineHeight()},
-                      IM_COL32(0, 0, 0, 170), 3);
-    dl->AddText({m.min.x + 7, m.min.y + 6}, IM_COL32(255, 255, 255, 255), text.c_str());
+    corner_tag(dl, m, "undistorted with " + f.undistorted_by);
+    status_line(ctx, m);
+    return;
+  }
+  // While calibrating, the view shows the frame the board search judged last, with the corners where they were
+  // found: the search runs behind the frames (a frame without a board can take OpenCV a second), and corners
+  // drawn on a newer frame land where the board no longer is. Nothing found on the newer frame is drawn over it.
+  if (const CalibrationSnapshot* s = f.calibration.get(); s && !s->searched.empty()) {
+    const ImageMapping m = image_view(ctx, "live", "board", s->searched, uint64_t(s->frames), ctx.view.image, avail);
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(m.min, m.max, true);
+    overlay_board(ctx, m, dl, s->frame_name != f.calibration_name);
+    dl->PopClipRect();
     status_line(ctx, m);
     return;
   }
@@ -548,7 +563,7 @@ void draw_live_view(Context& ctx) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->PushClipRect(m.min, m.max, true);
   // While calibrating, the board's hundreds of rejected squares would hide it.
-  if (f.calibration) overlay_board(ctx, m, dl);
+  if (f.calibration) corner_tag(dl, m, "looking for the board...");   // nothing judged yet: judged, shown above
   else overlay_candidates(ctx, m, dl);
   overlay_peers(ctx, m, dl);
   if (ctx.view.show_accepted) overlay_markers(ctx, m, dl);

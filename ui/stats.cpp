@@ -152,8 +152,10 @@ Json calibration_stats(const App& app) {
       if (kind != "kept") refused[kind] = n;
     c["refused"] = refused;
     c["verdict"] = k->verdict.reason;
-    // The board as the live view draws it: found on the very frame shown (not a frame before it).
-    c["board_on_frame"] = k->frame_name == app.frame->calibration_name && k->detection.found;
+    // The board as the live view draws it: on the frame the search judged (board_drawn), which is the newest frame
+    // or one before it (board_behind).
+    c["board_drawn"] = !k->searched.empty() && k->detection.found;
+    c["board_behind"] = k->frame_name != app.frame->calibration_name;
     c["solving"] = k->solving;
     c["solve_error"] = k->solve_error;
     c["coverage"] = {{"x", round_decimals(k->bars.x, 3)}, {"y", round_decimals(k->bars.y, 3)},

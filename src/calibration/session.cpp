@@ -98,7 +98,7 @@ void CalibrationSession::feed(const cv::Mat& frame, const std::string& name) {
     finding_.wait();
     poll();
   }
-  judge(detect_board(frame, board_), frame.size(), name);
+  judge(detect_board(frame, board_), frame, name);
 }
 
 bool CalibrationSession::offer(const cv::Mat& frame, const std::string& name) {
@@ -108,17 +108,19 @@ bool CalibrationSession::offer(const cv::Mat& frame, const std::string& name) {
     changed();
     return false;
   }
-  finding_size_ = frame.size();
   finding_name_ = name;
   finding_base_ = base_revision_;
-  finding_ = std::async(std::launch::async, [image = frame.clone(), board = board_] { return detect_board(image, board); });
+  finding_image_ = frame.clone();
+  finding_ = std::async(std::launch::async, [image = finding_image_, board = board_] { return detect_board(image, board); });
   return true;
 }
 
-void CalibrationSession::judge(const BoardDetection& d, cv::Size size, const std::string& name) {
+void CalibrationSession::judge(const BoardDetection& d, const cv::Mat& frame, const std::string& name) {
+  const cv::Size size = frame.size();
   if (state_.image_size.area() > 0 && size != state_.image_size) reset();
   state_.image_size = size;
   state_.frame_name = name;
+  state_.searched = frame;
   state_.detection = d;
   ++state_.frames;
   state_.boards += state_.detection.found;
@@ -153,7 +155,8 @@ bool CalibrationSession::poll() {
   if (finding_.valid() && finding_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     const BoardDetection d = finding_.get();
     // A search begun before a reset or another board is of no use now.
-    if (finding_base_ == base_revision_) judge(d, finding_size_, finding_name_);
+    if (finding_base_ == base_revision_) judge(d, finding_image_, finding_name_);
+    finding_image_ = cv::Mat();
     any = true;
   }
   if (running_.valid() && running_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {

@@ -33,6 +33,9 @@ struct CalibrationSnapshot {
   BoardDetection detection;
   Verdict verdict;
   std::string frame_name;
+  // That frame's picture (shared, not copied): the search runs behind the frames, and a view that draws the
+  // corners on it draws them where they were found, not on a later frame where the board has moved.
+  cv::Mat searched;
   std::vector<CalibrationView> views;     // kept, oldest first
   std::vector<ViewPose> poses;            // of each view
   // The coverage of the views kept, as the solve's report measures it (ROS's bars and the 8x6 grid of corners),
@@ -93,7 +96,7 @@ class CalibrationSession {
   void start_solve();
   void rebuild_selector();
   void update_coverage();
-  void judge(const BoardDetection& d, cv::Size size, const std::string& name);
+  void judge(const BoardDetection& d, const cv::Mat& frame, const std::string& name);
 
   BoardSpec board_;
   SelectOptions select_;
@@ -104,7 +107,7 @@ class CalibrationSession {
   std::future<Result<Solution>> running_;
   int running_revision_ = -1;
   std::future<BoardDetection> finding_;   // the board search in flight
-  cv::Size finding_size_;
+  cv::Mat finding_image_;                 // the frame being searched (the search's own copy)
   std::string finding_name_;
   int finding_base_ = 0;
   int base_revision_ = 0;        // solves of views older than this (before a reset) are thrown away

@@ -97,7 +97,9 @@ TEST(CalibrateWorkspace, OnTheSyntheticSourceTheBoardComesAndTheTruthIsBesideThe
   const RunResult frozen = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 60 "
                                                  "--actions '1:workspace=Calibrate;2:calib_wait=2;3:freeze'");
   ASSERT_EQ(frozen.status, 0) << frozen.err;
-  EXPECT_TRUE(stats(frozen)["calibration"].value("board_on_frame", false)) << stats(frozen)["calibration"].dump();
+  const Json fc = stats(frozen)["calibration"];
+  EXPECT_TRUE(fc.value("board_drawn", false)) << fc.dump();
+  EXPECT_FALSE(fc.value("board_behind", true)) << fc.dump();
   const RunResult back = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --stats --frames 20 "
                                                "--actions '1:workspace=Calibrate;10:workspace=Inspect'");
   ASSERT_EQ(back.status, 0) << back.err;

@@ -229,5 +229,47 @@ TEST(CalibrationSession, WorkerFeedsItWhileCalibratingAndPublishesTheSolve) {
   e.stop();
 }
 
+// On the wall clock the board search runs behind the frames (a frame is offered only when the search is free),
+// so the frame shown is rarely the one searched: the snapshot carries the searched picture, and the live view draws
+// the corners on it. Each one's corners are that picture's, where a fresh search of it puts them; on the newest
+// frame they would land where the board was a frame or more before.
+TEST(CalibrationSession, TheSearchedPictureTravelsWithItsCorners) {
+  EngineConfig c;
+  Engine e(c, [](int, const std::string&) {});
+  SyntheticControls board;
+  board.board = "chessboard";
+  e.set_synthetic(board);
+  e.set_calibrating(true);
+  e.start();
+  std::shared_ptr<const Frame> f = e.wait_newer(0, 5.0);
+  ASSERT_TRUE(f);
+  int with_board = 0, behind = 0;
+  double worst_same = 0, worst_newest = 0;
+  std::string last;
+  for (const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(8);
+       std::chrono::steady_clock::now() < end && with_board < 12;) {
+    f = e.wait_newer(f->index, 1.0);
+    const CalibrationSnapshot* s = f->calibration.get();
+    if (!s || s->searched.empty() || !s->detection.found || s->frame_name == last) continue;
+    last = s->frame_name;
+    ++with_board;
+    behind += s->frame_name != f->calibration_name;
+    ASSERT_EQ(s->searched.size(), f->image.size());
+    const BoardDetection again = detect_board(s->searched, s->board);
+    ASSERT_TRUE(again.found) << s->frame_name;
+    const BoardDetection newest = detect_board(f->image, s->board);
+    for (size_t i = 0; i < again.corners.size(); ++i)
+      worst_same = std::max(worst_same, double(cv::norm(again.corners[i] - s->detection.corners[i])));
+    // The board's centre (the corners' mean, whatever their order) on the newest frame.
+    const auto centre = [](const std::vector<cv::Point2f>& p) { return cv::Point2d(cv::mean(p)[0], cv::mean(p)[1]); };
+    if (newest.found) worst_newest = std::max(worst_newest, cv::norm(centre(newest.corners) - centre(again.corners)));
+  }
+  e.stop();
+  std::printf("%d searched frames with the board, %d behind the frame shown; corners off by %.3f px on their own "
+              "picture; the board's centre up to %.1f px away on the newest frame\n", with_board, behind, worst_same, worst_newest);
+  EXPECT_GE(with_board, 5) << "the board is in every synthetic frame";
+  EXPECT_LT(worst_same, 0.01);
+}
+
 }  // namespace
 }  // namespace arwb
