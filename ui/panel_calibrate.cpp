@@ -220,8 +220,8 @@ void camera(const CalibrationSnapshot* s, const Frame& f) {
     ImGui::TextWrapped("RMS reprojection error %.3f px over %zu views (OpenCV's defaults on all of them: %.3f px)",
                        sol->rms, sol->view_names.size(), sol->opencv_defaults_rms);
     for (const std::string& n : sol->notes) text_disabled_wrapped(("note: " + n).c_str());
-    ImGui::TextWrapped("For %dx%d frames (the working image after the resize).", c->image_size.width,
-                       c->image_size.height);
+    ImGui::TextWrapped("For %dx%d frames (the source's own size, before the resize; fitted to the working size "
+                       "where it is used).", c->image_size.width, c->image_size.height);
   }
   if (truth) text_disabled_wrapped("The truth: the synthetic source's camera, which the board is seen through.");
 }

@@ -169,6 +169,7 @@ Json calibration_stats(const App& app) {
       c["fy"] = round_decimals(K(1, 1), 3);
       c["cx"] = round_decimals(K(0, 2), 3);
       c["cy"] = round_decimals(K(1, 2), 3);
+      c["size"] = std::to_string(sol->calibration.image_size.width) + "x" + std::to_string(sol->calibration.image_size.height);
       c["distortion"] = sol->calibration.distortion;
       Json checks = Json::array();
       for (const Check& ch : sol->report.checklist) checks.push_back({{"name", ch.name}, {"ok", ch.ok}});

@@ -98,7 +98,8 @@ void CalibrationSession::feed(const cv::Mat& frame, const std::string& name) {
     finding_.wait();
     poll();
   }
-  judge(detect_board(frame, board_), frame, name);
+  // The snapshot's picture is a copy: the caller's frame may be a source's buffer that it fills again.
+  judge(detect_board(frame, board_), frame.clone(), name);
 }
 
 bool CalibrationSession::offer(const cv::Mat& frame, const std::string& name) {

@@ -28,7 +28,10 @@ void Engine::State::camera(Worker& w, Frame& f) {
   f.pose_unit = sized ? "mm" : "marker sides";
 }
 
-void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double sy) {
+// The board is searched in the source's own frame (w.raw), not the working image: photographs of 1920x1080 are
+// calibrated at 1920x1080 as `arwb calibrate` calibrates them, and the solve is fitted to the working size where
+// it is used (the undistorted view).
+void Engine::State::calibrate(Worker& w, Frame& f, bool fresh) {
   if (w.calibrating) {
     CalibrationSession& session = w.calibration();
     if (fresh) {
@@ -44,16 +47,16 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
       // frame judged a step further on, and a slow machine would see the board move between every two.
       const auto* syn = dynamic_cast<const SyntheticSource*>(w.source.get());
       if (syn && syn->frame_step() > 0) {
-        session.feed(f.image, name);
+        session.feed(w.raw, name);
         w.calibration_searched = true;
       } else {
-        w.calibration_searched = session.offer(f.image, name);
+        w.calibration_searched = session.offer(w.raw, name);
       }
       w.calibration_name = name;
     } else if (!w.calibration_searched) {
       // The frame shown was skipped while the search was busy: searched once the search is free, so that a frozen
       // or ended source shows its board (the finished search's poll brings the worker back here).
-      w.calibration_searched = session.offer(f.image, w.calibration_name);
+      w.calibration_searched = session.offer(w.raw, w.calibration_name);
     }
     f.calibration_name = w.calibration_name;
     f.calibration = session.snapshot();
@@ -61,14 +64,9 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
   if (const auto* syn = dynamic_cast<const SyntheticSource*>(w.source.get())) {
     if (const SynthCamera* cam = syn->board_camera()) {
       Calibration t;
-      t.camera_matrix = cam->camera_matrix;
-      // Pixel centres scale, not pixel corners (the same rule as the truth's corners above).
-      t.camera_matrix(0, 0) *= sx;
-      t.camera_matrix(1, 1) *= sy;
-      t.camera_matrix(0, 2) = (t.camera_matrix(0, 2) + 0.5) * sx - 0.5;
-      t.camera_matrix(1, 2) = (t.camera_matrix(1, 2) + 0.5) * sy - 0.5;
+      t.camera_matrix = cam->camera_matrix;   // the source's own pixels, where the board is searched
       t.distortion = cam->distortion;
-      t.image_size = f.image.size();
+      t.image_size = cam->size;
       t.source = "the synthetic camera";
       f.calibration_truth = std::move(t);
     }
@@ -79,9 +77,17 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh, double sx, double
   std::shared_ptr<const void> owner;
   std::string by;
   std::shared_ptr<const CalibrationSnapshot> snap = w.session ? w.session->snapshot() : nullptr;
-  if (snap && snap->solution && snap->solution->calibration.image_size == f.image.size()) {
-    use = &snap->solution->calibration;
-    owner = snap->solution;
+  if (snap && snap->solution) {
+    if (w.fitted_of != snap->solution || w.fitted_for != f.image.size()) {
+      w.fitted_of = snap->solution;
+      w.fitted_for = f.image.size();
+      Result<Calibration> c = calibration_for_size(snap->solution->calibration, f.image.size());
+      w.fitted = c ? std::make_shared<const Calibration>(std::move(*c)) : nullptr;
+    }
+  }
+  if (snap && snap->solution && w.fitted) {
+    use = w.fitted.get();
+    owner = w.fitted;
     by = "the solve of " + std::to_string(snap->solution->view_names.size()) + " views";
   } else if (w.loaded) {
     use = w.loaded.get();

@@ -87,6 +87,10 @@ struct Engine::Worker {
   std::optional<Calibration> loaded_raw;
   std::shared_ptr<const Calibration> loaded;
   cv::Size loaded_for;
+  // The newest solve (made at the source's own size) fitted to the frames' size, for the undistorted view.
+  std::shared_ptr<const Solution> fitted_of;
+  std::shared_ptr<const Calibration> fitted;
+  cv::Size fitted_for;
   std::shared_ptr<const void> maps_of;   // held, so that its address is not another calibration's later
   cv::Size maps_size;
   cv::Mat map1, map2;
@@ -120,7 +124,7 @@ struct Engine::State {
   void publish(std::shared_ptr<Frame> f);
   // The frame's calibration: the session fed with a new frame while calibrating, the synthetic camera's truth
   // (its matrix scaled by sx, sy to the frame's size) and the undistorted image.
-  void calibrate(Worker& w, Frame& f, bool fresh, double sx, double sy);
+  void calibrate(Worker& w, Frame& f, bool fresh);
   // The frame's camera for poses, before the tracker runs: the loaded calibration made for its size (null
   // without one) and the marker's side.
   void camera(Worker& w, Frame& f);

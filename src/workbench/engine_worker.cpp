@@ -329,7 +329,7 @@ void Engine::State::detect_and_publish(bool fresh, double now) {
   doing_ = "running the peer detectors";
   run_peers(*f);
   doing_ = "searching for the calibration board";
-  calibrate(w, *f, fresh, sx, sy);
+  calibrate(w, *f, fresh);
   const double done = seconds_since(w.t0);
   w.finished.push_back(done);
   while (!w.finished.empty() && w.finished.front() < done - 1.0) w.finished.pop_front();

@@ -76,8 +76,8 @@ struct Frame {
   // The calibration given with --calib, made for this frame's size; null without one (or when it does not
   // fit the source: the log says why).
   std::shared_ptr<const Calibration> loaded_calibration;
-  // The synthetic source's camera while it shows a calibration board, in this frame's pixels: the truth a solve
-  // is compared with.
+  // The synthetic source's camera while it shows a calibration board, in the source's own pixels (where the board
+  // is searched and solved): the truth a solve is compared with.
   std::optional<Calibration> calibration_truth;
   // `image` undistorted with the newest solve (or else the loaded calibration), when asked for and there is one;
   // `undistorted_by` says which ("the solve of 14 views", "cam.yml").

@@ -116,6 +116,48 @@ TEST(CalibrateWorkspace, OnTheSyntheticSourceTheBoardComesAndTheTruthIsBesideThe
   EXPECT_NE(sc["calibration"]["board"].get<std::string>().find("ChArUco"), std::string::npos);
 }
 
+// Photographs of 16:9 (960x540 here) are worked at 640x360, but the board is searched and the camera solved at the
+// photographs' own size, as `arwb calibrate` does: the two give the same camera (before, the window solved the
+// working image, fx 2/3 of the photographs', and a 4:3 working size made fy/fx 0.75 with every check "ok").
+TEST(CalibrateWorkspace, SixteenByNinePhotographsGiveWhatTheCommandLineGives) {
+  TempDir tmp, photos;
+  SynthCamera camera;
+  camera.size = {960, 540};
+  camera.camera_matrix = cv::Matx33d(840, 0, 483, 0, 833, 268, 0, 0, 1);
+  const SynthChessboard board{9, 6, 0.025, 1.0};
+  const ChessboardRenderer renderer(camera, board);
+  const auto poses = chessboard_poses(camera, board, 14, 11);
+  for (size_t i = 0; i < poses.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "photo_%02zu.png", i);
+    ASSERT_TRUE(cv::imwrite(photos.str(name), renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image));
+  }
+  const RunResult cli = test::run_arwb("calibrate --input '" + photos.str() + "' --out '" + tmp.str("cli.yml") + "' --json");
+  ASSERT_EQ(cli.status, 0) << cli.err;
+  const Json j = Json::parse(cli.out);
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --source '" + photos.str() +
+                                            "' --stats --frames 12 --actions '1:workspace=Calibrate;2:calib_wait=12'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json c = stats(r)["calibration"];
+  ASSERT_TRUE(c.contains("fx")) << "no solve: " << c.dump();
+  EXPECT_EQ(stats(r)["working_size"], "640x360") << "the photographs are worked at 640 wide, their aspect kept";
+  EXPECT_EQ(c["size"], "960x540") << "and calibrated at their own size";
+  const auto value = [&](const std::string& k) {
+    const Json& K = j["camera_matrix"];
+    return (k == "fx" ? K[0][0] : k == "fy" ? K[1][1] : k == "cx" ? K[0][2] : K[1][2]).get<double>();
+  };
+  for (const char* k : {"fx", "fy", "cx", "cy"})
+    std::printf("%s: arwb calibrate %.2f, the window %.2f\n", k, value(k), c[k].get<double>());
+  for (const char* k : {"fx", "fy"}) {
+    EXPECT_NEAR(c[k].get<double>(), value(k), 0.005 * value(k)) << k;
+    EXPECT_NEAR(c[k].get<double>(), k[1] == 'x' ? 840.0 : 833.0, 0.01 * 840) << k;
+  }
+  for (const char* k : {"cx", "cy"}) EXPECT_NEAR(c[k].get<double>(), value(k), 3.0) << k;
+  bool square = false;
+  for (const Json& check : c["checklist"]) square = square || (check["name"] == "square pixels" && check["ok"].get<bool>());
+  EXPECT_TRUE(square) << c.dump();
+}
+
 TEST(CalibrateWorkspace, NothingIsLookedForOutsideTheWorkspace) {
   TempDir tmp;
   const RunResult r = test::run_arwb_window(args(tmp, "--frames 30"));
