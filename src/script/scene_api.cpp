@@ -58,7 +58,8 @@ int make_place(lua_State* L, PlaceKind kind) {
         opt.fail("unknown side '" + shorten(name) + "' (right, left, top, bottom)");
       opt.number("gap", &s.gap);
       opt.number("size", &s.size);
-      opt.finish({"opacity", "side", "gap", "size"});
+      opt.boolean("overlap", &s.overlap);
+      opt.finish({"opacity", "side", "gap", "size", "overlap"});
       break;
     case PlaceKind::screen:
       if (opt.string("corner", &name) && !parse_screen_corner(name, &s.corner))

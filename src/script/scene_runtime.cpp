@@ -53,6 +53,7 @@ std::vector<Overlay> SceneRuntime::Impl::update(const SceneInput& in) {
   pose_unit = in.pose_unit;
   ++frame_no;
   skipped = false;
+  cards.clear();
   std::vector<Overlay> overlays;
   if (!prog) {
     status.mappings.clear();
@@ -196,8 +197,13 @@ void SceneRuntime::Impl::add_overlay(Program& p, int mi, const TrackedMarker& t,
   const cv::Size size = content->size();
   if (size.width <= 0 || size.height <= 0) return;
   std::string why;
+  // Text and web cards keep clear of the cards placed before them (in declaration order, then id order).
+  const bool card = spec.kind == MediaKind::text || spec.kind == MediaKind::web;
+  const double aspect = double(size.width) / double(size.height);
+  Side side = place.side;
   const std::optional<MediaQuad> quad =
-      arwb::place(place, t.corners, double(size.width) / double(size.height), in.frame, &why);
+      card ? place_apart(place, t.corners, aspect, in.frame, cards, inst.card_side, &side, &why)
+           : arwb::place(place, t.corners, aspect, in.frame, &why);
   if (!quad) {
     const std::string msg = p.display + ":" + std::to_string(m.line) + ": marker " + std::to_string(id) +
                             ": " + (why.empty() ? "cannot be placed" : why);
@@ -211,6 +217,8 @@ void SceneRuntime::Impl::add_overlay(Program& p, int mi, const TrackedMarker& t,
   o.mapping = mi;
   o.media = std::move(spec);
   o.place = place;
+  o.place.side = side;   // where it is drawn, which may not be the side asked for
+  if (card) inst.card_side = side;
   o.quad = *quad;
   o.content = std::move(content);
   through_lens(t, in, &o);

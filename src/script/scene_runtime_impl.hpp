@@ -14,10 +14,12 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 #include <vector>
 
 namespace arwb::script {
@@ -39,6 +41,7 @@ struct Instance {
   std::shared_ptr<const Mesh> mesh;
   std::string load_error;      // why content or mesh could not be loaded (the loader's words), kept with its key
   double position = 0;         // seconds into the video: grows while the marker is tracked
+  std::optional<Side> card_side;   // a text or web card: the side of its marker it was put on (place_apart)
   bool inside = false;
   bool fresh = false;          // entered on this frame (no dt to add yet)
   std::string error;           // this frame's problem, for the Scene panel
@@ -151,6 +154,7 @@ struct SceneRuntime::Impl : Reporter {
 
   // [SECTION] One frame (scene_runtime.cpp)
   std::vector<Overlay> update(const SceneInput& in);
+  std::vector<cv::Rect2d> cards;   // this frame's text and web cards placed so far: the next keep clear of them
   // update()'s steps: on_enter and on_leave, on_update, and the overlay of mapping mi for one track.
   void enter_and_leave(Program& p, const std::vector<TrackEvent>& events, const std::vector<const TrackedMarker*>& seen,
                        const std::map<uint64_t, const TrackedMarker*>& by_track);

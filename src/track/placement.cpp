@@ -124,10 +124,12 @@ std::string PlaceSpec::describe() const {
       add(side_name(side));
       add("gap", num(gap));
       add("size", num(size));
+      if (overlap) add("overlap");
       break;
     case PlaceKind::billboard:
       add(side_name(side));
       add("size", num(size));
+      if (overlap) add("overlap");
       break;
     case PlaceKind::screen:
       add(screen_corner_name(corner));
@@ -298,6 +300,53 @@ std::optional<MediaQuad> place(const PlaceSpec& spec, const Quad& corners, doubl
     if (!std::isfinite(q.corners[i].x) || !std::isfinite(q.corners[i].y)) return fail("the placement is degenerate");
   }
   return q;
+}
+
+std::optional<MediaQuad> place_apart(const PlaceSpec& spec, const Quad& corners, double media_aspect, cv::Size frame,
+                                     std::vector<cv::Rect2d>& taken, std::optional<Side> kept, Side* side,
+                                     std::string* why) {
+  if (side) *side = spec.side;
+  if (spec.overlap || (spec.kind != PlaceKind::beside && spec.kind != PlaceKind::billboard))
+    return place(spec, corners, media_aspect, frame, why);
+  const auto box = [](const MediaQuad& q) {
+    double x0 = q.corners[0].x, y0 = q.corners[0].y, x1 = x0, y1 = y0;
+    for (const cv::Point2d& p : q.corners) {
+      x0 = std::min(x0, p.x), y0 = std::min(y0, p.y);
+      x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+    }
+    return cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
+  };
+  const auto covered = [&](const cv::Rect2d& b) {
+    double area = 0;
+    for (const cv::Rect2d& t : taken) area += (b & t).area();
+    return area;
+  };
+  std::vector<Side> order;
+  for (const Side s : {kept.value_or(spec.side), spec.side, Side::right, Side::left, Side::top, Side::bottom})
+    if (std::find(order.begin(), order.end(), s) == order.end()) order.push_back(s);
+  std::optional<MediaQuad> best;
+  cv::Rect2d best_box;
+  double least = 0;
+  for (const Side s : order) {
+    PlaceSpec tried = spec;
+    tried.side = s;
+    std::string reason;
+    std::optional<MediaQuad> q = place(tried, corners, media_aspect, frame, &reason);
+    if (!q) {
+      if (!best && s == spec.side && why) *why = reason;   // the side asked for says why, if none can be placed
+      continue;
+    }
+    const cv::Rect2d b = box(*q);
+    const double c = covered(b);
+    if (!best || c < least) {
+      best = std::move(q), best_box = b, least = c;
+      if (side) *side = s;
+    }
+    if (c <= 0) break;
+  }
+  if (best) taken.push_back(best_box);
+  else if (why && why->empty()) *why = "cannot be placed on any side of the marker";
+  return best;
 }
 
 }  // namespace arwb

@@ -18,6 +18,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace arwb {
 
@@ -48,6 +49,9 @@ struct PlaceSpec {
   double size = 1.0;          // beside: media width for left/right, height for top/bottom, in marker sides;
                               // billboard: media height in marker sides (the marker's mean side in pixels);
                               // screen: media width as a fraction of the frame's width
+  // beside, billboard: true lets a text or web card cover the cards placed before it; false (the default) moves
+  // it to another side of its marker where it covers none (place_apart)
+  bool overlap = false;
   // screen
   ScreenCorner corner = ScreenCorner::top_right;
   double margin_px = 16;
@@ -86,5 +90,14 @@ double marker_side_px(const Quad& corners);
 // marker, or a beside placement reaching the marker plane's horizon (part of it would be behind the camera).
 std::optional<MediaQuad> place(const PlaceSpec& spec, const Quad& corners, double media_aspect, cv::Size frame,
                                std::string* why = nullptr);
+
+// The cards of one frame kept apart: place() for a card (beside or billboard, overlap false) whose box would
+// cover a box in `taken` tries its marker's other sides, `kept` first (the side it had on the frame before, so
+// that a card does not hop from side to side), then spec.side, right, left, top and bottom; the first that covers
+// none, else the one that covers least. Its box is added to `taken` and *side gets the side used. Other kinds
+// and overlap true are place() as is (their boxes not taken).
+std::optional<MediaQuad> place_apart(const PlaceSpec& spec, const Quad& corners, double media_aspect, cv::Size frame,
+                                     std::vector<cv::Rect2d>& taken, std::optional<Side> kept, Side* side,
+                                     std::string* why = nullptr);
 
 }  // namespace arwb
