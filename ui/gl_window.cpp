@@ -9,6 +9,8 @@
 #include <imgui_impl_opengl3.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -109,6 +111,30 @@ bool save_window_image(GLFWwindow* window, const std::string& path, std::string*
   }
   *error = "cannot write " + path;
   return false;
+}
+
+double covered_area(const ImDrawData* dd) {
+  double total = 0;
+  for (int l = 0; l < dd->CmdListsCount; ++l) {
+    const ImDrawList* list = dd->CmdLists[l];
+    for (const ImDrawCmd& cmd : list->CmdBuffer) {
+      if (cmd.UserCallback) continue;
+      const ImVec4& c = cmd.ClipRect;
+      for (unsigned i = 0; i + 2 < cmd.ElemCount; i += 3) {
+        const ImVec2& a = list->VtxBuffer[int(cmd.VtxOffset + list->IdxBuffer[int(cmd.IdxOffset + i)])].pos;
+        const ImVec2& b = list->VtxBuffer[int(cmd.VtxOffset + list->IdxBuffer[int(cmd.IdxOffset + i + 1)])].pos;
+        const ImVec2& d = list->VtxBuffer[int(cmd.VtxOffset + list->IdxBuffer[int(cmd.IdxOffset + i + 2)])].pos;
+        const double area = std::abs(double(b.x - a.x) * (d.y - a.y) - double(d.x - a.x) * (b.y - a.y)) / 2;
+        const float x0 = std::min({a.x, b.x, d.x}), x1 = std::max({a.x, b.x, d.x});
+        const float y0 = std::min({a.y, b.y, d.y}), y1 = std::max({a.y, b.y, d.y});
+        const double box = double(x1 - x0) * (y1 - y0);
+        const double inside = double(std::max(0.0f, std::min(x1, c.z) - std::max(x0, c.x))) *
+                              std::max(0.0f, std::min(y1, c.w) - std::max(y0, c.y));
+        total += box > 0 ? area * inside / box : 0;
+      }
+    }
+  }
+  return total;
 }
 
 }  // namespace arwb::ui

@@ -10,6 +10,7 @@
 
 struct GLFWwindow;
 struct ImFont;
+struct ImDrawData;
 
 namespace arwb::ui {
 
@@ -37,5 +38,9 @@ bool save_window_image(GLFWwindow* window, const std::string& path, std::string*
 // Ends an ImGui frame on a black window: renders ImGui's draw data over the whole framebuffer and waits for GL
 // (the player and the message window; the workbench counts its draw calls in between, so it keeps its own).
 void present_imgui_frame(GlWindow& w);
+// The framebuffer pixels ImGui's draw data covers, each triangle counted (so a pixel drawn twice counts twice),
+// clipped to its command's clip rectangle by the share of its bounding box inside it: over the window's area, the
+// overdraw a software renderer pays for.
+double covered_area(const ImDrawData* dd);
 
 }  // namespace arwb::ui

@@ -264,8 +264,14 @@ std::string stats_json(App& app, double elapsed, uint64_t detected) {
   s["ui_ms"] = {{"panels", round_decimals(per(t.ui_ms[0], t.ui_frames), 2)},
                 {"render", round_decimals(per(t.ui_ms[1], t.ui_frames), 2)},
                 {"swap", round_decimals(per(t.ui_ms[2], t.ui_frames), 2)},
+                {"uploads", round_decimals(per(app.textures.uploads().ms, t.ui_frames), 2)},
                 {"draw_calls", std::llround(per(t.draw_calls, t.ui_frames))},
                 {"vertices", std::llround(per(t.vertices, t.ui_frames))}};
+  // Where a software renderer's time goes: every pixel covered is shaded and blended, so the covered area over
+  // the window's (1: each pixel drawn once) and the texture uploads' count and size per frame.
+  s["ui_fill"] = {{"overdraw", round_decimals(t.window_px > 0 ? t.covered_px / t.window_px : 0, 2)},
+                  {"uploads_per_frame", round_decimals(per(double(app.textures.uploads().count), t.ui_frames), 2)},
+                  {"upload_mb_per_frame", round_decimals(per(app.textures.uploads().bytes / 1e6, t.ui_frames), 2)}};
   s["markers"] = app.frame ? app.frame->trace.markers.size() : 0;
   // Each track's pose on the last frame, the camera it came from, and how many the live view drew in 3D.
   s["poses"] = poses(app);

@@ -24,6 +24,7 @@ struct StatsTotals {
   double composite_ms = 0;
   int composites = 0;              // -1: the compositor failed (said once)
   double draw_calls = 0, vertices = 0;
+  double covered_px = 0, window_px = 0;   // the triangles' area drawn, and the framebuffer's, summed over frames
   std::array<double, 3> ui_ms{};   // building the panels, rendering them, swapping
 };
 

@@ -150,8 +150,9 @@ ImageMapping image_view(Context& ctx, const char* id, const std::string& key, co
   m.max = {p0.x + size.x, p0.y + size.y};
   m.hovered = ImGui::IsItemHovered();
   ImDrawList* dl = ImGui::GetWindowDrawList();
-  dl->AddRectFilled(m.min, m.max, IM_COL32(24, 24, 28, 255));
+  const ImU32 backdrop = IM_COL32(24, 24, 28, 255);
   if (image.empty()) {
+    dl->AddRectFilled(m.min, m.max, backdrop);
     dl->AddText({p0.x + 8, p0.y + 8}, IM_COL32(200, 200, 200, 255), "No frame yet");
     return m;
   }
@@ -186,7 +187,16 @@ ImageMapping image_view(Context& ctx, const char* id, const std::string& key, co
   m.origin = origin_for(st.zoom, st.centre);
   const ImTextureID tex = texture ? texture : ctx.texture(key, image, version);
   dl->PushClipRect(m.min, m.max, true);
-  dl->AddImage(tex, m.origin, {m.origin.x + iw * st.zoom, m.origin.y + ih * st.zoom});
+  // The backdrop only where the picture is not (the bars beside and above it): in a software renderer every pixel
+  // drawn twice costs, and the picture is most of the view.
+  const ImVec2 i0 = m.origin, i1{m.origin.x + iw * st.zoom, m.origin.y + ih * st.zoom};
+  const ImVec2 c0{std::clamp(i0.x, m.min.x, m.max.x), std::clamp(i0.y, m.min.y, m.max.y)};
+  const ImVec2 c1{std::clamp(i1.x, m.min.x, m.max.x), std::clamp(i1.y, m.min.y, m.max.y)};
+  if (c0.y > m.min.y) dl->AddRectFilled(m.min, {m.max.x, c0.y}, backdrop);
+  if (c1.y < m.max.y) dl->AddRectFilled({m.min.x, c1.y}, m.max, backdrop);
+  if (c0.x > m.min.x) dl->AddRectFilled({m.min.x, c0.y}, {c0.x, c1.y}, backdrop);
+  if (c1.x < m.max.x) dl->AddRectFilled({c1.x, c0.y}, {m.max.x, c1.y}, backdrop);
+  dl->AddImage(tex, i0, i1);
   dl->PopClipRect();
   if (m.hovered) {
     const cv::Point2f p = m.to_image(io.MousePos);

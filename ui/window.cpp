@@ -280,12 +280,15 @@ bool App::run_frame() {
   int fw = 0, fh = 0;
   glfwGetFramebufferSize(glfw_window, &fw, &fh);
   glViewport(0, 0, fw, fh);
-  glClearColor(0.08f, 0.08f, 0.1f, 1);
+  const ImVec4 bg = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
+  glClearColor(bg.x, bg.y, bg.z, 1);
   glClear(GL_COLOR_BUFFER_BIT);
   const auto tp1 = Clock::now();
   const ImDrawData* dd = ImGui::GetDrawData();
   for (int i = 0; i < dd->CmdListsCount; ++i) totals.draw_calls += dd->CmdLists[i]->CmdBuffer.Size;
   totals.vertices += dd->TotalVtxCount;
+  totals.covered_px += ui::covered_area(dd);
+  totals.window_px += double(fw) * double(fh);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();
   const auto tp2 = Clock::now();

@@ -1,5 +1,7 @@
 #include "render/texture.hpp"
 
+#include <chrono>
+
 #define GL_GLEXT_PROTOTYPES
 #include <GL/gl.h>
 
@@ -27,9 +29,9 @@ Texture& Texture::operator=(Texture&& o) noexcept {
   return *this;
 }
 
-void Texture::upload(const cv::Mat& image, uint64_t version, bool nearest, bool mipmaps) {
-  if (image.empty() || image.depth() != CV_8U) return;
-  if (id_ != 0 && version == version_ && image.cols == width_ && image.rows == height_) return;
+bool Texture::upload(const cv::Mat& image, uint64_t version, bool nearest, bool mipmaps) {
+  if (image.empty() || image.depth() != CV_8U) return false;
+  if (id_ != 0 && version == version_ && image.cols == width_ && image.rows == height_) return false;
   cv::Mat src = image.isContinuous() ? image : image.clone();
   GLenum format = GL_RED;
   if (src.channels() == 3) format = GL_BGR;
@@ -58,13 +60,19 @@ void Texture::upload(const cv::Mat& image, uint64_t version, bool nearest, bool 
   width_ = src.cols;
   height_ = src.rows;
   version_ = version;
+  return true;
 }
 
 Texture& TextureCache::get(const std::string& key, const cv::Mat& image, uint64_t version, bool nearest,
                            bool mipmaps) {
   Entry& e = entries_[key];
   e.last_used = frame_;
-  e.texture.upload(image, version, nearest, mipmaps);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (e.texture.upload(image, version, nearest, mipmaps)) {
+    ++uploads_.count;
+    uploads_.bytes += double(image.total() * image.elemSize());
+    uploads_.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
   return e.texture;
 }
 

@@ -25,7 +25,8 @@ class Texture {
   // `nearest` picks nearest-neighbour magnification, so pixels stay square when a user zooms in.
   // `mipmaps` builds the mipmap chain and filters trilinearly: media drawn much smaller than their pixels
   // (a 1920-wide video on a 60 px marker) would shimmer otherwise.
-  void upload(const cv::Mat& image, uint64_t version, bool nearest = true, bool mipmaps = false);
+  // True when it uploaded (the version or size changed).
+  bool upload(const cv::Mat& image, uint64_t version, bool nearest = true, bool mipmaps = false);
   unsigned id() const { return id_; }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -46,6 +47,13 @@ class TextureCache {
   // Call once per UI frame, after drawing.
   void end_frame(int keep_frames = 120);
   size_t size() const { return entries_.size(); }
+  // What the uploads cost since the cache was made: how many, their bytes, and the time spent in them (glTexImage
+  // copies the pixels; a software renderer converts them too).
+  struct Uploads {
+    int64_t count = 0;
+    double bytes = 0, ms = 0;
+  };
+  const Uploads& uploads() const { return uploads_; }
 
  private:
   struct Entry {
@@ -54,6 +62,7 @@ class TextureCache {
   };
   std::unordered_map<std::string, Entry> entries_;
   uint64_t frame_ = 0;
+  Uploads uploads_;
 };
 
 // The current framebuffer's pixels (the window's back buffer after drawing), BGR, top row first.

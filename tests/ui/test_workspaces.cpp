@@ -132,6 +132,11 @@ void fits(const Shipped& w, int width, int height) {
     EXPECT_EQ(l["overlaps"], 0) << l.dump();
     EXPECT_TRUE(l["clipped"].empty()) << "cut off: " << l["clipped"].dump(1);
     EXPECT_EQ(l["off_screen"], Json::array()) << "past the screen's edge";
+    // A software renderer (llvmpipe, no GPU) pays for every pixel drawn: the window's background is the clear
+    // colour, and a region's picture is not drawn over a backdrop of its own size (1.7 when both were).
+    const double overdraw = test::stats(r)["ui_fill"]["overdraw"].get<double>();
+    std::printf("%s %dx%d%s: overdraw %.2f\n", w.name, width, height, present ? " presentation" : "", overdraw);
+    EXPECT_LT(overdraw, 1.2) << "pixels drawn over each other";
     // Every panel is in some region, and the regions cover the main area (no hole, no overlap: the sum).
     for (const char* p : w.panels) EXPECT_NE(region_with(l, p), nullptr) << p << " not shown: " << l.dump();
     double covered = 0;
