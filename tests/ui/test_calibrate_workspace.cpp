@@ -24,20 +24,24 @@ using test::RunResult;
 using test::TempDir;
 using Json = nlohmann::json;
 
+// `count` views of the paper's board through `camera` (poses drawn from `seed`) written to `dir` as board_NN.png.
+void write_board_views(const TempDir& dir, const SynthCamera& camera, int count, unsigned seed) {
+  const SynthChessboard board{9, 6, 0.025, 1.0};
+  const ChessboardRenderer renderer(camera, board);
+  const auto poses = chessboard_poses(camera, board, count, seed);
+  for (size_t i = 0; i < poses.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "board_%02zu.png", i);
+    ASSERT_TRUE(cv::imwrite(dir.str(name), renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image));
+  }
+}
+
 // A folder of 16 views of the paper's board (the folder source plays one a second, and its frames are judged as
 // stills), made once per binary.
 const std::string& chessboard_folder() {
   static TempDir* dir = new TempDir;   // kept for the binary's life
   static const std::string path = [] {
-    const SynthCamera camera;
-    const SynthChessboard board{9, 6, 0.025, 1.0};
-    const ChessboardRenderer renderer(camera, board);
-    const auto poses = chessboard_poses(camera, board, 16, 7);
-    for (size_t i = 0; i < poses.size(); ++i) {
-      char name[32];
-      std::snprintf(name, sizeof name, "board_%02zu.png", i);
-      cv::imwrite(dir->str(name), renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image);
-    }
+    write_board_views(*dir, SynthCamera{}, 16, 7);
     return dir->str();
   }();
   return path;
@@ -124,14 +128,7 @@ TEST(CalibrateWorkspace, SixteenByNinePhotographsGiveWhatTheCommandLineGives) {
   SynthCamera camera;
   camera.size = {960, 540};
   camera.camera_matrix = cv::Matx33d(840, 0, 483, 0, 833, 268, 0, 0, 1);
-  const SynthChessboard board{9, 6, 0.025, 1.0};
-  const ChessboardRenderer renderer(camera, board);
-  const auto poses = chessboard_poses(camera, board, 14, 11);
-  for (size_t i = 0; i < poses.size(); ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "photo_%02zu.png", i);
-    ASSERT_TRUE(cv::imwrite(photos.str(name), renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image));
-  }
+  write_board_views(photos, camera, 14, 11);
   const RunResult cli = test::run_arwb("calibrate --input '" + photos.str() + "' --out '" + tmp.str("cli.yml") + "' --json");
   ASSERT_EQ(cli.status, 0) << cli.err;
   const Json j = Json::parse(cli.out);

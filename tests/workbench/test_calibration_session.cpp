@@ -150,28 +150,36 @@ TEST(CalibrationSession, AFedFrameIsJudgedAfterTheOneOfferedBeforeIt) {
   EXPECT_EQ(s->skipped, 0);
 }
 
+// An engine on the synthetic source showing the paper's chessboard, calibrating: `step` seconds of the source's
+// clock per frame, each frame judged (--synthetic-step), or 0 for the wall clock, frames skipped while the search
+// is busy.
+std::unique_ptr<Engine> board_engine(double step) {
+  EngineConfig c;
+  c.synthetic_step_s = step;
+  auto e = std::make_unique<Engine>(c, [](int, const std::string&) {});
+  SyntheticControls board;
+  board.board = "chessboard";
+  e->set_synthetic(board);
+  e->set_calibrating(true);
+  e->start();
+  return e;
+}
+
 // With the synthetic source stepped per frame (--synthetic-step), the worker judges every frame it takes while
 // calibrating, waiting for the board search: none is skipped, whatever the machine's speed, so each of the
 // board's pauses is seen as still frames one step apart. The board moves between them, and the views solve near
 // the camera the source shows it through.
 TEST(CalibrationSession, ASteppedSyntheticBoardIsJudgedOnEveryFrame) {
-  EngineConfig c;
-  c.synthetic_step_s = 0.25;
-  Engine e(c, [](int, const std::string&) {});
-  SyntheticControls board;
-  board.board = "chessboard";
-  e.set_synthetic(board);
-  e.set_calibrating(true);
-  e.start();
-  std::shared_ptr<const Frame> f = e.wait_newer(0, 5.0);
+  const std::unique_ptr<Engine> e = board_engine(0.25);
+  std::shared_ptr<const Frame> f = e->wait_newer(0, 5.0);
   ASSERT_TRUE(f);
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (std::chrono::steady_clock::now() < end) {
-    f = e.wait_newer(f->index, 1.0);
+    f = e->wait_newer(f->index, 1.0);
     const CalibrationSnapshot* s = f->calibration.get();
     if (s && s->views.size() >= 8 && s->current()) break;
   }
-  e.stop();
+  e->stop();
   const CalibrationSnapshot* s = f->calibration.get();
   ASSERT_TRUE(s);
   EXPECT_EQ(s->skipped, 0);
@@ -234,21 +242,15 @@ TEST(CalibrationSession, WorkerFeedsItWhileCalibratingAndPublishesTheSolve) {
 // the corners on it. Each one's corners are that picture's, where a fresh search of it puts them; on the newest
 // frame they would land where the board was a frame or more before.
 TEST(CalibrationSession, TheSearchedPictureTravelsWithItsCorners) {
-  EngineConfig c;
-  Engine e(c, [](int, const std::string&) {});
-  SyntheticControls board;
-  board.board = "chessboard";
-  e.set_synthetic(board);
-  e.set_calibrating(true);
-  e.start();
-  std::shared_ptr<const Frame> f = e.wait_newer(0, 5.0);
+  const std::unique_ptr<Engine> e = board_engine(0);
+  std::shared_ptr<const Frame> f = e->wait_newer(0, 5.0);
   ASSERT_TRUE(f);
   int with_board = 0, behind = 0;
   double worst_same = 0, worst_newest = 0;
   std::string last;
   for (const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(8);
        std::chrono::steady_clock::now() < end && with_board < 12;) {
-    f = e.wait_newer(f->index, 1.0);
+    f = e->wait_newer(f->index, 1.0);
     const CalibrationSnapshot* s = f->calibration.get();
     if (!s || s->searched.empty() || !s->detection.found || s->frame_name == last) continue;
     last = s->frame_name;
@@ -264,7 +266,7 @@ TEST(CalibrationSession, TheSearchedPictureTravelsWithItsCorners) {
     const auto centre = [](const std::vector<cv::Point2f>& p) { return cv::Point2d(cv::mean(p)[0], cv::mean(p)[1]); };
     if (newest.found) worst_newest = std::max(worst_newest, cv::norm(centre(newest.corners) - centre(again.corners)));
   }
-  e.stop();
+  e->stop();
   std::printf("%d searched frames with the board, %d behind the frame shown; corners off by %.3f px on their own "
               "picture; the board's centre up to %.1f px away on the newest frame\n", with_board, behind, worst_same, worst_newest);
   EXPECT_GE(with_board, 5) << "the board is in every synthetic frame";
