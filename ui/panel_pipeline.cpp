@@ -72,6 +72,12 @@ void draw_pipeline(Context& ctx) {
   const std::string title = sel < 0 ? "input" : std::string(stage_name(static_cast<Stage>(sel)));
   const cv::Mat& big = stage_view(f, sel, false);
   ImGui::TextUnformatted(title.c_str());
+  // What the picture shows on this frame where it could mislead (the decimation's factor, regions only).
+  if (const std::string caption = sel < 0 ? "" : stage_view_caption(f.trace, static_cast<Stage>(sel)); !caption.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(static_cast<Stage>(sel)));
+    ImGui::TextWrapped("%s", caption.c_str());
+    ImGui::PopStyleColor();
+  }
   const char* about = mosaic ? "(a tile per candidate that reached this stage, in ledger order)"
                              : "(zoom and pan shared with the live view)";
   if (!stage_only) {

@@ -2,6 +2,7 @@
 // with the stage's picture, its figures for this frame, a short explanation read from assets/teaching/tour.txt
 // (teachers edit or translate that file) and the parameters that step is about. The pipeline panel follows the
 // tour's stage, so the large view shows what the text explains.
+#include "inspect/trace_view.hpp"
 #include "teach/tour.hpp"
 #include "ui/panels.hpp"
 #include "ui/widgets.hpp"
@@ -21,6 +22,13 @@ void stage_figures(Context& ctx, const TourStep& step) {
     char line[96];
     std::snprintf(line, sizeof line, "This frame: %.2f ms, %d in, %d out", r->ms, r->in, r->out);
     text_disabled_wrapped(line);
+  }
+  // What the stage's picture shows on this frame, where the text alone could mislead (decimation at 1 on a small
+  // frame, a search in regions only).
+  if (const std::string caption = stage_view_caption(f.trace, step.stage); !caption.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(step.stage));
+    ImGui::TextWrapped("This frame's picture: %s.", caption.c_str());
+    ImGui::PopStyleColor();
   }
   const cv::Mat& view = f.views[static_cast<size_t>(step.stage)];
   if (!view.empty()) {

@@ -594,4 +594,22 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
   }
 }
 
+std::string stage_view_caption(const FrameTrace& t, Stage s) {
+  if (s != Stage::decimation && s != Stage::adaptive_threshold) return {};
+  const SearchRecord& r = t.search;
+  const int f = std::max(1, r.factor);
+  const auto size = [](int w, int h) { return std::to_string(w) + "x" + std::to_string(h); };
+  // The size searched, for the whole frame (regions are each their own size).
+  const std::string searched = r.whole ? " (" + size(t.work_width / f, t.work_height / f) + ")" : "";
+  std::string c = f > 1 ? "searched at 1/" + std::to_string(f) + searched + ", each pixel the mean of a " +
+                              std::to_string(f) + "x" + std::to_string(f) + " block, stretched over the frame"
+                        : "decimation factor 1: the search ran on the grey image itself" + searched;
+  if (!r.whole) {
+    const size_t n = r.regions.size();
+    c += n == 1 ? "; only the region around the markers of the frame before, the rest black"
+                : "; only the " + std::to_string(n) + " regions around the markers of the frame before, the rest black";
+  }
+  return c;
+}
+
 }  // namespace arwb

@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include <array>
+#include <string>
 
 namespace arwb {
 
@@ -23,6 +24,12 @@ bool stage_view_is_mosaic(Stage s);
 // (OpenCV's area resize has a fast path for whole-number factors, and the worker makes 18 thumbnails a frame);
 // the last columns and rows that make no whole block, fewer than k, are left out. Empty in, empty out.
 void thumbnail(const cv::Mat& in, cv::Mat& out, cv::Size fit = {192, 144});
+
+// One line saying what a stage's picture shows on this frame where the picture alone could mislead, "" for the
+// others. decimation and adaptive_threshold: the factor the search ran at ("searched at 1/2 (320x240), ...", or
+// "decimation factor 1: ... the grey image itself"), and whether only regions around the markers of the frame
+// before were searched (the rest of the picture black).
+std::string stage_view_caption(const FrameTrace& t, Stage s);
 
 // Fills `out[stage]` for every stage the trace has (full level); others are left empty. BGR images.
 void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out);

@@ -349,3 +349,41 @@ TEST(TraceView, ViewsStillHeldAreNeverDrawnOver) {
   for (int s = 0; s < kStageCount; ++s) EXPECT_EQ(cv::norm(va[size_t(s)], copies[size_t(s)], cv::NORM_INF), 0);
 }
 
+
+// The decimation step shows what the tour says at every resolution: at 640x480 the default factor is 1 and the
+// caption says the search ran on the grey image itself; at 1280x720 it is 2, and the picture is the half-size
+// copy stretched over the frame, its 2x2 blocks visible, as the caption says.
+TEST(TraceView, TheDecimationPictureAndItsCaptionSayTheFactorAtEveryResolution) {
+  const Dictionary d = make_aruco_original();
+  const auto blocky = [](const cv::Mat& v) {   // every pixel equal to its neighbour in its 2x2 block
+    for (int y = 0; y + 1 < v.rows; y += 2)
+      for (int x = 0; x + 1 < v.cols; x += 2)
+        if (v.at<cv::Vec3b>(y, x) != v.at<cv::Vec3b>(y, x + 1) || v.at<cv::Vec3b>(y, x) != v.at<cv::Vec3b>(y + 1, x))
+          return false;
+    return true;
+  };
+  for (const cv::Size size : {cv::Size(640, 480), cv::Size(1280, 720)}) {
+    const cv::Mat img = page_with_markers(d, 3, 2, size.height / 5.0, nullptr, size);
+    Detector det({d});
+    AcquisitionSettings a;
+    a.resize = false;
+    det.set_acquisition(a);
+    FrameTrace t;
+    ASSERT_EQ(det.detect(img, &t, TraceLevel::full).size(), 6u) << size;
+    Views views;
+    render_stage_views(img, t, views);
+    const cv::Mat& v = views[size_t(Stage::decimation)];
+    ASSERT_EQ(v.size(), size);
+    const std::string caption = stage_view_caption(t, Stage::decimation);
+    std::printf("%dx%d: %s\n", size.width, size.height, caption.c_str());
+    if (size.height < 720) {
+      EXPECT_EQ(caption, "decimation factor 1: the search ran on the grey image itself (640x480)");
+      EXPECT_FALSE(blocky(v));
+    } else {
+      EXPECT_EQ(caption, "searched at 1/2 (640x360), each pixel the mean of a 2x2 block, stretched over the frame");
+      EXPECT_TRUE(blocky(v));
+    }
+    EXPECT_EQ(stage_view_caption(t, Stage::adaptive_threshold), caption);
+    EXPECT_EQ(stage_view_caption(t, Stage::quad_fit), "");
+  }
+}
