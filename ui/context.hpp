@@ -248,6 +248,7 @@ struct View {
   bool presentation = false;
   int tour_step = 0;
   bool tour_active = false;
+  float tour_overflow_px = 0;   // the most the tour's title, Look line and Try controls ran past its panel's bottom
   std::array<std::unique_ptr<PanelState>, kPanelCount> panel_states;   // see panel_state
   View();
 };

@@ -14,17 +14,22 @@ namespace arwb::ui {
 
 namespace {
 
+// The stage's figures for this frame, on the line of what precedes them when they fit there (flow).
 void stage_figures(Context& ctx, const TourStep& step) {
   if (!ctx.frame || !step.is_stage) return;
+  const StageRecord* r = ctx.frame->trace.stage(step.stage);
+  if (!r) return;
+  char line[96];
+  std::snprintf(line, sizeof line, "this frame: %.2f ms, %d in, %d out", r->ms, r->in, r->out);
+  flow(text_width(line));
+  ImGui::TextDisabled("%s", line);
+}
+
+// The stage's picture and what it shows on this frame (decimation at 1 on a small frame, a search in regions
+// only), when no Pipeline panel shows them large.
+void stage_picture(Context& ctx, const TourStep& step) {
+  if (!ctx.frame || !step.is_stage || ctx.view.open[static_cast<size_t>(Panel::pipeline)]) return;
   const Frame& f = *ctx.frame;
-  const StageRecord* r = f.trace.stage(step.stage);
-  if (r) {
-    char line[96];
-    std::snprintf(line, sizeof line, "This frame: %.2f ms, %d in, %d out", r->ms, r->in, r->out);
-    text_disabled_wrapped(line);
-  }
-  // What the stage's picture shows on this frame, where the text alone could mislead (decimation at 1 on a small
-  // frame, a search in regions only).
   if (const std::string caption = stage_view_caption(f.trace, step.stage); !caption.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(step.stage));
     ImGui::TextWrapped("This frame's picture: %s.", caption.c_str());
@@ -40,14 +45,50 @@ void stage_figures(Context& ctx, const TourStep& step) {
 }
 
 void step_params(Context& ctx, const TourStep& step) {
+  bool first = true;
   for (const std::string& name : step.params) {
     const ParamInfo* info = find_param(name);
     if (!info) continue;
-    fit_item_width(220 * ctx.scale, info->name);
+    // Side by side while they fit on the line (flow), each slider with its name.
+    const float w = (ctx.view.presentation ? 150 : 220) * ctx.scale;   // two a line beside a projector's text
+    if (!first) flow(w + ImGui::GetStyle().ItemInnerSpacing.x + text_width(info->name));
+    first = false;
+    fit_item_width(w, info->name);
     param_slider(ctx.settings.params, *info);
     ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);   // as fit_item_width counts it
     ImGui::TextUnformatted(info->name);
   }
+}
+
+// The step's title, its figures for this frame, the Look line and the Try controls (and the stage's picture when
+// no Pipeline panel shows it); how far they ran past the panel's bottom goes to View::tour_overflow_px.
+void step_head(Context& ctx, const TourStep& step) {
+  View& v = ctx.view;
+  if (step.is_stage) ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(step.stage));
+  ImGui::TextWrapped("%s", step.title.c_str());
+  if (step.is_stage) ImGui::PopStyleColor();
+  if (step.is_stage && !v.presentation) ImGui::TextDisabled("stage: %s", step.key.c_str());
+  stage_figures(ctx, step);
+  if (!step.look.empty()) {
+    ImGui::TextColored({1.0f, 0.85f, 0.4f, 1}, "Look: ");
+    ImGui::SameLine();
+    ImGui::TextWrapped("%s", step.look.c_str());
+  }
+  if (step.key == "pose") {
+    // The step is about what the live view can draw: both cubes, and the Pose panel's numbers.
+    if (ImGui::Button("Show both cubes and the Pose panel")) {
+      v.show_cube = v.show_alternative = true;
+      v.show(Panel::pose);
+    }
+  }
+  if (!step.params.empty()) {
+    ImGui::TextDisabled("Try:");
+    ImGui::SameLine();
+    step_params(ctx, step);
+  }
+  const float overflow = ImGui::GetCursorScreenPos().y - (ImGui::GetWindowPos().y + ImGui::GetWindowSize().y);
+  v.tour_overflow_px = std::max(v.tour_overflow_px, std::max(0.0f, overflow));
+  stage_picture(ctx, step);
 }
 
 }  // namespace
@@ -91,33 +132,26 @@ void draw_tour(Context& ctx) {
   }
   ImGui::Separator();
 
+  // In presentation mode the step's title, Look line, figures and Try controls on the left and its text on the
+  // right, scrolling by itself: under pictures that take most of a projected screen, the lines the class and the
+  // teacher act on stay in view. Otherwise one column, the text under them.
+  const float height = ImGui::GetContentRegionAvail().y;
+  if (v.presentation && ImGui::BeginTable("##step", 2, ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_BordersInnerV)) {
+    ImGui::TableSetupColumn("head", ImGuiTableColumnFlags_WidthStretch, 2);
+    ImGui::TableSetupColumn("text", ImGuiTableColumnFlags_WidthStretch, 1);
+    ImGui::TableNextColumn();
+    step_head(ctx, step);
+    ImGui::TableNextColumn();
+    ImGui::BeginChild("text", {0, std::max(height - ImGui::GetStyle().CellPadding.y * 2 - 2, 1.0f)});
+    ImGui::TextWrapped("%s", step.text.c_str());
+    ImGui::EndChild();
+    ImGui::EndTable();
+    return;
+  }
   ImGui::BeginChild("step");
-  if (step.is_stage) ImGui::PushStyleColor(ImGuiCol_Text, stage_colour(step.stage));
-  ImGui::TextWrapped("%s", step.title.c_str());
-  if (step.is_stage) ImGui::PopStyleColor();
-  if (step.is_stage) ImGui::TextDisabled("stage: %s", step.key.c_str());
+  step_head(ctx, step);
   ImGui::Spacing();
   ImGui::TextWrapped("%s", step.text.c_str());
-  if (!step.look.empty()) {
-    ImGui::Spacing();
-    ImGui::TextColored({1.0f, 0.85f, 0.4f, 1}, "Look: ");
-    ImGui::SameLine();
-    ImGui::TextWrapped("%s", step.look.c_str());
-  }
-  ImGui::Spacing();
-  stage_figures(ctx, step);
-  if (step.key == "pose") {
-    // The step is about what the live view can draw: both cubes, and the Pose panel's numbers.
-    if (ImGui::Button("Show both cubes and the Pose panel")) {
-      v.show_cube = v.show_alternative = true;
-      v.show(Panel::pose);
-    }
-  }
-  if (!step.params.empty()) {
-    ImGui::Spacing();
-    ImGui::TextDisabled("Try:");
-    step_params(ctx, step);
-  }
   ImGui::EndChild();
 }
 

@@ -295,6 +295,7 @@ std::string stats_json(App& app, double elapsed, uint64_t detected) {
   s["frozen"] = app.settings.frozen;
   s["fullscreen"] = ui::is_fullscreen(app.glfw_window);
   s["tour_active"] = app.view.tour_active;
+  s["tour_overflow_px"] = std::lround(app.view.tour_overflow_px);
   const size_t step = size_t(std::max(0, app.view.tour_step));
   s["tour_step"] = step < app.tour.size() ? app.tour[step].key : "";   // the step's name
   s["modal"] = app.dialogs.modal;

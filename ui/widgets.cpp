@@ -39,7 +39,8 @@ void show_script_line(Context& ctx, int line) {
 
 void flow(float width) {
   const float after = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x;
-  const float right = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+  // The right edge of the region the next item goes in: the window's, or a table column's inside a table.
+  const float right = ImGui::GetCursorScreenPos().x + ImGui::GetContentRegionAvail().x;
   if (after + width <= right) ImGui::SameLine();
 }
 

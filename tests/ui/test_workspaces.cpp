@@ -187,6 +187,21 @@ void fits(const Shipped& w, int width, int height) {
   }
 }
 
+// The tour in presentation mode at 1920x1080, every step: its title, Look line and Try controls show without
+// scrolling under the two pictures (they came after the text, which ran past the panel's bottom); the text
+// follows in a panel of its own.
+TEST(Workspaces, TheToursLookAndTryLinesShowAtEveryStepOnAProjector) {
+  TempDir tmp;
+  std::string steps = "1:workspace=Teach;2:presentation";
+  for (int i = 0; i < 20; ++i) steps += ";" + std::to_string(4 + 3 * i) + ":tour=" + std::to_string(i);
+  const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --size 1920x1080 --frames 66 "
+                                            "--stats --actions '" + steps + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Json s = test::stats(r);
+  EXPECT_EQ(s["tour_step"], "summary") << "every step was visited";
+  EXPECT_EQ(s["tour_overflow_px"], 0) << "a step's Look or Try ran past the tour's panel";
+}
+
 // A teacher at a projector opens both Help windows, and the marker sheet dialog: in presentation mode, whose
 // sizes are twice the normal ones at 1080 lines, each stays on the screen (they ran off its left and right edges).
 TEST(Workspaces, HelpWindowsAndDialogsStayOnScreenInPresentationMode) {
