@@ -287,8 +287,10 @@ bool App::run_frame() {
   const ImDrawData* dd = ImGui::GetDrawData();
   for (int i = 0; i < dd->CmdListsCount; ++i) totals.draw_calls += dd->CmdLists[i]->CmdBuffer.Size;
   totals.vertices += dd->TotalVtxCount;
-  totals.covered_px += ui::covered_area(dd);
-  totals.window_px += double(fw) * double(fh);
+  if (opt.stats) {   // only --stats reports it: not summed on every frame of an ordinary run
+    totals.covered_px += ui::covered_area(dd);
+    totals.window_px += double(fw) * double(fh);
+  }
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();
   const auto tp2 = Clock::now();

@@ -77,13 +77,11 @@ void Engine::State::calibrate(Worker& w, Frame& f, bool fresh) {
   std::shared_ptr<const void> owner;
   std::string by;
   std::shared_ptr<const CalibrationSnapshot> snap = w.session ? w.session->snapshot() : nullptr;
-  if (snap && snap->solution) {
-    if (w.fitted_of != snap->solution || w.fitted_for != f.image.size()) {
-      w.fitted_of = snap->solution;
-      w.fitted_for = f.image.size();
-      Result<Calibration> c = calibration_for_size(snap->solution->calibration, f.image.size());
-      w.fitted = c ? std::make_shared<const Calibration>(std::move(*c)) : nullptr;
-    }
+  if (snap && snap->solution && (w.fitted_of != snap->solution || w.fitted_for != f.image.size())) {
+    w.fitted_of = snap->solution;
+    w.fitted_for = f.image.size();
+    Result<Calibration> c = calibration_for_size(snap->solution->calibration, f.image.size());
+    w.fitted = c ? std::make_shared<const Calibration>(std::move(*c)) : nullptr;
   }
   if (snap && snap->solution && w.fitted) {
     use = w.fitted.get();
