@@ -60,6 +60,7 @@ struct App {
   std::unique_ptr<Engine> engine;
   GLFWwindow* glfw_window = nullptr;
   ui::Settings settings, sent;     // as edited, and as last sent to the worker
+  StageViewStyle stage_style_sent;
   ui::View view;
   ui::Status status;
   std::vector<LogEntry> log_copy;

@@ -249,6 +249,11 @@ struct View {
   int tour_step = 0;
   bool tour_active = false;
   float tour_overflow_px = 0;   // the most the tour's title, Look line and Try controls ran past its panel's bottom
+  // The large stage picture as last drawn: its zoom (a whole-image stage's; presentation mode's outlines are made
+  // wide enough for it) and the text drawn over it by the window (StageViewStyle::text false), for --stats.
+  float stage_zoom = 1;
+  int stage_labels_drawn = 0;
+  float stage_label_px = 0;     // the smallest of their type sizes, screen pixels
   std::array<std::unique_ptr<PanelState>, kPanelCount> panel_states;   // see panel_state
   View();
 };

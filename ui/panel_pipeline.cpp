@@ -94,6 +94,15 @@ void draw_pipeline(Context& ctx) {
              ImGui::GetStyle().ItemSpacing.y;
   const ImageMapping m =
       image_view(ctx, "stage_big", "stage:" + title, big, f.index, mosaic ? mosaic_view : ctx.view.image, avail);
+  if (!mosaic && sel >= 0) ctx.view.stage_zoom = m.zoom;
+  // A projector's pictures come without their text (Frame::view_style): it is drawn here in the window's type.
+  ctx.view.stage_labels_drawn = 0;
+  ctx.view.stage_label_px = 0;
+  if (sel >= 0 && !big.empty() && !f.view_style.text) {
+    const auto& labels = f.view_labels[static_cast<size_t>(sel)];
+    ctx.view.stage_label_px = draw_stage_labels(ImGui::GetWindowDrawList(), m, labels);
+    ctx.view.stage_labels_drawn = static_cast<int>(labels.size());
+  }
   if (m.hovered && !big.empty()) {
     const int x = static_cast<int>(std::lround(m.mouse_px.x)), y = static_cast<int>(std::lround(m.mouse_px.y));
     if (x >= 0 && y >= 0 && x < big.cols && y < big.rows) {

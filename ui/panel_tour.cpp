@@ -41,6 +41,13 @@ void stage_picture(Context& ctx, const TourStep& step) {
     const float h = w * static_cast<float>(view.rows) / static_cast<float>(view.cols);
     image_button(ctx, "tour:" + step.key, view, f.index, {w, h});
     if (ImGui::IsItemClicked()) ctx.view.show(Panel::pipeline);
+    ImageMapping m;   // the button shows the picture whole, edge to edge
+    m.min = m.origin = ImGui::GetItemRectMin();
+    m.max = ImGui::GetItemRectMax();
+    m.zoom = w / static_cast<float>(view.cols);
+    if (!stage_view_is_mosaic(step.stage)) ctx.view.stage_zoom = m.zoom;
+    if (!f.view_style.text)
+      draw_stage_labels(ImGui::GetWindowDrawList(), m, f.view_labels[static_cast<size_t>(step.stage)]);
   }
 }
 

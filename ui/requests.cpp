@@ -13,6 +13,7 @@
 #include "base/decimals.hpp"
 #include "base/files.hpp"
 #include "calibration/calibration_file.hpp"
+#include "inspect/trace_view.hpp"
 #include "lab/plan.hpp"
 #include "media/open_url.hpp"
 #include "synth/marker_sheet.hpp"
@@ -212,7 +213,14 @@ void App::open_source(const ui::OpenSource& r) {
 
 void App::snapshot() {
   if (!frame) return warn("snapshot: no frame yet");
-  const SnapshotResult s = write_snapshot(opt.snapshot_dir, frame->image, frame->trace, &frame->views);
+  // A projector's pictures lack their text (the window draws it): a snapshot's are drawn as in normal mode.
+  std::array<cv::Mat, kStageCount> plain;
+  const auto* views = &frame->views;
+  if (!frame->view_style.text) {
+    render_stage_views(frame->image, frame->trace, plain);
+    views = &plain;
+  }
+  const SnapshotResult s = write_snapshot(opt.snapshot_dir, frame->image, frame->trace, views);
   if (!s.ok) return error("snapshot: " + s.error);
   status.last_snapshot = s.dir;
   info("snapshot: " + std::to_string(s.files.size()) + " files in " + s.dir);

@@ -296,6 +296,14 @@ std::string stats_json(App& app, double elapsed, uint64_t detected) {
   s["fullscreen"] = ui::is_fullscreen(app.glfw_window);
   s["tour_active"] = app.view.tour_active;
   s["tour_overflow_px"] = std::lround(app.view.tour_overflow_px);
+  if (app.frame) {
+    const StageViewStyle& vs = app.frame->view_style;
+    s["stage_views"] = {{"line", vs.line},
+                        {"text_drawn_in", vs.text},
+                        {"zoom", app.view.stage_zoom},
+                        {"labels_drawn", app.view.stage_labels_drawn},
+                        {"label_px", app.view.stage_label_px}};
+  }
   const size_t step = size_t(std::max(0, app.view.tour_step));
   s["tour_step"] = step < app.tour.size() ? app.tour[step].key : "";   // the step's name
   s["modal"] = app.dialogs.modal;

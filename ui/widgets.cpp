@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -214,6 +215,27 @@ void draw_quad(ImDrawList* dl, const ImageMapping& m, const Quad& q, ImU32 colou
     const float r = std::max(3.0f, thickness * 2.0f);
     dl->AddRectFilled({pts[0].x - r, pts[0].y - r}, {pts[0].x + r, pts[0].y + r}, colour);
   }
+}
+
+float draw_stage_labels(ImDrawList* dl, const ImageMapping& m, const std::vector<StageLabel>& labels) {
+  ImFont* font = ImGui::GetFont();
+  const float full = ImGui::GetFontSize();
+  const float out = std::max(1.0f, full / 15.0f);   // the outline: 1 px at the normal 15 px type
+  float smallest = 0;
+  dl->PushClipRect(m.min, m.max, true);
+  for (const StageLabel& l : labels) {
+    const float size = l.height > 0 ? std::min(full, l.height * m.zoom * 0.95f) : full;
+    const ImVec2 ts = font->CalcTextSizeA(size, FLT_MAX, 0, l.text.c_str());
+    const ImVec2 c = m.to_screen(l.centre);
+    const ImVec2 at{c.x - ts.x * 0.5f, c.y - ts.y * 0.5f};
+    const ImU32 ink = IM_COL32(l.colour[2], l.colour[1], l.colour[0], 255);
+    for (const ImVec2 d : {ImVec2{-out, 0}, ImVec2{out, 0}, ImVec2{0, -out}, ImVec2{0, out}})
+      dl->AddText(font, size, {at.x + d.x, at.y + d.y}, IM_COL32(0, 0, 0, 255), l.text.c_str());
+    dl->AddText(font, size, at, ink, l.text.c_str());
+    smallest = smallest > 0 ? std::min(smallest, size) : size;
+  }
+  dl->PopClipRect();
+  return smallest;
 }
 
 std::string candidate_line(const FrameTrace& t, int index) {

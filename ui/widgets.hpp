@@ -6,12 +6,14 @@
 #include "detect/dictionary.hpp"
 #include "detect/params.hpp"
 #include "detect/trace.hpp"
+#include "inspect/trace_view.hpp"
 #include "ui/context.hpp"
 
 #include <imgui.h>
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace arwb::ui {
 
@@ -57,6 +59,11 @@ ImageMapping image_view(Context& ctx, const char* id, const std::string& key, co
 // Outline of a quad; corner 0 gets a filled square so the marker's orientation shows.
 void draw_quad(ImDrawList* dl, const ImageMapping& m, const Quad& q, ImU32 colour, float thickness,
                bool mark_corner0 = false);
+
+// A stage picture's text (inspect/trace_view.hpp) over the picture at `m`, in the window's type with a dark
+// outline; a label in a strip no taller than the strip on screen. Returns the smallest type size drawn, in
+// screen pixels (0: none drawn).
+float draw_stage_labels(ImDrawList* dl, const ImageMapping& m, const std::vector<StageLabel>& labels);
 
 // "#12 id 37 (ARUCO_ORIGINAL)" or "#12 otsu: stddev 3.1 < otsu_min_stddev 5": the candidate's fate in a line.
 std::string candidate_line(const FrameTrace& t, int index);

@@ -88,6 +88,14 @@ void App::forward_settings() {
   if (settings.calibration.capture != sent.calibration.capture) engine->set_calibration_capture(settings.calibration.capture);
   if (settings.calibration.undistort != sent.calibration.undistort) engine->set_undistort(settings.calibration.undistort);
   if (settings.marker_size != sent.marker_size) engine->set_marker_size(settings.marker_size);
+  // A projector's stage pictures: outlines about 1.5 type-scale pixels wide on the screen, whatever the picture's
+  // zoom, and their text drawn by the window in its own type.
+  StageViewStyle style;
+  if (view.presentation) {
+    style.text = false;
+    style.line = std::clamp(static_cast<int>(std::lround(1.5f * scale / std::max(view.stage_zoom, 0.05f))), 1, 8);
+  }
+  if (!(style == stage_style_sent)) engine->set_stage_style(stage_style_sent = style);
   // The board is looked for only while a Calibrate panel is on screen.
   if (calibrating != calibrating_sent) engine->set_calibrating(calibrating_sent = calibrating);
   sent = settings;

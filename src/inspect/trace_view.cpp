@@ -154,21 +154,61 @@ class PolyBatch {
     if (!pts.empty()) chains_.push_back(&pts);
   }
   void add_quad(const Quad& q) { quads_.push_back(quad_points(q)); }
+  // Chains wider than a pixel go to cv::polylines too (a projector's pictures only).
   void draw(cv::Mat& img, const cv::Scalar& colour, int thickness = 1) {
-    const cv::Vec3b c(cv::saturate_cast<uchar>(colour[0]), cv::saturate_cast<uchar>(colour[1]),
-                      cv::saturate_cast<uchar>(colour[2]));
-    for (const auto* chain : chains_) draw_chain(img, *chain, c);
-    if (quads_.empty()) return;
     std::vector<const cv::Point*> ptrs;
-    std::vector<int> counts(quads_.size(), 4);
-    ptrs.reserve(quads_.size());
-    for (const auto& q : quads_) ptrs.push_back(q.data());
-    cv::polylines(img, ptrs.data(), counts.data(), int(ptrs.size()), true, colour, thickness, cv::LINE_8);
+    std::vector<int> counts;
+    if (thickness <= 1) {
+      const cv::Vec3b c(cv::saturate_cast<uchar>(colour[0]), cv::saturate_cast<uchar>(colour[1]),
+                        cv::saturate_cast<uchar>(colour[2]));
+      for (const auto* chain : chains_) draw_chain(img, *chain, c);
+    } else {
+      for (const auto* chain : chains_) {
+        ptrs.push_back(chain->data());
+        counts.push_back(int(chain->size()));
+      }
+    }
+    for (const auto& q : quads_) {
+      ptrs.push_back(q.data());
+      counts.push_back(4);
+    }
+    if (!ptrs.empty())
+      cv::polylines(img, ptrs.data(), counts.data(), int(ptrs.size()), true, colour, thickness, cv::LINE_8);
   }
 
  private:
   std::vector<const std::vector<cv::Point>*> chains_;
   std::vector<std::array<cv::Point, 4>> quads_;
+};
+
+// How this call draws (the style) and where its text goes: drawn into the picture, listed for the viewer, or
+// both.
+struct Pen {
+  StageViewStyle style;
+  std::vector<StageLabel>* labels = nullptr;   // the current stage's, or null
+
+  int line() const { return std::max(1, style.line); }
+  int strip() const { return style.text ? kLabelH : 2 * kLabelH; }
+  // `text` centred in `box` (a label strip), or on `at` when the box is empty, with a dark outline when `outline`.
+  void text(cv::Mat& img, const std::string& text, cv::Rect box, cv::Point2f at = {}, double scale = kFontScale,
+            int font = kFont, bool outline = false, const cv::Scalar& colour = kLabel) const {
+    if (text.empty()) return;
+    const bool strip = box.area() > 0;
+    const cv::Point2f centre =
+        strip ? cv::Point2f(float(box.x) + float(box.width) * 0.5f - 0.5f, float(box.y) + float(box.height) * 0.5f - 0.5f)
+              : at;
+    if (labels)
+      labels->push_back({centre, strip ? float(box.height) : 0.0f, text,
+                         cv::Vec3b(cv::saturate_cast<uchar>(colour[0]), cv::saturate_cast<uchar>(colour[1]),
+                                   cv::saturate_cast<uchar>(colour[2]))});
+    if (!style.text) return;
+    int base = 0;
+    const cv::Size ts = cv::getTextSize(text, font, scale, 1, &base);
+    const cv::Point org = strip ? cv::Point(box.x + std::max(0, (box.width - ts.width) / 2), box.y + (box.height + ts.height) / 2)
+                                : cv::Point(cvRound(at.x) - ts.width / 2, cvRound(at.y) + ts.height / 2);
+    if (outline) cv::putText(img, text, org, font, scale, cv::Scalar::all(0), 3, cv::LINE_8);
+    cv::putText(img, text, org, font, scale, colour, 1, cv::LINE_8);
+  }
 };
 
 const std::vector<cv::Point>* contour_of(const CandidateRecord& c, const FrameTrace& t) {
@@ -178,20 +218,20 @@ const std::vector<cv::Point>* contour_of(const CandidateRecord& c, const FrameTr
 
 // [SECTION] whole-image views
 
-cv::Mat view_contours(const FrameTrace& t, cv::Size size) {
+cv::Mat view_contours(const FrameTrace& t, cv::Size size, const Pen& pen) {
   cv::Mat img = filled(size, cv::Scalar::all(0));
   for (const auto& c : t.candidates)
     if (c.contour < 0 && c.fate.stage == Stage::size_filter && c.bbox.area() > 0)
-      cv::rectangle(img, c.bbox, kDimBox, 1, cv::LINE_8);
+      cv::rectangle(img, c.bbox, kDimBox, pen.line(), cv::LINE_8);
   PolyBatch all;
   for (const auto& c : t.contours) all.add(c);
-  all.draw(img, kLight);
+  all.draw(img, kLight, pen.line());
   return img;
 }
 
 // search_regions: the frame, dimmed outside the regions searched, each region outlined (green: around known
 // markers; the whole frame is left as it is).
-cv::Mat view_search_regions(const FrameTrace& t, const cv::Mat& base, const cv::Mat& dim) {
+cv::Mat view_search_regions(const FrameTrace& t, const cv::Mat& base, const cv::Mat& dim, const Pen& pen) {
   if (t.search.whole || base.empty()) return base.empty() ? copy_of(dim) : to_bgr(base);
   cv::Mat img = copy_of(dim);
   const cv::Mat bright = base.type() == CV_8UC3 ? base : to_bgr(base);
@@ -200,12 +240,12 @@ cv::Mat view_search_regions(const FrameTrace& t, const cv::Mat& base, const cv::
     const cv::Rect in = r & frame;
     if (in.empty()) continue;
     bright(in).copyTo(img(in));
-    cv::rectangle(img, in, kGreen, 1, cv::LINE_8);
+    cv::rectangle(img, in, kGreen, pen.line(), cv::LINE_8);
   }
   return img;
 }
 
-cv::Mat view_size_filter(const FrameTrace& t, const cv::Mat& dim) {
+cv::Mat view_size_filter(const FrameTrace& t, const cv::Mat& dim, const Pen& pen) {
   cv::Mat img = copy_of(dim);
   PolyBatch passed, rejected;
   for (const auto& c : t.candidates) {
@@ -213,12 +253,12 @@ cv::Mat view_size_filter(const FrameTrace& t, const cv::Mat& dim) {
     if (!pts) continue;
     (c.fate.stage == Stage::size_filter ? rejected : passed).add(*pts);
   }
-  rejected.draw(img, kRed);
-  passed.draw(img, kGreen);
+  rejected.draw(img, kRed, pen.line());
+  passed.draw(img, kGreen, pen.line());
   return img;
 }
 
-cv::Mat view_quad_fit(const FrameTrace& t, const cv::Mat& dim) {
+cv::Mat view_quad_fit(const FrameTrace& t, const cv::Mat& dim, const Pen& pen) {
   cv::Mat img = copy_of(dim);
   PolyBatch quads, rejected;
   for (const auto& c : t.candidates) {
@@ -226,60 +266,57 @@ cv::Mat view_quad_fit(const FrameTrace& t, const cv::Mat& dim) {
     else if (c.fate.stage == Stage::quad_fit)
       if (const auto* pts = contour_of(c, t)) rejected.add(*pts);
   }
-  rejected.draw(img, kOrange);
-  quads.draw(img, kCyan);
+  rejected.draw(img, kOrange, pen.line());
+  quads.draw(img, kCyan, pen.line());
   return img;
 }
 
-cv::Mat view_nested_filter(const FrameTrace& t, const cv::Mat& dim) {
+cv::Mat view_nested_filter(const FrameTrace& t, const cv::Mat& dim, const Pen& pen) {
   cv::Mat img = copy_of(dim);
   PolyBatch kept, merged;
   for (const auto& c : t.candidates) {
     if (!c.has_quad) continue;
     (c.fate.stage == Stage::nested_filter ? merged : kept).add_quad(c.quad);
   }
-  kept.draw(img, kCyan);
-  merged.draw(img, kMagenta);
+  kept.draw(img, kCyan, pen.line());
+  merged.draw(img, kMagenta, pen.line());
   return img;
 }
 
-cv::Mat view_corner_refinement(const FrameTrace& t, const cv::Mat& dim) {
+cv::Mat view_corner_refinement(const FrameTrace& t, const cv::Mat& dim, const Pen& pen) {
   cv::Mat img = copy_of(dim);
   PolyBatch quads;
   for (const auto& c : t.candidates)
     if (c.has_quad) quads.add_quad(c.quad);
-  quads.draw(img, kThinGrey);
+  const int k = pen.line();
+  quads.draw(img, kThinGrey, k);
   for (const auto& m : t.markers)
     for (const auto& p : m.corners) {
       const cv::Point c = rounded(to_work(p, t));
-      cv::drawMarker(img, c, kGreen, cv::MARKER_CROSS, 7, 1, cv::LINE_8);
-      cv::circle(img, c, 3, kGreen, 1, cv::LINE_8);
+      cv::drawMarker(img, c, kGreen, cv::MARKER_CROSS, 6 * k + 1, k, cv::LINE_8);
+      cv::circle(img, c, 3 * k, kGreen, k, cv::LINE_8);
     }
   return img;
 }
 
-cv::Mat view_duplicates(const FrameTrace& t, const cv::Mat& dim) {
+cv::Mat view_duplicates(const FrameTrace& t, const cv::Mat& dim, const Pen& pen) {
   cv::Mat img = copy_of(dim);
+  const int k = pen.line();
   PolyBatch dropped;
   for (const auto& c : t.candidates)
     if (c.has_quad && c.fate.stage == Stage::duplicates) dropped.add_quad(c.quad);
-  dropped.draw(img, kMagenta);
+  dropped.draw(img, kMagenta, k);
   for (const auto& m : t.markers) {
     Quad w;
     for (size_t j = 0; j < 4; ++j) w[j] = to_work(m.corners[j], t);
     const cv::Point2f centre = quad_centre(w);
     const auto pts = quad_points(w);
     // Corner 0: a filled square, as OpenCV's drawDetectedMarkers marks it, under the outline.
-    cv::rectangle(img, pts[0] - cv::Point(3, 3), pts[0] + cv::Point(3, 3), kRed, cv::FILLED);
+    cv::rectangle(img, pts[0] - cv::Point(3 * k, 3 * k), pts[0] + cv::Point(3 * k, 3 * k), kRed, cv::FILLED);
     const cv::Point* ptr = pts.data();
     const int n = 4;
-    cv::polylines(img, &ptr, &n, 1, true, kGreen, 2, cv::LINE_8);
-    const std::string label = std::to_string(m.id);
-    int base = 0;
-    const cv::Size ts = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &base);
-    const cv::Point org = rounded(centre) + cv::Point(-ts.width / 2, ts.height / 2);
-    cv::putText(img, label, org, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0), 3, cv::LINE_8);
-    cv::putText(img, label, org, cv::FONT_HERSHEY_SIMPLEX, 0.5, kGreen, 1, cv::LINE_8);
+    cv::polylines(img, &ptr, &n, 1, true, kGreen, 2 * k, cv::LINE_8);
+    pen.text(img, std::to_string(m.id), {}, centre, 0.5, cv::FONT_HERSHEY_SIMPLEX, true, kGreen);
   }
   return img;
 }
@@ -294,29 +331,18 @@ struct TileSpec {
 };
 using DrawTile = std::function<void(int candidate, cv::Mat& roi)>;
 
-cv::Mat empty_mosaic() {
+cv::Mat empty_mosaic(const Pen& pen) {
   cv::Mat img = filled({96, 48}, kMosaicBg);
-  int base = 0;
-  const cv::Size ts = cv::getTextSize("none", kFont, 1.2, 1, &base);
-  cv::putText(img, "none", {(img.cols - ts.width) / 2, (img.rows + ts.height) / 2}, kFont, 1.2, kLabel, 1,
-              cv::LINE_8);
+  pen.text(img, "none", {0, 0, img.cols, img.rows}, {}, 1.2);
   return img;
 }
 
-void put_label(cv::Mat& img, const std::string& text, cv::Rect strip) {
-  if (text.empty()) return;
-  int base = 0;
-  const cv::Size ts = cv::getTextSize(text, kFont, kFontScale, 1, &base);
-  const int x = strip.x + std::max(0, (strip.width - ts.width) / 2);
-  const int y = strip.y + (strip.height + ts.height) / 2;
-  cv::putText(img, text, {x, y}, kFont, kFontScale, kLabel, 1, cv::LINE_8);
-}
-
-cv::Mat mosaic(const std::vector<TileSpec>& tiles, const DrawTile& draw) {
-  if (tiles.empty()) return empty_mosaic();
+cv::Mat mosaic(const std::vector<TileSpec>& tiles, const DrawTile& draw, const Pen& pen) {
+  if (tiles.empty()) return empty_mosaic(pen);
   bool any_below = false;
   for (const auto& s : tiles) any_below = any_below || !s.below.empty();
-  const int cell_w = kTile, cell_h = kLabelH + kTile + (any_below ? kLabelH : 0);
+  const int strip = pen.strip();
+  const int cell_w = kTile, cell_h = strip + kTile + (any_below ? strip : 0);
   const int n = int(tiles.size());
   // Columns for a roughly 4:3 mosaic: cols * cell_w / (rows * cell_h) ~ 4/3 with rows ~ n / cols.
   int cols = int(std::lround(std::sqrt(4.0 / 3.0 * n * cell_h / double(cell_w))));
@@ -328,8 +354,8 @@ cv::Mat mosaic(const std::vector<TileSpec>& tiles, const DrawTile& draw) {
     const int x = kGap + (i % cols) * (cell_w + kGap), y = kGap + (i / cols) * (cell_h + kGap);
     std::string label = "#";
     label += std::to_string(s.candidate);  // not "#" + string: GCC 12 warns falsely (-Wrestrict) on that
-    put_label(img, label, {x, y, cell_w, kLabelH});
-    const cv::Rect tile_rect(x, y + kLabelH, kTile, kTile);
+    pen.text(img, label, {x, y, cell_w, strip});
+    const cv::Rect tile_rect(x, y + strip, kTile, kTile);
     cv::Mat roi = img(tile_rect);
     draw(s.candidate, roi);
     if (s.frame[0] >= 0) {  // 2 px inside the tile
@@ -338,7 +364,7 @@ cv::Mat mosaic(const std::vector<TileSpec>& tiles, const DrawTile& draw) {
       roi.colRange(0, 2).setTo(s.frame);
       roi.colRange(kTile - 2, kTile).setTo(s.frame);
     }
-    if (any_below) put_label(img, s.below, {x, y + kLabelH + kTile, cell_w, kLabelH});
+    if (any_below) pen.text(img, s.below, {x, y + strip + kTile, cell_w, strip});
   }
   return img;
 }
@@ -449,8 +475,11 @@ void thumbnail(const cv::Mat& in, cv::Mat& out, cv::Size fit) {
   cv::resize(in(cv::Rect(0, 0, size.width * k, size.height * k)), out, size, 0, 0, cv::INTER_AREA);
 }
 
-void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out) {
+void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out,
+                        const StageViewStyle& style, StageLabels* labels) {
   for (auto& m : out) m = cv::Mat();  // before taking buffers: the caller's old pictures may be reused
+  if (labels)
+    for (auto& l : *labels) l.clear();
   if (trace.level != TraceLevel::full || trace.stages.empty()) return;
   pool().next_call();
 
@@ -507,6 +536,7 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
     const int si = static_cast<int>(rec.stage);
     if (si < 0 || si >= kStageCount) continue;
     cv::Mat& dst = out[size_t(si)];
+    const Pen pen{style, labels ? &(*labels)[size_t(si)] : nullptr};
     switch (rec.stage) {
       case Stage::coarse_search:
       case Stage::fine_search:
@@ -528,22 +558,22 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
         }
         break;
       case Stage::search_regions:
-        dst = view_search_regions(trace, base, dimmed());
+        dst = view_search_regions(trace, base, dimmed(), pen);
         break;
       case Stage::contours:
-        dst = view_contours(trace, size);
+        dst = view_contours(trace, size, pen);
         break;
       case Stage::size_filter:
-        dst = view_size_filter(trace, dimmed());
+        dst = view_size_filter(trace, dimmed(), pen);
         break;
       case Stage::quad_fit:
-        dst = view_quad_fit(trace, dimmed());
+        dst = view_quad_fit(trace, dimmed(), pen);
         break;
       case Stage::nested_filter:
-        dst = view_nested_filter(trace, dimmed());
+        dst = view_nested_filter(trace, dimmed(), pen);
         break;
       case Stage::perspective_removal:
-        dst = mosaic(tiles_where(has_warp, no_spec), draw_warp);
+        dst = mosaic(tiles_where(has_warp, no_spec), draw_warp, pen);
         break;
       case Stage::otsu:
         dst = mosaic(tiles_where(has_warp,
@@ -558,10 +588,11 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
                        const int thr = std::max(trace.candidates[size_t(i)].otsu_threshold, 0);
                        cv::threshold(w, bin, thr, 255, cv::THRESH_BINARY);
                        grey_into(bin, roi);
-                     });
+                     },
+                     pen);
         break;
       case Stage::bit_grid:
-        dst = mosaic(tiles_where(has_bits, no_spec), draw_bits);
+        dst = mosaic(tiles_where(has_bits, no_spec), draw_bits, pen);
         break;
       case Stage::border_check:
         dst = mosaic(tiles_where(has_bits,
@@ -571,7 +602,8 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
                      [&](int i, cv::Mat& roi) {
                        draw_bits(i, roi);
                        frame_white_border_cells(trace.candidates[size_t(i)].bits, roi);
-                     });
+                     },
+                     pen);
         break;
       case Stage::identification:
         dst = mosaic(tiles_where(
@@ -580,13 +612,13 @@ void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std
                                   c.fate.stage != Stage::border_check;
                          },
                          identification_tile),
-                     draw_bits);
+                     draw_bits, pen);
         break;
       case Stage::corner_refinement:
-        dst = view_corner_refinement(trace, dimmed());
+        dst = view_corner_refinement(trace, dimmed(), pen);
         break;
       case Stage::duplicates:
-        dst = view_duplicates(trace, dimmed());
+        dst = view_duplicates(trace, dimmed(), pen);
         break;
       case Stage::accepted:
         break;

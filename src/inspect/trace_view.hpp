@@ -14,6 +14,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace arwb {
 
@@ -31,7 +32,30 @@ void thumbnail(const cv::Mat& in, cv::Mat& out, cv::Size fit = {192, 144});
 // before were searched (the rest of the picture black).
 std::string stage_view_caption(const FrameTrace& t, Stage s);
 
-// Fills `out[stage]` for every stage the trace has (full level); others are left empty. BGR images.
-void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out);
+// A picture's text as data (a mosaic tile's "#12" above it and "37 d1" below, the duplicates' marker ids,
+// "none") for a viewer that draws it in its own type over the picture: centred on `centre` (picture pixels,
+// pixel centres at integers), within a strip `height` picture pixels tall (0: over the picture, no strip).
+struct StageLabel {
+  cv::Point2f centre;
+  float height = 0;
+  std::string text;
+  cv::Vec3b colour{220, 220, 220};   // BGR, as drawn into the picture
+};
+using StageLabels = std::array<std::vector<StageLabel>, kStageCount>;
+
+// How the pictures are drawn. The defaults suit a picture seen near its own size (a snapshot's PNG, the
+// workbench's normal mode): outlines 1 px, the text drawn in. A projector asks for wider outlines (`line`
+// picture pixels; corner marks and ids' boxes grow with it) and draws the text itself (`text` false: the label
+// strips are left empty, twice as tall, room for the viewer's type).
+struct StageViewStyle {
+  int line = 1;
+  bool text = true;
+  bool operator==(const StageViewStyle&) const = default;
+};
+
+// Fills `out[stage]` for every stage the trace has (full level); others are left empty. BGR images. `labels`,
+// when given, receives every picture's text, drawn in or not.
+void render_stage_views(const cv::Mat& working_bgr, const FrameTrace& trace, std::array<cv::Mat, kStageCount>& out,
+                        const StageViewStyle& style = {}, StageLabels* labels = nullptr);
 
 }  // namespace arwb

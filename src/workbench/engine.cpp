@@ -106,6 +106,7 @@ uint64_t Engine::next_frame() {
   return s_->pending_->asked = ++s_->asked_;
 }
 void Engine::set_peers(bool opencv, bool apriltag) { ARWB_SET(peers, std::make_pair(opencv, apriltag)); }
+void Engine::set_stage_style(const StageViewStyle& style) { ARWB_SET(stage_style, style); }
 void Engine::load_scene(const std::string& path) { ARWB_SET(scene_file, path); }
 void Engine::set_calibrating(bool on) { ARWB_SET(calibrating, on); }
 void Engine::set_calibration_board(const BoardSpec& board) { ARWB_SET(calibration_board, board); }

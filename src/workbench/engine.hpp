@@ -86,6 +86,8 @@ class Engine {
   uint64_t served() const;
   bool running() const;   // the worker is running (started, not stopped)
   void set_peers(bool opencv, bool apriltag);
+  // How the stage pictures are drawn (inspect/trace_view.hpp); a change redraws a frozen frame's.
+  void set_stage_style(const StageViewStyle& style);
   // Loads a scene (Lua or XML database; "" unloads). Errors reach the frame's SceneStatus and the log; the last
   // good scene stays. The file is then watched and reloaded when it changes on disk.
   void load_scene(const std::string& path);

@@ -32,6 +32,7 @@ struct Engine::Pending {
   bool next_frame = false;
   uint64_t asked = 0;   // the last ticket of next_frame() or step() among these
   std::optional<std::pair<bool, bool>> peers;
+  std::optional<StageViewStyle> stage_style;
   std::optional<std::string> scene_file;
   std::optional<bool> calibrating, calibration_capture, undistort;
   std::optional<BoardSpec> calibration_board;
@@ -41,7 +42,7 @@ struct Engine::Pending {
   std::optional<double> marker_size;
   bool any() const {
     return source || made || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
-           next_frame || peers || scene_file || calibrating || calibration_capture || undistort || calibration_board ||
+           next_frame || peers || stage_style || scene_file || calibrating || calibration_capture || undistort || calibration_board ||
            !calibration_drops.empty() || calibration_reset || calibration_file || marker_size;
   }
 };
@@ -61,6 +62,7 @@ struct Engine::Worker {
   bool frozen = false;
   bool take_one = false;
   bool peer_opencv = false, peer_apriltag = false;
+  StageViewStyle stage_style;
   std::unique_ptr<OpenCvArucoPeer> opencv;
   std::unique_ptr<AprilTagPeer> apriltag;
   std::string peers_dict;        // the dictionary the peers were made for

@@ -164,6 +164,10 @@ void Engine::State::apply_detector(const Pending& p) {
     w.peer_apriltag = p.peers->second;
     w.redetect = true;
   }
+  if (p.stage_style && !(*p.stage_style == w.stage_style)) {
+    w.stage_style = *p.stage_style;
+    w.redetect = true;
+  }
 }
 
 // What a file source is told to do: a freeze pauses a video or folder, which resumes from the frame shown.
@@ -317,7 +321,10 @@ void Engine::State::detect_and_publish(bool fresh, double now) {
     for (auto& c : t.corners) c = {float((c.x + 0.5) * sx - 0.5), float((c.y + 0.5) * sy - 0.5)};
     f->truth.push_back(std::move(t));
   }
-  if (w.config.level == TraceLevel::full) render_stage_views(f->image, f->trace, f->views);
+  if (w.config.level == TraceLevel::full) {
+    f->view_style = w.stage_style;
+    render_stage_views(f->image, f->trace, f->views, w.stage_style, &f->view_labels);
+  }
   // The tracker runs on every frame (its tracks carry the poses the Pose panel and the 3D overlays show); the
   // scene, when there is one, runs on its tracks.
   camera(w, *f);

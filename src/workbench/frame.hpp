@@ -10,6 +10,7 @@
 #include "peers/match.hpp"
 #include "detect/params.hpp"
 #include "detect/trace.hpp"
+#include "inspect/trace_view.hpp"
 #include "synth/synth.hpp"
 
 #include <opencv2/core.hpp>
@@ -49,6 +50,10 @@ struct Frame {
   // full trace: stage images where the pipeline has them, drawings of contours, quads, frontal views and grids
   // otherwise. Empty below the full level.
   std::array<cv::Mat, kStageCount> views;
+  // How they were drawn (the window's presentation mode asks for wide outlines and draws their text itself) and
+  // their text, which the window then draws over them.
+  StageViewStyle view_style;
+  StageLabels view_labels;
   // The same, and the working image, shrunk to fit 192x144 for thumbnails: uploading full-size pictures of every
   // stage 20 times a second would cost a software renderer more than drawing the whole UI.
   std::array<cv::Mat, kStageCount> thumbs;

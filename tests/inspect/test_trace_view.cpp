@@ -118,6 +118,14 @@ int count_tiles(const cv::Mat& mosaic) {
   return tiles;
 }
 
+// Six markers on a page, detected with the full trace.
+struct SixMarkers {
+  std::vector<int> ids;
+  cv::Mat img = page_with_markers(make_aruco_original(), 3, 2, 90, &ids);
+  FrameTrace t;
+  std::vector<Marker> markers = Detector({make_aruco_original()}).detect(img, &t, TraceLevel::full);
+};
+
 int with_warp(const FrameTrace& t) {
   return int(std::count_if(t.candidates.begin(), t.candidates.end(), [](const auto& c) { return !c.warp.empty(); }));
 }
@@ -203,12 +211,11 @@ TEST(TraceView, EveryTracedStageHasAViewAtTheRightSize) {
 }
 
 TEST(TraceView, DuplicatesViewOutlinesEachMarkerInGreen) {
-  const Dictionary d = make_aruco_original();
-  std::vector<int> ids;
-  const cv::Mat img = page_with_markers(d, 3, 2, 90, &ids);
-  FrameTrace t;
-  const auto markers = Detector({d}).detect(img, &t, TraceLevel::full);
-  ASSERT_EQ(markers.size(), ids.size());
+  const SixMarkers page;
+  ASSERT_EQ(page.markers.size(), page.ids.size());
+  const cv::Mat& img = page.img;
+  const FrameTrace& t = page.t;
+  const auto& markers = page.markers;
   Views views;
   render_stage_views(img, t, views);
   const cv::Mat& dup = views[size_t(Stage::duplicates)];
@@ -386,4 +393,77 @@ TEST(TraceView, TheDecimationPictureAndItsCaptionSayTheFactorAtEveryResolution) 
     EXPECT_EQ(stage_view_caption(t, Stage::adaptive_threshold), caption);
     EXPECT_EQ(stage_view_caption(t, Stage::quad_fit), "");
   }
+}
+
+// Pixels of `img` where `pred` holds.
+template <class Pred>
+int count_where(const cv::Mat& img, Pred pred) {
+  int n = 0;
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x) n += pred(img.at<cv::Vec3b>(y, x));
+  return n;
+}
+
+// A projector's pictures (issue 45): outlines as wide as asked, corner marks grown with them, and the text left
+// out of the pictures and given as data for the window to draw in its own type: the same labels as the pictures
+// for a snapshot have drawn in, in strips twice as tall.
+TEST(TraceView, AProjectorsPicturesHaveWideOutlinesAndTheirTextAsData) {
+  const SixMarkers page;
+  ASSERT_EQ(page.markers.size(), page.ids.size());
+  const cv::Mat& img = page.img;
+  const FrameTrace& t = page.t;
+  const auto& markers = page.markers;
+  Views plain, wide;
+  StageLabels plain_labels, wide_labels;
+  render_stage_views(img, t, plain, {}, &plain_labels);
+  StageViewStyle projector;
+  projector.line = 3;
+  projector.text = false;
+  render_stage_views(img, t, wide, projector, &wide_labels);
+  dump(wide, "projector");
+
+  // The same text either way: a "#N" over each tile and "id dH" under each identification tile, each marker's id.
+  const auto texts = [](const std::vector<StageLabel>& ls) {
+    std::vector<std::string> out;
+    for (const auto& l : ls) out.push_back(l.text);
+    return out;
+  };
+  const size_t ident = size_t(Stage::identification), dup = size_t(Stage::duplicates);
+  const int tiles = count_tiles(plain[ident]);
+  ASSERT_GT(tiles, 0);
+  EXPECT_EQ(int(plain_labels[ident].size()), 2 * tiles);
+  EXPECT_EQ(texts(wide_labels[ident]), texts(plain_labels[ident]));
+  std::vector<std::string> id_texts;
+  for (const Marker& m : markers) id_texts.push_back(std::to_string(m.id));
+  EXPECT_EQ(texts(wide_labels[dup]), id_texts);
+  for (size_t i = 0; i < wide_labels[ident].size(); ++i)
+    EXPECT_EQ(wide_labels[ident][i].height, 2 * plain_labels[ident][i].height);
+
+  // The strips: text drawn in for a snapshot, empty (the mosaic's background) for the projector.
+  const auto strip_ink = [](const cv::Mat& mosaic, const StageLabel& l) {
+    const cv::Vec3b bg = mosaic.at<cv::Vec3b>(0, 0);
+    const int h = int(l.height);
+    const cv::Rect box(cvRound(l.centre.x - 31.5f), cvRound(l.centre.y + 0.5f - l.height / 2.0f), 64, h);
+    return count_where(mosaic(box & cv::Rect(0, 0, mosaic.cols, mosaic.rows)),
+                       [&](const cv::Vec3b& p) { return p != bg; });
+  };
+  for (size_t i = 0; i < plain_labels[ident].size(); ++i) {
+    EXPECT_GT(strip_ink(plain[ident], plain_labels[ident][i]), 5) << plain_labels[ident][i].text;
+    EXPECT_EQ(strip_ink(wide[ident], wide_labels[ident][i]), 0) << wide_labels[ident][i].text;
+  }
+  // The ids: drawn over each marker's middle for a snapshot, not for the projector.
+  for (const StageLabel& l : wide_labels[dup]) {
+    EXPECT_GT(green_near(plain[dup], l.centre, 5), 0) << l.text;
+    EXPECT_EQ(green_near(wide[dup], l.centre, 5), 0) << l.text;
+  }
+
+  // Outlines and marks at least twice the pixels at 3 px wide (all of them, text left out).
+  const auto cyan = [](const cv::Vec3b& p) { return p[0] > 200 && p[1] > 200 && p[2] < 60; };
+  EXPECT_GT(count_where(wide[size_t(Stage::quad_fit)], cyan), 2 * count_where(plain[size_t(Stage::quad_fit)], cyan));
+  const size_t refine = size_t(Stage::corner_refinement);
+  EXPECT_GT(count_where(wide[refine], is_green), 2 * count_where(plain[refine], is_green));
+  EXPECT_GT(count_where(wide[dup], is_green), 2 * count_where(plain[dup], is_green));
+  for (const Marker& m : markers)
+    for (const auto& c : m.corners)
+      EXPECT_GT(green_near(wide[refine], work_point(c, t), 9), 2 * green_near(plain[refine], work_point(c, t), 9));
 }

@@ -218,6 +218,39 @@ TEST(Workspaces, HelpWindowsAndDialogsStayOnScreenInPresentationMode) {
   }
 }
 
+// Stage pictures a class reads from the back of the room: in presentation mode at 1920x1080 the outlines are made
+// wide enough for the picture's zoom (about 3 screen pixels), and the mosaics' labels and the markers' ids are
+// drawn by the window in its 30 px type, not into the picture in a 12 px pixel font. In the normal mode they are
+// drawn in, 1 px, as a snapshot's are.
+TEST(Workspaces, StagePicturesOnAProjectorHaveWideLinesAndLargeText) {
+  const auto stage_views = [](const std::string& actions) {
+    TempDir tmp;
+    const RunResult r = test::run_arwb_window("--config-dir '" + tmp.str("config") + "' --size 1920x1080 --frames 14 "
+                                              "--stats --actions '1:workspace=Teach;" + actions + "'");
+    EXPECT_EQ(r.status, 0) << r.err;
+    const Json s = test::stats(r);
+    EXPECT_TRUE(s.contains("stage_views")) << r.out;
+    return s.value("stage_views", Json::object());
+  };
+  Json v = stage_views("2:presentation;4:tour=quad_fit;8:tour=identification");
+  EXPECT_EQ(v["text_drawn_in"], false) << v.dump();
+  EXPECT_GE(v["line"].get<int>(), 2) << v.dump();
+  const double wide = v["line"].get<double>() * v["zoom"].get<double>();   // screen pixels
+  EXPECT_GE(wide, 2.5) << v.dump();
+  EXPECT_LE(wide, 4.5) << v.dump();
+  EXPECT_GT(v["labels_drawn"].get<int>(), 0) << v.dump();
+  EXPECT_GE(v["label_px"].get<double>(), 20) << v.dump();
+
+  v = stage_views("2:presentation;4:tour=duplicates");
+  EXPECT_GT(v["labels_drawn"].get<int>(), 0) << "the markers' ids: " << v.dump();
+  EXPECT_GE(v["label_px"].get<double>(), 28) << v.dump();
+
+  v = stage_views("3:tour=identification");
+  EXPECT_EQ(v["text_drawn_in"], true) << v.dump();
+  EXPECT_EQ(v["line"], 1) << v.dump();
+  EXPECT_EQ(v["labels_drawn"], 0) << v.dump();
+}
+
 TEST(Workspaces, InspectFitsAt1280x720) { fits(kInspect, 1280, 720); }
 TEST(Workspaces, InspectFitsAt1600x900) { fits(kInspect, 1600, 900); }
 TEST(Workspaces, InspectFitsAt1920x1080) { fits(kInspect, 1920, 1080); }
