@@ -108,8 +108,10 @@ void frames_so_far(const CalibrationSnapshot& s, SourceKind source) {
     ImGui::PopStyleColor();
   }
   ImGui::TextWrapped("%d frames judged, board in %d, %zu views kept", s.frames, s.boards, s.views.size());
-  if (s.skipped > 0) {
-    // Only a person holding a board can hold it still; the synthetic board moves as its source moves it.
+  // Frames that went by lose nothing where they repeat a still (a folder's photographs, an image): said only for
+  // a board that moves. Only a person holding one can hold it still; the synthetic board moves as its source says.
+  const bool still = source == SourceKind::folder || source == SourceKind::image;
+  if (s.skipped > 0 && !still) {
     const char* why = source == SourceKind::synthetic ? "" : " (hold the board still: a view needs two frames alike)";
     text_disabled_wrapped((std::to_string(s.skipped) + " frames went by while the board was being searched for" +
                            why).c_str());

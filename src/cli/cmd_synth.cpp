@@ -19,8 +19,8 @@ namespace {
 // --chessboard: views of a calibration board (by default the paper's, 9x6 inner corners, 25 mm; or a ChArUco
 // board, a quarter of its views held partly out of the image) through a known camera with barrel distortion, for
 // arwb calibrate; the camera itself goes beside them as a calibration file to compare with.
-int write_chessboard_views(const std::string& out, int count, int seed, const BoardSpec& spec) {
-  const SynthCamera camera;
+int write_chessboard_views(const std::string& out, int count, int seed, const BoardSpec& spec, cv::Size size) {
+  const SynthCamera camera = SynthCamera{}.resized(size);
   const SynthChessboard board = SynthChessboard::of(spec);
   const ChessboardRenderer renderer(camera, board);
   const int partial = spec.kind == BoardKind::charuco ? count / 4 : 0;
@@ -73,7 +73,7 @@ int cmd_synth(int argc, char** argv) {
   bool chessboard = false;
   cl.app.add_flag("--chessboard", chessboard,
                   "instead: views of a calibration board (the paper's 9x6 chessboard unless --board and its options "
-                  "say otherwise) through a known camera with lens distortion (640x480), and that camera as "
+                  "say otherwise) through a known camera with lens distortion (640x480, or --size), and that camera as "
                   "DIR/truth_camera.yml, for arwb calibrate");
   // The board's options are calibrate's; --dict is shared: the markers' dictionaries, or a ChArUco board's.
   BoardOptions board_options;
@@ -117,7 +117,8 @@ int cmd_synth(int argc, char** argv) {
       print_problem("arwb synth: %s: cannot create the folder\n", out.c_str());
       return 1;
     }
-    return write_chessboard_views(out, count, seed, *board);
+    // One size for a calibration: the default camera's, 640x480, unless --size gives another.
+    return write_chessboard_views(out, count, seed, *board, size_arg == "mixed" ? SynthCamera{}.size : sizes[0]);
   }
   std::ofstream truth(out + "/truth.jsonl");
   if (ec || !truth) {

@@ -12,6 +12,17 @@
 
 namespace arwb {
 
+SynthCamera SynthCamera::resized(cv::Size to) const {
+  SynthCamera c = *this;
+  const double s = double(to.width) / size.width;
+  const cv::Matx33d& K = camera_matrix;
+  c.size = to;
+  c.camera_matrix = cv::Matx33d(K(0, 0) * s, 0, to.width / 2.0 + (K(0, 2) - size.width / 2.0) * s,  //
+                                0, K(1, 1) * s, to.height / 2.0 + (K(1, 2) - size.height / 2.0) * s,  //
+                                0, 0, 1);
+  return c;
+}
+
 SynthChessboard SynthChessboard::of(const BoardSpec& spec, double margin_squares) {
   SynthChessboard b;
   const cv::Size inner = spec.inner_corners();

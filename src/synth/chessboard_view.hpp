@@ -19,6 +19,9 @@ struct SynthCamera {
   cv::Size size{640, 480};
   cv::Matx33d camera_matrix{560, 0, 322, 0, 555, 236, 0, 0, 1};
   std::vector<double> distortion{-0.25, 0.08, 0, 0, 0};   // k1 k2 p1 p2 k3: a typical webcam's barrel
+  // This camera made for images of `size`: the same field of view across and lens, the principal point as far
+  // from the image's centre in proportion (a 16:9 size sees less of the world vertically, as a phone's video does).
+  SynthCamera resized(cv::Size size) const;
 };
 
 struct SynthChessboard {

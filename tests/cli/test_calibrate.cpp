@@ -230,19 +230,27 @@ TEST(Calibrate, ACameraThatCannotBeOpenedIsNamedAndABadCameraArgumentIsAUsageErr
 
 namespace {
 
+// At the default 640x480, and at a 16:9 size given with --size (it was ignored: the views came out 640x480).
 TEST(Calibrate, SynthChessboardViewsCalibrateToTheCameraWrittenBesideThem) {
-  TempDir dir;
-  const auto s = run_arwb("synth --chessboard --count 12 --seed 3 --out " + q(dir.str("views")));
-  ASSERT_EQ(s.status, 0) << s.err;
-  const Result<Calibration> truth = read_calibration(dir.str("views/truth_camera.yml"));
-  ASSERT_TRUE(truth.ok()) << truth.error();
-  const auto r = run_arwb("calibrate --input " + q(dir.str("views")) + " --out " + q(dir.str("cam.yml")));
-  ASSERT_EQ(r.status, 0) << r.err;
-  const Result<Calibration> got = read_calibration(dir.str("cam.yml"));
-  ASSERT_TRUE(got.ok()) << got.error();
-  EXPECT_NEAR(got->camera_matrix(0, 0), truth->camera_matrix(0, 0), 0.005 * truth->camera_matrix(0, 0));
-  EXPECT_NEAR(got->camera_matrix(1, 2), truth->camera_matrix(1, 2), 2.0);
-  EXPECT_NEAR(got->distortion[0], truth->distortion[0], 0.02);
+  for (const cv::Size size : {cv::Size(640, 480), cv::Size(960, 540)}) {
+    SCOPED_TRACE(size);
+    TempDir dir;
+    const std::string size_arg = size.width == 640 ? "" : " --size 960x540";
+    const auto s = run_arwb("synth --chessboard --count 12 --seed 3" + size_arg + " --out " + q(dir.str("views")));
+    ASSERT_EQ(s.status, 0) << s.err;
+    EXPECT_EQ(cv::imread(dir.str("views/board_000.png")).size(), size);
+    const Result<Calibration> truth = read_calibration(dir.str("views/truth_camera.yml"));
+    ASSERT_TRUE(truth.ok()) << truth.error();
+    EXPECT_EQ(truth->image_size, size);
+    const auto r = run_arwb("calibrate --input " + q(dir.str("views")) + " --out " + q(dir.str("cam.yml")));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const Result<Calibration> got = read_calibration(dir.str("cam.yml"));
+    ASSERT_TRUE(got.ok()) << got.error();
+    EXPECT_EQ(got->image_size, size);
+    EXPECT_NEAR(got->camera_matrix(0, 0), truth->camera_matrix(0, 0), 0.005 * truth->camera_matrix(0, 0));
+    EXPECT_NEAR(got->camera_matrix(1, 2), truth->camera_matrix(1, 2), 2.0 * size.width / 640);
+    EXPECT_NEAR(got->distortion[0], truth->distortion[0], 0.02);
+  }
 }
 
 }  // namespace
