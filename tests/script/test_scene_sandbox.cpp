@@ -328,8 +328,11 @@ TEST(Sandbox, MemoryBombWhileLoadingFailsTheLoadOnly) {
   EXPECT_NE(s.runtime.status().error.find("not enough memory"), std::string::npos) << s.runtime.status().error;
   EXPECT_EQ(s.update({track(7, 100, 100)}).at(0).media.text, "good");
   // A table that grows past the cap, too.
+  // The instruction and wall-time limits out of the way: under the sanitizers on a loaded machine, filling 16 MB
+  // took longer than the 250 ms a call may run.
   ScriptLimits l = small_memory();
   l.instructions_per_call = 1'000'000'000;
+  l.call_ms = 60'000;
   SceneFixture s2(l);
   const auto grow2 = s2.write("grow.lua", "local t = {} local i = 0 while true do i = i + 1 t[i] = {i} end\n");
   EXPECT_FALSE(s2.runtime.load(grow2));

@@ -18,6 +18,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The frame a freeze holds: the newest once none has come for 400 ms. A frame in flight when the freeze came
+// lands after it, late on a loaded machine under the sanitizers (200 ms was not always enough).
+std::shared_ptr<const Frame> frozen_frame(const Engine& e) {
+  auto held = e.latest();
+  for (int i = 0; i < 25; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    auto now = e.latest();
+    if (now->index == held->index) break;
+    held = std::move(now);
+  }
+  return held;
+}
+
 struct Logged {
   std::mutex m;
   std::vector<std::pair<int, std::string>> lines;
@@ -71,8 +84,7 @@ TEST(Engine, FrozenHoldsTheFrameUntilNextFrameIsAsked) {
   e.start();
   ASSERT_TRUE(e.wait_newer(0, 5.0));
   e.set_frozen(true);
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));   // let a frame already in flight land
-  const uint64_t held = e.latest()->index;
+  const uint64_t held = frozen_frame(e)->index;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   EXPECT_EQ(e.latest()->index, held);
   e.next_frame();
@@ -89,8 +101,7 @@ TEST(Engine, NewParametersRedetectTheFrozenFrame) {
   e.start();
   ASSERT_TRUE(e.wait_newer(0, 5.0));
   e.set_frozen(true);
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  const auto before = e.latest();
+  const auto before = frozen_frame(e);
   ASSERT_FALSE(before->trace.markers.empty());
   DetectorParams p;
   p.min_perimeter_px = 5000;   // longer than any marker's border here
@@ -120,8 +131,7 @@ TEST(Engine, TheStreamIsSearchedAsVideoAndAFrozenFrameAsItCame) {
   EXPECT_GE(regions, 6);
   EXPECT_GE(whole, 2);
   e.set_frozen(true);
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  const auto before = e.latest();
+  const auto before = frozen_frame(e);
   DetectorParams p;
   p.region_margin_rate = 2;
   e.set_params(p);
@@ -146,8 +156,7 @@ TEST(Engine, FramesRecordTheParametersTheyWereDetectedWith) {
   e.start();
   ASSERT_TRUE(e.wait_newer(0, 5.0));
   e.set_frozen(true);
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  const auto before = e.latest();
+  const auto before = frozen_frame(e);
   EXPECT_EQ(before->params, DetectorParams());
   EXPECT_EQ(before->dictionaries, std::vector<std::string>({"ARUCO_ORIGINAL"}));
   DetectorParams p;
@@ -263,8 +272,7 @@ TEST_P(FrozenVideo, NextFrameIsTheFrameAfterTheOneShown) {
   ASSERT_TRUE(f);
   for (int i = 0; i < 100 && f->source.position < 3; ++i) f = e.wait_newer(f->index, 1.0);   // playing
   e.set_frozen(true);
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));   // a frame in flight lands
-  f = e.latest();
+  f = frozen_frame(e);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));   // the clock would pass 12 frames
   for (int k = 0; k < 3; ++k) {
     const int shown = f->source.position;
