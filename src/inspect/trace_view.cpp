@@ -132,6 +132,11 @@ cv::Mat filled(cv::Size size, const cv::Scalar& colour) {
   return out;
 }
 
+// A colour as one 8-bit BGR pixel.
+cv::Vec3b pixel_of(const cv::Scalar& c) {
+  return {cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]), cv::saturate_cast<uchar>(c[2])};
+}
+
 // Draws a closed contour 1 px wide. The pipeline's contours keep every border pixel, so consecutive points are
 // neighbours: setting the pixels is ~20x faster than cv::polylines, which sets up a line per 1-pixel segment.
 // Points further apart (a contour from elsewhere) are joined with cv::line.
@@ -159,9 +164,7 @@ class PolyBatch {
     std::vector<const cv::Point*> ptrs;
     std::vector<int> counts;
     if (thickness <= 1) {
-      const cv::Vec3b c(cv::saturate_cast<uchar>(colour[0]), cv::saturate_cast<uchar>(colour[1]),
-                        cv::saturate_cast<uchar>(colour[2]));
-      for (const auto* chain : chains_) draw_chain(img, *chain, c);
+      for (const auto* chain : chains_) draw_chain(img, *chain, pixel_of(colour));
     } else {
       for (const auto* chain : chains_) {
         ptrs.push_back(chain->data());
@@ -198,9 +201,7 @@ struct Pen {
         strip ? cv::Point2f(float(box.x) + float(box.width) * 0.5f - 0.5f, float(box.y) + float(box.height) * 0.5f - 0.5f)
               : at;
     if (labels)
-      labels->push_back({centre, strip ? float(box.height) : 0.0f, text,
-                         cv::Vec3b(cv::saturate_cast<uchar>(colour[0]), cv::saturate_cast<uchar>(colour[1]),
-                                   cv::saturate_cast<uchar>(colour[2]))});
+      labels->push_back({centre, strip ? float(box.height) : 0.0f, text, pixel_of(colour)});
     if (!style.text) return;
     int base = 0;
     const cv::Size ts = cv::getTextSize(text, font, scale, 1, &base);
