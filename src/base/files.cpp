@@ -230,7 +230,11 @@ Result<std::string> set_aside(const std::string& path) {
     to.append(".bad");
     if (n > 1) to.append(".").append(std::to_string(n));
     // RENAME_NOREPLACE: an older .bad that appears between a check and the rename is still not replaced.
+#if defined(RENAME_NOREPLACE)
     if (renameat2(AT_FDCWD, path.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) return to;
+#else
+    errno = EINVAL;   // a C library without renameat2 (emscripten's, for web/core): as such a file system
+#endif
     if (errno == EEXIST) continue;
     if (errno == EINVAL) {   // a file system without RENAME_NOREPLACE: check, then rename
       std::error_code ec;

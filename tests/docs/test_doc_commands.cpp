@@ -263,11 +263,13 @@ std::vector<fs::path> linked_entries() {
   return entries;
 }
 
-// The scratch folder a block runs in: build/arwb and links to the source tree's top-level entries.
+// The scratch folder a block runs in: build/arwb, build/web (the WebAssembly core) and links to the source tree's
+// top-level entries.
 std::unique_ptr<TempDir> make_scratch() {
   auto dir = std::make_unique<TempDir>();
   fs::create_directories(dir->path() / "build");
   fs::create_symlink(ARWB_BINARY, dir->path() / "build" / "arwb");
+  fs::create_symlink(fs::path(ARWB_BINARY).parent_path() / "web", dir->path() / "build" / "web");
   for (const auto& e : linked_entries()) fs::create_symlink(e, dir->path() / e.filename());
   return dir;
 }
@@ -279,7 +281,7 @@ std::map<std::string, std::pair<uintmax_t, fs::file_time_type>> source_files() {
   std::error_code ec;
   for (const auto& e : linked_entries()) {
     const std::string name = e.filename().string();
-    if (name == "src" || name == "ui" || name == "tests") continue;
+    if (name == "src" || name == "ui" || name == "tests" || name == "web") continue;
     auto note = [&](const fs::path& p) {
       if (fs::is_regular_file(fs::symlink_status(p, ec)))
         files[fs::relative(p, ARWB_SOURCE_DIR).string()] = {fs::file_size(p, ec), fs::last_write_time(p, ec)};

@@ -1,0 +1,91 @@
+// The web bench's page (run.mjs serves it and reads window.benchResult): every detector on the same frames in this
+// one page's main thread, each frame `repeats` times. A detector's time for a frame is the fastest of its repeats
+// (as `arwb bench` keeps), and its figure the median over frames; recall is the share of the truth's markers it
+// found (same id, centre within a quarter of the marker's side). Our core is timed from the frame's RGBA to its
+// markers, as the player's worker calls it; opencv.js from RGBA (converted to grey) to its markers; js-aruco2 from
+// the ImageData.
+'use strict';
+(async () => {
+  const params = new URLSearchParams(location.search);
+  const repeats = Number(params.get('repeats') || 5);
+  const truth = await (await fetch('frames/truth.jsonl')).text();
+  const frames = truth.trim().split('\n').map((l) => JSON.parse(l));
+  const images = [];
+  for (const f of frames) {
+    const bitmap = await createImageBitmap(await (await fetch(`frames/${f.file}`)).blob());
+    const c = new OffscreenCanvas(bitmap.width, bitmap.height);
+    const ctx = c.getContext('2d');
+    ctx.drawImage(bitmap, 0, 0);
+    images.push(ctx.getImageData(0, 0, bitmap.width, bitmap.height));
+  }
+
+  // Ours.
+  const m = await ArwbCore();
+  const frame = m.cwrap('arwb_frame', 'number', ['number', 'number']);
+  const detect = m.cwrap('arwb_detect', 'string', []);
+  const ours = (img) => {
+    const at = frame(img.width, img.height);
+    m.HEAPU8.set(img.data, at);
+    return JSON.parse(detect()).markers.map((k) => ({ id: k.id, corners: k.corners }));
+  };
+
+  // opencv.js: its ArucoDetector with its defaults, on ARUCO_ORIGINAL.
+  let ocv = cv;
+  if (!ocv.Mat) ocv = await new Promise((resolve) => { ocv.onRuntimeInitialized = () => resolve(ocv); });
+  if (typeof ocv.then === 'function' && !ocv.Mat) ocv = await ocv;
+  const detector = new ocv.aruco_ArucoDetector(ocv.getPredefinedDictionary(ocv.DICT_ARUCO_ORIGINAL),
+                                                new ocv.aruco_DetectorParameters(),
+                                                new ocv.aruco_RefineParameters(10, 3, true));
+  const opencv = (img) => {
+    const rgba = ocv.matFromImageData(img), grey = new ocv.Mat();
+    ocv.cvtColor(rgba, grey, ocv.COLOR_RGBA2GRAY);
+    const corners = new ocv.MatVector(), ids = new ocv.Mat(), rejected = new ocv.MatVector();
+    detector.detectMarkers(grey, corners, ids, rejected);
+    const out = [];
+    for (let i = 0; i < ids.rows; i++) {
+      const c = corners.get(i);
+      out.push({ id: ids.data32S[i], corners: [0, 1, 2, 3].map((k) => [c.data32F[2 * k], c.data32F[2 * k + 1]]) });
+      c.delete();
+    }
+    [rgba, grey, corners, ids, rejected].forEach((x) => x.delete());
+    return out;
+  };
+
+  // js-aruco2 on its ARUCO dictionary (the original ArUco's 1024 codes).
+  const jsDetector = new AR.Detector({ dictionaryName: 'ARUCO' });
+  const jsAruco = (img) => jsDetector.detect(img).map((k) => ({ id: k.id, corners: k.corners.map((p) => [p.x, p.y]) }));
+
+  const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+  const centre = (cs) => cs.reduce(([x, y], [a, b]) => [x + a / 4, y + b / 4], [0, 0]);
+  const result = { frames: images.length, repeats, detectors: {} };
+  for (const [name, run] of [['arwb (WebAssembly)', ours], ['opencv.js ArucoDetector', opencv],
+                             ['js-aruco2', jsAruco]]) {
+    const perFrame = [];
+    let found = 0, wanted = 0, extra = 0;
+    images.forEach((img, i) => {
+      const times = [];
+      let markers = [];
+      for (let r = 0; r < repeats; r++) {
+        const t0 = performance.now();
+        markers = run(img);
+        times.push(performance.now() - t0);
+      }
+      perFrame.push(Math.min(...times));
+      const truths = frames[i].markers;
+      wanted += truths.length;
+      const used = new Set();
+      for (const t of truths) {
+        const [tx, ty] = centre(t.corners);
+        const side = Math.hypot(t.corners[1][0] - t.corners[0][0], t.corners[1][1] - t.corners[0][1]);
+        const k = markers.findIndex((d, j) => !used.has(j) && d.id === t.id &&
+                                    Math.hypot(centre(d.corners)[0] - tx, centre(d.corners)[1] - ty) < side / 4);
+        if (k >= 0) { used.add(k); found++; }
+      }
+      extra += markers.length - used.size;
+    });
+    result.detectors[name] = { median_ms: median(perFrame), recall: wanted ? found / wanted : NaN, found, wanted,
+                               extra };
+  }
+  window.benchResult = result;
+  document.getElementById('log').textContent = JSON.stringify(result, null, 1);
+})().catch((e) => { window.benchResult = { error: String(e && e.stack ? e.stack : e) }; });

@@ -1,0 +1,96 @@
+// The player's page, in headless Chromium with a fake camera playing synthetic photographs, finds in each frame it
+// searched what `arwb detect` finds in the same pixels (ids and corners within 1e-3 px), in its worker, asking
+// nothing of any origin but its own. Run by ctest as
+//   node --no-experimental-fetch page_matches_native.mjs ARWB CORE_JS
+// ARWB_WEB_SCREENSHOT=FILE saves the page at a phone's size (390x844) once it has found markers.
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { Chromium } from './chromium_support.mjs';
+import { compareWithNative, readPng, serve, tallyProblems, writeY4m } from './web_support.mjs';
+
+const [arwb, coreJs] = process.argv.slice(2);
+const player = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../web/player');
+const failures = [];
+const fail = (message) => failures.push(message);
+const grabsWanted = 6;
+
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'arwb-page-'));
+let browser = null, server = null;
+try {
+  const frames = path.join(tmp, 'frames');
+  execFileSync(arwb, ['synth', '--out', frames, '--count', '8', '--seed', '5', '--size', '640x480'], { stdio: 'pipe' });
+  const pngs = fs.readdirSync(frames).filter((f) => f.endsWith('.png')).sort();
+  const y4m = path.join(tmp, 'camera.y4m');
+  writeY4m(y4m, pngs.map((f) => readPng(path.join(frames, f))), 4);
+
+  server = await serve([player, path.dirname(path.resolve(coreJs))]);
+  browser = await Chromium.launch({ args: ['--use-fake-device-for-media-stream', '--use-fake-ui-for-media-stream',
+                                           `--use-file-for-fake-video-capture=${y4m}`] });
+  const page = await browser.newPage(server.url);
+  const state = await page.waitFor('window.arwbPlayer && arwbPlayer.state !== "checking" && arwbPlayer.state', 20);
+  const text = (id) => page.evaluate(`document.getElementById("${id}").innerText`);
+  if (state !== 'ready') throw new Error(`the first screen says ${state}: ${await text('checks')}`);
+  await page.evaluate('document.getElementById("start").click()');
+  await page.waitFor('arwbPlayer.state === "running" || arwbPlayer.state === "failed"', 20);
+  const started = await page.evaluate('arwbPlayer.state');
+  if (started !== 'running') throw new Error(`Start failed: ${await text('advice')}`);
+
+  // Frames the worker searched, each with what it found, until six differ (the camera loops over eight).
+  const grabs = new Map();
+  const until = Date.now() + 120000;
+  let shot = false;
+  while (grabs.size < grabsWanted && Date.now() < until) {
+    const g = await page.evaluate('arwbPlayer.grab()');
+    if (g && !grabs.has(g.png)) grabs.set(g.png, g.result);
+    if (!shot && process.env.ARWB_WEB_SCREENSHOT && g && g.result.markers.length) {
+      await page.evaluate('document.getElementById("overlay").hidden = false');
+      await new Promise((r) => setTimeout(r, 1200));
+      await page.screenshot(process.env.ARWB_WEB_SCREENSHOT);
+      shot = true;
+    }
+    await new Promise((r) => setTimeout(r, 150));
+  }
+  if (grabs.size < grabsWanted) fail(`the page searched only ${grabs.size} distinct frames in 120 s`);
+
+  const grabbed = path.join(tmp, 'grabbed');
+  fs.mkdirSync(grabbed);
+  const results = [...grabs.entries()];
+  results.forEach(([png], i) => fs.writeFileSync(path.join(grabbed, `frame_${i}.png`),
+                                                 Buffer.from(png.split(',')[1], 'base64')));
+  const native = execFileSync(arwb, ['detect', '--json', grabbed], 
+                              { encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] })
+    .trim().split('\n').map((line) => JSON.parse(line));
+  const tally = { markers: 0, worst: 0 };
+  for (const want of native) {
+    const i = Number(path.basename(want.source).match(/frame_(\d+)/)[1]);
+    const problem = compareWithNative(`frame ${i}`, results[i][1], want, tally);
+    if (problem) fail(problem);
+  }
+  tallyProblems(tally).forEach(fail);
+
+  const foreign = page.requests.filter((u) => !u.startsWith(server.url) && !u.startsWith('data:'));
+  if (foreign.length) fail(`the page asked for ${foreign.join(', ')}`);
+  const errors = await page.evaluate('arwbPlayer.errors');
+  if (errors.length) fail(`the page reported: ${errors.join('; ')}`);
+  if (page.exceptions.length) fail(`the page threw: ${page.exceptions.join('; ')}`);
+  const stats = await page.evaluate('({drawn: arwbPlayer.drawn, detected: arwbPlayer.detected, ' +
+                                    'ms: [...arwbPlayer.detectMs].sort((a, b) => a - b)})');
+  const median = stats.ms.length ? stats.ms[Math.floor(stats.ms.length / 2)] : NaN;
+  console.log(`${grabs.size} frames searched in the page's worker, ${tally.markers} markers, the same ids as arwb ` +
+              `detect; corners differ by up to ${tally.worst.toFixed(6)} px; ${stats.drawn} frames drawn, ` +
+              `${stats.detected} searched, median ${median.toFixed(2)} ms; ${server.served.length} requests, ` +
+              `all to 127.0.0.1`);
+} catch (e) {
+  fail(e.message);
+} finally {
+  if (browser) await browser.close();
+  if (server) server.close();
+  fs.rmSync(tmp, { recursive: true, force: true });
+}
+if (failures.length) {
+  for (const f of failures) console.error(`FAIL: ${f}`);
+  process.exit(1);
+}

@@ -1,0 +1,33 @@
+// The C functions the page's worker calls (Module.cwrap): one WebDetector per module instance, strings in and out
+// as UTF-8. Thin on purpose: everything they do is WebDetector's.
+#include "web_detector.hpp"
+
+#include <emscripten/emscripten.h>
+
+namespace {
+arwb::web::WebDetector& detector() {
+  static arwb::web::WebDetector d;
+  return d;
+}
+thread_local std::string g_message;
+}  // namespace
+
+extern "C" {
+
+// Empty string on success, else the message.
+EMSCRIPTEN_KEEPALIVE const char* arwb_set_dictionaries(const char* list) {
+  g_message = detector().set_dictionaries(list ? list : "");
+  return g_message.c_str();
+}
+
+EMSCRIPTEN_KEEPALIVE const char* arwb_set_param(const char* name, double value) {
+  g_message = detector().set_param(name ? name : "", value);
+  return g_message.c_str();
+}
+
+// Where to write width * height * 4 bytes of RGBA; null for a size out of 1..8192.
+EMSCRIPTEN_KEEPALIVE uint8_t* arwb_frame(int width, int height) { return detector().frame(width, height); }
+
+EMSCRIPTEN_KEEPALIVE const char* arwb_detect() { return detector().detect().c_str(); }
+
+}

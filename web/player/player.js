@@ -1,0 +1,191 @@
+// The phone player's page: checks what it needs and says how to fix what is missing, starts the camera on one tap,
+// hands frames to the worker (worker.js: the WebAssembly core) and draws each camera frame with what the worker
+// last found. Drawing never waits for detection: a frame goes to the worker only when it is idle.
+// window.arwbPlayer is the page's state for the overlay and the tests (tests/web).
+'use strict';
+(() => {
+  const $ = (id) => document.getElementById(id);
+  // A module of one function returning a v128 (i32.const 0; i8x16.splat): valid only where WebAssembly has SIMD,
+  // which the core is built with.
+  const simdModule = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 8, 1, 6, 0,
+                                     65, 0, 253, 15, 11]);
+  const hasWebGL = () => {
+    try { return !!document.createElement('canvas').getContext('webgl2'); } catch { return false; }
+  };
+  // [what, passes, the fix in plain words, needed to start]
+  const checks = [
+    ['a secure page', () => window.isSecureContext,
+     'Open this page over HTTPS (or, on the computer that serves it, at http://127.0.0.1).', true],
+    ['the camera', () => !!(navigator.mediaDevices && navigator.mediaDevices.getUserMedia),
+     'Open this page in Safari or Chrome itself, not inside another app.', true],
+    ['WebAssembly with SIMD', () => typeof WebAssembly === 'object' && WebAssembly.validate(simdModule),
+     'This browser is too old to run the detector: update it (Safari 16.4, Chrome 91, Firefox 89 or later).', true],
+    ['background workers', () => typeof Worker === 'function', 'This browser cannot run workers: update it.', true],
+    ['3D graphics (WebGL 2)', hasWebGL, '3D media will not be shown: turn on WebGL or hardware acceleration.', false],
+  ];
+
+  const player = window.arwbPlayer = {
+    state: 'checking',   // checking, blocked, ready, starting, running, failed
+    facing: 'environment',
+    drawn: 0,            // camera frames drawn
+    detected: 0,         // frames the worker searched
+    fps: 0,
+    detectMs: [],        // the worker's last 30 times
+    markers: [],
+    errors: [],          // newest last
+    lastFrame: null,     // {width, height, rgba, result}: a frame the worker searched and what it found
+    // The last searched frame as a PNG data URL, with its result (for the tests: `arwb detect` on the same pixels).
+    grab() {
+      const f = player.lastFrame;
+      if (!f) return null;
+      const c = document.createElement('canvas');
+      c.width = f.width;
+      c.height = f.height;
+      c.getContext('2d').putImageData(new ImageData(new Uint8ClampedArray(f.rgba), f.width, f.height), 0, 0);
+      return { png: c.toDataURL('image/png'), result: f.result };
+    },
+  };
+  const report = (message) => {
+    player.errors.push(message);
+    if (player.errors.length > 20) player.errors.shift();
+  };
+
+  function runChecks() {
+    let blocked = false;
+    const list = $('checks');
+    const advice = [];
+    for (const [what, passes, fix, needed] of checks) {
+      let ok = false;
+      try { ok = passes(); } catch { ok = false; }
+      const li = document.createElement('li');
+      li.className = ok ? 'ok' : 'bad';
+      li.textContent = ok ? what : `${what}: ${fix}`;
+      list.appendChild(li);
+      if (!ok && needed) blocked = true;
+      if (!ok) advice.push(fix);
+    }
+    player.state = blocked ? 'blocked' : 'ready';
+    $('start').disabled = blocked;
+    if (blocked) $('advice').textContent = advice[0];
+  }
+
+  const worker = new Worker('worker.js');
+  let workerReady = false, workerBusy = false;
+  worker.onmessage = (e) => {
+    const msg = e.data;
+    if (msg.type === 'ready') workerReady = true;
+    else if (msg.type === 'error') report(msg.message);
+    else if (msg.type === 'result') {
+      workerBusy = false;
+      player.detected++;
+      player.markers = msg.result.markers || [];
+      player.detectMs.push(msg.result.ms || 0);
+      if (player.detectMs.length > 30) player.detectMs.shift();
+      player.lastFrame = { width: msg.width, height: msg.height, rgba: msg.rgba, result: msg.result };
+      drawOverlay();
+    }
+  };
+  worker.onerror = (e) => report(`the detector stopped: ${e.message}`);
+
+  const video = $('camera');
+  const view = $('view');
+  const ctx = view.getContext('2d', { willReadFrequently: true });
+  let stream = null;
+
+  async function openCamera() {
+    if (stream) stream.getTracks().forEach((t) => t.stop());
+    stream = await navigator.mediaDevices.getUserMedia({
+      audio: false,
+      video: { facingMode: player.facing, width: { ideal: 1280 }, height: { ideal: 720 } },
+    });
+    video.srcObject = stream;
+    await video.play();
+  }
+
+  async function start() {
+    player.state = 'starting';
+    $('start').disabled = true;
+    try {
+      await openCamera();
+    } catch (e) {
+      player.state = 'failed';
+      $('start').disabled = false;
+      $('advice').textContent = e && e.name === 'NotAllowedError'
+        ? 'Allow the camera for this page (the camera icon in the address bar, or the browser\'s site settings), ' +
+          'then tap Start again.'
+        : `The camera did not start (${e && e.name ? e.name : e}): close other apps that use it and tap Start again.`;
+      return;
+    }
+    $('first').hidden = true;
+    $('stage').hidden = false;
+    player.state = 'running';
+    requestAnimationFrame(frame);
+  }
+
+  let fpsCount = 0, fpsSince = performance.now();
+  function frame(now) {
+    requestAnimationFrame(frame);
+    if (video.readyState < 2 || !video.videoWidth) return;
+    const w = video.videoWidth, h = video.videoHeight;
+    if (view.width !== w || view.height !== h) { view.width = w; view.height = h; }
+    ctx.drawImage(video, 0, 0, w, h);
+    if (workerReady && !workerBusy) {
+      const rgba = ctx.getImageData(0, 0, w, h).data;
+      workerBusy = true;
+      worker.postMessage({ type: 'detect', width: w, height: h, rgba }, [rgba.buffer]);
+    }
+    drawMarkers();
+    player.drawn++;
+    fpsCount++;
+    if (now - fpsSince >= 1000) {
+      player.fps = (fpsCount * 1000) / (now - fpsSince);
+      fpsCount = 0;
+      fpsSince = now;
+      drawOverlay();
+    }
+  }
+
+  function drawMarkers() {
+    ctx.lineWidth = Math.max(2, view.width / 320);
+    ctx.font = `${Math.round(view.width / 30)}px system-ui, sans-serif`;
+    for (const m of player.markers) {
+      ctx.strokeStyle = '#3f3';
+      ctx.beginPath();
+      m.corners.forEach(([x, y], i) => (i ? ctx.lineTo(x, y) : ctx.moveTo(x, y)));
+      ctx.closePath();
+      ctx.stroke();
+      ctx.fillStyle = '#f33';
+      ctx.fillRect(m.corners[0][0] - 3, m.corners[0][1] - 3, 6, 6);
+      ctx.fillStyle = '#3f3';
+      ctx.fillText(String(m.id), m.corners[0][0] + 6, m.corners[0][1] - 6);
+    }
+  }
+
+  function drawOverlay() {
+    const o = $('overlay');
+    if (o.hidden) return;
+    const ms = [...player.detectMs].sort((a, b) => a - b);
+    const median = ms.length ? ms[Math.floor(ms.length / 2)].toFixed(1) : '-';
+    const lines = [
+      `${player.fps.toFixed(0)} fps drawn, ${view.width}x${view.height}, ${player.facing} camera`,
+      `detect ${median} ms (median of ${ms.length})`,
+      `markers: ${player.markers.map((m) => m.id).join(' ') || 'none'}`,
+      `newest error: ${player.errors.length ? player.errors[player.errors.length - 1] : 'none'}`,
+    ];
+    o.textContent = lines.join('\n');
+  }
+
+  function toggleOverlay() {
+    $('overlay').hidden = !$('overlay').hidden;
+    drawOverlay();
+  }
+
+  $('start').addEventListener('click', start);
+  $('switch').addEventListener('click', async () => {
+    player.facing = player.facing === 'environment' ? 'user' : 'environment';
+    try { await openCamera(); } catch (e) { report(`the other camera did not start: ${e && e.name ? e.name : e}`); }
+  });
+  document.addEventListener('keydown', (e) => { if (e.key === 'd' || e.key === 'F1') toggleOverlay(); });
+  $('stage').addEventListener('touchstart', (e) => { if (e.touches.length === 2) toggleOverlay(); });
+  runChecks();
+})();
