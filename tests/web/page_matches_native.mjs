@@ -28,7 +28,15 @@ try {
 
   server = await serve([player, path.dirname(path.resolve(coreJs))]);
   browser = await Chromium.launch({ args: ['--use-fake-device-for-media-stream', '--use-fake-ui-for-media-stream',
-                                           `--use-file-for-fake-video-capture=${y4m}`] });
+                                           `--use-file-for-fake-video-capture=${y4m}`,
+                                           '--host-resolver-rules=MAP phone.test 127.0.0.1'] });
+  // Over plain HTTP from another host the page is not a secure context: it says how to fix that and keeps Start off.
+  const insecure = await browser.newPage(server.url.replace('127.0.0.1', 'phone.test'));
+  await insecure.waitFor('window.arwbPlayer && arwbPlayer.state !== "checking"', 20);
+  const advice = await insecure.evaluate('[arwbPlayer.state, document.getElementById("advice").innerText, ' +
+                                         'document.getElementById("start").disabled]');
+  if (advice[0] !== 'blocked' || !advice[1].startsWith('Open this page over HTTPS') || advice[2] !== true)
+    fail(`over plain HTTP the first screen said ${JSON.stringify(advice)}`);
   const page = await browser.newPage(server.url);
   const state = await page.waitFor('window.arwbPlayer && arwbPlayer.state !== "checking" && arwbPlayer.state', 20);
   const text = (id) => page.evaluate(`document.getElementById("${id}").innerText`);
@@ -72,6 +80,8 @@ try {
   tallyProblems(tally).forEach(fail);
 
   const foreign = page.requests.filter((u) => !u.startsWith(server.url) && !u.startsWith('data:'));
+  const other = server.url.replace('127.0.0.1', 'phone.test');
+  foreign.push(...insecure.requests.filter((u) => !u.startsWith(other)));
   if (foreign.length) fail(`the page asked for ${foreign.join(', ')}`);
   const errors = await page.evaluate('arwbPlayer.errors');
   if (errors.length) fail(`the page reported: ${errors.join('; ')}`);

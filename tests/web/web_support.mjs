@@ -3,8 +3,11 @@ import fs from 'node:fs';
 import { createRequire } from 'node:module';
 import path from 'node:path';
 
+// npm's packages as web/package.json lists them, from web/node_modules (third_party/setup installs them), whatever
+// NODE_PATH says.
+export const webRequire = createRequire(new URL('../../web/package.json', import.meta.url));
 const require = createRequire(import.meta.url);
-const { PNG } = require('pngjs');
+const { PNG } = webRequire('pngjs');
 
 // The core built by web/core (arwb_core.js beside arwb_core.wasm), with its C functions wrapped for JavaScript.
 export async function loadCore(coreJs) {

@@ -12,12 +12,13 @@
   const hasWebGL = () => {
     try { return !!document.createElement('canvas').getContext('webgl2'); } catch { return false; }
   };
-  // [what, passes, the fix in plain words, needed to start]
+  // [what, passes, the fix in plain words (or a function giving it), needed to start]
   const checks = [
     ['a secure page', () => window.isSecureContext,
      'Open this page over HTTPS (or, on the computer that serves it, at http://127.0.0.1).', true],
     ['the camera', () => !!(navigator.mediaDevices && navigator.mediaDevices.getUserMedia),
-     'Open this page in Safari or Chrome itself, not inside another app.', true],
+     () => (window.isSecureContext ? 'Open this page in Safari or Chrome itself, not inside another app.'
+                                   : 'Browsers give the camera only to a secure page (above).'), true],
     ['WebAssembly with SIMD', () => typeof WebAssembly === 'object' && WebAssembly.validate(simdModule),
      'This browser is too old to run the detector: update it (Safari 16.4, Chrome 91, Firefox 89 or later).', true],
     ['background workers', () => typeof Worker === 'function', 'This browser cannot run workers: update it.', true],
@@ -54,7 +55,8 @@
     let blocked = false;
     const list = $('checks');
     const advice = [];
-    for (const [what, passes, fix, needed] of checks) {
+    for (const [what, passes, fixText, needed] of checks) {
+      const fix = typeof fixText === 'function' ? fixText() : fixText;
       let ok = false;
       try { ok = passes(); } catch { ok = false; }
       const li = document.createElement('li');
