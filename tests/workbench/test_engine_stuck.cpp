@@ -88,7 +88,8 @@ TEST(EngineStuck, StoppingGivesUpOnAWorkerStuckInAScriptAndTheEngineGoesAtOnce) 
   // The worker's state holds the log function and so a copy of `messages`: the count falls to ours alone when the
   // thread has let go of it. Leaving before then lets process exit tear down OpenCV's thread-local storage under a
   // worker still using it (seen under the sanitizers on a loaded machine).
-  EXPECT_TRUE(wait_until([&] { return messages.use_count() == 1; }, 60)) << "the detached worker never ended";
+  EXPECT_TRUE(wait_until([&] { return messages.use_count() == 1; }, 60))
+      << "the detached worker never ended";
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   script::set_test_global(nullptr, nullptr);
 }

@@ -37,7 +37,8 @@ uint8_t* WebDetector::frame(int width, int height) {
   if (width <= 0 || height <= 0 || width > 8192 || height > 8192) return nullptr;
   width_ = width;
   height_ = height;
-  rgba_.assign(size_t(width) * size_t(height) * 4, 0);
+  // Grown once and then reused, not cleared: the page writes every byte of every frame.
+  rgba_.resize(size_t(width) * size_t(height) * 4);
   return rgba_.data();
 }
 

@@ -1,7 +1,7 @@
 // The plain kernels: the reference every level is checked against, C++ at the compiler's baseline. Where OpenCV's
 // universal intrinsics pay they are used (128 bits here: SSE2 on x86-64, NEON on ARM, SIMD128 in WebAssembly; the
-// scalar loops alone where the target has none), and those loops end in the same scalar code as their tails. This file is built with the
-// project's own flags only, so it may use anything.
+// scalar loops alone where the target has none), and those loops end in the same scalar code as their tails. This
+// file is built with the project's own flags only, so it may use anything.
 #include "detect/kernels/levels.hpp"
 
 #include <opencv2/core.hpp>   // what intrin.hpp uses and does not include (CV_DbgAssert, isAligned)

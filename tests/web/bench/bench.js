@@ -30,9 +30,8 @@
   };
 
   // opencv.js: its ArucoDetector with its defaults, on ARUCO_ORIGINAL.
-  let ocv = cv;
-  if (!ocv.Mat) ocv = await new Promise((resolve) => { ocv.onRuntimeInitialized = () => resolve(ocv); });
-  if (typeof ocv.then === 'function' && !ocv.Mat) ocv = await ocv;
+  const ocv = cv;
+  if (!ocv.Mat) await new Promise((resolve) => { ocv.onRuntimeInitialized = resolve; });
   const detector = new ocv.aruco_ArucoDetector(ocv.getPredefinedDictionary(ocv.DICT_ARUCO_ORIGINAL),
                                                 new ocv.aruco_DetectorParameters(),
                                                 new ocv.aruco_RefineParameters(10, 3, true));
@@ -77,8 +76,10 @@
       for (const t of truths) {
         const [tx, ty] = centre(t.corners);
         const side = Math.hypot(t.corners[1][0] - t.corners[0][0], t.corners[1][1] - t.corners[0][1]);
-        const k = markers.findIndex((d, j) => !used.has(j) && d.id === t.id &&
-                                    Math.hypot(centre(d.corners)[0] - tx, centre(d.corners)[1] - ty) < side / 4);
+        const k = markers.findIndex((d, j) => {
+          const [dx, dy] = centre(d.corners);
+          return !used.has(j) && d.id === t.id && Math.hypot(dx - tx, dy - ty) < side / 4;
+        });
         if (k >= 0) { used.add(k); found++; }
       }
       extra += markers.length - used.size;
