@@ -15,6 +15,7 @@ struct AcquisitionSettings {
   bool resize = true;
   cv::Size size{640, 0};         // the working size when resize is on; a side of 0 follows the frame's aspect,
                                  // both 0 keep the frame's size; two sides are exact (aspect not kept)
+  bool rgb = false;              // colour frames are R, G, B(, A) (a browser's), not OpenCV's B, G, R(, A)
   bool operator==(const AcquisitionSettings&) const = default;
 };
 

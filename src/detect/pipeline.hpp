@@ -29,10 +29,11 @@ cv::Mat acquire(const cv::Mat& input, const AcquisitionSettings& a, double* scal
 // The working frame's grey image, converted from a colour frame only where the stages look: a video frame searched
 // around its known markers needs grey pixels only in those regions and around its candidates. A half-size search of
 // the whole frame converts it all and takes its 2x2 block means as it goes (convert_all_and_halve), while the rows
-// are in the cache. A grey frame is used as it is, another depth converted at once.
+// are in the cache. A grey frame is used as it is; another depth, or RGB, converted at once.
 class GreyOnDemand {
  public:
-  explicit GreyOnDemand(const cv::Mat& frame = {});   // 1, 3 (BGR) or 4 (BGRA) channels
+  // 1, 3 (BGR, or RGB when rgb) or 4 (BGRA, or RGBA) channels.
+  explicit GreyOnDemand(const cv::Mat& frame = {}, bool rgb = false);
   // The grey image; of a colour frame only the tiles need() was asked for hold grey levels yet.
   const cv::Mat& image() const { return grey_; }
   // The colour frame the grey levels come from, or empty when the frame was grey.
@@ -50,6 +51,7 @@ class GreyOnDemand {
 
  private:
   cv::Mat colour_, grey_;
+  bool rgb_ = false;
   int tiles_x_ = 0;
   std::vector<uint8_t> done_;   // per tile, row by row
 };
@@ -82,7 +84,7 @@ void merge_overlapping(std::vector<cv::Rect>& rects);
 int decimation_used(cv::Size grey, const DetectorParams& p);
 cv::Mat decimate(const cv::Mat& grey, int factor);
 // The search image of `region` (the grey image's pixels) at `factor`: decimate over the region's grey pixels
-// (converted here; of a whole BGR frame at 2, all of it in one pass with the decimation).
+// (converted here; of a whole colour frame at 2, all of it in one pass with the decimation).
 cv::Mat search_image(GreyOnDemand& grey, const cv::Rect& region, int factor);
 // A point of the search image in the grey image's pixels (the centre of its block, rounded down), and back.
 inline cv::Point undecimate(cv::Point p, int factor) {

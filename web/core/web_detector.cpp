@@ -5,13 +5,17 @@
 #include "detect/params.hpp"
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include <chrono>
 
 namespace arwb::web {
 
-WebDetector::WebDetector() : detector_(std::make_unique<Detector>(std::vector<Dictionary>{make_aruco_original()})) {}
+WebDetector::WebDetector() : detector_(std::make_unique<Detector>(std::vector<Dictionary>{make_aruco_original()})) {
+  // The page's pixels are RGBA: the detector's acquisition makes them grey with cvtColor's levels, where it looks.
+  AcquisitionSettings a = detector_->acquisition();
+  a.rgb = true;
+  detector_->set_acquisition(a);
+}
 
 std::string WebDetector::set_dictionaries(const std::string& list) {
   std::string error;
@@ -49,12 +53,9 @@ const std::string& WebDetector::detect() {
     return result_;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  // The grey levels cvtColor gives a BGR picture of the same pixels (the same fixed-point weights per channel), so
-  // the detector sees what `arwb detect` sees in the same picture read from a file.
   const cv::Mat rgba(height_, width_, CV_8UC4, rgba_.data());
-  cv::cvtColor(rgba, grey_, cv::COLOR_RGBA2GRAY);
   FrameTrace trace;
-  const std::vector<Marker> markers = detector_->detect(grey_, &trace, TraceLevel::summary);
+  const std::vector<Marker> markers = detector_->detect(rgba, &trace, TraceLevel::summary);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   Json stages = Json::object();
   for (const StageRecord& r : trace.stages) stages[std::string(stage_name(r.stage))] = r.ms;

@@ -29,7 +29,6 @@ class WebDetector {
  private:
   std::unique_ptr<Detector> detector_;
   std::vector<uint8_t> rgba_;
-  cv::Mat grey_;   // the frame's grey levels, kept between frames
   int width_ = 0, height_ = 0;
   std::string result_;
 };

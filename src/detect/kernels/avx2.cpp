@@ -16,74 +16,33 @@
 namespace arwb::kernels::avx2 {
 namespace {
 
-// drop_small_regions' words, four at a time in GCC's vector extension: one AVX2 instruction each
-// (small_regions.inl).
-struct Four {
-  typedef uint64_t V __attribute__((vector_size(32)));
-  static constexpr int kWords = 4;
-  [[gnu::always_inline]] static V load(const uint64_t* at) {
-    V v;
-    std::memcpy(&v, at, sizeof v);
-    return v;
-  }
-  [[gnu::always_inline]] static void store(uint64_t* at, V v) { std::memcpy(at, &v, sizeof v); }
-  template <int S> [[gnu::always_inline]] static V left(V v) { return v << S; }
-  template <int S> [[gnu::always_inline]] static V right(V v) { return v >> S; }
-  [[gnu::always_inline]] static int bits(V v) {
-    return __builtin_popcountll(v[0]) + __builtin_popcountll(v[1]) + __builtin_popcountll(v[2]) +
-           __builtin_popcountll(v[3]);
-  }
-};
-
 #include "detect/kernels/code_scan.inl"
 #include "detect/kernels/runs.inl"
 #include "detect/kernels/small_regions.inl"
 #include "detect/kernels/hwy_rows.inl"
 static_assert(HWY_STATIC_TARGET == HWY_AVX2, "Highway compiles for AVX2 here");
 
-// One row's sums of K along it from its widened, padded row, 16 a step (row_sums_avx2).
-template <int K>
-int row_sums_k(const uint16_t* pad, int w, uint16_t* out) {
-  int x = 0;
-  for (; x + 16 <= w; x += 16) {
-    __m256i even = _mm256_setzero_si256(), odd = _mm256_setzero_si256();
-    for (int j = 0; j + 1 < K; j += 2) {
-      even = _mm256_add_epi16(even, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pad + x + j)));
-      odd = _mm256_add_epi16(odd, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pad + x + j + 1)));
-    }
-    if (K % 2) even = _mm256_add_epi16(even, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pad + x + K - 1)));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + x), _mm256_add_epi16(even, odd));
+// box_mean's words, 16 a vector (box_mean.inl).
+struct Words16 {
+  using V = __m256i;
+  static constexpr int kLanes = 16;
+  static V load(const uint16_t* at) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(at)); }
+  static void store(uint16_t* at, V v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(at), v); }
+  static V add(V a, V b) { return _mm256_add_epi16(a, b); }
+  static V sub(V a, V b) { return _mm256_sub_epi16(a, b); }
+  static V splat(uint16_t v) { return _mm256_set1_epi16(short(v)); }
+  static void widen(const uint8_t* in, uint16_t* out) {
+    store(out, _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in))));
   }
-  return x;
-}
+  static void means(V sum, V half, V mul, int shift, uint8_t* out) {
+    const __m256i mean =
+        _mm256_srl_epi16(_mm256_mulhi_epu16(_mm256_add_epi16(sum, half), mul), _mm_cvtsi32_si128(shift));
+    const __m256i packed = _mm256_permute4x64_epi64(_mm256_packus_epi16(mean, mean), 0x08);   // qwords 0, 2
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm256_castsi256_si128(packed));
+  }
+};
 
-// One row's sums of k along it (border replicated), through `pad` (w + k - 1 levels, widened to 16 bits once, so
-// that the k shifted loads a vector are plain loads, not k widening shuffles: those were the bottleneck), in two
-// chains of additions.
-void row_sums(const uint8_t* in, int w, int k, uint16_t* pad, uint16_t* out) {
-  const int r = k / 2;
-  for (int j = 0; j < r; ++j) pad[j] = in[0];
-  int x = 0;
-  for (; x + 16 <= w; x += 16)
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(pad + r + x),
-                        _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in + x))));
-  for (; x < w; ++x) pad[r + x] = in[x];
-  for (int j = 0; j < r; ++j) pad[r + w + j] = in[w - 1];
-  switch (k) {   // the window's loads unrolled for the sizes the threshold uses (5 to 15)
-    case 5: x = row_sums_k<5>(pad, w, out); break;
-    case 7: x = row_sums_k<7>(pad, w, out); break;
-    case 9: x = row_sums_k<9>(pad, w, out); break;
-    case 11: x = row_sums_k<11>(pad, w, out); break;
-    case 13: x = row_sums_k<13>(pad, w, out); break;
-    case 15: x = row_sums_k<15>(pad, w, out); break;
-    default: x = 0;
-  }
-  for (; x < w; ++x) {
-    int sum = 0;
-    for (int j = 0; j < k; ++j) sum += pad[x + j];
-    out[x] = uint16_t(sum);
-  }
-}
+#include "detect/kernels/box_mean.inl"
 
 template <bool Light>
 int row_masks_k(const uint8_t* row, int w, uint64_t* out) {
@@ -202,68 +161,9 @@ void halve_rows(const uint8_t* a, const uint8_t* b, uint8_t* o, int n) {
 }
 
 
-// The box filter's mean of k x k pixels (k odd, border replicated), rounded to the nearest as cv::boxFilter's (a
-// k x k sum over an odd count is never halfway), with AVX2: each row's sums of k along it (k shifted loads a vector),
-// then a running sum of k rows down each column, divided by a 16-bit multiply-high and a shift. For windows up to
-// 15 (the sums fit 16 bits); false leaves it to cv::boxFilter.
 bool box_mean(const uint8_t* src, size_t src_step, int w, int h, int k, uint8_t* dst, size_t dst_step,
               uint16_t* scratch) {
-  const int r = k / 2, d = k * k;
-  if (k % 2 == 0 || k > 15 || w < 16 || h < 1) return false;
-  // (sum + d / 2) / d as (x * m) >> (16 + shift), m = ceil(2^(16 + shift) / d) below 2^16. With e = m d - 2^(16 +
-  // shift), x m / 2^(16 + shift) = x / d + x e / (d 2^(16 + shift)): the floor is x / d's for every x up to the
-  // largest sum when that largest x times e is below 2^(16 + shift) (x / d's fraction is at most (d - 1) / d).
-  const int shift = 31 - __builtin_clz(unsigned(d));   // bit_width(d) - 1
-  const uint64_t power = uint64_t(1) << (16 + shift);
-  const uint32_t m = uint32_t((power + uint64_t(d) - 1) / uint64_t(d));
-  const uint64_t largest = 255 * uint64_t(d) + uint64_t(d / 2);
-  if (m > 0xFFFF || largest * (uint64_t(m) * uint64_t(d) - power) >= power) return false;
-  const size_t stride = size_t(w);
-  // The row sums in a ring of k + 1 rows (the window's k and the one coming in), made as the window reaches them:
-  // all of them were 150 KB at 640x480, written and read back through the cache.
-  const int ring = k + 1;
-  uint16_t* const rows = scratch;                              // ring rows of w
-  uint16_t* const column = rows + stride * size_t(ring);       // w
-  uint16_t* const pad = column + stride;                       // w + k - 1
-  int made = -1;   // the last row whose sums are in the ring
-  auto row = [&](int y) {
-    y = y < 0 ? 0 : y > h - 1 ? h - 1 : y;
-    uint16_t* out = rows + size_t(y % ring) * stride;
-    for (; made < y;) {   // rows come in order: the next one
-      const int next = ++made;
-      row_sums(src + size_t(next) * src_step, w, k, pad, rows + size_t(next % ring) * stride);
-    }
-    return static_cast<const uint16_t*>(out);
-  };
-  for (int x = 0; x < w; ++x) column[x] = 0;
-  for (int y = -r; y <= r; ++y) {
-    const uint16_t* in = row(y);
-    for (int x = 0; x < w; ++x) column[x] = uint16_t(column[x] + in[x]);
-  }
-  const __m256i mul = _mm256_set1_epi16(short(m)), half = _mm256_set1_epi16(short(d / 2));
-  const __m128i bits = _mm_cvtsi32_si128(shift);
-  for (int y = 0; y < h; ++y) {
-    uint8_t* out = dst + size_t(y) * dst_step;
-    const uint16_t* drop = row(y - r);   // before the row coming in, which may take its place in the ring
-    const uint16_t* add = row(y + r + 1);
-    uint16_t* c = column;
-    int x = 0;
-    for (; x + 16 <= w; x += 16) {
-      const __m256i sum = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + x));
-      const __m256i mean = _mm256_srl_epi16(_mm256_mulhi_epu16(_mm256_add_epi16(sum, half), mul), bits);
-      const __m256i packed = _mm256_permute4x64_epi64(_mm256_packus_epi16(mean, mean), 0x08);   // qwords 0, 2
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + x), _mm256_castsi256_si128(packed));
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(c + x),
-                          _mm256_sub_epi16(_mm256_add_epi16(sum, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(
-                                                                    add + x))),
-                                           _mm256_loadu_si256(reinterpret_cast<const __m256i*>(drop + x))));
-    }
-    for (; x < w; ++x) {
-      out[x] = uint8_t(((uint32_t(c[x]) + uint32_t(d / 2)) * m) >> (16 + shift));
-      c[x] = uint16_t(c[x] + add[x] - drop[x]);
-    }
-  }
-  return true;
+  return box_mean_words<Words16>(src, src_step, w, h, k, dst, dst_step, scratch);
 }
 
 // 32 pixels (16 block means) at a time, the same arithmetic as plain's: the unpacks and packs work within each
@@ -305,11 +205,11 @@ void join_row(EdgeWords above, int above_begin, const int* ends, int begin, int 
 }
 
 int drop_specks(const BitRows& bits, uint64_t* scratch, bool count) {
-  return drop_specks_of<Four>(bits, scratch, count);
+  return drop_specks_of<VectorWords<4>>(bits, scratch, count);
 }
 
 int drop_small_regions(const BitRows& bits, int k, bool count, uint64_t* scratch) {
-  return drop_small_regions_of<Four>(bits, k, count, scratch);
+  return drop_small_regions_of<VectorWords<4>>(bits, k, count, scratch);
 }
 
 Farthest farthest_point(const Point* c, int n, Point p0, Point dir, bool from_line) {

@@ -12,6 +12,7 @@ namespace {
 constexpr Kernels kPlain{
     .level = Simd::none,
     .grey_row = plain::grey_row,
+    .grey_row4 = plain::grey_row4,
     .halve_rows = plain::halve_rows,
     .decimate = plain::decimate,
     .box_mean = plain::box_mean,
@@ -33,6 +34,24 @@ constexpr Kernels kPlain{
 
 #if defined(ARWB_PLAIN_KERNELS)
 constexpr const Kernels* kTables[] = {&kPlain, &kPlain, &kPlain, &kPlain, &kPlain};
+#elif defined(__wasm_simd128__)
+constexpr Kernels simd128_table() {
+  Kernels k = kPlain;
+  k.level = Simd::simd128;
+  k.grey_row = simd128::grey_row;
+  k.grey_row4 = simd128::grey_row4;
+  k.halve_rows = simd128::halve_rows;
+  k.box_mean = simd128::box_mean;
+  k.blend_row = simd128::blend_row;
+  k.threshold_row = simd128::threshold_row;
+  k.row_masks = simd128::row_masks;
+  k.drop_specks = simd128::drop_specks;
+  k.drop_small_regions = simd128::drop_small_regions;
+  return k;
+}
+constexpr Kernels kSimd128 = simd128_table();
+// One level above plain; the x86 levels' slots take it too, so that no cap or lookup can reach a missing table.
+constexpr const Kernels* kTables[] = {&kPlain, &kSimd128, &kSimd128, &kSimd128, &kSimd128};
 #else
 constexpr Kernels ssse3_table() {
   Kernels k = kPlain;

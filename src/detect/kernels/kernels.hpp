@@ -22,6 +22,8 @@ struct Kernels {
 
   // [acquisition] n BGR pixels to grey: cvtColor's (3735 B + 19235 G + 9798 R + 2^14) >> 15, exactly.
   void (*grey_row)(const uint8_t* bgr, uint8_t* grey, int n);
+  // [acquisition] n pixels of 4 channels, B, G, R, A (or R, G, B, A when rgba), to grey as grey_row does.
+  void (*grey_row4)(const uint8_t* px, uint8_t* grey, int n, bool rgba);
 
   // [decimation] Two grey rows' 2x2 block means, n of them: (a + b + c + d + 2) / 4, as cv::resize's INTER_AREA
   // halves. Also adaptive_threshold's block means.

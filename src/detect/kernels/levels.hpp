@@ -12,6 +12,7 @@ namespace arwb::kernels {
 
 namespace plain {
 void grey_row(const uint8_t* bgr, uint8_t* grey, int n);
+void grey_row4(const uint8_t* px, uint8_t* grey, int n, bool rgba);
 void halve_rows(const uint8_t* a, const uint8_t* b, uint8_t* out, int n);
 void decimate(const uint8_t* grey, size_t step, int factor, uint8_t* out, size_t out_step, int out_cols,
               int out_rows);
@@ -38,6 +39,20 @@ void nearest_per_rotation(const uint64_t* codes, int n, uint64_t code, CodeMatch
 namespace ssse3 {
 void grey_row(const uint8_t* bgr, uint8_t* grey, int n);
 }  // namespace ssse3
+
+// WebAssembly SIMD128 (the web core's only level above plain).
+namespace simd128 {
+void grey_row(const uint8_t* bgr, uint8_t* grey, int n);
+void grey_row4(const uint8_t* px, uint8_t* grey, int n, bool rgba);
+void halve_rows(const uint8_t* a, const uint8_t* b, uint8_t* out, int n);
+bool box_mean(const uint8_t* src, size_t src_step, int w, int h, int k, uint8_t* dst, size_t dst_step,
+              uint16_t* scratch);
+void blend_row(const uint8_t* near, const uint8_t* far, uint16_t* v, int n);   // Highway's (hwy_rows.inl)
+void threshold_row(const uint16_t* v, int mw, const uint8_t* grey, uint8_t* binary, int offset);
+void row_masks(const uint8_t* row, int w, int words, uint64_t* out, bool light);
+int drop_specks(const BitRows& bits, uint64_t* scratch, bool count);
+int drop_small_regions(const BitRows& bits, int k, bool count, uint64_t* scratch);
+}  // namespace simd128
 
 // AVX2 with POPCNT.
 namespace avx2 {

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 namespace arwb::kernels::plain {
@@ -82,6 +83,43 @@ void decimate_rows(const uint8_t* grey, size_t step, int factor, uint8_t* out, s
   }
 }
 
+// n pixels of C channels (B, G, R first, or R, G, B when rgb) to grey. The vector loop takes cvtColor's sum as two
+// 16-bit dot products per pixel, (c0, c1) . (w0, wG) + (c2, 1) . (w2, 2^14), which is exact in 32 bits.
+template <int C>
+void grey_pixels(const uint8_t* px, uint8_t* grey, int n, bool rgb) {
+  const int w0 = rgb ? kGreyR : kGreyB, w2 = rgb ? kGreyB : kGreyR;
+  int x = 0;
+#if CV_SIMD128
+  static_assert(kGreyG < 32768 && (1 << (kGreyShift - 1)) < 32768, "the weights are 16-bit lanes");
+  const cv::v_int16x8 w01 = cv::v_reinterpret_as_s16(cv::v_setall_u32(uint32_t(w0) | uint32_t(kGreyG) << 16));
+  const cv::v_int16x8 w2h =
+      cv::v_reinterpret_as_s16(cv::v_setall_u32(uint32_t(w2) | uint32_t(1 << (kGreyShift - 1)) << 16));
+  const cv::v_int16x8 one = cv::v_setall_s16(1);
+  auto eight = [&](const cv::v_uint16x8& c0, const cv::v_uint16x8& c1, const cv::v_uint16x8& c2) {
+    cv::v_int16x8 p0, p1, q0, q1;
+    cv::v_zip(cv::v_reinterpret_as_s16(c0), cv::v_reinterpret_as_s16(c1), p0, p1);
+    cv::v_zip(cv::v_reinterpret_as_s16(c2), one, q0, q1);
+    const cv::v_int32x4 lo = cv::v_dotprod(p0, w01) + cv::v_dotprod(q0, w2h);
+    const cv::v_int32x4 hi = cv::v_dotprod(p1, w01) + cv::v_dotprod(q1, w2h);
+    return cv::v_pack(lo >> kGreyShift, hi >> kGreyShift);
+  };
+  for (; x + 16 <= n; x += 16) {
+    cv::v_uint8x16 c0, c1, c2, c3;
+    if constexpr (C == 3) cv::v_load_deinterleave(px + 3 * x, c0, c1, c2);
+    else cv::v_load_deinterleave(px + 4 * x, c0, c1, c2, c3);
+    cv::v_uint16x8 a0, a1, b0, b1, d0, d1;
+    cv::v_expand(c0, a0, a1);
+    cv::v_expand(c1, b0, b1);
+    cv::v_expand(c2, d0, d1);
+    cv::v_store(grey + x, cv::v_pack_u(eight(a0, b0, d0), eight(a1, b1, d1)));
+  }
+#endif
+  for (; x < n; ++x) {
+    const uint8_t* s = px + C * x;
+    grey[x] = uint8_t((w0 * s[0] + kGreyG * s[1] + w2 * s[2] + (1 << (kGreyShift - 1))) >> kGreyShift);
+  }
+}
+
 // Bit k set where pixel x + k of the row is on (nonzero; zero when Light), for the up to 64 pixels from x; none
 // past w.
 template <bool Light>
@@ -102,12 +140,9 @@ uint64_t row_mask(const uint8_t* row, int x, int w) {
 
 }  // namespace
 
-void grey_row(const uint8_t* bgr, uint8_t* grey, int n) {
-  for (int x = 0; x < n; ++x) {
-    const uint8_t* s = bgr + 3 * x;
-    grey[x] = uint8_t((kGreyB * s[0] + kGreyG * s[1] + kGreyR * s[2] + (1 << (kGreyShift - 1))) >> kGreyShift);
-  }
-}
+void grey_row(const uint8_t* bgr, uint8_t* grey, int n) { grey_pixels<3>(bgr, grey, n, false); }
+
+void grey_row4(const uint8_t* px, uint8_t* grey, int n, bool rgba) { grey_pixels<4>(px, grey, n, rgba); }
 
 void halve_rows(const uint8_t* a, const uint8_t* b, uint8_t* out, int n) {
   for (int x = 0; x < n; ++x) out[x] = uint8_t((a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1] + 2) >> 2);

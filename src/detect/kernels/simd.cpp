@@ -10,6 +10,8 @@ namespace {
 Simd detect_cpu() {
 #if defined(ARWB_PLAIN_KERNELS)
   return Simd::none;
+#elif defined(__wasm_simd128__)
+  return Simd::simd128;   // a module with SIMD instructions does not load where there is none
 #elif defined(__x86_64__)
   __builtin_cpu_init();
   if (!__builtin_cpu_supports("ssse3")) return Simd::none;
@@ -42,7 +44,11 @@ std::atomic<int> detail::simd_level{std::min(int(simd_of_cpu()), cap.load())};
 const char* simd_name(Simd level) {
   switch (level) {
     case Simd::none: return "none";
+#if defined(__wasm_simd128__)
+    case Simd::simd128: return "simd128";
+#else
     case Simd::ssse3: return "ssse3";
+#endif
     case Simd::avx2: return "avx2";
     case Simd::avx512: return "avx512";
     case Simd::avx512_vbmi: return "avx512vbmi";

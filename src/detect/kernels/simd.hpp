@@ -8,10 +8,12 @@
 
 namespace arwb {
 
-// In order: each level includes the ones before it.
+// In order: each level includes the ones before it. The levels are the processor's: in WebAssembly, level 1 is its
+// SIMD128 and the only one above none.
 enum class Simd : int {
   none = 0,
   ssse3,         // SSSE3
+  simd128 = ssse3,   // WebAssembly's SIMD128
   avx2,          // AVX2 and POPCNT
   avx512,        // AVX-512 F, BW and VL (Skylake-X and later)
   avx512_vbmi,   // and VBMI, VNNI and VPOPCNTDQ (Ice Lake and later, Zen 4): the grey conversion's byte permutes

@@ -1,9 +1,33 @@
 // contours' small regions: passes over a binary image's bit masks (BitRows) that take out its specks and its small
-// regions, in plain C++ over words of the type W, which the including file defines: one uint64_t at a time
-// (plain.cpp's Scalar) or four in GCC's vector extension (avx2.cpp's Four, one AVX2 instruction each). Each W has
-// load, store, left<S>, right<S> and bits (a popcount), and the operators |, &, ^, ~.
-// Included inside each of those files' anonymous namespace: no #include here, and every function has internal
-// linkage, so no copy built with one level's flags is linked into another's callers.
+// regions, in plain C++ over words of the type W: one uint64_t at a time (plain.cpp's Scalar) or N in the
+// compiler's vector extension (VectorWords<N>: four in avx2.cpp, one AVX2 instruction each; two in simd128.cpp).
+// Each W has load, store, left<S>, right<S> and bits (a popcount), and the operators |, &, ^, ~.
+// Included inside each of those files' anonymous namespace after <cstring>: every function has internal linkage,
+// so no copy built with one level's flags is linked into another's callers.
+
+// (GCC drops vector_size on a typedef whose size depends on a template parameter: one type per N, spelled out.)
+template <int N> struct WordVector;
+template <> struct WordVector<2> { typedef uint64_t V __attribute__((vector_size(16))); };
+template <> struct WordVector<4> { typedef uint64_t V __attribute__((vector_size(32))); };
+
+template <int N>
+struct VectorWords {
+  using V = typename WordVector<N>::V;
+  static constexpr int kWords = N;
+  [[gnu::always_inline]] static V load(const uint64_t* at) {
+    V v;
+    std::memcpy(&v, at, sizeof v);
+    return v;
+  }
+  [[gnu::always_inline]] static void store(uint64_t* at, V v) { std::memcpy(at, &v, sizeof v); }
+  template <int S> [[gnu::always_inline]] static V left(V v) { return v << S; }
+  template <int S> [[gnu::always_inline]] static V right(V v) { return v >> S; }
+  [[gnu::always_inline]] static int bits(V v) {
+    int n = 0;
+    for (int i = 0; i < N; ++i) n += __builtin_popcountll(v[i]);
+    return n;
+  }
+};
 
 // Bit x of the result: pixel x - S (S > 0, from the left) or x + |S| (S < 0) of the word(s) at `at`, with the
 // word before or after.

@@ -8,33 +8,52 @@
 namespace arwb::stages {
 namespace {
 
-// A BGR image (or a view of one) into `grey`, allocated to its size unless it already has it (a view is written in
-// place).
-void bgr_to_grey(const cv::Mat& bgr, cv::Mat& grey) {
-  grey.create(bgr.size(), CV_8UC1);
-  const auto grey_row = kernels::kernels().grey_row;
-  for (int y = 0; y < grey.rows; ++y) grey_row(bgr.ptr<uint8_t>(y), grey.ptr<uint8_t>(y), grey.cols);
+// Whether the kernels convert these 8-bit colour pixels: BGR, BGRA and RGBA (RGB goes through cvtColor).
+bool kernels_convert(const cv::Mat& colour, bool rgb) {
+  return colour.depth() == CV_8U && (colour.channels() == 4 || (colour.channels() == 3 && !rgb));
 }
 
-// bgr_to_grey, and the grey image's 2x2 block means (its whole blocks) into `half` as each pair of rows is done,
-// while they are in the cache: decimate(grey, 2) exactly, (a + b + c + d + 2) / 4.
-void bgr_to_grey_and_half(const cv::Mat& bgr, cv::Mat& grey, cv::Mat& half) {
-  grey.create(bgr.size(), CV_8UC1);
-  half.create(bgr.rows / 2, bgr.cols / 2, CV_8UC1);
+// One row of kernels_convert's pixels to grey: cvtColor's levels exactly.
+void grey_row(const kernels::Kernels& k, const uint8_t* px, uint8_t* grey, int n, int channels, bool rgb) {
+  if (channels == 3) k.grey_row(px, grey, n);
+  else k.grey_row4(px, grey, n, rgb);
+}
+
+// A colour image (or a view of one) into `grey`, allocated to its size unless it already has it (a view is written
+// in place).
+void colour_to_grey(const cv::Mat& colour, cv::Mat& grey, bool rgb) {
+  grey.create(colour.size(), CV_8UC1);
+  if (!kernels_convert(colour, rgb)) {
+    const int code = colour.channels() == 3 ? (rgb ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY)
+                                            : (rgb ? cv::COLOR_RGBA2GRAY : cv::COLOR_BGRA2GRAY);
+    cv::Mat levels;
+    cv::cvtColor(colour, levels, code);
+    levels.convertTo(grey, CV_8U);
+    return;
+  }
   const kernels::Kernels& k = kernels::kernels();
-  for (int y = 0; y < bgr.rows; y += 2) {
-    const int rows = std::min(2, bgr.rows - y);
-    for (int r = y; r < y + rows; ++r) k.grey_row(bgr.ptr<uint8_t>(r), grey.ptr<uint8_t>(r), grey.cols);
+  for (int y = 0; y < grey.rows; ++y)
+    grey_row(k, colour.ptr<uint8_t>(y), grey.ptr<uint8_t>(y), grey.cols, colour.channels(), rgb);
+}
+
+// colour_to_grey, and the grey image's 2x2 block means (its whole blocks) into `half` as each pair of rows is done,
+// while they are in the cache: decimate(grey, 2) exactly, (a + b + c + d + 2) / 4.
+void colour_to_grey_and_half(const cv::Mat& colour, cv::Mat& grey, cv::Mat& half, bool rgb) {
+  grey.create(colour.size(), CV_8UC1);
+  half.create(colour.rows / 2, colour.cols / 2, CV_8UC1);
+  const kernels::Kernels& k = kernels::kernels();
+  for (int y = 0; y < colour.rows; y += 2) {
+    const int rows = std::min(2, colour.rows - y);
+    for (int r = y; r < y + rows; ++r)
+      grey_row(k, colour.ptr<uint8_t>(r), grey.ptr<uint8_t>(r), grey.cols, colour.channels(), rgb);
     if (rows < 2) break;
     k.halve_rows(grey.ptr<uint8_t>(y), grey.ptr<uint8_t>(y + 1), half.ptr<uint8_t>(y / 2), half.cols);
   }
 }
 
-cv::Mat to_grey(const cv::Mat& input) {
+cv::Mat to_grey(const cv::Mat& input, bool rgb) {
   cv::Mat grey;
-  if (input.channels() == 3 && input.depth() == CV_8U) bgr_to_grey(input, grey);
-  else if (input.channels() == 3) cv::cvtColor(input, grey, cv::COLOR_BGR2GRAY);
-  else if (input.channels() == 4) cv::cvtColor(input, grey, cv::COLOR_BGRA2GRAY);
+  if (input.channels() == 3 || input.channels() == 4) colour_to_grey(input, grey, rgb);
   else grey = input;
   if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
   return grey;
@@ -42,9 +61,9 @@ cv::Mat to_grey(const cv::Mat& input) {
 
 }  // namespace
 
-GreyOnDemand::GreyOnDemand(const cv::Mat& frame) {
-  if (frame.depth() != CV_8U || (frame.channels() != 3 && frame.channels() != 4)) {
-    grey_ = frame.empty() ? cv::Mat() : to_grey(frame);
+GreyOnDemand::GreyOnDemand(const cv::Mat& frame, bool rgb) : rgb_(rgb) {
+  if (!kernels_convert(frame, rgb)) {
+    grey_ = frame.empty() ? cv::Mat() : to_grey(frame, rgb);
     return;
   }
   colour_ = frame;
@@ -55,11 +74,7 @@ GreyOnDemand::GreyOnDemand(const cv::Mat& frame) {
 
 cv::Mat GreyOnDemand::convert_all_and_halve() {
   cv::Mat half;
-  if (colour_.type() != CV_8UC3) {
-    need_all();
-    return decimate(grey_, 2);
-  }
-  bgr_to_grey_and_half(colour_, grey_, half);
+  colour_to_grey_and_half(colour_, grey_, half, rgb_);
   std::fill(done_.begin(), done_.end(), uint8_t(1));
   return half;
 }
@@ -75,8 +90,7 @@ void GreyOnDemand::need(const cv::Rect& r) {
   auto convert = [&](int x0, int y0, int x1, int y1) {
     const cv::Rect px = cv::Rect(x0 * kTile, y0 * kTile, (x1 - x0 + 1) * kTile, (y1 - y0 + 1) * kTile) & frame;
     cv::Mat out = grey_(px);   // converted in place: a destination of the right size is kept
-    if (colour_.channels() == 3) bgr_to_grey(colour_(px), out);
-    else cv::cvtColor(colour_(px), out, cv::COLOR_BGRA2GRAY);
+    colour_to_grey(colour_(px), out, rgb_);
     for (int ty = y0; ty <= y1; ++ty)
       std::fill_n(done_.begin() + ptrdiff_t(ty) * tiles_x_ + x0, x1 - x0 + 1, uint8_t(1));
   };
@@ -105,11 +119,11 @@ GreyOnDemand acquire_on_demand(const cv::Mat& input, const AcquisitionSettings& 
   *scale_y = double(input.rows) / size.height;
   if (acquired) {
     arwb::acquire(input, a, *acquired);
-    return GreyOnDemand(*acquired);
+    return GreyOnDemand(*acquired, a.rgb);
   }
-  if (size == input.size()) return GreyOnDemand(input);
+  if (size == input.size()) return GreyOnDemand(input, a.rgb);
   // Nobody shows the resized colour frame: resizing the grey one is the same step with a third of the work.
-  cv::Mat grey = to_grey(input);
+  cv::Mat grey = to_grey(input, a.rgb);
   arwb::acquire(grey, a, grey);
   return GreyOnDemand(grey);
 }

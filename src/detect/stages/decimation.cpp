@@ -30,7 +30,7 @@ cv::Mat decimate(const cv::Mat& grey, int factor) {
 
 cv::Mat search_image(GreyOnDemand& grey, const cv::Rect& region, int factor) {
   const cv::Mat& colour = grey.colour();
-  if (factor == 2 && colour.type() == CV_8UC3 && region == cv::Rect(0, 0, colour.cols, colour.rows))
+  if (factor == 2 && !colour.empty() && region == cv::Rect(0, 0, colour.cols, colour.rows))
     return grey.convert_all_and_halve();
   grey.need(region);
   return decimate(grey.image()(region), factor);

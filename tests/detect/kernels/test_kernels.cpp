@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -50,6 +51,12 @@ TEST(Kernels, RowKernelsGiveThePlainBitsForEveryLength) {
       k.grey_row(bgr.data(), got.data(), n);
       plain.grey_row(bgr.data(), want.data(), n);
       ASSERT_EQ(got, want) << "grey_row, n " << n;
+      const auto px = random_bytes(rng, 4 * size_t(n) + 64);
+      for (const bool rgba : {false, true}) {
+        k.grey_row4(px.data(), got.data(), n, rgba);
+        plain.grey_row4(px.data(), want.data(), n, rgba);
+        ASSERT_EQ(got, want) << "grey_row4, n " << n << (rgba ? ", RGBA" : ", BGRA");
+      }
       k.halve_rows(a.data(), b.data(), got.data(), n);
       plain.halve_rows(a.data(), b.data(), want.data(), n);
       ASSERT_EQ(got, want) << "halve_rows, n " << n;
@@ -134,4 +141,68 @@ TEST(Kernels, FarthestPointAndNearestCodeGiveThePlainAnswers) {
       }
     }
   });
+}
+
+TEST(Kernels, SmallRegionPassesGiveThePlainBits) {
+  std::mt19937 rng(17);
+  at_every_level([&](const Kernels& k, const Kernels& plain) {
+    for (const int w : {1, 63, 64, 65, 130, 200, 333}) {
+      for (const int density : {3, 12, 40}) {   // percent of pixels on: specks, small regions, big ones
+        const int words = (w + 63) / 64, h = 37;
+        kernels::BitRows shape{nullptr, words, h};
+        std::vector<uint64_t> mine(shape.size()), theirs(shape.size()), scratch(3 * shape.size());
+        kernels::BitRows a{mine.data(), words, h}, b{theirs.data(), words, h};
+        a.clear_padding();
+        std::uniform_int_distribution<int> pct(0, 99);
+        for (int y = 0; y < h; ++y)
+          for (int c = 0; c < words; ++c) {
+            uint64_t word = 0;
+            for (int x = 64 * c; x < std::min(w, 64 * c + 64); ++x) word |= uint64_t(pct(rng) < density) << (x % 64);
+            a.row(y)[c] = word;
+          }
+        for (int y = 0; y < h; ++y) a.row(y)[-1] = a.row(y)[words] = 0;
+        theirs = mine;
+        ASSERT_EQ(k.drop_specks(a, scratch.data(), true), plain.drop_specks(b, scratch.data(), true)) << w;
+        ASSERT_EQ(mine, theirs) << "drop_specks, w " << w << ", density " << density;
+        for (const int window : {3, 5}) {
+          const bool count = window == 3;
+          ASSERT_EQ(k.drop_small_regions(a, window, count, scratch.data()),
+                    plain.drop_small_regions(b, window, count, scratch.data()));
+          ASSERT_EQ(mine, theirs) << "drop_small_regions " << window << ", w " << w << ", density " << density;
+        }
+      }
+    }
+  });
+}
+
+// box_mean, at each level that has it, is the k x k mean with the border replicated, rounded to the nearest.
+TEST(Kernels, BoxMeanIsTheRoundedMeanOfItsWindow) {
+  std::mt19937 rng(19);
+  int checked = 0;
+  at_every_level([&](const Kernels& k, const Kernels&) {
+    for (const int w : {16, 17, 40, 101}) {
+      const int h = 23;
+      const auto src = random_bytes(rng, size_t(w) * size_t(h));
+      for (int window = 5; window <= 15; window += 2) {
+        std::vector<uint16_t> scratch(kernels::box_mean_scratch(w, window));
+        std::vector<uint8_t> got(size_t(w) * size_t(h));
+        if (!k.box_mean(src.data(), size_t(w), w, h, window, got.data(), size_t(w), scratch.data())) continue;
+        ++checked;
+        const int r = window / 2, area = window * window;
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            int sum = 0;
+            for (int dy = -r; dy <= r; ++dy)
+              for (int dx = -r; dx <= r; ++dx)
+                sum += src[size_t(std::clamp(y + dy, 0, h - 1)) * size_t(w) + size_t(std::clamp(x + dx, 0, w - 1))];
+            ASSERT_EQ(int(got[size_t(y) * size_t(w) + size_t(x)]), (sum + area / 2) / area)
+                << "w " << w << ", k " << window << " at " << x << "," << y;
+          }
+      }
+    }
+  });
+  // The plain level has no box mean (the stage calls cv::boxFilter); a vector level has one.
+  if (simd_levels_here().size() > 1) {
+    EXPECT_GT(checked, 0);
+  }
 }

@@ -92,24 +92,36 @@ TEST(Stages, GreyConversionIsCvtColorsForEveryColour) {
   }
   cv::Mat expected;
   cv::cvtColor(all, expected, cv::COLOR_BGR2GRAY);
-  // Each path the processor has (AVX-512, AVX2, SSSE3, plain C++), each row's tail by the narrower ones.
-  for (const Simd level : simd_levels_here()) {
-    SimdCap cap(level);
-    SCOPED_TRACE(simd_name(level));
-    stages::GreyOnDemand whole(all);
-    whole.need_all();
-    EXPECT_EQ(cv::countNonZero(whole.image() != expected), 0);
-    const cv::Mat odd = all(cv::Rect(3, 5, 1001, 77));   // a view: its rows are not contiguous
-    stages::GreyOnDemand tiles(odd);
-    tiles.need(cv::Rect(7, 1, 50, 9));
-    tiles.need(cv::Rect(500, 40, 501, 37));
-    const cv::Rect a(0, 0, 64, 32), b(480, 32, 521, 45);
-    EXPECT_EQ(cv::countNonZero(tiles.image()(a) != expected(cv::Rect(3, 5, 1001, 77))(a)), 0);
-    EXPECT_EQ(cv::countNonZero(tiles.image()(b) != expected(cv::Rect(3, 5, 1001, 77))(b)), 0);
-    double sx = 0, sy = 0;
-    EXPECT_EQ(cv::countNonZero(stages::acquire(odd, AcquisitionSettings{.resize = false}, &sx, &sy) !=
-                               expected(cv::Rect(3, 5, 1001, 77))),
-              0);
+  // BGR, BGRA, a browser's RGBA (the web core's frames) and RGB, each with its own channel order.
+  struct Format {
+    const char* name;
+    int from_bgr;   // cvtColor's code making it of `all`, or -1
+    bool rgb;
+  };
+  for (const Format f : {Format{"BGR", -1, false}, Format{"BGRA", cv::COLOR_BGR2BGRA, false},
+                         Format{"RGBA", cv::COLOR_BGR2RGBA, true}, Format{"RGB", cv::COLOR_BGR2RGB, true}}) {
+    SCOPED_TRACE(f.name);
+    cv::Mat frame = all;
+    if (f.from_bgr >= 0) cv::cvtColor(all, frame, f.from_bgr);
+    // Each path the processor has (AVX-512, AVX2, SSSE3, plain C++), each row's tail by the narrower ones.
+    for (const Simd level : simd_levels_here()) {
+      SimdCap cap(level);
+      SCOPED_TRACE(simd_name(level));
+      stages::GreyOnDemand whole(frame, f.rgb);
+      whole.need_all();
+      EXPECT_EQ(cv::countNonZero(whole.image() != expected), 0);
+      const cv::Mat odd = frame(cv::Rect(3, 5, 1001, 77));   // a view: its rows are not contiguous
+      stages::GreyOnDemand tiles(odd, f.rgb);
+      tiles.need(cv::Rect(7, 1, 50, 9));
+      tiles.need(cv::Rect(500, 40, 501, 37));
+      const cv::Rect a(0, 0, 64, 32), b(480, 32, 521, 45);
+      EXPECT_EQ(cv::countNonZero(tiles.image()(a) != expected(cv::Rect(3, 5, 1001, 77))(a)), 0);
+      EXPECT_EQ(cv::countNonZero(tiles.image()(b) != expected(cv::Rect(3, 5, 1001, 77))(b)), 0);
+      double sx = 0, sy = 0;
+      EXPECT_EQ(cv::countNonZero(stages::acquire(odd, AcquisitionSettings{.resize = false, .rgb = f.rgb}, &sx,
+                                                 &sy) != expected(cv::Rect(3, 5, 1001, 77))),
+                0);
+    }
   }
 }
 
@@ -121,14 +133,15 @@ TEST(Stages, HalfSizeSearchImageIsTheDecimatedGreyImageMadeInOnePass) {
   for (const Simd level : simd_levels_here()) {
     SimdCap cap(level);
     SCOPED_TRACE(simd_name(level));
-    for (const cv::Size size : {cv::Size(2, 2), cv::Size(37, 23), cv::Size(641, 361), cv::Size(1921, 1081)}) {
-      cv::Mat frame(size.height + 4, size.width + 6, CV_8UC3);
+    for (const cv::Size size : {cv::Size(2, 2), cv::Size(37, 23), cv::Size(641, 361), cv::Size(1921, 1081)})
+    for (const int channels : {3, 4}) {   // BGR, and a browser's RGBA
+      cv::Mat frame(size.height + 4, size.width + 6, CV_8UC(channels));
       rng.fill(frame, cv::RNG::UNIFORM, 0, 256);
       const cv::Mat bgr = frame(cv::Rect(cv::Point(3, 2), size));
       cv::rectangle(frame, cv::Rect(0, 0, size.width / 2, size.height), cv::Scalar(255, 0, 0), -1);   // saturated
       cv::Mat grey;
-      cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-      stages::GreyOnDemand g(bgr);
+      cv::cvtColor(bgr, grey, channels == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_RGBA2GRAY);
+      stages::GreyOnDemand g(bgr, channels == 4);
       const cv::Mat half = stages::search_image(g, cv::Rect(cv::Point(0, 0), size), 2);
       cv::Mat expected;   // cv::resize's INTER_AREA halving, on the whole blocks
       cv::resize(grey(cv::Rect(0, 0, size.width / 2 * 2, size.height / 2 * 2)), expected,

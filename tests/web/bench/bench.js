@@ -1,9 +1,10 @@
 // The web bench's page (run.mjs serves it and reads window.benchResult): every detector on the same frames in this
 // one page's main thread, each frame `repeats` times. A detector's time for a frame is the fastest of its repeats
 // (as `arwb bench` keeps), and its figure the median over frames; recall is the share of the truth's markers it
-// found (same id, centre within a quarter of the marker's side). Our core is timed from the frame's RGBA to its
-// markers, as the player's worker calls it; opencv.js from RGBA (converted to grey) to its markers; js-aruco2 from
-// the ImageData.
+// found (same id, centre within a quarter of the marker's side). Each is timed as `arwb bench` times native
+// detectors, from the frame in the detector's own input to its markers: our core from the RGBA in its frame buffer
+// (where the player's worker writes it), opencv.js from an RGBA cv.Mat (converted to grey), js-aruco2 from the
+// ImageData.
 'use strict';
 (async () => {
   const params = new URLSearchParams(location.search);
@@ -23,10 +24,9 @@
   const m = await ArwbCore();
   const frame = m.cwrap('arwb_frame', 'number', ['number', 'number']);
   const detect = m.cwrap('arwb_detect', 'string', []);
-  const ours = (img) => {
-    const at = frame(img.width, img.height);
-    m.HEAPU8.set(img.data, at);
-    return JSON.parse(detect()).markers.map((k) => ({ id: k.id, corners: k.corners }));
+  const ours = {
+    prepare(img) { m.HEAPU8.set(img.data, frame(img.width, img.height)); },
+    run: () => JSON.parse(detect()).markers.map((k) => ({ id: k.id, corners: k.corners })),
   };
 
   // opencv.js: its ArucoDetector with its defaults, on ARUCO_ORIGINAL.
@@ -35,8 +35,16 @@
   const detector = new ocv.aruco_ArucoDetector(ocv.getPredefinedDictionary(ocv.DICT_ARUCO_ORIGINAL),
                                                 new ocv.aruco_DetectorParameters(),
                                                 new ocv.aruco_RefineParameters(10, 3, true));
-  const opencv = (img) => {
-    const rgba = ocv.matFromImageData(img), grey = new ocv.Mat();
+  let rgba = null;
+  const opencv = {
+    prepare(img) {
+      if (rgba) rgba.delete();
+      rgba = ocv.matFromImageData(img);
+    },
+    run: () => opencvDetect(rgba),
+  };
+  const opencvDetect = (rgba) => {
+    const grey = new ocv.Mat();
     ocv.cvtColor(rgba, grey, ocv.COLOR_RGBA2GRAY);
     const corners = new ocv.MatVector(), ids = new ocv.Mat(), rejected = new ocv.MatVector();
     detector.detectMarkers(grey, corners, ids, rejected);
@@ -46,27 +54,32 @@
       out.push({ id: ids.data32S[i], corners: [0, 1, 2, 3].map((k) => [c.data32F[2 * k], c.data32F[2 * k + 1]]) });
       c.delete();
     }
-    [rgba, grey, corners, ids, rejected].forEach((x) => x.delete());
+    [grey, corners, ids, rejected].forEach((x) => x.delete());
     return out;
   };
 
   // js-aruco2 on its ARUCO dictionary (the original ArUco's 1024 codes).
   const jsDetector = new AR.Detector({ dictionaryName: 'ARUCO' });
-  const jsAruco = (img) => jsDetector.detect(img).map((k) => ({ id: k.id, corners: k.corners.map((p) => [p.x, p.y]) }));
+  let imageData = null;
+  const jsAruco = {
+    prepare(img) { imageData = img; },
+    run: () => jsDetector.detect(imageData).map((k) => ({ id: k.id, corners: k.corners.map((p) => [p.x, p.y]) })),
+  };
 
   const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
   const centre = (cs) => cs.reduce(([x, y], [a, b]) => [x + a / 4, y + b / 4], [0, 0]);
-  const result = { frames: images.length, repeats, detectors: {} };
-  for (const [name, run] of [['arwb (WebAssembly)', ours], ['opencv.js ArucoDetector', opencv],
-                             ['js-aruco2', jsAruco]]) {
+  const result = { frames: images.length, repeats, isolated: crossOriginIsolated, detectors: {} };
+  for (const [name, { prepare, run }] of [['arwb (WebAssembly)', ours], ['opencv.js ArucoDetector', opencv],
+                                          ['js-aruco2', jsAruco]]) {
     const perFrame = [];
     let found = 0, wanted = 0, extra = 0;
     images.forEach((img, i) => {
       const times = [];
       let markers = [];
+      prepare(img);
       for (let r = 0; r < repeats; r++) {
         const t0 = performance.now();
-        markers = run(img);
+        markers = run();
         times.push(performance.now() - t0);
       }
       perFrame.push(Math.min(...times));

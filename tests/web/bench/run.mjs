@@ -49,7 +49,7 @@ try {
                                                 '--json'], { encoding: 'utf8' }));
   const nativeRow = native.rows.find((r) => r.resolution === 'all');
 
-  server = await serve([site]);
+  server = await serve([site], { isolated: true });
   browser = await Chromium.launch();
   const page = await browser.newPage(`${server.url}bench.html?repeats=${reps}`,
                                      { width: 800, height: 600, mobile: false });
@@ -67,6 +67,9 @@ try {
       ? `${(ms / ours.median_ms).toFixed(2)}x faster` : `${(ours.median_ms / ms).toFixed(2)}x slower`;
     console.log(name.padEnd(34) + ms.toFixed(2).padStart(10) + recall.toFixed(3).padStart(9) + `   ${ratio}`);
   }
+  if (!result.isolated)
+    console.log('note: the page was not cross-origin isolated, so its clock ticks in tenths of a millisecond: the ' +
+                'page\'s times and ratios are that coarse');
 } catch (e) {
   console.error(`run.mjs: ${e.message}`);
   status = 1;
