@@ -6,6 +6,7 @@
 // does no I/O: Check and Export are requests, carried out off the UI thread, and the dialog shows the result.
 #include "ui/app.hpp"
 
+#include "base/data_dirs.hpp"
 #include "base/decimals.hpp"
 
 #include <GLFW/glfw3.h>
@@ -106,6 +107,7 @@ std::string export_window_wording(std::string text) {
   else if (starts("--scene: ")) text = "the scene: " + text.substr(9);
   replace_all("add --force to replace it", "tick 'replace an existing bundle there' to replace it");
   replace_all("--force", "'replace an existing bundle there'");
+  replace_all("--web: ", "the web page for phones: ");
   return text;
 }
 
@@ -117,6 +119,7 @@ bundle::ExportOptions App::export_options() const {
   o.marker_size_mm = export_dialog.size_mm;
   if (export_dialog.use_calibration) o.calibration = opt.engine.calibration_file;
   o.force = export_dialog.force;
+  if (export_dialog.web) o.web_site = data_dirs().web;
   return o;
 }
 
@@ -175,6 +178,7 @@ void App::draw_export_dialog(ui::Context& ctx) {
   if (d.browser.visible) dialogs.modal = "File browser";
   ImGui::TextDisabled("A folder, or a zip when the name ends in .arwb or .zip.");
   ImGui::Checkbox("replace an existing bundle there", &d.force);
+  ImGui::Checkbox("add a web page for phones (index.html: the bundle's detector in the browser)", &d.web);
 
   const bool busy = d.checking.valid() || d.writing.valid();
   ImGui::BeginDisabled(busy || scene.empty());

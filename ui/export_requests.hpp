@@ -23,6 +23,7 @@ struct ExportDialog {
   double size_mm = 50;
   bool use_calibration = true;      // the calibration loaded with --calib, when there is one
   bool force = false;               // replace an existing bundle at `out`
+  bool web = false;                 // add the phone player's web page (arwb export --web)
   char out[1024] = "";
   ui::FileBrowser browser;
   std::future<Result<bundle::ExportPlan>> checking;   // Check, or the check before writing

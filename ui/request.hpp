@@ -275,6 +275,9 @@ struct SetExportCalibration {
 struct SetExportForce {
   bool on = false;
 };
+struct SetExportWeb {
+  bool on = false;
+};
 struct WaitForExport {   // a script's: until the check or export running ends
   double seconds = 120;
 };
@@ -302,7 +305,7 @@ using Request = std::variant<
     UsePaperPlan, ReadLabPlan, SetLabFrames, SetLabAxis, SetLabDetectors, StartLab, StopLab, WaitForLab, OpenLabCell,
     WhyLabMarker, MarkClipSpan, SaveClip, SaveLabReport,
     OpenExportDialog, CheckExport, WriteExport, SetExportTitle, SetExportSize, SetExportCalibration, SetExportForce,
-    WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers>;
+    SetExportWeb, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers>;
 
 // std::visit over one lambda per struct: Overloaded{[&](const A&) {...}, [&](const B&) {...}}.
 template <class... F>

@@ -6,21 +6,24 @@
 #ifndef ARWB_SOURCE_TREE
 #define ARWB_SOURCE_TREE "."
 #endif
+#ifndef ARWB_BUILD_TREE
+#define ARWB_BUILD_TREE "."
+#endif
 
 namespace arwb {
 
 namespace fs = std::filesystem;
 
-DataDirs find_data_dirs(const fs::path& exe, const fs::path& source_tree) {
+DataDirs find_data_dirs(const fs::path& exe, const fs::path& source_tree, const fs::path& build_tree) {
   if (!exe.empty()) {
     // bin/arwb -> share/arwb: the layout of /usr, /usr/local or any prefix `cmake --install` was given.
     const fs::path share = (exe.parent_path().parent_path() / "share" / "arwb").lexically_normal();
     std::error_code ec;
     if (fs::is_directory(share / "assets", ec))
-      return {(share / "assets").string(), (share / "examples").string(), true};
+      return {(share / "assets").string(), (share / "examples").string(), (share / "web").string(), true};
   }
   return {(source_tree / "assets").lexically_normal().string(), (source_tree / "scripts").lexically_normal().string(),
-          false};
+          (build_tree / "web" / "site").lexically_normal().string(), false};
 }
 
 const DataDirs& data_dirs() {
@@ -28,7 +31,7 @@ const DataDirs& data_dirs() {
     std::error_code ec;
     // The real file: a link to it (a user's ~/bin/arwb -> /usr/bin/arwb) does not move its data.
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    return find_data_dirs(ec ? fs::path() : exe, ARWB_SOURCE_TREE);
+    return find_data_dirs(ec ? fs::path() : exe, ARWB_SOURCE_TREE, ARWB_BUILD_TREE);
   }();
   return dirs;
 }

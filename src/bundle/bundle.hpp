@@ -24,8 +24,12 @@ struct BundleFile {
   std::string path;
   std::uint64_t size = 0;
   std::string sha256;      // 64 lowercase hex digits
-  std::string role;        // "scene", "media", "calibration", "sheet", "readme", "card"
+  std::string role;        // "scene", "media", "calibration", "sheet", "readme", "card", "web"
 };
+
+// The phone player's files (role "web"): index.html and sw.js at the root, whose scope the service worker controls,
+// and everything under web/.
+bool is_web_path(const std::string& path);
 
 // The self-test: each id of the scene drawn synthetically, detected, and run through the scene.
 struct SelfTestRow {
@@ -75,6 +79,7 @@ struct ExportOptions {
   std::string calibration;       // "" : none (the bundle then uses the default camera, marked so in the manifest)
   std::string title;             // "" : the scene file's stem
   double marker_size_mm = 50;    // the printed side, within the marker sheet's limits for the dictionary
+  std::string web_site;          // --web: the phone player's site to add (DataDirs::web); "" : none
   bool force = false;            // replace an existing out
   std::function<void(const std::string&)> progress;   // one line per step, may be null
 };

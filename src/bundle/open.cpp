@@ -83,7 +83,7 @@ Status verify(const fs::path& dir, const Manifest& m) {
   return {};
 }
 
-const char* const kRoles[] = {"scene", "media", "calibration", "sheet", "readme", "card"};
+const char* const kRoles[] = {"scene", "media", "calibration", "sheet", "readme", "card", "web"};
 
 std::string lower(std::string s) {
   for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));

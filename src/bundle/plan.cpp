@@ -23,6 +23,10 @@ namespace arwb::bundle {
 
 namespace fs = std::filesystem;
 
+bool is_web_path(const std::string& path) {
+  return path == "index.html" || path == "sw.js" || path.rfind("web/", 0) == 0;
+}
+
 void say(const ExportOptions& o, const std::string& line) {
   if (o.progress) o.progress(line);
 }
@@ -227,6 +231,27 @@ Status add_marker_sheet(const Dictionary& dict, ExportPlan& plan) {
   return {};
 }
 
+// The phone player's site (--web), every regular file of it at the same path in the bundle (is_web_path). A
+// site without its page, service worker or core is not one: the build (web_core) or the package makes them.
+Status add_web_site(const std::string& site, ExportPlan& plan) {
+  std::error_code ec;
+  for (const char* need : {"index.html", "sw.js", "web/arwb_core.wasm"})
+    if (!fs::is_regular_file(fs::path(site) / need, ec))
+      return fail("--web: the phone player's " + std::string(need) + " is missing from " + site +
+                  " (a build tree makes it with the target web_core; an installed arwb has it in share/arwb/web)");
+  std::vector<std::pair<std::string, std::string>> files;
+  for (fs::recursive_directory_iterator it(site, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    const std::string rel = fs::relative(it->path(), site, ec).generic_string();
+    if (!is_web_path(rel)) return fail(it->path().string() + ": not part of the phone player's site");
+    files.emplace_back(rel, it->path().string());
+  }
+  if (ec) return fail(site + ": " + ec.message());
+  std::sort(files.begin(), files.end());
+  for (auto& f : files) plan.sources.push_back(std::move(f));
+  return {};
+}
+
 // Sizes and digests of everything but the manifest, the README written from them, and the manifest last.
 Status list_files(const fs::path& scene_file, ExportPlan& plan) {
   Manifest& m = plan.manifest;
@@ -235,6 +260,7 @@ Status list_files(const fs::path& scene_file, ExportPlan& plan) {
     if (!bytes) return fail(bytes.error());
     std::string role = "media";
     if (source == scene_file.string()) role = "scene";
+    else if (is_web_path(path)) role = "web";
     else if (path.rfind("scene/", 0) != 0) role = "calibration";
     m.files.push_back({path, bytes->size(), sha256_hex(*bytes), role});
   }
@@ -320,6 +346,10 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
 
   if (Status s = add_scene_files(recorder.files(), scene_dir, scene_file, plan); !s) return fail(s.error());
   if (Status s = add_marker_sheet(dict, plan); !s) return fail(s.error());
+  if (!options.web_site.empty()) {
+    say(options, "adding the phone player's site from " + options.web_site);
+    if (Status s = add_web_site(options.web_site, plan); !s) return fail(s.error());
+  }
   for (size_t i = 0; i < test->cards.size(); ++i) {
     WebCard card = test->cards[i];
     card.picture = "cards/web-" + std::to_string(i + 1) + ".png";

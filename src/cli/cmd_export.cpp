@@ -5,6 +5,7 @@
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
 #include "bundle/bundle.hpp"
+#include "base/data_dirs.hpp"
 #include "base/text.hpp"
 
 #include <cstdio>
@@ -53,10 +54,15 @@ int cmd_export(int argc, char** argv) {
   cl.app.add_option("--marker-size-mm", o.marker_size_mm, "the printed markers' side")
       ->type_name("S")
       ->check(real_number(bundle::kMinMarkerSizeMm, bundle::kMaxMarkerSizeMm));
+  bool web = false;
+  cl.app.add_flag("--web", web,
+                  "add the phone player: a web page (index.html) that runs the bundle's detector in the browser "
+                  "(docs/export.md, \"On a phone\")");
   cl.app.add_flag("--force", o.force, "replace an existing OUT (only a bundle arwb wrote)");
   cl.app.add_flag("--quiet", quiet, "print only the last line");
   if (const auto status = cl.parse(argc, argv)) return *status;
   if (!quiet) o.progress = [](const std::string& line) { std::printf("  %s\n", printable(line).c_str()); };
+  if (web) o.web_site = data_dirs().web;
 
   Result<bundle::ExportPlan> plan = bundle::plan_export(o);
   if (!plan) {

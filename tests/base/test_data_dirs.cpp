@@ -21,15 +21,17 @@ TEST(DataDirs, AnInstalledExecutableUsesItsOwnShareFolder) {
   EXPECT_TRUE(d.installed);
   EXPECT_EQ(d.assets, (prefix.path() / "share/arwb/assets").string());
   EXPECT_EQ(d.examples, (prefix.path() / "share/arwb/examples").string());
+  EXPECT_EQ(d.web, (prefix.path() / "share/arwb/web").string());
 }
 
 TEST(DataDirs, ABuildTreeExecutableUsesTheSourceTree) {
   test::TempDir build;   // build/arwb: build/../share/arwb does not exist
   fs::create_directories(build.path() / "build");
-  const DataDirs d = find_data_dirs(build.path() / "build/arwb", "/src/tree/");
+  const DataDirs d = find_data_dirs(build.path() / "build/arwb", "/src/tree/", build.path() / "build");
   EXPECT_FALSE(d.installed);
   EXPECT_EQ(d.assets, "/src/tree/assets");
   EXPECT_EQ(d.examples, "/src/tree/scripts");
+  EXPECT_EQ(d.web, (build.path() / "build/web/site").string());   // the site the build assembles
 }
 
 TEST(DataDirs, AShareFolderWithoutAssetsIsNotAnInstallation) {

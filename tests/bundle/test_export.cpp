@@ -498,5 +498,46 @@ TEST(ExportWrite, ASourceChangedAfterThePlanIsNamedAndNothingIsWritten) {
   EXPECT_FALSE(fs::exists(out.path() / "b.arwb"));
 }
 
+// --web: the phone player's site (DataDirs::web) goes in whole, each file listed with role "web", and the bundle
+// still opens for arwb play; a site without its page, service worker or core is named and nothing is written.
+TEST(ExportWeb, TheSiteGoesInWithItsOwnRoleAndTheBundleStillOpens) {
+  TempDir src, out;
+  const fs::path dir = copy_example("museum", src.path());
+  const fs::path site = src.path() / "site";
+  for (const char* f : {"index.html", "sw.js", "web/player.js", "web/arwb_core.wasm", "web/licenses/opencv.txt"}) {
+    fs::create_directories((site / f).parent_path());
+    arwb::test::write_file((site / f).string(), std::string("the bytes of ") + f);
+  }
+  ExportOptions o;
+  o.scene = (dir / "museum.lua").string();
+  o.out = (out.path() / "museum").string();
+  o.web_site = site.string();
+  Result<ExportPlan> plan = plan_export(o);
+  ASSERT_TRUE(plan.ok()) << plan.error();
+  ASSERT_TRUE(write_export(*plan).ok());
+  Result<Manifest> m = parse_manifest(read_file((out.path() / "museum/manifest.json").string()));
+  ASSERT_TRUE(m.ok()) << m.error();
+  std::set<std::string> web;
+  for (const BundleFile& f : m->files) {
+    EXPECT_EQ(f.role == "web", is_web_path(f.path)) << f.path << " " << f.role;
+    if (f.role == "web") web.insert(f.path);
+    EXPECT_EQ(f.sha256, sha256_hex(read_file((out.path() / "museum" / f.path).string()))) << f.path;
+  }
+  EXPECT_EQ(web, (std::set<std::string>{"index.html", "sw.js", "web/arwb_core.wasm", "web/licenses/opencv.txt",
+                                       "web/player.js"}));
+  PrivateTmp tmp;
+  Result<OpenedBundle> opened = open_bundle((out.path() / "museum").string());
+  EXPECT_TRUE(opened.ok()) << opened.error();
+
+  // Without its service worker the site is refused, by name, and nothing is written.
+  fs::remove(site / "sw.js");
+  o.out = (out.path() / "second").string();
+  Result<ExportPlan> refused = plan_export(o);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().find("--web: the phone player's sw.js is missing from " + site.string()), std::string::npos)
+      << refused.error();
+  EXPECT_FALSE(fs::exists(out.path() / "second"));
+}
+
 }  // namespace
 }  // namespace arwb::bundle

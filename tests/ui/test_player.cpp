@@ -318,7 +318,7 @@ TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleS
   const std::string out = tmp.str("exports/from-the-window");   // its folder does not exist yet
   const RunResult r = test::run_arwb_window(
       "--verbose --config-dir '" + tmp.str("config") + "' --source '" + kSample + "' --scene '" + tmp.str("author/scene.lua") +
-      "' --frames 30 --stats --actions '3:export_title=From the window;3:export_size=65;4:export=" + out +
+      "' --frames 30 --stats --actions '3:export_title=From the window;3:export_size=65;3:export_web=on;4:export=" + out +
       ";4:export_wait;6:play_args=--frames 15 --stats --source " + kSample + ";6:play=" + out + ";6:play_wait'");
   ASSERT_EQ(r.status, 0) << r.err;
   const std::vector<nlohmann::json> lines = json_lines(r.out);
@@ -348,6 +348,12 @@ TEST(WorkbenchExport, FileExportWritesABundleThatOpenBundleAcceptsAndPlayBundleS
   EXPECT_EQ(opened->manifest().marker_size_mm, 65);
   EXPECT_EQ(opened->manifest().ids, (std::vector<int>{843, 950}));
   EXPECT_TRUE(opened->manifest().self_test_passed);
+  // With the dialog's web page for phones (export_web=on): the player's site, with its own role.
+  size_t web = 0;
+  for (const bundle::BundleFile& f : opened->manifest().files) web += f.role == "web";
+  EXPECT_GE(web, 4u);
+  EXPECT_TRUE(std::filesystem::is_regular_file(out + "/index.html"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(out + "/web/arwb_core.wasm"));
 }
 
 TEST(WorkbenchExport, DialogSaysTheExportsMessagesInItsOwnWordsNotTheCommandLines) {

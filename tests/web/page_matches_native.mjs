@@ -1,6 +1,7 @@
-// The player's page, in headless Chromium with a fake camera playing synthetic photographs, finds in each frame it
-// searched what `arwb detect` finds in the same pixels (ids and corners within 1e-3 px), in its worker, asking
-// nothing of any origin but its own. Run by ctest as
+// The player's page of a bundle exported with --web (the museum scene), served on 127.0.0.1 and opened in headless
+// Chromium with a fake camera playing synthetic photographs: its files checked and kept for offline use by its
+// service worker, it finds in each frame it searched what `arwb detect` finds in the same pixels (ids and corners
+// within 1e-3 px), in its worker, asking nothing of any origin but its own. Run by ctest as
 //   node --no-experimental-fetch page_matches_native.mjs ARWB CORE_JS
 // ARWB_WEB_SCREENSHOT=FILE saves the page at a phone's size (390x844) once it has found markers.
 import { execFileSync } from 'node:child_process';
@@ -11,8 +12,8 @@ import { fileURLToPath } from 'node:url';
 import { Chromium } from './chromium_support.mjs';
 import { compareWithNative, readPng, serve, tallyProblems, writeY4m } from './web_support.mjs';
 
-const [arwb, coreJs] = process.argv.slice(2);
-const player = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../web/player');
+const [arwb] = process.argv.slice(2);   // the core comes with the bundle (arwb export --web)
+const scene = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../scripts/museum/museum.lua');
 const failures = [];
 const fail = (message) => failures.push(message);
 const grabsWanted = 6;
@@ -26,7 +27,9 @@ try {
   const y4m = path.join(tmp, 'camera.y4m');
   writeY4m(y4m, pngs.map((f) => readPng(path.join(frames, f))), 4);
 
-  server = await serve([player, path.dirname(path.resolve(coreJs))]);
+  const bundle = path.join(tmp, 'bundle');
+  execFileSync(arwb, ['export', '--scene', scene, '--out', bundle, '--web', '--quiet'], { stdio: 'pipe' });
+  server = await serve([bundle]);
   browser = await Chromium.launch({ args: ['--use-fake-device-for-media-stream', '--use-fake-ui-for-media-stream',
                                            `--use-file-for-fake-video-capture=${y4m}`,
                                            '--host-resolver-rules=MAP phone.test 127.0.0.1'] });
@@ -40,7 +43,10 @@ try {
   const page = await browser.newPage(server.url);
   const state = await page.waitFor('window.arwbPlayer && arwbPlayer.state !== "checking" && arwbPlayer.state', 20);
   const text = (id) => page.evaluate(`document.getElementById("${id}").innerText`);
-  if (state !== 'ready') throw new Error(`the first screen says ${state}: ${await text('checks')}`);
+  if (state !== 'ready') throw new Error(`the first screen says ${state}: ${await text('checks')} ${await text('bundle')}`);
+  const kept = await page.evaluate('[arwbPlayer.bundle.state, arwbPlayer.bundle.offline]');
+  if (kept[0] !== 'verified' || kept[1] !== true)
+    fail(`the bundle was ${kept[0]}, ${kept[1] ? '' : 'not '}kept for offline use: ${await text('bundle')}`);
   await page.evaluate('document.getElementById("start").click()');
   await page.waitFor('arwbPlayer.state === "running" || arwbPlayer.state === "failed"', 20);
   const started = await page.evaluate('arwbPlayer.state');

@@ -1,6 +1,8 @@
-// The phone player's page: checks what it needs and says how to fix what is missing, starts the camera on one tap,
-// hands frames to the worker (worker.js: the WebAssembly core) and draws each camera frame with what the worker
-// last found. Drawing never waits for detection: a frame goes to the worker only when it is idle.
+// The phone player's page: checks what it needs and says how to fix what is missing, checks the bundle it is part
+// of (its files against manifest.json, through the service worker sw.js, which keeps them for offline use), starts
+// the camera on one tap, hands frames to the worker (worker.js: the WebAssembly core) and draws each camera frame
+// with what the worker last found. Drawing never waits for detection: a frame goes to the worker only when it is
+// idle.
 // window.arwbPlayer is the page's state for the overlay and the tests (tests/web).
 'use strict';
 (() => {
@@ -26,7 +28,7 @@
   ];
 
   const player = window.arwbPlayer = {
-    state: 'checking',   // checking, blocked, ready, starting, running, failed
+    state: 'checking',   // checking, blocked, refused (the bundle), ready, starting, running, failed
     facing: 'environment',
     drawn: 0,            // camera frames drawn
     detected: 0,         // frames the worker searched
@@ -35,6 +37,10 @@
     markers: [],
     errors: [],          // newest last
     lastFrame: null,     // {width, height, rgba, result}: a frame the worker searched and what it found
+    // The bundle this page belongs to: state checking, none (the page alone), unchecked (the page cannot run here),
+    // verified or refused; its manifest;
+    // problem (the first file refused, named); offline (the service worker keeps it).
+    bundle: { state: 'checking', manifest: null, problem: '', offline: false },
     // The last searched frame as a PNG data URL, with its result (for the tests: `arwb detect` on the same pixels).
     grab() {
       const f = player.lastFrame;
@@ -66,16 +72,72 @@
       if (!ok && needed) blocked = true;
       if (!ok) advice.push(fix);
     }
-    player.state = blocked ? 'blocked' : 'ready';
-    $('start').disabled = blocked;
     if (blocked) $('advice').textContent = advice[0];
+    return !blocked;
   }
 
-  const worker = new Worker('worker.js');
+  // Waits for a service worker registration's new worker to be activated (true) or given up (false).
+  const settled = (registration) => new Promise((resolve) => {
+    const sw = registration.installing || registration.waiting || registration.active;
+    if (!sw) return resolve(false);
+    const check = () => {
+      if (sw.state === 'activated') resolve(true);
+      else if (sw.state === 'redundant') resolve(false);
+    };
+    sw.addEventListener('statechange', check);
+    check();
+  });
+
+  // The bundle's files checked: by the service worker as it keeps them (sw.js), or here when it cannot (no service
+  // worker in this browser, or its install failed: then this names the file).
+  async function checkBundle() {
+    const b = player.bundle;
+    let m;
+    try {
+      m = await arwbVerify.manifest(location.href);
+    } catch (e) {
+      b.state = 'refused';
+      b.problem = e.message;
+      return;
+    }
+    if (!m) {
+      b.state = 'none';
+      return;
+    }
+    b.manifest = m.parsed;
+    $('title').textContent = m.parsed.title || 'ArUco Workbench player';
+    $('bundle').textContent = `Checking the bundle's ${m.parsed.files.length} files...`;
+    if ('serviceWorker' in navigator) {
+      try {
+        const registration = await navigator.serviceWorker.register(`sw.js?manifest=${m.digest}`);
+        b.offline = await settled(registration);
+      } catch (e) {
+        report(`the bundle is not kept for offline use: ${e.message}`);
+      }
+    }
+    if (!b.offline) {
+      const checked = await arwbVerify.files(location.href, m.parsed.files);
+      if (checked.problems.length) {
+        b.state = 'refused';
+        b.problem = checked.problems[0];
+        return;
+      }
+    }
+    b.state = 'verified';
+  }
+
+  const worker = new Worker('web/worker.js');
   let workerReady = false, workerBusy = false;
+  const useDictionary = () => {
+    if (workerReady && player.bundle.manifest)
+      worker.postMessage({ type: 'dictionaries', list: player.bundle.manifest.dictionary });
+  };
   worker.onmessage = (e) => {
     const msg = e.data;
-    if (msg.type === 'ready') workerReady = true;
+    if (msg.type === 'ready') {
+      workerReady = true;
+      useDictionary();
+    }
     else if (msg.type === 'error') report(msg.message);
     else if (msg.type === 'result') {
       workerBusy = false;
@@ -172,9 +234,17 @@
       `${player.fps.toFixed(0)} fps drawn, ${view.width}x${view.height}, ${player.facing} camera`,
       `detect ${median} ms (median of ${ms.length})`,
       `markers: ${player.markers.map((m) => m.id).join(' ') || 'none'}`,
+      `bundle: ${bundleLine()}`,
       `newest error: ${player.errors.length ? player.errors[player.errors.length - 1] : 'none'}`,
     ];
     o.textContent = lines.join('\n');
+  }
+
+  function bundleLine() {
+    const b = player.bundle;
+    if (b.state !== 'verified') return b.state === 'none' ? 'none (this page alone)' : b.state;
+    const m = b.manifest;
+    return `${m.title}, ${m.dictionary} ids ${m.ids.join(' ')}, checked${b.offline ? ', kept for offline use' : ''}`;
   }
 
   function toggleOverlay() {
@@ -189,5 +259,29 @@
   });
   document.addEventListener('keydown', (e) => { if (e.key === 'd' || e.key === 'F1') toggleOverlay(); });
   $('stage').addEventListener('touchstart', (e) => { if (e.touches.length === 2) toggleOverlay(); });
-  runChecks();
+  // Start waits for the page's needs and the bundle's check (which needs a secure page too).
+  (async () => {
+    if (!runChecks()) {
+      player.bundle.state = 'unchecked';
+      player.state = 'blocked';
+      return;
+    }
+    await checkBundle();
+    const b = player.bundle;
+    if (b.state === 'refused') {
+      player.state = 'refused';
+      $('bundle').textContent = `This bundle cannot be played: ${b.problem}. Export it again, or copy all of its ` +
+        'files again.';
+      $('bundle').className = 'advice';
+      return;
+    }
+    if (b.state === 'verified')
+      $('bundle').textContent = `${b.manifest.ids.length} marker${b.manifest.ids.length === 1 ? '' : 's'} of ` +
+        `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. The scene's ` +
+        'media are not drawn on phones yet: the page outlines its markers.';
+    else $('bundle').textContent = '';
+    useDictionary();
+    player.state = 'ready';
+    $('start').disabled = false;
+  })();
 })();
