@@ -39,10 +39,10 @@ void write_board_views(const TempDir& dir, const SynthCamera& camera, int count,
 // A folder of 16 views of the paper's board (the folder source plays one a second, and its frames are judged as
 // stills), made once per binary.
 const std::string& chessboard_folder() {
-  static TempDir* dir = new TempDir;   // kept for the binary's life
+  static TempDir dir;   // kept for the binary's life, removed at its exit
   static const std::string path = [] {
-    write_board_views(*dir, SynthCamera{}, 16, 7);
-    return dir->str();
+    write_board_views(dir, SynthCamera{}, 16, 7);
+    return dir.str();
   }();
   return path;
 }

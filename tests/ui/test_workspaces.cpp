@@ -85,16 +85,16 @@ const Shipped kTeach{"Teach", {"candidates", "inspector", "tour", "pipeline", "l
 // On a folder of chessboard views, with views kept and solved before the panels are visited, so that every part
 // of the coach (checklist, bars, the camera's table, the per-view bars, the maps) is drawn and audited.
 const std::string& chessboard_source() {
-  static TempDir* dir = new TempDir;   // kept for the binary's life
+  static TempDir dir;   // kept for the binary's life, removed at its exit
   static const std::string arg = [] {
     const SynthCamera camera;
     const SynthChessboard board{9, 6, 0.025, 1.0};
     const ChessboardRenderer renderer(camera, board);
     const auto poses = chessboard_poses(camera, board, 8, 3);
     for (size_t i = 0; i < poses.size(); ++i)
-      cv::imwrite(dir->str("board_" + std::to_string(i) + ".png"),
+      cv::imwrite(dir.str("board_" + std::to_string(i) + ".png"),
                   renderer.render(poses[i].first, poses[i].second, 0.6, 2.0, unsigned(i + 1)).image);
-    return "--source '" + dir->str() + "'";
+    return "--source '" + dir.str() + "'";
   }();
   return arg;
 }
