@@ -372,6 +372,9 @@ const Verb kVerbs[] = {
     {"play", [](Arg, Arg a) -> Result<Request> { return Request(PlayBundle{a}); }},
     {"play_args", play_args},
     {"play_wait", [](Arg, Arg a) -> Result<Request> { return Request(WaitForPlayers{seconds(a)}); }},
+    {"source_wait", [](Arg, Arg a) -> Result<Request> {
+       return Request(WaitForSource{a.empty() ? 30.0 : seconds(a)});
+     }},
 };
 
 }  // namespace

@@ -170,6 +170,8 @@ struct App {
   void wait_for_lab(int cells);
   void wait_export(double timeout_s);
   void wait_players(double timeout_s);
+  void wait_source(double timeout_s);
+  std::string asked_source;   // the source last opened (SourceSpec::text), which source_wait waits for
   // ui/background.cpp
   void poll_background();
   void compute_dictionary_stats(const std::string& name);

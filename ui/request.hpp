@@ -290,6 +290,9 @@ struct SetPlayArgs {   // more arguments for the players started
 struct WaitForPlayers {   // a script's: until every player started has ended
   double seconds = 120;
 };
+struct WaitForSource {   // a script's: until the worker has taken the source last opened
+  double seconds = 30;
+};
 
 using Request = std::variant<
     SetPanelOpen, SwitchWorkspace, SaveWorkspace, MovePanel, SetSplitter, TogglePresentation, SetFullscreen, ShowHelp,
@@ -305,7 +308,7 @@ using Request = std::variant<
     UsePaperPlan, ReadLabPlan, SetLabFrames, SetLabAxis, SetLabDetectors, StartLab, StopLab, WaitForLab, OpenLabCell,
     WhyLabMarker, MarkClipSpan, SaveClip, SaveLabReport,
     OpenExportDialog, CheckExport, WriteExport, SetExportTitle, SetExportSize, SetExportCalibration, SetExportForce,
-    SetExportWeb, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers>;
+    SetExportWeb, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers, WaitForSource>;
 
 // std::visit over one lambda per struct: Overloaded{[&](const A&) {...}, [&](const B&) {...}}.
 template <class... F>

@@ -188,6 +188,7 @@ void App::carry_out(const ui::Request& request) {
           [&](const PlayBundle& r) { play_bundle(r.path); },
           [&](const SetPlayArgs& r) { play_args = r.args; },
           [&](const WaitForPlayers& r) { wait_players(r.seconds); },
+          [&](const WaitForSource& r) { wait_source(r.seconds); },
       },
       request);
 }
@@ -205,6 +206,7 @@ void App::open_source(const ui::OpenSource& r) {
   std::string err;
   if (!parse_source_spec(r.spec, &spec, &err)) return error(err);
   engine->open_source(spec);
+  asked_source = spec.text();
   std::error_code ec;
   if (fs::exists(r.spec, ec)) {   // a file or folder, not synthetic or a camera: remembered
     status.recent.add(ui::FileKind::source, fs::absolute(r.spec).lexically_normal().string());

@@ -66,6 +66,16 @@ void App::wait_export(double timeout_s) {
     warn("--actions export_wait: the export did not finish within " + std::to_string(int(timeout_s)) + " s");
 }
 
+// Until the worker has taken the source last opened (it takes only the newest of those asked for meanwhile).
+void App::wait_source(double timeout_s) {
+  const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
+  while (Clock::now() < end && engine->source().text() != asked_source)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (engine->source().text() != asked_source)
+    warn("--actions source_wait: the source " + asked_source + " was not taken within " +
+         std::to_string(int(timeout_s)) + " s");
+}
+
 // Until every player started has ended.
 void App::wait_players(double timeout_s) {
   const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);

@@ -16,7 +16,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "one JSON line of figures at exit. --scene loads a Lua scene or XML database (docs/scene-api.md) and "
                  "reloads it whenever the file changes.",
                  "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, "
-                 "source=SPEC, freeze, unfreeze, next (the next frame; of a video or folder the one after the "
+                 "source=SPEC, source_wait[=S] (waits, 30 s unless given, until the worker has taken it), freeze, unfreeze, next (the next frame; of a video or folder the one after the "
                  "frame shown; waits up to 2 s until it is shown), snapshot, "
                  "stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
                  "sweep, tour[=STEP] (a step's name, such as adaptive_threshold, or its number from 0), presentation, "

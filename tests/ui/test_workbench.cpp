@@ -119,9 +119,10 @@ TEST(Workbench, SwitchesPanelsAndSourcesWhileRunning) {
     ASSERT_TRUE(w.isOpened());
     for (int i = 0; i < 30; ++i) w.write(marker_image(9, 100 + 2 * i));
   }
-  const std::string actions = "5:open=all;10:source=" + tmp.str("one.png") + ";35:stage=otsu;40:source=" +
-                              tmp.str("folder") + ";70:close=all;71:open=live_view;75:source=" + tmp.str("clip.avi") +
-                              ";90:freeze;95:next;100:next";
+  // Each source waited for before the next: the worker takes only the newest source asked for meanwhile.
+  const std::string actions = "5:open=all;10:source=" + tmp.str("one.png") + ";10:source_wait;35:stage=otsu;40:source=" +
+                              tmp.str("folder") + ";40:source_wait;70:close=all;71:open=live_view;75:source=" +
+                              tmp.str("clip.avi") + ";75:source_wait;90:freeze;95:next;100:next";
   const RunResult r = test::run_arwb_window(window_args(
       tmp, "--frames 110 --verbose --stats --screenshot '" + tmp.str("shot.png") + "' --actions '" + actions + "'"));
   ASSERT_EQ(r.status, 0) << r.err;
