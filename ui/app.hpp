@@ -211,6 +211,10 @@ struct App {
   void write_export(const std::optional<std::string>& out);
   void play_bundle(const std::string& path);
   void poll_export();   // a finished check or write; the players' messages
+  // ui/serve_requests.cpp
+  void draw_serve_section(ui::Context& ctx, float width);
+  void serve_bundle(bool on);
+  void poll_serve();    // a server started, or refused
   bundle::ExportOptions export_options() const;
   // ui/layout.cpp
   void set_presentation(bool on);

@@ -195,6 +195,7 @@ void App::draw_export_dialog(ui::Context& ctx) {
   ImGui::PushTextWrapPos(w * 1.6f);
   if (!d.error.empty()) ImGui::TextColored({1, 0.35f, 0.3f, 1}, "%s", d.error.c_str());
   if (!d.written.empty()) ImGui::TextColored({0.5f, 0.9f, 0.5f, 1}, "Written: %s", d.written.c_str());
+  draw_serve_section(ctx, w * 1.6f);
   if (d.plan) {
     const bundle::Manifest& m = d.plan->manifest;
     std::uint64_t bytes = 0;
@@ -306,12 +307,16 @@ void App::poll_export() {
     const Status s = d.writing.get();
     if (s) {
       d.written = d.plan ? d.plan->options.out : "";
+      d.written_web = d.plan && !d.plan->options.web_site.empty();
+      // A server holds the copy it verified at its start: not this export's.
+      if (d.server) serve_bundle(false);
       note_status("export: wrote the bundle " + d.written + " (play it with arwb play or File > Play bundle...)");
     } else {
       d.error = export_window_wording(s.error());
       error("export: " + d.error);
     }
   }
+  poll_serve();
   std::vector<std::pair<LogLevel, std::string>> messages;
   {
     std::lock_guard lock(players->mutex);

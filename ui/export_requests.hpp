@@ -3,12 +3,15 @@
 
 #include "base/result.hpp"
 #include "bundle/bundle.hpp"
+#include "serve/bundle_server.hpp"
 #include "ui/file_browser.hpp"
 #include "workbench/log.hpp"
 
 #include <future>
+#include <opencv2/core/mat.hpp>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +35,12 @@ struct ExportDialog {
   std::shared_ptr<const bundle::ExportPlan> plan;     // the last check that passed
   std::string error;                // the last check's or write's failure, one line
   std::string written;              // where the last export went
+  bool written_web = false;         // ... with the phone page (the Serve section shows)
+  // Serve: the bundle written, on 127.0.0.1 for a browser or a phone over USB (ui/serve_requests.cpp).
+  std::future<Result<serve::BundleServer>> serve_starting;
+  std::optional<serve::BundleServer> server;
+  cv::Mat server_qr;                // the server's address as a QR code, 1 byte a pixel, made as it started
+  std::string serve_error;          // why the last start failed, one line
 };
 
 // Each player started runs as a process of its own; a thread per player verifies the bundle first, starts it and

@@ -278,7 +278,10 @@ struct SetExportForce {
 struct SetExportWeb {
   bool on = false;
 };
-struct WaitForExport {   // a script's: until the check or export running ends
+struct ServeBundle {   // the dialog's Serve: the bundle written, on 127.0.0.1 (on), or no more (off)
+  bool on = true;
+};
+struct WaitForExport {   // a script's: until the check, export or server start running ends
   double seconds = 120;
 };
 struct PlayBundle {   // verified off the UI thread, then `arwb play` started on it
@@ -308,7 +311,7 @@ using Request = std::variant<
     UsePaperPlan, ReadLabPlan, SetLabFrames, SetLabAxis, SetLabDetectors, StartLab, StopLab, WaitForLab, OpenLabCell,
     WhyLabMarker, MarkClipSpan, SaveClip, SaveLabReport,
     OpenExportDialog, CheckExport, WriteExport, SetExportTitle, SetExportSize, SetExportCalibration, SetExportForce,
-    SetExportWeb, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers, WaitForSource>;
+    SetExportWeb, ServeBundle, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers, WaitForSource>;
 
 // std::visit over one lambda per struct: Overloaded{[&](const A&) {...}, [&](const B&) {...}}.
 template <class... F>

@@ -118,7 +118,10 @@ Json export_stats(const ExportDialog& d) {
             {"self_test", rows},
             {"error", d.error},
             {"warnings", Json::array()},
-            {"written", d.written}};
+            {"written", d.written},
+            {"serving", d.server ? d.server->url() : ""},
+            {"served_requests", d.server ? d.server->requests() : 0},
+            {"serve_error", d.serve_error}};
   if (d.plan)
     for (const std::string& w : d.plan->warnings) e["warnings"].push_back(export_window_wording(w));
   return e;

@@ -55,14 +55,16 @@ void App::wait_for_lab(int cells) {
   if (lab_session.running() && cells < 0) warn("--actions lab_wait: the run did not end within 600 s");
 }
 
-// Until the check or export running has finished.
+// Until the check, export or server start running has finished.
 void App::wait_export(double timeout_s) {
   const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
-  while (Clock::now() < end && (export_dialog.checking.valid() || export_dialog.writing.valid())) {
+  const ExportDialog& d = export_dialog;
+  const auto busy = [&d] { return d.checking.valid() || d.writing.valid() || d.serve_starting.valid(); };
+  while (Clock::now() < end && busy()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     poll_export();
   }
-  if (export_dialog.checking.valid() || export_dialog.writing.valid())
+  if (busy())
     warn("--actions export_wait: the export did not finish within " + std::to_string(int(timeout_s)) + " s");
 }
 

@@ -1,6 +1,7 @@
 #include "base/text.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,14 @@ std::string utf8_replaced(std::string_view text) {
     }
   }
   return out;
+}
+
+std::string human_bytes(std::uint64_t n) {
+  char buf[32];
+  if (n < 10'000) std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(n));
+  else if (n < 10'000'000) std::snprintf(buf, sizeof buf, "%.1f KiB", double(n) / 1024);
+  else std::snprintf(buf, sizeof buf, "%.1f MiB", double(n) / (1024 * 1024));
+  return buf;
 }
 
 std::string printable(std::string_view text) {

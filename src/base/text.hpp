@@ -5,6 +5,7 @@
 #include "base/result.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,6 +34,9 @@ std::string nearest_name(std::string_view word, const Names& known) {
   }
   return std::string(best);
 }
+
+// A size as people read it: "729 B" below 10 000 bytes, then "17.3 KiB", then "24.1 MiB".
+std::string human_bytes(std::uint64_t n);
 
 // `text` with everything a terminal could act on escaped, so that a file name like "a\x1B[31m\nb.png" prints as
 // one harmless line: C0 controls and DEL as \n, \r, \t or \xNN, C1 controls (U+0080..U+009F) as \u0080, bytes

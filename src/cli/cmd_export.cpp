@@ -13,18 +13,6 @@
 
 namespace arwb {
 
-namespace {
-
-std::string human_bytes(std::uint64_t n) {
-  char buf[32];
-  if (n < 10'000) std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(n));
-  else if (n < 10'000'000) std::snprintf(buf, sizeof buf, "%.1f KiB", double(n) / 1024);
-  else std::snprintf(buf, sizeof buf, "%.1f MiB", double(n) / (1024 * 1024));
-  return buf;
-}
-
-}  // namespace
-
 int cmd_export(int argc, char** argv) {
   CommandLine cl("arwb export",
                  "Exports a scene as a bundle that runs on its own with `arwb play`: manifest.json (every file with "

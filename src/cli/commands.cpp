@@ -12,6 +12,7 @@ std::span<const Subcommand> arwb_subcommands() {
       {"make-media", cmd_make_media, "paint the example scenes' pictures and clip (no downloads)"},
       {"lab", cmd_lab, "the paper's recognition experiment: size x distance x light, every detector on the same frames"},
       {"export", cmd_export, "a scene, its media, calibration and marker sheet as a checked bundle for arwb play"},
+      {"serve", cmd_serve, "serve a bundle's phone page (export --web) on 127.0.0.1, with a QR code of its address"},
       {"render", cmd_render, "composite a scene's media onto a video, images or the synthetic source (no display)"},
   };
   return kSubcommands;

@@ -17,6 +17,7 @@ int cmd_make_media(int argc, char** argv);
 int cmd_calibrate(int argc, char** argv);
 int cmd_lab(int argc, char** argv);
 int cmd_export(int argc, char** argv);
+int cmd_serve(int argc, char** argv);
 
 // The table main dispatches on and `arwb --help` lists.
 struct Subcommand {

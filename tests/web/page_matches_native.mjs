@@ -1,4 +1,4 @@
-// The player's page of a bundle exported with --web (the museum scene), served on 127.0.0.1 and opened in headless
+// The player's page of a bundle exported with --web (the museum scene), served by `arwb serve` and opened in headless
 // Chromium with a fake camera playing synthetic photographs: its files checked and kept for offline use by its
 // service worker, it finds in each frame it searched what `arwb detect` finds in the same pixels (ids and corners
 // within 1e-3 px), in its worker, asking nothing of any origin but its own. Run by ctest as
@@ -10,7 +10,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { Chromium } from './chromium_support.mjs';
-import { compareWithNative, readPng, serve, tallyProblems, writeY4m } from './web_support.mjs';
+import { arwbServe, compareWithNative, readPng, tallyProblems, writeY4m } from './web_support.mjs';
 
 const [arwb] = process.argv.slice(2);   // the core comes with the bundle (arwb export --web)
 const scene = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../scripts/museum/museum.lua');
@@ -29,7 +29,7 @@ try {
 
   const bundle = path.join(tmp, 'bundle');
   execFileSync(arwb, ['export', '--scene', scene, '--out', bundle, '--web', '--quiet'], { stdio: 'pipe' });
-  server = await serve([bundle]);
+  server = await arwbServe(arwb, bundle);
   browser = await Chromium.launch({ args: ['--use-fake-device-for-media-stream', '--use-fake-ui-for-media-stream',
                                            `--use-file-for-fake-video-capture=${y4m}`,
                                            '--host-resolver-rules=MAP phone.test 127.0.0.1'] });
@@ -103,7 +103,7 @@ try {
   fail(e.message);
 } finally {
   if (browser) await browser.close();
-  if (server) server.close();
+  if (server) await server.close();
   fs.rmSync(tmp, { recursive: true, force: true });
 }
 if (failures.length) {

@@ -101,6 +101,32 @@ export async function serve(folders, { isolated = false } = {}) {
   return { url: `http://127.0.0.1:${server.address().port}/`, served, close: () => server.close() };
 }
 
+// `arwb serve BUNDLE --port 0`, as a person serves a bundle: resolves once it has printed its address. `served` is
+// its request log (stderr), a line per request answered; close() stops it (SIGTERM) and waits for it to end.
+export async function arwbServe(arwb, bundle) {
+  const { spawn } = await import('node:child_process');
+  const child = spawn(arwb, ['serve', bundle, '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  const served = [];
+  let err = '';
+  child.stderr.setEncoding('utf8');
+  child.stderr.on('data', (text) => {
+    err += text;
+    served.push(...text.split('\n').filter((l) => /^[A-Z]+ \//.test(l)));
+  });
+  const ended = new Promise((resolve) => child.on('exit', resolve));
+  const url = await new Promise((resolve, reject) => {
+    let out = '';
+    child.stdout.setEncoding('utf8');
+    child.stdout.on('data', (text) => {
+      out += text;
+      const m = out.match(/^ +(http:\/\/127\.0\.0\.1:\d+\/)$/m);
+      if (m) resolve(m[1]);
+    });
+    ended.then((code) => reject(new Error(`arwb serve ended (${code}) before saying its address: ${err}`)));
+  });
+  return { url, served, close: async () => { child.kill('SIGTERM'); await ended; } };
+}
+
 // What a test compares: `got` (the core's or the page's result) against `want` (a line of `arwb detect --json`) for
 // one frame. Adds to `tally` the markers compared and the largest corner difference; returns a problem or null.
 export function compareWithNative(frame, got, want, tally) {
