@@ -368,6 +368,10 @@ const Verb kVerbs[] = {
        const Result<bool> on = on_off(v, a);
        return on ? Result<Request>(SetExportWeb{*on}) : fail(on.error());
      }},
+    {"export_convert", [](Arg v, Arg a) -> Result<Request> {
+       const Result<bool> on = on_off(v, a);
+       return on ? Result<Request>(SetExportConvert{*on}) : fail(on.error());
+     }},
     {"serve", [](Arg v, Arg a) -> Result<Request> {
        const Result<bool> on = on_off(v, a);
        return on ? Result<Request>(ServeBundle{*on}) : fail(on.error());

@@ -108,6 +108,8 @@ std::string export_window_wording(std::string text) {
   replace_all("add --force to replace it", "tick 'replace an existing bundle there' to replace it");
   replace_all("--force", "'replace an existing bundle there'");
   replace_all("--web: ", "the web page for phones: ");
+  replace_all("--convert-for-phones: ", "converting for phones: ");
+  replace_all("--convert-for-phones makes", "'convert what phones cannot play' makes");
   return text;
 }
 
@@ -120,6 +122,7 @@ bundle::ExportOptions App::export_options() const {
   if (export_dialog.use_calibration) o.calibration = opt.engine.calibration_file;
   o.force = export_dialog.force;
   if (export_dialog.web) o.web_site = data_dirs().web;
+  o.convert_for_phones = export_dialog.web && export_dialog.convert_for_phones;
   return o;
 }
 
@@ -179,6 +182,10 @@ void App::draw_export_dialog(ui::Context& ctx) {
   ImGui::TextDisabled("A folder, or a zip when the name ends in .arwb or .zip.");
   ImGui::Checkbox("replace an existing bundle there", &d.force);
   ImGui::Checkbox("add a web page for phones (index.html: the bundle's detector in the browser)", &d.web);
+  ImGui::BeginDisabled(!d.web);
+  ImGui::Checkbox("convert what phones cannot play (pictures to PNG; videos to MP4/H.264 with ffmpeg)",
+                  &d.convert_for_phones);
+  ImGui::EndDisabled();
 
   const bool busy = d.checking.valid() || d.writing.valid();
   ImGui::BeginDisabled(busy || scene.empty());

@@ -27,6 +27,7 @@ struct ExportDialog {
   bool use_calibration = true;      // the calibration loaded with --calib, when there is one
   bool force = false;               // replace an existing bundle at `out`
   bool web = false;                 // add the phone player's web page (arwb export --web)
+  bool convert_for_phones = false;  // with web: copies phones play (--convert-for-phones)
   char out[1024] = "";
   ui::FileBrowser browser;
   std::future<Result<bundle::ExportPlan>> checking;   // Check, or the check before writing

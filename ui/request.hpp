@@ -278,6 +278,9 @@ struct SetExportForce {
 struct SetExportWeb {
   bool on = false;
 };
+struct SetExportConvert {   // the dialog's 'convert what phones cannot play'
+  bool on = false;
+};
 struct ServeBundle {   // the dialog's Serve: the bundle written, on 127.0.0.1 (on), or no more (off)
   bool on = true;
 };
@@ -311,7 +314,7 @@ using Request = std::variant<
     UsePaperPlan, ReadLabPlan, SetLabFrames, SetLabAxis, SetLabDetectors, StartLab, StopLab, WaitForLab, OpenLabCell,
     WhyLabMarker, MarkClipSpan, SaveClip, SaveLabReport,
     OpenExportDialog, CheckExport, WriteExport, SetExportTitle, SetExportSize, SetExportCalibration, SetExportForce,
-    SetExportWeb, ServeBundle, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers, WaitForSource>;
+    SetExportWeb, SetExportConvert, ServeBundle, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers, WaitForSource>;
 
 // std::visit over one lambda per struct: Overloaded{[&](const A&) {...}, [&](const B&) {...}}.
 template <class... F>

@@ -184,6 +184,7 @@ void App::carry_out(const ui::Request& request) {
           [&](const SetExportCalibration& r) { export_dialog.use_calibration = r.on; },
           [&](const SetExportForce& r) { export_dialog.force = r.on; },
           [&](const SetExportWeb& r) { export_dialog.web = r.on; },
+          [&](const SetExportConvert& r) { export_dialog.convert_for_phones = r.on; },
           [&](const ServeBundle& r) { serve_bundle(r.on); },
           [&](const WaitForExport& r) { wait_export(r.seconds); },
           [&](const PlayBundle& r) { play_bundle(r.path); },

@@ -47,6 +47,21 @@ struct WebCard {
   std::string picture;         // bundle path of the card's PNG ("cards/web-1.png")
 };
 
+// A scene file a phone's browser would not show as it is, and the copy made for phones (--convert-for-phones).
+struct PhoneCopy {
+  std::string path;        // the original's bundle path ("scene/media/clip.avi"), which the desktop plays
+  std::string phone;       // the copy's ("web/phone/scene/media/clip.avi.mp4"), role "web"
+  std::string reason;      // why the original would not do ("not an MP4 file (FMP4): ...")
+};
+
+// Pictures larger than this a side are more than many phones' WebGL draws (4096 is the common texture limit).
+inline constexpr int kPhoneMaxImageSide = 4096;
+
+// "" when a phone's browser shows or plays `file` as it is, or it is no picture or video; else why not, naming
+// what it is: "a TIFF picture: phones' browsers show PNG, JPEG and WebP", "not an MP4 file (FMP4): phones'
+// browsers play MP4 with H.264", "H.264 in 444P: phones' browsers play 8-bit 4:2:0 (yuv420p)".
+std::string phone_problem(const std::string& file);
+
 struct Manifest {
   int format_version = kFormatVersion;
   std::string title;
@@ -60,6 +75,7 @@ struct Manifest {
   std::vector<SelfTestRow> self_test;
   bool self_test_passed = false;
   std::vector<WebCard> web_cards;
+  std::vector<PhoneCopy> phone_media;  // with --web --convert-for-phones; absent from older manifests
 };
 
 // manifest.json's text, and back. parse_manifest checks every field (types, format version, relative paths, hex
@@ -80,6 +96,7 @@ struct ExportOptions {
   std::string title;             // "" : the scene file's stem
   double marker_size_mm = 50;    // the printed side, within the marker sheet's limits for the dictionary
   std::string web_site;          // --web: the phone player's site to add (DataDirs::web); "" : none
+  bool convert_for_phones = false;   // with web_site: copies phones play of the media they would not (else warnings)
   bool force = false;            // replace an existing out
   std::function<void(const std::string&)> progress;   // one line per step, may be null
 };

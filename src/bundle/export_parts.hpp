@@ -1,6 +1,7 @@
 // What `arwb export`'s files share (internal to src/bundle):
 //   plan.cpp       plan_export: the checks, the files listed with their digests, the README and the manifest
 //   self_test.cpp  each mapped id drawn, detected and run through the scene
+//   phone_media.cpp  with --web: the scene's media a phone's browser would not show, said or converted
 //   write.cpp      where the bundle goes (--out) and what it may replace; write_export, all or nothing
 #pragma once
 
@@ -48,5 +49,9 @@ struct TestResult {
 // scene as the workbench does (SceneStage, offline media): every mapping that covers it must fire.
 Result<TestResult> self_test(SceneStage& stage, const Dictionary& dict, const std::optional<Calibration>& calib,
                              const ExportOptions& options);
+
+// With --web: each scene file a phone's browser would not show or play, as a warning naming it and why, or with
+// convert_for_phones as a copy it does at web/phone/<path>.png or .mp4 (plan.generated, manifest.phone_media).
+Status add_phone_media(ExportPlan& plan);
 
 }  // namespace arwb::bundle

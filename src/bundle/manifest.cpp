@@ -40,6 +40,12 @@ std::string manifest_json(const Manifest& m) {
   nlohmann::ordered_json cards = nlohmann::ordered_json::array();
   for (const WebCard& c : m.web_cards) cards.push_back({{"url", c.url}, {"title", c.title}, {"picture", c.picture}});
   j["web_cards"] = cards;
+  if (!m.phone_media.empty()) {
+    nlohmann::ordered_json copies = nlohmann::ordered_json::array();
+    for (const PhoneCopy& c : m.phone_media)
+      copies.push_back({{"path", c.path}, {"phone", c.phone}, {"reason", c.reason}});
+    j["phone_media"] = copies;
+  }
   // Invalid UTF-8 (a title from a command line) is replaced, never a reason to fail.
   return json_text(j, 2) + "\n";
 }
@@ -215,6 +221,21 @@ Result<Manifest> parse_manifest(const std::string& text) {
       if (r.str(o, "picture", field + ".picture", &c.picture)) r.path(c.picture, field + ".picture", false);
       m.web_cards.push_back(std::move(c));
     }
+  const json* copies = nullptr;
+  if (j.contains("phone_media") && r.array(j, "phone_media", "phone_media", &copies))
+    for (size_t i = 0; i < copies->size() && r.error.empty(); ++i) {
+      const std::string field = "phone_media[" + std::to_string(i) + "]";
+      const json& o = (*copies)[i];
+      if (!o.is_object()) {
+        r.bad(field, "not an object");
+        break;
+      }
+      PhoneCopy c;
+      if (r.str(o, "path", field + ".path", &c.path)) r.path(c.path, field + ".path", false);
+      if (r.str(o, "phone", field + ".phone", &c.phone)) r.path(c.phone, field + ".phone", false);
+      r.str(o, "reason", field + ".reason", &c.reason);
+      m.phone_media.push_back(std::move(c));
+    }
   if (!r.error.empty()) return fail(r.error);
   // What the manifest points at must be among its files.
   if (!paths.count(m.scene)) return fail(std::string(kManifestName) + ": scene: " + quoted_name(m.scene) + " is not among files");
@@ -224,6 +245,11 @@ Result<Manifest> parse_manifest(const std::string& text) {
     if (!paths.count(m.web_cards[i].picture))
       return fail(std::string(kManifestName) + ": web_cards[" + std::to_string(i) + "].picture: " +
                   quoted_name(m.web_cards[i].picture) + " is not among files");
+  for (size_t i = 0; i < m.phone_media.size(); ++i)
+    for (const auto& [key, path] : {std::pair{".path", &m.phone_media[i].path}, {".phone", &m.phone_media[i].phone}})
+      if (!paths.count(*path))
+        return fail(std::string(kManifestName) + ": phone_media[" + std::to_string(i) + "]" + key + ": " +
+                    quoted_name(*path) + " is not among files");
   return m;
 }
 

@@ -267,7 +267,10 @@ Status list_files(const fs::path& scene_file, ExportPlan& plan) {
   const std::string bundle_name = out_path(plan.options.out).filename().string();
   plan.generated.emplace_back("README.txt", readme_text(m, bundle_name.empty() ? std::string("BUNDLE") : bundle_name));
   for (const auto& [path, bytes] : plan.generated) {
-    const std::string role = path == "markers.pdf" ? "sheet" : path == "README.txt" ? "readme" : "card";
+    const std::string role = path == "markers.pdf"  ? "sheet"
+                             : path == "README.txt" ? "readme"
+                             : is_web_path(path)    ? "web"
+                                                    : "card";
     m.files.push_back({path, bytes.size(), sha256_hex(bytes), role});
   }
   std::sort(m.files.begin(), m.files.end(), [](const BundleFile& a, const BundleFile& b) { return a.path < b.path; });
@@ -349,6 +352,7 @@ Result<ExportPlan> plan_export(const ExportOptions& options) {
   if (!options.web_site.empty()) {
     say(options, "adding the phone player's site from " + options.web_site);
     if (Status s = add_web_site(options.web_site, plan); !s) return fail(s.error());
+    if (Status s = add_phone_media(plan); !s) return fail(s.error());
   }
   for (size_t i = 0; i < test->cards.size(); ++i) {
     WebCard card = test->cards[i];

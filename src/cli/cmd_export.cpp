@@ -46,6 +46,10 @@ int cmd_export(int argc, char** argv) {
   cl.app.add_flag("--web", web,
                   "add the phone player: a web page (index.html) that runs the bundle's detector in the browser "
                   "(docs/export.md, \"On a phone\")");
+  cl.app.add_flag("--convert-for-phones", o.convert_for_phones,
+                  "with --web: copies phones play of the media they would not (pictures as PNG; videos as MP4/H.264, "
+                  "with ffmpeg); without it those files are named in warnings")
+      ->needs("--web");
   cl.app.add_flag("--force", o.force, "replace an existing OUT (only a bundle arwb wrote)");
   cl.app.add_flag("--quiet", quiet, "print only the last line");
   if (const auto status = cl.parse(argc, argv)) return *status;

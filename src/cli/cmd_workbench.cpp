@@ -42,7 +42,7 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "starts or ends the marker's span), lab_clip=ID,SIZE_MM,DISTANCE_M,LUX[,DIR] (the clip's row saved to "
                  "videos.csv), export_dialog[=PATH] (File > Export...; answer=check|export|cancel|browse presses its "
                  "buttons), export=PATH (File > Export...'s Export with the dialog's values), export_title=T, "
-                 "export_size=MM, export_calibration=on|off, export_force=on|off, export_web=on|off, serve=on|off (the Export dialog's "
+                 "export_size=MM, export_calibration=on|off, export_force=on|off, export_web=on|off, export_convert=on|off (convert what phones cannot play), serve=on|off (the Export dialog's "
                  "Serve: the bundle just written with its web page, on 127.0.0.1), export_wait[=S] (waits until the "
                  "check, export or server start ends), play=BUNDLE (File > Play bundle...: verified, then `arwb play` started as a "
                  "process of its own), play_args=ARGS (more arguments for it, e.g. --frames 30), play_wait[=S] "

@@ -47,7 +47,7 @@ TEST(Actions, EveryVerbTheHelpListsMakesARequest) {
       {"lab_axis", "lux:850"}, {"lab_detectors", "arwb"}, {"lab_run", ""}, {"lab_stop", ""}, {"lab_wait", ""},
       {"lab_cell", "2,0"}, {"lab_why", ""}, {"lab_save", "out"}, {"lab_span", "start"},
       {"lab_clip", "5,65,1,850"}, {"export_dialog", ""}, {"export", "b.arwb"}, {"export_title", "T"},
-      {"export_size", "65"}, {"export_calibration", "off"}, {"export_force", "on"}, {"export_web", "on"}, {"serve", "on"}, {"export_wait", ""}, {"source_wait", ""},
+      {"export_size", "65"}, {"export_calibration", "off"}, {"export_force", "on"}, {"export_web", "on"}, {"export_convert", "on"}, {"serve", "on"}, {"export_wait", ""}, {"source_wait", ""},
       {"play", "b.arwb"}, {"play_args", "--frames 5"}, {"play_wait", "3"}};
   ASSERT_EQ(samples.size(), action_verbs().size()) << "a verb without a sample here";
   for (const auto& [verb, arg] : samples) {
