@@ -84,6 +84,12 @@ try {
     if (problem) fail(problem);
   }
   tallyProblems(tally).forEach(fail);
+  // The museum has no calibration: every marker's pose with the default camera, its axes to draw.
+  const camera = await page.evaluate('arwbPlayer.camera');
+  if (!camera.startsWith('assumed')) fail(`the page's camera is "${camera}"`);
+  for (const [, result] of results)
+    for (const m of result.markers)
+      if (!m.pose || m.pose.camera !== 'assumed' || m.pose.axes.length !== 4) fail(`marker ${m.id} has no pose to draw`);
 
   const foreign = page.requests.filter((u) => !u.startsWith(server.url) && !u.startsWith('data:'));
   const other = server.url.replace('127.0.0.1', 'phone.test');

@@ -18,9 +18,17 @@ export async function loadCore(coreJs) {
   const setParam = m.cwrap('arwb_set_param', 'string', ['string', 'number']);
   const frame = m.cwrap('arwb_frame', 'number', ['number', 'number']);
   const detect = m.cwrap('arwb_detect', 'string', []);
+  const setCamera = m.cwrap('arwb_set_camera', 'string', ['string', 'number']);
   return {
     setDictionaries,
     setParam,
+    // A calibration file's path in the module's file system ("" for the default camera), the markers' side.
+    setCamera,
+    // Bytes (a Buffer or string) as a file of the module's file system, its folders made first.
+    writeFile(file, bytes) {
+      m.FS.mkdirTree(path.posix.dirname(file));
+      m.FS.writeFile(file, bytes);
+    },
     // image: {width, height, data: RGBA bytes}. The detections as the core's JSON, parsed.
     detect(image) {
       const at = frame(image.width, image.height);

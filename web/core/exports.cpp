@@ -25,6 +25,13 @@ EMSCRIPTEN_KEEPALIVE const char* arwb_set_param(const char* name, double value) 
   return g_message.c_str();
 }
 
+// The camera for poses: a calibration file's path in the module's file system ("" for the default camera), and the
+// markers' side (0: no poses).
+EMSCRIPTEN_KEEPALIVE const char* arwb_set_camera(const char* path, double marker_side) {
+  g_message = detector().set_camera(path ? path : "", marker_side);
+  return g_message.c_str();
+}
+
 // Where to write width * height * 4 bytes of RGBA; null for a size out of 1..8192.
 EMSCRIPTEN_KEEPALIVE uint8_t* arwb_frame(int width, int height) { return detector().frame(width, height); }
 

@@ -2,10 +2,14 @@
 // JavaScript (exports.cpp is the thin C layer emscripten exports). It runs the desktop's own Detector on frames the
 // page hands over as RGBA (a canvas's pixels), so a bundle finds on a phone what it finds on the desktop.
 #pragma once
+#include "calibration/calibration_file.hpp"
 #include "detect/detector.hpp"
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -19,15 +23,31 @@ class WebDetector {
   std::string set_dictionaries(const std::string& list);
   // One parameter of the detector's table by its name, as presets, sliders and Lua set it. Empty or the message.
   std::string set_param(const std::string& name, double value);
+  // The camera poses are computed with: the calibration file at `path` (read as the desktop reads it; the page puts
+  // the bundle's file there first), fitted to each frame's size as `arwb detect --calib` fits it, or with "" the
+  // paper's default camera for the frame's size (marked assumed). `marker_side` > 0: each marker gains its pose with
+  // tvec in that unit; 0: no poses. Empty on success, else the message (the camera is then unchanged).
+  std::string set_camera(const std::string& path, double marker_side);
   // The frame buffer the page writes into: width * height * 4 bytes of RGBA, kept until the next call.
   uint8_t* frame(int width, int height);
   // Detects in the frame last written. The result as one JSON object: {"width","height","ms","markers":[{"id",
-  // "dict","corners":[[x,y] x4],"hamming"}],"stages":{name: ms}} with corners at full precision in the frame's
-  // pixels and each stage's time from the trace; or {"error": "..."} when there is no frame.
+  // "dict","corners":[[x,y] x4],"hamming"[,"pose"]}],"stages":{name: ms}} with corners at full precision in the
+  // frame's pixels and each stage's time from the trace; or {"error": "..."} when there is no frame. With a
+  // camera, "pose": {"rvec","tvec","error_px","ambiguity","alternative":{"rvec","tvec","error_px"},"camera":
+  // "assumed"|"calibrated","axes":[[x,y] x4]}, as `arwb detect --json --marker-size` gives it, at full precision,
+  // with the image points of the marker's origin and the ends of its x, y and z axes (one side long, through the
+  // lens, as the workbench draws them); a calibration that
+  // does not fit the frame's size gives "camera_error" instead of poses.
   const std::string& detect();
 
  private:
+  // The camera for a frame of this size, or the reason it has none.
+  const Calibration* camera_for(int width, int height, std::string* error);
+
   std::unique_ptr<Detector> detector_;
+  std::optional<Calibration> calibration_;   // read from set_camera's path; none: the default camera
+  double marker_side_ = 0;
+  std::map<std::pair<int, int>, Result<Calibration>> sized_;   // by frame size
   std::vector<uint8_t> rgba_;
   int width_ = 0, height_ = 0;
   std::string result_;

@@ -35,6 +35,8 @@
     fps: 0,
     detectMs: [],        // the worker's last 30 times
     markers: [],
+    camera: 'none yet',  // what the poses are computed with
+    cameraError: '',     // why the calibration does not fit the camera's picture, '' when it does
     errors: [],          // newest last
     lastFrame: null,     // {width, height, rgba, result}: a frame the worker searched and what it found
     // The bundle this page belongs to: state checking, none (the page alone), unchecked (the page cannot run here),
@@ -128,21 +130,39 @@
 
   const worker = new Worker('web/worker.js');
   let workerReady = false, workerBusy = false;
-  const useDictionary = () => {
-    if (workerReady && player.bundle.manifest)
-      worker.postMessage({ type: 'dictionaries', list: player.bundle.manifest.dictionary });
+  // The bundle's dictionary, and its camera for the markers' poses: its calibration's files (the paper's pair is two)
+  // handed to the worker, else the default camera; the markers' side in mm, as printed on its sheet.
+  const useBundle = async () => {
+    const m = player.bundle.manifest;
+    if (!workerReady || !m) return;
+    worker.postMessage({ type: 'dictionaries', list: m.dictionary });
+    const files = [];
+    try {
+      for (const f of m.files.filter((file) => file.role === 'calibration'))
+        files.push({ path: f.path, bytes: new Uint8Array(await (await fetch(f.path)).arrayBuffer()) });
+    } catch (e) {
+      report(`the calibration could not be read: ${e.message}; poses use the default camera`);
+    }
+    const path = files.length === 0 ? '' : m.calibration;
+    player.camera = path ? `calibrated (${path})` : 'assumed (the bundle has no calibration)';
+    worker.postMessage({ type: 'camera', files, path, side: m.marker_size_mm });
   };
   worker.onmessage = (e) => {
     const msg = e.data;
     if (msg.type === 'ready') {
       workerReady = true;
-      useDictionary();
+      useBundle();
     }
     else if (msg.type === 'error') report(msg.message);
     else if (msg.type === 'result') {
       workerBusy = false;
       player.detected++;
       player.markers = msg.result.markers || [];
+      // A calibration that does not fit the camera's picture: said once per size, and the markers have no pose.
+      if (msg.result.camera_error && msg.result.camera_error !== player.cameraError) {
+        player.cameraError = msg.result.camera_error;
+        report(`no poses: ${msg.result.camera_error}`);
+      }
       player.detectMs.push(msg.result.ms || 0);
       if (player.detectMs.length > 30) player.detectMs.shift();
       player.lastFrame = { width: msg.width, height: msg.height, rgba: msg.rgba, result: msg.result };
@@ -222,6 +242,16 @@
       ctx.fillRect(m.corners[0][0] - 3, m.corners[0][1] - 3, 6, 6);
       ctx.fillStyle = '#3f3';
       ctx.fillText(String(m.id), m.corners[0][0] + 6, m.corners[0][1] - 6);
+      // The pose's axes as the workbench draws them (x red, y green, z blue), projected through the lens by the core.
+      const axes = m.pose && m.pose.axes;
+      if (!axes) continue;
+      ['#f33', '#3f3', '#57f'].forEach((colour, k) => {
+        ctx.strokeStyle = colour;
+        ctx.beginPath();
+        ctx.moveTo(axes[0][0], axes[0][1]);
+        ctx.lineTo(axes[k + 1][0], axes[k + 1][1]);
+        ctx.stroke();
+      });
     }
   }
 
@@ -234,6 +264,7 @@
       `${player.fps.toFixed(0)} fps drawn, ${view.width}x${view.height}, ${player.facing} camera`,
       `detect ${median} ms (median of ${ms.length})`,
       `markers: ${player.markers.map((m) => m.id).join(' ') || 'none'}`,
+      `camera: ${player.camera}`,
       `bundle: ${bundleLine()}`,
       `newest error: ${player.errors.length ? player.errors[player.errors.length - 1] : 'none'}`,
     ];
@@ -278,9 +309,9 @@
     if (b.state === 'verified')
       $('bundle').textContent = `${b.manifest.ids.length} marker${b.manifest.ids.length === 1 ? '' : 's'} of ` +
         `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. The scene's ` +
-        'media are not drawn on phones yet: the page outlines its markers.';
+        'media are not drawn on phones yet: the page outlines its markers and draws their axes.';
     else $('bundle').textContent = '';
-    useDictionary();
+    useBundle();
     player.state = 'ready';
     $('start').disabled = false;
   })();

@@ -1,5 +1,7 @@
 // The phone player's worker: the WebAssembly core (arwb_core.js, the desktop's detector) on frames the page sends.
-// Messages in: {type: 'detect', width, height, rgba: Uint8ClampedArray} and {type: 'dictionaries', list}.
+// Messages in: {type: 'detect', width, height, rgba: Uint8ClampedArray}, {type: 'dictionaries', list} and
+// {type: 'camera', files: [{path, bytes}], path, side} (the bundle's calibration files, written into the core's file
+// system under /bundle/, the one to read, '' for the default camera, and the markers' side).
 // Out: {type: 'ready'}, {type: 'result', result, width, height, rgba} (the pixels go back to the page, which keeps
 // the frame it drew and what was found in it), {type: 'error', message}.
 'use strict';
@@ -12,6 +14,7 @@ const ready = ArwbCore().then((m) => {
     frame: m.cwrap('arwb_frame', 'number', ['number', 'number']),
     detect: m.cwrap('arwb_detect', 'string', []),
     dictionaries: m.cwrap('arwb_set_dictionaries', 'string', ['string']),
+    camera: m.cwrap('arwb_set_camera', 'string', ['string', 'number']),
   };
   postMessage({ type: 'ready' });
 }, (e) => postMessage({ type: 'error', message: `the detector did not load: ${e && e.message ? e.message : e}` }));
@@ -23,6 +26,21 @@ onmessage = async (e) => {
   if (msg.type === 'dictionaries') {
     const error = core.dictionaries(msg.list);
     if (error) postMessage({ type: 'error', message: error });
+    return;
+  }
+  if (msg.type === 'camera') {
+    let error = '';
+    try {
+      for (const f of msg.files) {
+        const file = `/bundle/${f.path}`;
+        core.module.FS.mkdirTree(file.slice(0, file.lastIndexOf('/')));
+        core.module.FS.writeFile(file, f.bytes);
+      }
+      error = core.camera(msg.path ? `/bundle/${msg.path}` : '', msg.side);
+    } catch (e) {
+      error = `the calibration could not be written for the detector: ${e.message}`;
+    }
+    if (error) postMessage({ type: 'error', message: `no poses: ${error}` });
     return;
   }
   if (msg.type !== 'detect') return;
