@@ -315,8 +315,9 @@ void App::poll_export() {
     if (s) {
       d.written = d.plan ? d.plan->options.out : "";
       d.written_web = d.plan && !d.plan->options.web_site.empty();
-      // A server holds the copy it verified at its start: not this export's.
+      // A server holds the copy it verified at its start: not this export's. One still starting is dropped too.
       if (d.server) serve_bundle(false);
+      d.serve_stale = d.serve_starting.valid();
       note_status("export: wrote the bundle " + d.written + " (play it with arwb play or File > Play bundle...)");
     } else {
       d.error = export_window_wording(s.error());

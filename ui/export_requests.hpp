@@ -42,6 +42,7 @@ struct ExportDialog {
   std::optional<serve::BundleServer> server;
   cv::Mat server_qr;                // the server's address as a QR code, 1 byte a pixel, made as it started
   std::string serve_error;          // why the last start failed, one line
+  bool serve_stale = false;         // the start running verifies a bundle written over since: its server is dropped
 };
 
 // Each player started runs as a process of its own; a thread per player verifies the bundle first, starts it and

@@ -80,6 +80,10 @@ void App::poll_serve() {
   if (!d.serve_starting.valid() || d.serve_starting.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
     return;
   Result<serve::BundleServer> started = d.serve_starting.get();
+  if (std::exchange(d.serve_stale, false)) {
+    info("serve: the bundle was written again while its server started: press Serve to a phone again");
+    return;   // the server goes with `started`
+  }
   if (!started) {
     d.serve_error = started.error();
     return error("serve: " + d.serve_error);

@@ -1,7 +1,8 @@
 // The scene's media as a phone's browser sees them, when a bundle gets the phone page (--web): what it would not
 // show or play is said with the file named (a warning) or, with --convert-for-phones, copied into a form it does,
 // beside the original: pictures as PNG by OpenCV, videos as MP4/H.264 by Debian's ffmpeg. The desktop player keeps
-// the originals; the manifest's phone_media tells the page which copy stands for which file.
+// the originals; the manifest's phone_media says which copy stands for which file, for the page to draw the copies
+// once it draws media.
 #include "bundle/export_parts.hpp"
 #include "bundle/bundle_files.hpp"
 
@@ -26,6 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string fourcc_text(double value) {
+  if (!(value > 0) || value > 4294967295.0) return "";   // OpenCV's -1: it cannot say
   const auto v = static_cast<std::uint32_t>(value);
   std::string s;
   for (int i = 0; i < 4; ++i) {

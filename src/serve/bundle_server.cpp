@@ -6,6 +6,7 @@
 #include <sys/socket.h>
 
 #include <array>
+#include <cctype>
 #include <atomic>
 #include <chrono>
 #include <fstream>
@@ -20,8 +21,8 @@ namespace arwb::serve {
 
 namespace {
 
-// By extension, what a bundle holds; anything else is application/octet-stream. A browser refuses a module worker
-// or WebAssembly streaming compilation under another type, and plays a video only under its own.
+// By extension (in any case), what a bundle holds; anything else is application/octet-stream. A browser refuses a
+// module worker or WebAssembly streaming compilation under another type, and plays a video only under its own.
 std::string content_type(std::string_view path) {
   static constexpr std::array<std::pair<std::string_view, std::string_view>, 24> kTypes{{
       {".html", "text/html; charset=utf-8"}, {".js", "text/javascript; charset=utf-8"},
@@ -33,8 +34,10 @@ std::string content_type(std::string_view path) {
       {".lua", "text/plain; charset=utf-8"}, {".xml", "application/xml"}, {".yml", "text/plain; charset=utf-8"},
       {".yaml", "text/plain; charset=utf-8"}, {".gltf", "model/gltf+json"}, {".glb", "model/gltf-binary"},
   }};
+  std::string lower(path);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   for (const auto& [ext, type] : kTypes)
-    if (path.size() > ext.size() && path.substr(path.size() - ext.size()) == ext) return std::string(type);
+    if (lower.size() > ext.size() && lower.ends_with(ext)) return std::string(type);
   return "application/octet-stream";
 }
 
@@ -77,6 +80,22 @@ void BundleServer::Impl::answer(const httplib::Request& req, httplib::Response& 
     return;
   }
   const ServedFile& f = it->second;
+  if (f.size == 0) {   // httplib takes no content provider of length 0
+    res.set_content("", f.type);
+    return;
+  }
+  // httplib 0.11 neither checks ranges against the file's size nor trims them: a range that starts past the end is
+  // answered 416 (RFC 9110, 15.5.17), and one that ends past it ends at the last byte, as RFC 9110, 14.1.2 says.
+  const auto size = static_cast<ssize_t>(f.size);
+  for (auto& [first, end] : const_cast<httplib::Ranges&>(req.ranges)) {
+    if (first >= size || (first < 0 && end <= 0)) {
+      res.status = 416;
+      res.set_header("Content-Range", "bytes */" + std::to_string(f.size));
+      return;
+    }
+    if (first >= 0 && end >= size) end = size - 1;   // `end` is the last byte's offset
+    if (first < 0 && end > size) end = size;          // a suffix: `end` is its length
+  }
   auto in = std::make_shared<std::ifstream>(f.file, std::ios::binary);
   res.set_content_provider(f.size, f.type, [in](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
     std::vector<char> block(std::min<std::size_t>(length, 256 * 1024));
@@ -133,6 +152,9 @@ Result<BundleServer> BundleServer::start(const std::string& bundle_path, const S
                                                          content_type(bundle::kManifestName)});
 
   Impl* p = impl.get();
+  // An idle browser connection holds one of httplib's threads, and stop() waits for it: 1 s, not httplib's 5, so
+  // that Stop serving in the window answers at once.
+  p->server.set_keep_alive_timeout(1);
   p->server.Get(R"(/.*)", [p](const httplib::Request& req, httplib::Response& res) { p->answer(req, res); });
   p->server.set_logger([p, options](const httplib::Request& req, const httplib::Response& res) {
     p->note(req, res, options);

@@ -136,16 +136,19 @@
     const m = player.bundle.manifest;
     if (!workerReady || !m) return;
     worker.postMessage({ type: 'dictionaries', list: m.dictionary });
-    const files = [];
+    let files = [];
     try {
-      for (const f of m.files.filter((file) => file.role === 'calibration'))
-        files.push({ path: f.path, bytes: new Uint8Array(await (await fetch(f.path)).arrayBuffer()) });
+      for (const f of m.files.filter((file) => file.role === 'calibration')) {
+        const r = await fetch(f.path);
+        if (!r.ok) throw new Error(`${f.path}: HTTP ${r.status}`);
+        files.push({ path: f.path, bytes: new Uint8Array(await r.arrayBuffer()) });
+      }
     } catch (e) {
-      report(`the calibration could not be read: ${e.message}; poses use the default camera`);
+      report(`the calibration could not be read (${e.message}): poses use the default camera`);
+      files = [];
     }
-    const path = files.length === 0 ? '' : m.calibration;
-    player.camera = path ? `calibrated (${path})` : 'assumed (the bundle has no calibration)';
-    worker.postMessage({ type: 'camera', files, path, side: m.marker_size_mm });
+    // The worker says which camera it took (the 'camera' reply).
+    worker.postMessage({ type: 'camera', files, path: files.length ? m.calibration : '', side: m.marker_size_mm });
   };
   worker.onmessage = (e) => {
     const msg = e.data;
@@ -154,6 +157,7 @@
       useBundle();
     }
     else if (msg.type === 'error') report(msg.message);
+    else if (msg.type === 'camera') player.camera = msg.camera;
     else if (msg.type === 'result') {
       workerBusy = false;
       player.detected++;

@@ -2,7 +2,7 @@
 // Messages in: {type: 'detect', width, height, rgba: Uint8ClampedArray}, {type: 'dictionaries', list} and
 // {type: 'camera', files: [{path, bytes}], path, side} (the bundle's calibration files, written into the core's file
 // system under /bundle/, the one to read, '' for the default camera, and the markers' side).
-// Out: {type: 'ready'}, {type: 'result', result, width, height, rgba} (the pixels go back to the page, which keeps
+// Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'result', result, width, height, rgba} (the pixels go back to the page, which keeps
 // the frame it drew and what was found in it), {type: 'error', message}.
 'use strict';
 importScripts('arwb_core.js');
@@ -30,17 +30,25 @@ onmessage = async (e) => {
   }
   if (msg.type === 'camera') {
     let error = '';
-    try {
-      for (const f of msg.files) {
-        const file = `/bundle/${f.path}`;
-        core.module.FS.mkdirTree(file.slice(0, file.lastIndexOf('/')));
-        core.module.FS.writeFile(file, f.bytes);
+    if (msg.path) {
+      try {
+        for (const f of msg.files) {
+          const file = `/bundle/${f.path}`;
+          core.module.FS.mkdirTree(file.slice(0, file.lastIndexOf('/')));
+          core.module.FS.writeFile(file, f.bytes);
+        }
+        error = core.camera(`/bundle/${msg.path}`, msg.side);
+      } catch (e) {
+        error = `the calibration could not be written for the detector: ${e.message}`;
       }
-      error = core.camera(msg.path ? `/bundle/${msg.path}` : '', msg.side);
-    } catch (e) {
-      error = `the calibration could not be written for the detector: ${e.message}`;
+      if (!error) return postMessage({ type: 'camera', camera: `calibrated (${msg.path})` });
+      postMessage({ type: 'error', message: `the calibration is not used: ${error}` });
     }
-    if (error) postMessage({ type: 'error', message: `no poses: ${error}` });
+    // The default camera, also when the bundle's calibration was refused: poses, marked assumed.
+    const fallback = core.camera('', msg.side);
+    if (fallback) postMessage({ type: 'error', message: `no poses: ${fallback}` });
+    postMessage({ type: 'camera', camera: fallback ? 'none' : msg.path ? 'assumed (the calibration was refused)'
+                                                                     : 'assumed (the bundle has no calibration)' });
     return;
   }
   if (msg.type !== 'detect') return;
