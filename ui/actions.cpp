@@ -29,6 +29,13 @@ Result<bool> on_off(Arg verb, Arg arg) {
   return arg == "on";
 }
 
+// A verb whose argument is on or off, asking for the request T{on}.
+template <class T>
+Result<Request> switch_to(Arg verb, Arg arg) {
+  const Result<bool> on = on_off(verb, arg);
+  return on ? Result<Request>(T{*on}) : fail(on.error());
+}
+
 // A comma list of kinds, each one of `names`, or all, or none: which are on.
 Result<std::vector<bool>> kinds(Arg verb, Arg arg, const std::vector<std::string>& names) {
   std::vector<bool> on(names.size(), false);
@@ -296,10 +303,7 @@ const Verb kVerbs[] = {
        return Request(StartTour{a});   // a name or a number, checked against the tour when it opens
      }},
     {"presentation", [](Arg, Arg) -> Result<Request> { return Request(TogglePresentation{}); }},
-    {"fullscreen", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(SetFullscreen{*on}) : fail(on.error());
-     }},
+    {"fullscreen", switch_to<SetFullscreen>},
     {"preset", [](Arg, Arg a) -> Result<Request> { return Request(LoadPreset{a}); }},
     {"peers", [](Arg, Arg) -> Result<Request> { return Request(EnablePeers{}); }},
     {"scene", [](Arg, Arg a) -> Result<Request> { return Request(LoadScene{a}); }},
@@ -324,18 +328,12 @@ const Verb kVerbs[] = {
     {"move", move},
     {"splitter", splitter},
     {"calib_board", calib_board},
-    {"calib_capture", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(SetCalibrationCapture{*on}) : fail(on.error());
-     }},
+    {"calib_capture", switch_to<SetCalibrationCapture>},
     {"calib_drop", [](Arg, Arg a) -> Result<Request> { return Request(DropCalibrationView{"", std::atoi(a.c_str())}); }},
     {"calib_reset", [](Arg, Arg) -> Result<Request> { return Request(ResetCalibration{}); }},
     {"calib_save", [](Arg, Arg a) -> Result<Request> { return Request(SaveCalibration{a}); }},
     {"calib_wait", [](Arg, Arg a) -> Result<Request> { return Request(WaitForCalibration{std::atoi(a.c_str())}); }},
-    {"undistort", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(SetUndistort{*on}) : fail(on.error());
-     }},
+    {"undistort", switch_to<SetUndistort>},
     {"pose", pose},
     {"marker_size", marker_size},
     {"lab_plan", [](Arg, Arg a) -> Result<Request> {   // paper, or a plan file
@@ -356,26 +354,11 @@ const Verb kVerbs[] = {
     {"export", [](Arg, Arg a) -> Result<Request> { return Request(WriteExport{a}); }},
     {"export_title", [](Arg, Arg a) -> Result<Request> { return Request(SetExportTitle{a}); }},
     {"export_size", export_size},
-    {"export_calibration", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(SetExportCalibration{*on}) : fail(on.error());
-     }},
-    {"export_force", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(SetExportForce{*on}) : fail(on.error());
-     }},
-    {"export_web", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(SetExportWeb{*on}) : fail(on.error());
-     }},
-    {"export_convert", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(SetExportConvert{*on}) : fail(on.error());
-     }},
-    {"serve", [](Arg v, Arg a) -> Result<Request> {
-       const Result<bool> on = on_off(v, a);
-       return on ? Result<Request>(ServeBundle{*on}) : fail(on.error());
-     }},
+    {"export_calibration", switch_to<SetExportCalibration>},
+    {"export_force", switch_to<SetExportForce>},
+    {"export_web", switch_to<SetExportWeb>},
+    {"export_convert", switch_to<SetExportConvert>},
+    {"serve", switch_to<ServeBundle>},
     {"export_wait", [](Arg, Arg a) -> Result<Request> { return Request(WaitForExport{seconds(a)}); }},
     {"play", [](Arg, Arg a) -> Result<Request> { return Request(PlayBundle{a}); }},
     {"play_args", play_args},

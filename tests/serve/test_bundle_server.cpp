@@ -41,14 +41,19 @@ void export_museum(const fs::path& work, const fs::path& out, bool web) {
   ASSERT_TRUE(bundle::write_export(*plan).ok());
 }
 
+ServeOptions any_port() {
+  ServeOptions o;
+  o.port = 0;
+  return o;
+}
+
 TEST(BundleServer, ServesEveryListedFileAsExportedAndNothingElse) {
   test::TempDir work;
   const fs::path out = work.path() / "museum-web";
   export_museum(work.path(), out, true);
   std::mutex mutex;
   std::vector<std::string> log;
-  ServeOptions o;
-  o.port = 0;
+  ServeOptions o = any_port();
   o.log = [&](const std::string& line) {
     std::lock_guard lock(mutex);
     log.push_back(line);
@@ -122,8 +127,7 @@ TEST(BundleServer, ServesTheVerifiedCopyNotTheFolderAsItIsNow) {
   test::TempDir work;
   const fs::path out = work.path() / "museum-web";
   export_museum(work.path(), out, true);
-  ServeOptions o;
-  o.port = 0;
+  ServeOptions o = any_port();
   auto server = BundleServer::start(out.string(), o);
   ASSERT_TRUE(server.ok()) << server.error();
   write_file((out / "index.html").string(), "changed after the start");
@@ -135,8 +139,7 @@ TEST(BundleServer, RefusesBundlesWithoutAPageOrThatFailTheirCheck) {
   test::TempDir work;
   const fs::path plain = work.path() / "plain";
   export_museum(work.path(), plain, false);
-  ServeOptions o;
-  o.port = 0;
+  ServeOptions o = any_port();
   EXPECT_EQ(BundleServer::start(plain.string(), o).error(),
             plain.string() + ": has no web page; export it again with --web");
 
@@ -152,8 +155,7 @@ TEST(BundleServer, APortInUseIsNamedOrAnotherIsTakenWhenAllowed) {
   test::TempDir work;
   const fs::path out = work.path() / "museum-web";
   export_museum(work.path(), out, true);
-  ServeOptions o;
-  o.port = 0;
+  ServeOptions o = any_port();
   auto first = BundleServer::start(out.string(), o);
   ASSERT_TRUE(first.ok()) << first.error();
   o.port = first->port();
