@@ -188,7 +188,7 @@ TEST(Render, HostileScenesEndWithAMessageInsteadOfHanging) {
 
   // A callback looping over library calls on a long string is stopped by time; the render goes on. (1 MiB: a
   // longer string's string.rep alone can use up the main chunk's 250 ms on a loaded machine under the sanitizers.)
-  write_file(d.str("slow.lua"), "local s = string.rep(\"x\", 1024 * 1024)\n"
+  write_file(d.str("slow.lua"), "local s = string.rep(string.rep(\"x\", 1024), 1024)\n"
                                 "marker({from = 0, to = 2}, { media = text \"m\", on_update = function() while true do s:upper() end end })\n");
   r = render(d.str("slow.lua"), "slow");
   EXPECT_EQ(r.status, 0) << r.err;

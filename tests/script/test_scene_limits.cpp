@@ -59,11 +59,13 @@ marker(1, { on_update = function() local x = setmetatable({}, mt) end })
 }
 
 // ---- wall time -------------------------------------------------------------------------------------------------
+// The long strings are built from 1 KiB pieces: string.rep copies its piece once per repeat, and 8 million one-byte
+// copies took over the 250 ms of loading the scene under ASan in CI.
 
 // Each s:upper() is one instruction to the budget and about 3 ms on 4 MB: 5 million of them would take hours.
 TEST(Limits, LibraryCallsOverALongStringInALoopAreStoppedByTime) {
   SceneFixture s;
-  const auto p = s.write("scene.lua", R"(local s = string.rep("x", 4 * 1024 * 1024)
+  const auto p = s.write("scene.lua", R"(local s = string.rep(string.rep("x", 1024), 4 * 1024)
 marker(1, { media = text "one", on_update = function(m)
   while true do local u = s:upper() end
 end })
@@ -91,7 +93,7 @@ marker(2, { media = text "two", on_update = function(m) print("two runs") end })
 
 TEST(Limits, AMillionPlainFindsAreStoppedByTime) {
   SceneFixture s;
-  const auto p = s.write("scene.lua", R"(local s = string.rep("x", 1024 * 1024)
+  const auto p = s.write("scene.lua", R"(local s = string.rep(string.rep("x", 1024), 1024)
 marker(1, { on_update = function(m)
   local n = 0
   for i = 1, 1e6 do if s:find("y", 1, true) then n = n + 1 end end
@@ -108,7 +110,7 @@ end })
 // both stopped, even when the script swallows the error and returns.
 TEST(Limits, CoroutinesOldAndNewAreStoppedByTime) {
   SceneFixture s;
-  const auto p = s.write("scene.lua", R"(local s = string.rep("x", 8 * 1024 * 1024)
+  const auto p = s.write("scene.lua", R"(local s = string.rep(string.rep("x", 1024), 8 * 1024)
 local old = coroutine.create(function() while true do local u = s:lower() end end)
 marker(1, { on_update = function(m) print(coroutine.resume(old)) end })
 marker(2, { on_update = function(m)
@@ -130,7 +132,7 @@ marker(3, { media = text "three" })
 
 TEST(Limits, MetamethodsAndComputedTextAreStoppedByTime) {
   SceneFixture s;
-  const auto p = s.write("scene.lua", R"(local s = string.rep("x", 8 * 1024 * 1024)
+  const auto p = s.write("scene.lua", R"(local s = string.rep(string.rep("x", 1024), 8 * 1024)
 local slow = setmetatable({}, { __tostring = function() while true do local u = s:upper() end end,
                                __index = function(t, k) while true do local u = s:lower() end end })
 marker(1, { media = text(function(m) return tostring(slow) end) })
@@ -150,7 +152,7 @@ marker(3, { media = text "three" })
 // Comparisons, concatenation and indexing by a new long string are single instructions costing milliseconds.
 TEST(Limits, StringOperatorsInALoopAreStoppedByTime) {
   SceneFixture s;
-  const auto p = s.write("scene.lua", R"(local s = string.rep("x", 8 * 1024 * 1024)
+  const auto p = s.write("scene.lua", R"(local s = string.rep(string.rep("x", 1024), 8 * 1024)
 local t = {}
 marker(1, { on_update = function(m) while true do local x = t[s .. "y"] end end })
 )");
@@ -165,7 +167,7 @@ TEST(Limits, TheMainChunkIsStoppedByTimeAndTheLastGoodSceneStays) {
   SceneFixture s;
   const auto good = s.write("good.lua", "marker(1, { media = text \"good\" })\n");
   ASSERT_TRUE(s.runtime.load(good));
-  const auto bad = s.write("bad.lua", "local s = string.rep(\"x\", 4 * 1024 * 1024)\n"
+  const auto bad = s.write("bad.lua", "local s = string.rep(string.rep(\"x\", 1024), 4 * 1024)\n"
                                       "while true do local u = s:upper() end\n");
   const auto t0 = Clock::now();
   EXPECT_FALSE(s.runtime.load(bad));
@@ -281,9 +283,9 @@ print(pcall(table.sort, big))
 local few = {} for i = 1, 1000 do few[i] = 1000 - i end
 table.sort(few, function(a, b) return a < b end)
 print("sorted", few[1], few[1000])
-print(load(string.rep(" ", 2 * 1024 * 1024)))
+print(load(string.rep(string.rep(" ", 1024), 2 * 1024)))
 local pieces = 0
-print(load(function() pieces = pieces + 1 if pieces <= 3 then return string.rep(" ", 512 * 1024) end end))
+print(load(function() pieces = pieces + 1 if pieces <= 3 then return string.rep(string.rep(" ", 1024), 512) end end))
 print(load(function() pieces = pieces + 1 if pieces <= 6 then return "local x = 1 " end end)())
 local t = {1, 2, 3} table.insert(t, 1, 0) table.remove(t, 2) print(table.concat(table.move(t, 1, 3, 2), ","))
 )");
