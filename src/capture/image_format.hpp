@@ -4,7 +4,7 @@
 #pragma once
 
 #include "base/files.hpp"
-#include "capture/image_io.hpp"
+#include "capture/image_header.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -69,6 +69,12 @@ using ParseResult = std::optional<ParsedHeader>;
 // The header of a file of format f; nullopt and *error the reason ("truncated header", "invalid header (...)",
 // or describe_unreadable's for a format load_image does not read).
 ParseResult parse_header(Format f, ByteSource& src, std::string* error);
+
+// Opens a path that must be a non-empty regular file of at most 1 GiB (base/files' check, so a FIFO or device
+// never blocks or streams); on failure returns the reason without the path ("empty file (0 bytes)").
+std::string open_image_file(const std::string& path, InputFile& in);
+// The format of a file from its first bytes, or unknown and *reason why it cannot be read.
+Format sniff_file(const std::string& path, std::string* reason);
 
 // Why the data of a file whose header parsed is incomplete, or empty when it seems complete.
 std::string check_complete(Format f, const ParsedHeader& h, std::span<const uint8_t> b);

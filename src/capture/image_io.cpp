@@ -31,19 +31,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The largest image file read at all; load_image also bounds it by the pixels its header declares.
-constexpr FileLimit kImageFile{"an image", std::uintmax_t{1} << 30};
-
-// Opens a path that must be a non-empty regular file (base/files' check, so a FIFO or device never blocks or
-// streams); on failure returns the reason without the path.
-std::string open_regular_file(const std::string& path, InputFile& in) {
-  Result<InputFile> f = open_input_file(path, kImageFile);
-  if (!f) return f.error().substr(std::min(f.error().size(), path.size() + 2));
-  in = std::move(*f);
-  if (in.size() == 0) return "empty file (0 bytes)";
-  return {};
-}
-
 // Whether a line on stderr is a decoder library's: libpng's default handlers ("libpng warning: iCCP: known
 // incorrect sRGB profile", "libpng error: IDAT: CRC error") and libjpeg's warnings (jerror.h's JWRN_ texts; its
 // errors go to OpenCV's handler, which prints nothing).
@@ -89,53 +76,7 @@ std::string limit_error(const ImageHeader& h, int64_t max_pixels) {
   return {};
 }
 
-// Format of a file from its first bytes, or the reason it cannot be read.
-Format sniff_file(const std::string& path, std::string* reason) {
-  InputFile in;
-  *reason = open_regular_file(path, in);
-  if (!reason->empty()) return Format::unknown;
-  ByteSource src(in);
-  return sniff(src);
-}
-
 }  // namespace
-
-const char* to_string(PathKind kind) {
-  switch (kind) {
-    case PathKind::missing: return "missing";
-    case PathKind::image: return "image";
-    case PathKind::video: return "video";
-    case PathKind::folder: return "folder";
-    case PathKind::other: break;
-  }
-  return "other";
-}
-
-PathKind classify_path(const std::string& path) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  switch (st.type()) {
-    case fs::file_type::not_found: return PathKind::missing;
-    case fs::file_type::directory: return PathKind::folder;
-    case fs::file_type::regular: break;
-    default: return PathKind::other;  // devices, sockets, pipes, or no access to the path
-  }
-  std::string reason;
-  return kind_of(sniff_file(path, &reason));
-}
-
-std::optional<ImageHeader> read_image_header(const std::string& path, std::string* error) {
-  std::string local;
-  std::string& reason = error ? *error : local;
-  reason.clear();
-  InputFile in;
-  reason = open_regular_file(path, in);
-  if (!reason.empty()) return std::nullopt;
-  ByteSource src(in);
-  ParseResult parsed = parse_header(sniff(src), src, &reason);
-  if (!parsed) return std::nullopt;
-  return parsed->header;
-}
 
 LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
   keep_opencv_quiet();
@@ -147,7 +88,7 @@ LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
   };
   std::string reason;
   InputFile in;
-  if (!(reason = open_regular_file(path, in)).empty()) return failed(reason);
+  if (!(reason = image_format::open_image_file(path, in)).empty()) return failed(reason);
   const uint64_t size = in.size();
 
   // Everything that bounds memory is decided from the header, read straight from the file.
@@ -169,20 +110,6 @@ LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
   if (in.read_at(0, bytes.data(), bytes.size()) != static_cast<long long>(size))
     return failed("read error (the file changed while being read)");
   return decode_image(bytes, path, flags, max_pixels);
-}
-
-std::optional<ImageHeader> parse_image_header(std::span<const uint8_t> bytes, std::string* error) {
-  std::string local;
-  std::string& reason = error ? *error : local;
-  reason.clear();
-  if (bytes.empty()) {
-    reason = "empty file (0 bytes)";
-    return std::nullopt;
-  }
-  ByteSource src(bytes);
-  ParseResult parsed = parse_header(sniff(src), src, &reason);
-  if (!parsed) return std::nullopt;
-  return parsed->header;
 }
 
 LoadedImage decode_image(std::span<const uint8_t> bytes, const std::string& name, int flags, int64_t max_pixels) {
@@ -241,7 +168,7 @@ std::vector<std::string> list_images(const std::string& folder, std::vector<std:
     std::error_code type_ec;
     if (fs::is_directory(path, type_ec)) continue;  // not recursive
     std::string reason;
-    const Format f = sniff_file(path, &reason);
+    const Format f = image_format::sniff_file(path, &reason);
     if (reason.empty() && kind_of(f) == PathKind::image) {
       images.push_back(path);
     } else if (skipped) {

@@ -1,6 +1,6 @@
 #include "media/media_path.hpp"
 
-#include "capture/image_io.hpp"
+#include "capture/image_header.hpp"
 
 #include <sys/stat.h>
 

@@ -14,11 +14,6 @@
 
 namespace arwb::media {
 
-uint64_t next_version() {
-  static std::atomic<uint64_t> versions{0};
-  return ++versions;
-}
-
 namespace {
 
 // Exact, so two styles that differ in the last bit are different cards.

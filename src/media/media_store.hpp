@@ -8,8 +8,7 @@
 // returns, so a render is the same every time.
 #pragma once
 
-#include "track/media_spec.hpp"
-#include "track/mesh.hpp"
+#include "media/media_provider.hpp"
 
 #include <cstddef>
 #include <filesystem>
@@ -21,35 +20,13 @@
 
 namespace arwb::media {
 
-// A video as a MediaContent whose picture follows a clock the scene sets: the time into the video it should
-// show, and whether that time runs on by itself (live mode, between two of the scene's frames).
-class VideoContent : public MediaContent {
- public:
-  // Shows the frame at `position_s` seconds into the video (looping if the video loops, else holding the last
-  // frame), and from then on, while `playing`, lets the picture advance with the wall clock (live mode only).
-  // Offline, decodes up to that frame before returning and `playing` changes nothing. Negative or NaN: 0.
-  // Going backwards seeks (CAP_PROP_POS_FRAMES, or reopening the file when the backend cannot seek), except that
-  // live and playing, a clock at most a quarter second (2 frames at least) behind the picture is waited for: the
-  // scene's clock wobbles against the wall clock, and a seek per wobble would stutter.
-  virtual void set_clock(double position_s, bool playing) = 0;
-  // Frame count / fps; 0 if the container does not say. Shrinks to what could really be decoded when decoding
-  // ends early (a container that promised more, a truncated file).
-  virtual double duration_s() const = 0;
-  virtual double fps() const = 0;             // the container's rate, 25 when it gives none or an absurd one
-  // Frames decoded so far, shown or skipped.
-  virtual uint64_t frames_decoded() const = 0;
-  // A decode failure after opening, "" if none: "<path>: cannot decode frame 18 of 40 (damaged or truncated
-  // file); the video ends at frame 17". The last good frame stays shown.
-  virtual std::string error() const = 0;
-};
-
 enum class StoreMode { live, offline };
 
 // Versions (MediaContent::current) of everything the store returns come from one process-wide counter: they grow
 // with each new picture of a content and are never shared by two contents, so a texture cache keyed by a
 // content's address cannot mistake a new card or player at a recycled address for the old one.
 
-class MediaStore {
+class MediaStore final : public MediaProvider {
  public:
   explicit MediaStore(StoreMode mode);
   ~MediaStore();
@@ -61,28 +38,28 @@ class MediaStore {
   // CV_8UC4 BGRA when the file has alpha (grey becomes BGR, 16-bit becomes 8-bit). Null and *error set on
   // failure, with load_image's message ("<path>: corrupt or truncated image data", "<path>: declares 9000x9000
   // pixels, more than the limit of 40000000"); *error cleared on success.
-  std::shared_ptr<MediaContent> image(const std::string& path, std::string* error);
+  std::shared_ptr<MediaContent> image(const std::string& path, std::string* error) override;
   // A new player for the video at `path` (each marker showing a video has its own position), showing its first
   // frame, which is decoded here. Live mode starts its decoding thread; it ends when the player is released.
   // Null and *error set when it cannot be used: "<path>: cannot open the video", "<path>: has no frames that
   // can be decoded", "<path>: frames of 9000x9000 pixels, more than 40000000"; *error cleared on success.
-  std::shared_ptr<VideoContent> video(const std::string& path, bool loop, std::string* error);
+  std::shared_ptr<VideoContent> video(const std::string& path, bool loop, std::string* error) override;
   // A card with the text (several lines allowed), drawn with cairo in spec.font_px, spec.colour on
   // spec.background; cached by text and style, so a text that changes every frame costs one drawing per change.
   // Always a picture of at least 1x1 (empty text: the background alone). The text is cut to kMaxCardText bytes,
   // lines too long or too many for a kMaxCardSide square end with "…"; invalid UTF-8 shows as U+FFFD.
-  std::shared_ptr<MediaContent> text_card(const MediaSpec& spec);
+  std::shared_ptr<MediaContent> text_card(const MediaSpec& spec) override;
   // A card for a web link: a globe mark, the title in large type and the URL below it, "click to open".
   // kWebCardSize; the title is spec.title, else url_host(spec.url), else the URL.
-  std::shared_ptr<MediaContent> web_card(const MediaSpec& spec);
+  std::shared_ptr<MediaContent> web_card(const MediaSpec& spec) override;
   // The 3D model `relative` (as the scene wrote it) inside `scene_dir`, read by load_model (model_file.hpp) once
   // and shared while anyone holds it, cached by the scene's folder and the model's canonical path. Null and
   // *error set on failure (load_model's message); *error cleared on success. *warning (if given) gets what the
   // load warned about (a texture that could not be read), again on each call that finds the model cached.
   std::shared_ptr<const Mesh> model(const std::filesystem::path& scene_dir, const std::string& relative,
-                                    std::string* error, std::string* warning = nullptr);
+                                    std::string* error, std::string* warning = nullptr) override;
   // Forgets cached images, models and cards no one holds (after a scene reload).
-  void trim();
+  void trim() override;
 
   static constexpr size_t kMaxCardText = 4096;     // bytes of text drawn on one card
   static constexpr int kMaxCardSide = 4096;        // pixels

@@ -290,7 +290,7 @@ std::vector<std::string> SceneRuntime::Impl::take_errors() {
   return out;
 }
 
-SceneRuntime::SceneRuntime(media::MediaStore& store, ScriptLimits limits)
+SceneRuntime::SceneRuntime(media::MediaProvider& store, ScriptLimits limits)
     : impl_(std::make_unique<Impl>(store, limits)) {}
 SceneRuntime::~SceneRuntime() = default;
 

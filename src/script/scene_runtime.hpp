@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-namespace arwb::media { class MediaStore; }
+namespace arwb::media { class MediaProvider; }
 
 namespace arwb::script {
 
@@ -62,7 +62,7 @@ struct SceneInput {
 
 class SceneRuntime {
  public:
-  explicit SceneRuntime(media::MediaStore& store, ScriptLimits limits = {});
+  explicit SceneRuntime(media::MediaProvider& media, ScriptLimits limits = {});
   ~SceneRuntime();
   SceneRuntime(const SceneRuntime&) = delete;
   SceneRuntime& operator=(const SceneRuntime&) = delete;

@@ -8,7 +8,7 @@
 
 #include "script/scene_runtime.hpp"
 
-#include "media/media_store.hpp"
+#include "media/media_provider.hpp"
 #include "script/scene_model.hpp"
 
 #include <array>
@@ -79,10 +79,10 @@ struct FileSig {
 std::string mib(std::size_t bytes);
 
 struct SceneRuntime::Impl : Reporter {
-  Impl(media::MediaStore& s, ScriptLimits l) : store(s), limits(l) {}
+  Impl(media::MediaProvider& s, ScriptLimits l) : store(s), limits(l) {}
   ~Impl() override { prog.reset(); }
 
-  media::MediaStore& store;
+  media::MediaProvider& store;
   ScriptLimits limits;
   SceneStatus status;
   std::unique_ptr<Program> prog;
