@@ -12,16 +12,22 @@
 #include "inspect/trace_view.hpp"
 #include "render/compositor.hpp"
 #include "render/offscreen.hpp"
+#include "track/overlay_json.hpp"
+
+#include <nlohmann/json.hpp>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -116,7 +122,7 @@ class SceneWatchdog {
 
 // What the command line asked for.
 struct RenderArgs {
-  std::string scene_file, input, out, resize = "off", dict_opt, params_file, calib_file;
+  std::string scene_file, input, out, resize = "off", dict_opt, params_file, calib_file, overlays_file;
   int max_frames = 0, samples = 4;
   double fps_opt = 0, marker_size = 0;
   bool force = false;
@@ -157,12 +163,18 @@ void declare_options(CLI::App& app, RenderArgs& a) {
   app.add_option("--samples", a.samples, "MSAA samples for the media's edges; 1 turns it off")
       ->type_name("N")
       ->check(whole_number(1, 16));
-  app.add_flag("--force", a.force, "replace an existing OUT file, or frame_*.png files already in DIR");
+  app.add_option("--overlays", a.overlays_file,
+                 "also write where each medium was drawn: one JSON line per frame (docs/command-line.md)")
+      ->type_name("FILE.jsonl");
+  app.add_flag("--force", a.force, "replace an existing OUT file, or frame_*.png files already in DIR (and the "
+               "--overlays file)");
 }
 
 // Why --out may not be written (never overwrite what is there unless asked), or "".
 std::string out_problem(const RenderArgs& a, bool to_video) {
   std::error_code ec;
+  if (!a.overlays_file.empty() && fs::exists(a.overlays_file, ec) && !a.force)
+    return "--overlays " + a.overlays_file + " exists; add --force to replace it";
   if (to_video) {
     if (fs::exists(a.out, ec) && !a.force) return "--out " + a.out + " exists; add --force to replace it";
     return "";
@@ -252,6 +264,7 @@ struct FrameSteps {
   render::Compositor& compositor;
   PictureOut& pictures;
   DetectorParams params;
+  std::FILE* overlays_out = nullptr;   // --overlays: a JSON line per frame
   double detect_ms = 0, scene_ms = 0, composite_ms = 0, write_ms = 0;
   int frames = 0, with_markers = 0, overlays = 0;
 
@@ -277,6 +290,15 @@ struct FrameSteps {
     watchdog.end();
     scene_ms += ms_since(t0);
     console.echo(f.scene);
+    if (overlays_out) {
+      const std::string line = nlohmann::ordered_json{{"frame", frames}, {"t", t}, {"width", f.image.cols},
+                                                      {"height", f.image.rows},
+                                                      {"overlays", overlays_json(f.overlays)}}.dump();
+      if (std::fprintf(overlays_out, "%s\n", line.c_str()) < 0) {
+        print_problem("arwb render: cannot write the --overlays file\n");
+        return 1;
+      }
+    }
     if (!f.trace.markers.empty()) ++with_markers;
     overlays += int(f.overlays.size());
     t0 = Clock::now();
@@ -375,8 +397,17 @@ int cmd_render(int argc, char** argv) {
     }
   }
 
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> overlays_out(nullptr, &std::fclose);
+  if (!a.overlays_file.empty()) {
+    overlays_out.reset(std::fopen(a.overlays_file.c_str(), "w"));
+    if (!overlays_out) {
+      print_problem("arwb render: cannot write --overlays %s (%s)\n", a.overlays_file.c_str(), std::strerror(errno));
+      return 1;
+    }
+  }
   VideoSearch video;
-  FrameSteps steps{detector, video, camera, stage, watchdog, console, compositor, pictures, params};
+  FrameSteps steps{detector, video, camera, stage, watchdog, console, compositor, pictures, params,
+                   overlays_out.get()};
   int errors = 0;
   cv::Mat raw;
   for (int i = 0; limit == 0 || i < limit; ++i) {

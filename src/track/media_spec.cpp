@@ -6,6 +6,21 @@ namespace arwb {
 
 bool is_solid(MediaKind k) { return k == MediaKind::cube || k == MediaKind::axes || k == MediaKind::model; }
 
+const char* media_kind_name(MediaKind k) {
+  switch (k) {
+    case MediaKind::none: break;
+    case MediaKind::image: return "image";
+    case MediaKind::video: return "video";
+    case MediaKind::web: return "web";
+    case MediaKind::text: return "text";
+    case MediaKind::stage: return "stage";
+    case MediaKind::cube: return "cube";
+    case MediaKind::axes: return "axes";
+    case MediaKind::model: return "model";
+  }
+  return "none";
+}
+
 std::string MediaSpec::describe() const {
   switch (kind) {
     case MediaKind::none: return "callbacks only";

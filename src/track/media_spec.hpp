@@ -16,6 +16,8 @@ namespace arwb {
 // cube, axes, model: 3D media (mesh.hpp), drawn in the marker's frame through its pose.
 enum class MediaKind { none, image, video, web, text, stage, cube, axes, model };
 bool is_solid(MediaKind k);   // cube, axes, model
+// The kind as the scene API names it: "image", "video", "web", "text", "stage", "cube", "axes", "model"; "none".
+const char* media_kind_name(MediaKind k);
 
 struct MediaSpec {
   MediaKind kind = MediaKind::none;

@@ -10,6 +10,9 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 #include <map>
 #include <cstdlib>
 #include <sys/wait.h>
@@ -103,6 +106,44 @@ TEST(Render, MediaLandInsideTheirQuadsOnPngFrames) {
   expect_colour_in_plane_rect(img, plane(markers.at(950)), 1.25, 0, 2.25, 1, kCyan, 3, "beside 950");
   // The marker 950 itself is not covered.
   EXPECT_FALSE(near(img.at<cv::Vec3b>(map(plane(markers.at(950)), 0.5, 0.5)), kCyan, 40));
+}
+
+// --overlays: a JSON line per frame with each medium's quad, which is the placement's (on_marker stretch: the marker's
+// own corners), and never an existing file unasked.
+TEST(Render, OverlaysFileSaysWhereEachMediumWasDrawn) {
+  TempDir d;
+  write_scene(d);
+  const std::string base = "render --scene " + d.str("scene.lua") + " --input " + kSample + " --out " + d.str("out");
+  const auto r = run_arwb(base + " --overlays " + d.str("overlays.jsonl"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string text = test::read_file(d.str("overlays.jsonl"));
+  ASSERT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  const auto line = nlohmann::json::parse(text);
+  EXPECT_EQ(line["frame"], 0);
+  EXPECT_EQ(line["width"], 640);
+  ASSERT_EQ(line["overlays"].size(), 2u) << text;
+  const auto& o = line["overlays"][0];
+  EXPECT_EQ(o["marker"], 843);
+  EXPECT_EQ(o["kind"], "image");
+  EXPECT_EQ(o["source"], "magenta.png");
+  EXPECT_EQ(o["size"], nlohmann::json({40, 40}));
+  const Quad q = sample_markers().at(843);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(o["quad"]["corners"][k][0].get<double>(), q[size_t(k)].x, 1e-3) << "corner " << k;
+    EXPECT_NEAR(o["quad"]["corners"][k][1].get<double>(), q[size_t(k)].y, 1e-3) << "corner " << k;
+  }
+  EXPECT_EQ(line["overlays"][1]["place"], "beside right gap 0.25 size 1") << text;
+
+  // --force replaces it, as it replaces the frames.
+  const auto again = run_arwb(base + " --force --overlays " + d.str("overlays.jsonl"));
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(test::read_file(d.str("overlays.jsonl")), text);
+  write_file(d.str("kept.jsonl"), "mine\n");
+  const auto kept = run_arwb(base + "2 --overlays " + d.str("kept.jsonl"));
+  EXPECT_EQ(kept.status, 2);
+  EXPECT_NE(kept.err.find("--overlays " + d.str("kept.jsonl") + " exists; add --force to replace it"),
+            std::string::npos) << kept.err;
+  EXPECT_EQ(test::read_file(d.str("kept.jsonl")), "mine\n");
 }
 
 TEST(Render, FolderToVideoHasEveryFrame) {
