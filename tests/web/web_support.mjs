@@ -10,7 +10,9 @@ const require = createRequire(import.meta.url);
 const { PNG } = webRequire('pngjs');
 
 // The core built by web/core (arwb_core.js beside arwb_core.wasm), with its C functions wrapped for JavaScript.
-export async function loadCore(coreJs) {
+// Its detector searches each frame whole, as `arwb detect` searches still images; { video: true } keeps the page's
+// video mode (around the last frame's markers), as `arwb render` and the workbench search a video.
+export async function loadCore(coreJs, { video = false } = {}) {
   const ArwbCore = require(path.resolve(coreJs));
   const wasmBinary = fs.readFileSync(coreJs.replace(/\.js$/, '.wasm'));
   const m = await ArwbCore({ wasmBinary });
@@ -19,6 +21,10 @@ export async function loadCore(coreJs) {
   const frame = m.cwrap('arwb_frame', 'number', ['number', 'number']);
   const detect = m.cwrap('arwb_detect', 'string', []);
   const setCamera = m.cwrap('arwb_set_camera', 'string', ['string', 'number']);
+  if (!video) setParam('full_search_interval', 1);
+  const sceneLoad = m.cwrap('arwb_scene_load', 'string', ['string']);
+  const sceneVideo = m.cwrap('arwb_scene_video', null, ['string', 'number', 'number', 'number']);
+  const sceneStep = m.cwrap('arwb_scene_step', 'string', ['number']);
   return {
     setDictionaries,
     setParam,
@@ -29,6 +35,12 @@ export async function loadCore(coreJs) {
       m.FS.mkdirTree(path.posix.dirname(file));
       m.FS.writeFile(file, bytes);
     },
+    // The scene at a path of the module's file system: its status, parsed.
+    sceneLoad: (file) => JSON.parse(sceneLoad(file)),
+    // A video's size and length, as the page's <video> reads them.
+    sceneVideo,
+    // The tracker and the scene on the last detections at t seconds: the overlays as the core's JSON, parsed.
+    sceneStep: (t) => JSON.parse(sceneStep(t)),
     // image: {width, height, data: RGBA bytes}. The detections as the core's JSON, parsed.
     detect(image) {
       const at = frame(image.width, image.height);

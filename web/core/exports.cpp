@@ -1,6 +1,7 @@
-// The C functions the page's worker calls (Module.cwrap): one WebDetector per module instance, strings in and out
-// as UTF-8. Thin on purpose: everything they do is WebDetector's.
+// The C functions the page's worker calls (Module.cwrap): one WebDetector and one WebScene per module instance,
+// strings in and out as UTF-8. Thin on purpose: everything they do is WebDetector's and WebScene's.
 #include "web_detector.hpp"
+#include "web_scene.hpp"
 
 #include <emscripten/emscripten.h>
 
@@ -8,6 +9,10 @@ namespace {
 arwb::web::WebDetector& detector() {
   static arwb::web::WebDetector d;
   return d;
+}
+arwb::web::WebScene& scene() {
+  static arwb::web::WebScene s;
+  return s;
 }
 thread_local std::string g_message;
 }  // namespace
@@ -36,5 +41,19 @@ EMSCRIPTEN_KEEPALIVE const char* arwb_set_camera(const char* path, double marker
 EMSCRIPTEN_KEEPALIVE uint8_t* arwb_frame(int width, int height) { return detector().frame(width, height); }
 
 EMSCRIPTEN_KEEPALIVE const char* arwb_detect() { return detector().detect().c_str(); }
+
+// The scene file to run on the detections (a path in the module's file system); its status as JSON.
+EMSCRIPTEN_KEEPALIVE const char* arwb_scene_load(const char* path) {
+  g_message = scene().load(path ? path : "");
+  return g_message.c_str();
+}
+
+// A video's size and length as the page read them (the core decodes no video).
+EMSCRIPTEN_KEEPALIVE void arwb_scene_video(const char* path, int width, int height, double duration_s) {
+  scene().set_video(path ? path : "", width, height, duration_s);
+}
+
+// The tracker and the scene on the last detect()'s markers, at `t_s` seconds; the overlays as JSON.
+EMSCRIPTEN_KEEPALIVE const char* arwb_scene_step(double t_s) { return scene().step(detector(), t_s).c_str(); }
 
 }

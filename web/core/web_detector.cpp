@@ -25,6 +25,7 @@ std::string WebDetector::set_dictionaries(const std::string& list) {
   auto next = std::make_unique<Detector>(std::move(*dicts), detector_->params());
   next->set_acquisition(detector_->acquisition());
   detector_ = std::move(next);
+  video_.reset();
   return "";
 }
 
@@ -35,6 +36,7 @@ std::string WebDetector::set_param(const std::string& name, double value) {
   std::string error;
   if (!arwb::set_param(p, *info, value, &error)) return error;
   detector_->set_params(p);
+  video_.reset();
   return "";
 }
 
@@ -84,7 +86,8 @@ const std::string& WebDetector::detect() {
   const auto t0 = std::chrono::steady_clock::now();
   const cv::Mat rgba(height_, width_, CV_8UC4, rgba_.data());
   FrameTrace trace;
-  const std::vector<Marker> markers = detector_->detect(rgba, &trace, TraceLevel::summary);
+  markers_ = video_.detect(*detector_, rgba, &trace, TraceLevel::summary);
+  const std::vector<Marker>& markers = markers_;
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   Json stages = Json::object();
   for (const StageRecord& r : trace.stages) stages[std::string(stage_name(r.stage))] = r.ms;

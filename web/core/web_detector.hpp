@@ -4,6 +4,7 @@
 #pragma once
 #include "calibration/calibration_file.hpp"
 #include "detect/detector.hpp"
+#include "detect/video_search.hpp"
 
 #include <cstdint>
 #include <map>
@@ -30,7 +31,9 @@ class WebDetector {
   std::string set_camera(const std::string& path, double marker_side);
   // The frame buffer the page writes into: width * height * 4 bytes of RGBA, kept until the next call.
   uint8_t* frame(int width, int height);
-  // Detects in the frame last written. The result as one JSON object: {"width","height","ms","markers":[{"id",
+  // Detects in the frame last written, as the desktop's live view does: in video mode (detect/video_search.hpp),
+  // around the last frame's markers, and the whole frame every full_search_interval frames (1: always, as `arwb
+  // detect` searches still images). The result as one JSON object: {"width","height","ms","markers":[{"id",
   // "dict","corners":[[x,y] x4],"hamming"[,"pose"]}],"stages":{name: ms}} with corners at full precision in the
   // frame's pixels and each stage's time from the trace; or {"error": "..."} when there is no frame. With a
   // camera, "pose": {"rvec","tvec","error_px","ambiguity","alternative":{"rvec","tvec","error_px"},"camera":
@@ -40,16 +43,25 @@ class WebDetector {
   // does not fit the frame's size gives "camera_error" instead of poses.
   const std::string& detect();
 
- private:
-  // The camera for a frame of this size, or the reason it has none.
+  // The markers of the last detect(), and its frame's size.
+  const std::vector<Marker>& markers() const { return markers_; }
+  cv::Size frame_size() const { return {width_, height_}; }
+  // The camera for a frame of this size (the calibration fitted to it, or the default camera), or null and the
+  // reason it has none.
   const Calibration* camera_for(int width, int height, std::string* error);
+  // The markers' side poses are measured in (0: no poses).
+  double marker_side() const { return marker_side_; }
+
+ private:
 
   std::unique_ptr<Detector> detector_;
+  VideoSearch video_;   // forgotten when the dictionaries or a parameter change
   std::optional<Calibration> calibration_;   // read from set_camera's path; none: the default camera
   double marker_side_ = 0;
   std::map<std::pair<int, int>, Result<Calibration>> sized_;   // by frame size
   std::vector<uint8_t> rgba_;
   int width_ = 0, height_ = 0;
+  std::vector<Marker> markers_;
   std::string result_;
 };
 

@@ -38,11 +38,18 @@
     camera: 'none yet',  // what the poses are computed with
     cameraError: '',     // why the calibration does not fit the camera's picture, '' when it does
     errors: [],          // newest last
+    notes: [],           // what the page does not do for this bundle (media it does not draw yet), once each
     lastFrame: null,     // {width, height, rgba, result}: a frame the worker searched and what it found
+    // The scene: its load status from the core, the overlays of the last searched frame (the core's JSON), the kinds
+    // of media drawn over the view on the last frame; line: the overlay's line about it.
+    scene: { status: null, overlays: [], drawn: [], console: [], line: () => sceneLine() },
     // The bundle this page belongs to: state checking, none (the page alone), unchecked (the page cannot run here),
     // verified or refused; its manifest;
     // problem (the first file refused, named); offline (the service worker keeps it).
     bundle: { state: 'checking', manifest: null, problem: '', offline: false },
+    // One row of the detector's parameter table, as presets and sliders set it (for the tests and the console:
+    // full_search_interval 1 searches every frame whole, as `arwb detect` searches still images).
+    setParam(name, value) { worker.postMessage({ type: 'param', name, value }); },
     // The last searched frame as a PNG data URL, with its result (for the tests: `arwb detect` on the same pixels).
     grab() {
       const f = player.lastFrame;
@@ -149,7 +156,53 @@
     }
     // The worker says which camera it took (the 'camera' reply).
     worker.postMessage({ type: 'camera', files, path: files.length ? m.calibration : '', side: m.marker_size_mm });
+    if (m.scene) {
+      try {
+        worker.postMessage(Object.assign({ type: 'scene' }, await sceneFiles(m)));
+      } catch (e) {
+        report(`the scene does not run: ${e.message}`);
+      }
+    }
   };
+  // The bundle file a phone plays for `path`: its phone copy when export made one (--convert-for-phones).
+  const phonePath = (m, path) => ((m.phone_media || []).find((c) => c.path === path) || { phone: path }).phone;
+  const bundleFile = async (path) => {
+    const r = await fetch(path);
+    if (!r.ok) throw new Error(`${path}: HTTP ${r.status}`);
+    return r.blob();
+  };
+  const sceneDir = (m) => m.scene.slice(0, m.scene.lastIndexOf('/'));
+  // The scene's folder for the core: its files as Blobs (each video as the phone plays it, under the original's name,
+  // which the scene wrote), and each video's size and length as this browser reads them.
+  async function sceneFiles(m) {
+    const dir = sceneDir(m);
+    const files = [], videos = [];
+    for (const f of m.files.filter((file) => file.path.startsWith(`${dir}/`))) {
+      const blob = await bundleFile(phonePath(m, f.path));
+      files.push({ path: f.path, blob });
+      if (!/\.(mp4|m4v|mov|webm|mkv|avi|ogv)$/i.test(f.path)) continue;
+      const v = document.createElement('video');
+      v.muted = true;
+      v.preload = 'metadata';
+      v.src = URL.createObjectURL(blob);
+      const ok = await new Promise((resolve) => {
+        v.onloadedmetadata = () => resolve(true);
+        v.onerror = () => resolve(false);
+        setTimeout(() => resolve(false), 5000);
+      });
+      URL.revokeObjectURL(v.src);
+      if (ok && v.videoWidth > 0) videos.push({ path: f.path, width: v.videoWidth, height: v.videoHeight, duration: v.duration });
+      else report(`${f.path}: this browser cannot play it (export with --convert-for-phones makes a copy it plays)`);
+    }
+    return { scene: m.scene, files, videos };
+  }
+  const layer = new MediaLayer($('media'), (path) => bundleFile(phonePath(player.bundle.manifest, path)),
+                                (url, title) => {
+                                  const c = (player.bundle.manifest.web_cards || [])
+                                    .find((w) => w.url === url && w.title === title);
+                                  return c ? c.picture : '';
+                                });
+  const notDrawn = new Set();   // the kinds said not to be drawn on phones yet, once per scene
   worker.onmessage = (e) => {
     const msg = e.data;
     if (msg.type === 'ready') {
@@ -158,6 +211,12 @@
     }
     else if (msg.type === 'error') report(msg.message);
     else if (msg.type === 'camera') player.camera = msg.camera;
+    else if (msg.type === 'scene') {
+      player.scene.status = msg.status;
+      notDrawn.clear();
+      player.notes = [];
+      if (!msg.status.ok) report(`the scene did not load: ${msg.status.error}`);
+    }
     else if (msg.type === 'result') {
       workerBusy = false;
       player.detected++;
@@ -170,10 +229,27 @@
       player.detectMs.push(msg.result.ms || 0);
       if (player.detectMs.length > 30) player.detectMs.shift();
       player.lastFrame = { width: msg.width, height: msg.height, rgba: msg.rgba, result: msg.result };
+      if (msg.scene) takeScene(msg.scene);
       drawOverlay();
     }
   };
   worker.onerror = (e) => report(`the detector stopped: ${e.message}`);
+
+  // One frame's scene from the core: its overlays to draw, its new error lines, its console.
+  function takeScene(scene) {
+    player.scene.overlays = scene.overlays;
+    for (const e of scene.errors) report(e);
+    if (scene.scene.console) player.scene.console = scene.scene.console;
+    for (const o of scene.overlays) {
+      const kind = o.solid ? `${o.kind} (3D)` : o.kind;
+      if (!['image', 'video', 'web'].includes(o.kind) || o.solid) {
+        if (notDrawn.has(kind)) continue;
+        notDrawn.add(kind);
+        player.notes.push(`${o.kind === 'text' ? 'text cards' : kind} are not drawn on phones yet (marker ` +
+                          `${o.marker}: ${o.kind === 'text' ? JSON.stringify(o.text) : o.source}); the desktop draws them`);
+      }
+    }
+  }
 
   const video = $('camera');
   const view = $('view');
@@ -220,9 +296,14 @@
     if (workerReady && !workerBusy) {
       const rgba = ctx.getImageData(0, 0, w, h).data;
       workerBusy = true;
-      worker.postMessage({ type: 'detect', width: w, height: h, rgba }, [rgba.buffer]);
+      worker.postMessage({ type: 'detect', width: w, height: h, rgba, t: now / 1000 }, [rgba.buffer]);
     }
     drawMarkers();
+    const m = player.bundle.manifest;
+    if (m && m.scene) {
+      layer.draw(player.scene.overlays, w, h, sceneDir(m));
+      player.scene.drawn = layer.drawn;
+    }
     player.drawn++;
     fpsCount++;
     if (now - fpsSince >= 1000) {
@@ -268,11 +349,21 @@
       `${player.fps.toFixed(0)} fps drawn, ${view.width}x${view.height}, ${player.facing} camera`,
       `detect ${median} ms (median of ${ms.length})`,
       `markers: ${player.markers.map((m) => m.id).join(' ') || 'none'}`,
+      `scene: ${sceneLine()}`,
       `camera: ${player.camera}`,
       `bundle: ${bundleLine()}`,
       `newest error: ${player.errors.length ? player.errors[player.errors.length - 1] : 'none'}`,
+      ...player.notes.map((n) => `note: ${n}`),
     ];
     o.textContent = lines.join('\n');
+  }
+
+  function sceneLine() {
+    const s = player.scene;
+    if (!s.status) return player.bundle.manifest && player.bundle.manifest.scene ? 'loading' : 'none';
+    if (!s.status.ok) return `not loaded: ${s.status.error}`;
+    if (!layer.gl) return `${s.status.mappings.length} mappings; media not drawn: this browser has no WebGL 2`;
+    return `${s.status.mappings.length} mappings, ${s.overlays.length} media placed, ${s.drawn.length} drawn`;
   }
 
   function bundleLine() {
@@ -312,8 +403,8 @@
     }
     if (b.state === 'verified')
       $('bundle').textContent = `${b.manifest.ids.length} marker${b.manifest.ids.length === 1 ? '' : 's'} of ` +
-        `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. The scene's ` +
-        'media are not drawn on phones yet: the page outlines its markers and draws their axes.';
+        `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. Pictures, videos and web ` +
+        'cards are drawn on their markers; text cards and 3D media are not drawn on phones yet.';
     else $('bundle').textContent = '';
     useBundle();
     player.state = 'ready';

@@ -1,20 +1,46 @@
 // The phone player's worker: the WebAssembly core (arwb_core.js, the desktop's detector) on frames the page sends.
-// Messages in: {type: 'detect', width, height, rgba: Uint8ClampedArray}, {type: 'dictionaries', list} and
+// Messages in: {type: 'detect', width, height, rgba: Uint8ClampedArray, t}, {type: 'dictionaries', list},
+// {type: 'param', name, value} (one row of the detector's parameter table) and
 // {type: 'camera', files: [{path, bytes}], path, side} (the bundle's calibration files, written into the core's file
-// system under /bundle/, the one to read, '' for the default camera, and the markers' side).
-// Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'result', result, width, height, rgba} (the pixels go back to the page, which keeps
-// the frame it drew and what was found in it), {type: 'error', message}.
+// system under /bundle/, the one to read, '' for the default camera, and the markers' side) and {type: 'scene',
+// scene, files: [{path, blob}], videos: [{path, width, height, duration}]} (the scene file's bundle path, the
+// files of its folder, mounted read-only under /files/ where the core reads only the bytes it asks for, and each
+// video's size and length as the page's <video> read them).
+// Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'scene', status} (the
+// scene's load status), {type: 'result', result, scene, width, height, rgba} (the pixels go back to the page, which
+// keeps the frame it drew and what was found in it; scene: the core's overlays for it, when a scene runs),
+// {type: 'error', message}.
 'use strict';
 importScripts('arwb_core.js');
 
 let core = null;
+let sceneRunning = false;
+
+// The scene's folder mounted read-only (WORKERFS: the core reads the Blobs' bytes as it asks), and the scene loaded.
+function loadScene(msg) {
+  const FS = core.module.FS;
+  try { FS.unmount('/files'); } catch { /* not mounted yet */ }
+  FS.mkdirTree('/files');
+  // WORKERFS answers readlink with EPERM; without its own readlink the file system says EINVAL, "not a link", which
+  // is what realpath (the scene's std::filesystem::canonical) asks each part of a path.
+  delete FS.filesystems.WORKERFS.node_ops.readlink;
+  FS.mount(FS.filesystems.WORKERFS, { blobs: msg.files.map((f) => ({ name: f.path, data: f.blob })) }, '/files');
+  for (const v of msg.videos) core.sceneVideo(`/files/${v.path}`, v.width, v.height, v.duration);
+  const status = JSON.parse(core.sceneLoad(`/files/${msg.scene}`));
+  sceneRunning = true;
+  return status;
+}
 const ready = ArwbCore().then((m) => {
   core = {
     module: m,
     frame: m.cwrap('arwb_frame', 'number', ['number', 'number']),
     detect: m.cwrap('arwb_detect', 'string', []),
     dictionaries: m.cwrap('arwb_set_dictionaries', 'string', ['string']),
+    param: m.cwrap('arwb_set_param', 'string', ['string', 'number']),
     camera: m.cwrap('arwb_set_camera', 'string', ['string', 'number']),
+    sceneLoad: m.cwrap('arwb_scene_load', 'string', ['string']),
+    sceneVideo: m.cwrap('arwb_scene_video', null, ['string', 'number', 'number', 'number']),
+    sceneStep: m.cwrap('arwb_scene_step', 'string', ['number']),
   };
   postMessage({ type: 'ready' });
 }, (e) => postMessage({ type: 'error', message: `the detector did not load: ${e && e.message ? e.message : e}` }));
@@ -25,6 +51,11 @@ onmessage = async (e) => {
   const msg = e.data;
   if (msg.type === 'dictionaries') {
     const error = core.dictionaries(msg.list);
+    if (error) postMessage({ type: 'error', message: error });
+    return;
+  }
+  if (msg.type === 'param') {
+    const error = core.param(msg.name, msg.value);
     if (error) postMessage({ type: 'error', message: error });
     return;
   }
@@ -51,6 +82,16 @@ onmessage = async (e) => {
                                                                      : 'assumed (the bundle has no calibration)' });
     return;
   }
+  if (msg.type === 'scene') {
+    let status;
+    try {
+      status = loadScene(msg);
+    } catch (e) {
+      status = { ok: false, error: `the scene's files could not be given to the core: ${e.message}` };
+    }
+    postMessage({ type: 'scene', status });
+    return;
+  }
   if (msg.type !== 'detect') return;
   const at = core.frame(msg.width, msg.height);
   if (!at) {
@@ -61,5 +102,7 @@ onmessage = async (e) => {
   }
   core.module.HEAPU8.set(msg.rgba, at);
   const result = JSON.parse(core.detect());
-  postMessage({ type: 'result', result, width: msg.width, height: msg.height, rgba: msg.rgba }, [msg.rgba.buffer]);
+  const scene = sceneRunning ? JSON.parse(core.sceneStep(msg.t)) : null;
+  postMessage({ type: 'result', result, scene, width: msg.width, height: msg.height, rgba: msg.rgba },
+              [msg.rgba.buffer]);
 };

@@ -24,6 +24,9 @@
   const m = await ArwbCore();
   const frame = m.cwrap('arwb_frame', 'number', ['number', 'number']);
   const detect = m.cwrap('arwb_detect', 'string', []);
+  // Each still searched whole, as `arwb bench` searches them (the core's video mode would search around the last
+  // frame's markers).
+  m.cwrap('arwb_set_param', 'string', ['string', 'number'])('full_search_interval', 1);
   const ours = {
     prepare(img) { m.HEAPU8.set(img.data, frame(img.width, img.height)); },
     run: () => JSON.parse(detect()).markers.map((k) => ({ id: k.id, corners: k.corners })),

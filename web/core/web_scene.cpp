@@ -1,0 +1,85 @@
+// The phone player core's scene (web_scene.hpp).
+#include "web_scene.hpp"
+
+#include "track/overlay_json.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace arwb::web {
+
+namespace {
+using Json = nlohmann::ordered_json;
+
+Json mapping_rows(const SceneStatus& s, bool live) {
+  Json rows = Json::array();
+  for (const MappingRow& m : s.mappings) {
+    if (live)
+      rows.push_back({{"state", m.state}, {"health", mapping_health_name(m.health)}, {"reason", m.reason}});
+    else
+      rows.push_back({{"ids", m.ids}, {"media", m.media}, {"placement", m.placement}, {"line", m.line}});
+  }
+  return rows;
+}
+}  // namespace
+
+WebScene::WebScene() : step_(media_) {}
+
+std::string WebScene::load(const std::string& path) {
+  const bool ok = step_.load(path);
+  const SceneStatus& s = step_.status();
+  console_serial_ = 0;
+  return Json{{"ok", ok}, {"error", s.error}, {"dictionary", step_.dictionary()}, {"mappings", mapping_rows(s, false)}}
+      .dump();
+}
+
+void WebScene::set_video(const std::string& path, int width, int height, double duration_s) {
+  media_.set_video(path, {width, height}, std::isfinite(duration_s) && duration_s > 0 ? duration_s : 0);
+}
+
+const std::string& WebScene::step(WebDetector& d, double t_s) {
+  const cv::Size size = d.frame_size();
+  std::string camera_error;
+  const Calibration* camera = size.area() > 0 ? d.camera_for(size.width, size.height, &camera_error) : nullptr;
+  script::SceneStepInput in;
+  in.markers = &d.markers();
+  in.image = size;
+  in.calibration = camera;
+  in.marker_side = d.marker_side() > 0 ? d.marker_side() : 1;
+  in.unit = d.marker_side() > 0 ? "mm" : "marker sides";
+  in.t_s = t_s;
+  in.frame_index = ++frame_index_;
+  const script::SceneStepOutput out = step_.run(in);
+  Json tracks = Json::array();
+  for (const TrackedMarker& t : out.tracks) {
+    Json corners = Json::array();
+    for (const auto& c : t.corners) corners.push_back({c.x, c.y});
+    tracks.push_back({{"id", t.id}, {"track", t.track_id}, {"detected", t.detected}, {"corners", std::move(corners)}});
+  }
+  Json overlays = Json::array();
+  for (const Overlay& o : out.overlays) {
+    Json j = overlay_json(o);
+    if (const auto* v = dynamic_cast<const RecordedVideo*>(o.content.get()))
+      j["video"] = {{"t", v->position_s()}, {"playing", v->playing()}, {"loop", v->loop()},
+                    {"duration", v->duration_s()}};
+    overlays.push_back(std::move(j));
+  }
+  const SceneStatus& s = step_.status();
+  Json scene = {{"ok", s.ok}, {"error", s.error}, {"mappings", mapping_rows(s, true)}};
+  if (s.console_serial != console_serial_) {
+    console_serial_ = s.console_serial;
+    Json lines = Json::array();
+    const size_t first = s.console.size() > 20 ? s.console.size() - 20 : 0;
+    for (size_t i = first; i < s.console.size(); ++i)
+      lines.push_back({{"level", s.console[i].level}, {"text", s.console[i].text}, {"repeats", s.console[i].repeats}});
+    scene["console"] = std::move(lines);
+  }
+  Json result = {{"tracks", std::move(tracks)}, {"overlays", std::move(overlays)}, {"errors", step_.take_errors()},
+                 {"scene", std::move(scene)}};
+  if (!camera_error.empty()) result["camera_error"] = camera_error;
+  result_ = result.dump();
+  return result_;
+}
+
+}  // namespace arwb::web
