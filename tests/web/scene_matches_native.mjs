@@ -1,7 +1,7 @@
 // The WebAssembly core runs a scene as the desktop does: the museum example's Lua, on frames of the synthetic
 // source, places each picture and video in the core where `arwb render --overlays` places it on the same frames
-// (the same markers, kinds and sources, quads to 1e-6 px), with the videos' clocks; its text cards are there with
-// their texts (the page does not draw them yet). A hostile scene meets the desktop's limits in the core: a
+// (the same markers, kinds and sources, quads to 1e-6 px), with the videos' clocks and the text cards' layouts, of the
+// desktop's sizes. A hostile scene meets the desktop's limits in the core: a
 // runaway callback is stopped and disabled with the desktop's words, and the next frames go on. Run by ctest as
 //   node --no-experimental-fetch scene_matches_native.mjs ARWB CORE_JS
 import { execFileSync } from 'node:child_process';
@@ -13,7 +13,8 @@ import { loadCore, readPng } from './web_support.mjs';
 const [arwb, coreJs] = process.argv.slice(2);
 const failures = [];
 const fail = (message) => failures.push(message);
-const run = (cmd, args) => execFileSync(cmd, args, { encoding: 'utf8', maxBuffer: 1 << 26, stdio: ['ignore', 'pipe', 'pipe'] });
+const run = (cmd, args) => execFileSync(cmd, args, { encoding: 'utf8', maxBuffer: 1 << 26,
+                                                    stdio: ['ignore', 'pipe', 'pipe'] });
 const source = path.resolve(path.dirname(new URL(import.meta.url).pathname), '../../scripts/museum');
 
 // Every file under a folder, as paths relative to it.
@@ -61,12 +62,14 @@ try {
     if (g !== w) { fail(`${name}: overlays ${g || '(none)'}, native ${w || '(none)'}`); continue; }
     want.overlays.forEach((wo, i) => {
       const go = got.overlays[i];
-      if (wo.kind === 'text') {   // laid out by cairo on the desktop; not yet in the core
+      if (wo.kind === 'text') {   // laid out by the desktop's card layout in the core, drawn by the page
         tally.texts++;
         if (go.text !== wo.text) fail(`${name}: marker ${wo.marker}'s text "${go.text}", native "${wo.text}"`);
-        return;
+        if (!go.card || go.card.lines.join('\n') !== wo.text || go.card.width !== wo.size[0])
+          fail(`${name}: marker ${wo.marker}'s card ${JSON.stringify(go.card)}, native ${wo.size}`);
       }
-      if (JSON.stringify(go.size) !== JSON.stringify(wo.size)) fail(`${name}: ${key(wo)} is ${go.size}, native ${wo.size}`);
+      if (JSON.stringify(go.size) !== JSON.stringify(wo.size))
+        fail(`${name}: ${key(wo)} is ${go.size}, native ${wo.size}`);
       const d = Math.max(...wo.quad.corners.flatMap((c, k) => c.map((v, a) => Math.abs(v - go.quad.corners[k][a]))));
       tally.worst = Math.max(tally.worst, d);
       tally.placed++;
@@ -102,8 +105,9 @@ try {
       !said.includes('scene.lua:1: ran longer than 250 ms in on_update of marker 0; disabled'))
     fail(`the runaway callback was not stopped as on the desktop: "${said}"`);
   if (still !== 4) fail(`marker 1's text was drawn on ${still} of 4 frames after the runaway callback`);
-  console.log(`${tally.frames} frames: ${tally.placed} pictures and videos placed as arwb render places them (to ` +
-              `${tally.worst.toExponential(2)} px), ${tally.videos} with the video's clock, ${tally.texts} text cards; ` +
+  console.log(`${tally.frames} frames: ${tally.placed} media placed as arwb render places them (to ` +
+              `${tally.worst.toExponential(2)} px), ${tally.videos} videos with their clock, ${tally.texts} of ` +
+              'them text cards laid out at the desktop\'s size; ' +
               `a runaway callback stopped and disabled in ${ms} ms over 4 frames`);
 } catch (e) {
   fail(e.stack || String(e));

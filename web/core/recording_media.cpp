@@ -31,10 +31,8 @@ std::shared_ptr<media::VideoContent> RecordingMedia::video(const std::string& pa
   return std::make_shared<RecordedVideo>(it->second.size, it->second.duration_s, loop);
 }
 
-std::shared_ptr<MediaContent> RecordingMedia::text_card(const MediaSpec&) {
-  // The card's size comes from laying its text out in DejaVu Sans, which the desktop does with cairo; until the
-  // core has that layout the page does not draw text cards and says so.
-  return std::make_shared<SizedContent>(cv::Size(1, 1));
+std::shared_ptr<MediaContent> RecordingMedia::text_card(const MediaSpec& spec) {
+  return std::make_shared<CardContent>(media::layout_text_card(spec));
 }
 
 std::shared_ptr<MediaContent> RecordingMedia::web_card(const MediaSpec&) {

@@ -1,8 +1,9 @@
 // The phone player core's media (media::MediaProvider): it decodes and draws nothing, since the page draws every
 // medium from the bundle's own files, and answers the scene with what placing them needs: each one's size (an
-// image's from its header, a video's as the page's <video> read it, a web card's fixed one) and, for videos, the
-// clock the scene sets, which the page's <video> then follows.
+// image's from its header, a video's as the page's <video> read it, a web card's fixed one, a text card's from the
+// desktop's layout) and, for videos, the clock the scene sets, which the page's <video> then follows.
 #pragma once
+#include "media/card_layout.hpp"
 #include "media/media_provider.hpp"
 
 #include <map>
@@ -23,6 +24,21 @@ class SizedContent final : public MediaContent {
 
  private:
   cv::Size size_;
+};
+
+// A text card the page draws: laid out as the desktop lays it out (media/card_layout.hpp), so of the same size.
+class CardContent final : public MediaContent {
+ public:
+  explicit CardContent(media::CardLayout layout) : layout_(std::move(layout)) {}
+  cv::Size size() const override { return {layout_.width, layout_.height}; }
+  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
+    if (version) *version = 0;
+    return nullptr;
+  }
+  const media::CardLayout& layout() const { return layout_; }
+
+ private:
+  media::CardLayout layout_;
 };
 
 // A video the page plays: the scene's clock, recorded for the page.

@@ -60,6 +60,13 @@ const std::string& WebScene::step(WebDetector& d, double t_s) {
   Json overlays = Json::array();
   for (const Overlay& o : out.overlays) {
     Json j = overlay_json(o);
+    if (const auto* c = dynamic_cast<const CardContent*>(o.content.get())) {
+      const media::CardLayout& l = c->layout();
+      const auto rgba = [](const cv::Scalar& bgra) { return Json{bgra[2], bgra[1], bgra[0], bgra[3]}; };
+      j["card"] = {{"lines", l.lines}, {"font_px", l.font_px}, {"pad", l.pad}, {"line_h", l.line_h},
+                   {"ascent", l.ascent}, {"width", l.width}, {"height", l.height},
+                   {"colour", rgba(o.media.colour)}, {"background", rgba(o.media.background)}};
+    }
     if (const auto* v = dynamic_cast<const RecordedVideo*>(o.content.get()))
       j["video"] = {{"t", v->position_s()}, {"playing", v->playing()}, {"loop", v->loop()},
                     {"duration", v->duration_s()}};

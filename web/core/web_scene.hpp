@@ -21,8 +21,10 @@ class WebScene {
   void set_video(const std::string& path, int width, int height, double duration_s);
   // One frame at `t_s` seconds: the tracker and the scene on `d`'s last markers, with its camera and marker side.
   // {"tracks": [{"id","track","detected","corners"}], "overlays": overlays_json's, each video's also with "video":
-  // {"t","playing","loop","duration"}, "errors": [new error lines], "scene": {"ok","error","mappings":[{"state",
-  // "health","reason"}], "console": [the newest lines, when there are new ones]}}.
+  // {"t","playing","loop","duration"}, each text card's also with "card": {"lines","font_px","pad","line_h",
+  // "ascent","width","height","colour":[r,g,b,a],"background":[r,g,b,a]} (its layout), "errors": [new error
+  // lines], "scene": {"ok","error","mappings":[{"state","health","reason"}], "console": [the newest lines, when
+  // there are new ones]}}.
   const std::string& step(WebDetector& d, double t_s);
 
  private:

@@ -1,8 +1,9 @@
-// The scene's flat media on the phone: pictures, videos and web cards drawn where the core placed them, on a WebGL 2
-// canvas laid over the camera view. Each quad is drawn as the desktop's compositor draws it (src/render/
+// The scene's flat media on the phone: pictures, videos, web cards and text cards drawn where the core placed them,
+// on a WebGL 2 canvas laid over the camera view. Each quad is drawn as the desktop's compositor draws it (src/render/
 // compositor.cpp): texture coordinates per pixel through the inverse of the quad's homography (texture uv to image
-// pixels), clamped to the part of the medium shown, image pixel centres at integer coordinates. Text cards and 3D
-// media are not drawn here yet; the page says so once per scene.
+// pixels), clamped to the part of the medium shown, image pixel centres at integer coordinates. A text card is drawn
+// at the core's layout (the desktop's, media/card_layout.hpp) in the font it was measured with (web/card_font.ttf).
+// 3D media are not drawn here yet; the page says so once per scene.
 'use strict';
 // eslint-disable-next-line no-unused-vars
 class MediaLayer {
@@ -16,6 +17,35 @@ class MediaLayer {
     this.textures = new Map();   // key -> {texture, source (ImageBitmap or video element), ready, video}
     this.drawn = [];             // the kinds of the quads drawn on the last frame
     if (this.gl) this.program = this.link();
+    this.fontReady = false;      // the cards' font, loaded from the bundle
+    const font = new FontFace('ArwbCard', 'url(web/card_font.ttf)');
+    font.load().then((f) => { document.fonts.add(f); this.fontReady = true; }, () => { this.fontFailed = true; });
+  }
+
+  // A text card at the core's layout, as the desktop's cards.cpp draws it: the background's rounded box, then each
+  // line from the pad at its baseline.
+  static card(c) {
+    const canvas = document.createElement('canvas');
+    canvas.width = c.width;
+    canvas.height = c.height;
+    const ctx = canvas.getContext('2d');
+    const css = ([r, g, b, a]) => `rgba(${r}, ${g}, ${b}, ${a / 255})`;
+    if (c.background[3] > 0) {
+      const r = Math.min(c.font_px * 0.3, c.width / 2, c.height / 2);   // cards.cpp's rounded_rect
+      const w = c.width, h = c.height;
+      ctx.beginPath();
+      ctx.arc(w - r, r, r, -Math.PI / 2, 0);
+      ctx.arc(w - r, h - r, r, 0, Math.PI / 2);
+      ctx.arc(r, h - r, r, Math.PI / 2, Math.PI);
+      ctx.arc(r, r, r, Math.PI, 1.5 * Math.PI);
+      ctx.closePath();
+      ctx.fillStyle = css(c.background);
+      ctx.fill();
+    }
+    ctx.font = `${c.font_px}px ArwbCard`;
+    ctx.fillStyle = css(c.colour);
+    c.lines.forEach((line, i) => ctx.fillText(line, c.pad, c.pad + i * c.line_h + c.ascent));
+    return canvas;
   }
 
   link() {
@@ -63,13 +93,25 @@ void main() {
   texture(o, sceneDir, trackKey) {
     let key, path, video = false;
     if (o.kind === 'image') { key = `image ${o.source}`; path = `${sceneDir}/${o.source}`; }
-    else if (o.kind === 'video') { key = `video ${o.source} ${trackKey}`; path = `${sceneDir}/${o.source}`; video = true; }
+    else if (o.kind === 'video') {
+      key = `video ${o.source} ${trackKey}`;
+      path = `${sceneDir}/${o.source}`;
+      video = true;
+    }
     else if (o.kind === 'web') { key = `web ${o.url} ${o.title}`; path = this.cardFor(o.url, o.title); }
-    else return null;
+    else if (o.kind === 'text' && o.card) {
+      if (!this.fontReady) return null;
+      key = `text ${JSON.stringify(o.card)}`;
+    } else return null;
     let t = this.textures.get(key);
     if (!t) {
       t = { texture: null, source: null, video: null, ready: false, used: performance.now() };
       this.textures.set(key, t);
+      if (o.kind === 'text') {
+        t.source = MediaLayer.card(o.card);
+        t.ready = true;
+        return t;
+      }
       if (!path) return null;
       this.file(path).then(async (blob) => {
         if (video) {

@@ -191,7 +191,8 @@
         setTimeout(() => resolve(false), 5000);
       });
       URL.revokeObjectURL(v.src);
-      if (ok && v.videoWidth > 0) videos.push({ path: f.path, width: v.videoWidth, height: v.videoHeight, duration: v.duration });
+      if (ok && v.videoWidth > 0)
+        videos.push({ path: f.path, width: v.videoWidth, height: v.videoHeight, duration: v.duration });
       else report(`${f.path}: this browser cannot play it (export with --convert-for-phones makes a copy it plays)`);
     }
     return { scene: m.scene, files, videos };
@@ -241,13 +242,12 @@
     for (const e of scene.errors) report(e);
     if (scene.scene.console) player.scene.console = scene.scene.console;
     for (const o of scene.overlays) {
+      if (['image', 'video', 'web', 'text'].includes(o.kind) && !o.solid) continue;
       const kind = o.solid ? `${o.kind} (3D)` : o.kind;
-      if (!['image', 'video', 'web'].includes(o.kind) || o.solid) {
-        if (notDrawn.has(kind)) continue;
-        notDrawn.add(kind);
-        player.notes.push(`${o.kind === 'text' ? 'text cards' : kind} are not drawn on phones yet (marker ` +
-                          `${o.marker}: ${o.kind === 'text' ? JSON.stringify(o.text) : o.source}); the desktop draws them`);
-      }
+      if (notDrawn.has(kind)) continue;
+      notDrawn.add(kind);
+      player.notes.push(`${kind} media are not drawn on phones yet (marker ${o.marker}: ${o.source}); the desktop ` +
+                        'draws them');
     }
   }
 
@@ -340,6 +340,25 @@
     }
   }
 
+  // The link of the web card drawn under a point of the window, or ''. The view shows the camera's picture scaled to
+  // fit (object-fit: contain); the core's quads are in the picture's pixels.
+  function webCardAt(clientX, clientY) {
+    const r = view.getBoundingClientRect();
+    const scale = Math.min(r.width / view.width, r.height / view.height);
+    const x = (clientX - r.left - (r.width - view.width * scale) / 2) / scale - 0.5;
+    const y = (clientY - r.top - (r.height - view.height * scale) / 2) / scale - 0.5;
+    const inside = (c) => c.every(([ax, ay], i) => {
+      const [bx, by] = c[(i + 1) % 4];
+      return (bx - ax) * (y - ay) - (by - ay) * (x - ax) >= 0;
+    }) || c.every(([ax, ay], i) => {
+      const [bx, by] = c[(i + 1) % 4];
+      return (bx - ax) * (y - ay) - (by - ay) * (x - ax) <= 0;
+    });
+    const hit = [...player.scene.overlays].reverse().find((o) => o.kind === 'web' && inside(o.quad.corners));
+    return hit ? hit.url : '';
+  }
+  player.webCardAt = webCardAt;
+
   function drawOverlay() {
     const o = $('overlay');
     if (o.hidden) return;
@@ -385,6 +404,11 @@
   });
   document.addEventListener('keydown', (e) => { if (e.key === 'd' || e.key === 'F1') toggleOverlay(); });
   $('stage').addEventListener('touchstart', (e) => { if (e.touches.length === 2) toggleOverlay(); });
+  // A tap (or click) on a web card opens its link in a new tab, as a click on it does in the workbench.
+  $('view').addEventListener('click', (e) => {
+    const url = webCardAt(e.clientX, e.clientY);
+    if (url) window.open(url, '_blank', 'noopener');
+  });
   // Start waits for the page's needs and the bundle's check (which needs a secure page too).
   (async () => {
     if (!runChecks()) {
@@ -403,8 +427,8 @@
     }
     if (b.state === 'verified')
       $('bundle').textContent = `${b.manifest.ids.length} marker${b.manifest.ids.length === 1 ? '' : 's'} of ` +
-        `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. Pictures, videos and web ` +
-        'cards are drawn on their markers; text cards and 3D media are not drawn on phones yet.';
+        `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. ` +
+        'Pictures, videos, web and text cards are drawn on their markers; 3D media are not drawn on phones yet.';
     else $('bundle').textContent = '';
     useBundle();
     player.state = 'ready';
