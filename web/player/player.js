@@ -166,7 +166,10 @@
   };
   // The bundle file a phone plays for `path`: its phone copy when export made one (--convert-for-phones).
   const phonePath = (m, path) => ((m.phone_media || []).find((c) => c.path === path) || { phone: path }).phone;
+  // The scene's files as Blobs, fetched once for the core (sceneFiles) and drawn from the same Blobs, by bundle path.
+  const sceneBlobs = new Map();
   const bundleFile = async (path) => {
+    if (sceneBlobs.has(path)) return sceneBlobs.get(path);
     const r = await fetch(path);
     if (!r.ok) throw new Error(`${path}: HTTP ${r.status}`);
     return r.blob();
@@ -179,6 +182,7 @@
     const files = [], videos = [];
     for (const f of m.files.filter((file) => file.path.startsWith(`${dir}/`))) {
       const blob = await bundleFile(phonePath(m, f.path));
+      sceneBlobs.set(phonePath(m, f.path), blob);
       files.push({ path: f.path, blob });
       if (!/\.(mp4|m4v|mov|webm|mkv|avi|ogv)$/i.test(f.path)) continue;
       const v = document.createElement('video');
