@@ -21,12 +21,6 @@ namespace {
 const ImU32 kGood = IM_COL32(90, 200, 110, 255);
 const ImU32 kPoor = IM_COL32(230, 150, 60, 255);
 
-void heading(const char* title) {
-  ImGui::Spacing();
-  ImGui::TextUnformatted(title);
-  ImGui::Separator();
-}
-
 std::string fmt(const char* f, double v) {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
@@ -123,7 +117,7 @@ void frames_so_far(const CalibrationSnapshot& s, SourceKind source) {
 }
 
 void checklist(const CalibrationSnapshot& s) {
-  heading("Checklist");
+  section_heading("Checklist");
   if (!s.solution) {
     for (const char* name : {"enough views", "RMS reprojection error", "95 % intervals under 5 %", "square pixels",
                              "image coverage"}) {
@@ -147,7 +141,7 @@ void checklist(const CalibrationSnapshot& s) {
 }
 
 void coverage(const CalibrationSnapshot& s) {
-  heading("Coverage");
+  section_heading("Coverage");
   const float label = ImGui::CalcTextSize("skew").x + ImGui::GetStyle().ItemSpacing.x;
   const std::pair<const char*, double> bars[] = {{"X", s.bars.x}, {"Y", s.bars.y}, {"size", s.bars.size}, {"skew", s.bars.skew}};
   for (const auto& [name, v] : bars) {
@@ -165,7 +159,7 @@ void coverage(const CalibrationSnapshot& s) {
 void camera(const CalibrationSnapshot* s, const Frame& f) {
   const Solution* sol = s && s->solution ? s->solution.get() : nullptr;
   const Calibration* c = sol ? &sol->calibration : f.loaded_calibration.get();
-  heading("Camera");
+  section_heading("Camera");
   if (!c) {
     text_disabled_wrapped("No calibration yet: keep at least 6 views (move the board to many places, tilted), or "
                           "start with --calib FILE.");

@@ -18,12 +18,6 @@ namespace arwb::ui {
 
 namespace {
 
-void heading(const char* title) {
-  ImGui::Spacing();
-  ImGui::TextUnformatted(title);
-  ImGui::Separator();
-}
-
 // Green to yellow to red over 0..1.
 ImU32 ramp(float t, float alpha = 1.0f) {
   t = std::clamp(t, 0.0f, 1.0f);
@@ -32,7 +26,7 @@ ImU32 ramp(float t, float alpha = 1.0f) {
 }
 
 void error_bars(Context& ctx, const CalibrationSnapshot& s) {
-  heading("Per-view reprojection error");
+  section_heading("Per-view reprojection error");
   if (!s.solution) {
     text_disabled_wrapped(s.solving ? "solving..." : s.solve_error.c_str());
     return;
@@ -105,7 +99,7 @@ void heatmap(Context& ctx, const char* id, const Mat& grid, cv::Size image, Colo
 }
 
 void coverage_map(Context& ctx, const CalibrationSnapshot& s) {
-  heading("Where the corners fell");
+  section_heading("Where the corners fell");
   if (s.grid.empty() || s.image_size.area() == 0) return;
   int most = 1;
   for (int r = 0; r < s.grid.rows; ++r)
@@ -120,7 +114,7 @@ void coverage_map(Context& ctx, const CalibrationSnapshot& s) {
 }
 
 void cross_validation(Context& ctx, const CalibrationSnapshot& s) {
-  heading("Cross-validation");
+  section_heading("Cross-validation");
   if (!s.solution || s.solution->report.cross_validation.empty()) {
     text_disabled_wrapped("The views split in two halves, each solved alone: how far apart their projections fall over "
                           "the image shows where the result can be trusted. It needs more views.");
@@ -139,7 +133,7 @@ void cross_validation(Context& ctx, const CalibrationSnapshot& s) {
 }
 
 void recent(const CalibrationSnapshot& s) {
-  heading("Frames");
+  section_heading("Frames");
   if (s.recent.empty()) text_disabled_wrapped(s.capture ? "No frame judged yet." : "Capture is off.");
   for (const CalibrationSnapshot::Judged& j : s.recent) {
     ImGui::PushStyleColor(ImGuiCol_Text, j.kept ? IM_COL32(90, 200, 110, 255) : IM_COL32(190, 190, 190, 255));

@@ -49,13 +49,6 @@ int accepted_id(const FrameTrace& t, const CandidateRecord& c) {
   return t.markers[static_cast<size_t>(c.marker)].id;
 }
 
-std::string number(double v) {
-  char buf[32];
-  if (std::abs(v - std::round(v)) < 1e-9 && std::abs(v) < 1e9) std::snprintf(buf, sizeof buf, "%.0f", v);
-  else std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
 std::string id_text(const FrameTrace& t, const CandidateRecord& c) {
   const int id = accepted_id(t, c);
   if (id >= 0) return std::to_string(id);
@@ -69,7 +62,7 @@ std::string id_text(const FrameTrace& t, const CandidateRecord& c) {
 std::string value_text(const Rejection& f) {
   if (f.param.empty()) return {};
   const char* op = f.value < f.limit ? " < " : (f.value > f.limit ? " > " : " = ");
-  return number(f.value) + op + number(f.limit);
+  return short_number(f.value) + op + short_number(f.limit);
 }
 
 std::string row_line(const FrameTrace& t, int i) {

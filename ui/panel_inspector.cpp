@@ -47,13 +47,6 @@ void note(const char* fmt, ...) {
   va_end(args);
 }
 
-std::string number(double v) {
-  char buf[32];
-  if (std::abs(v - std::round(v)) < 1e-9 && std::abs(v) < 1e9) std::snprintf(buf, sizeof buf, "%.0f", v);
-  else std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
 // A foldable section, open at first; the note is drawn on the header line after the title when it fits there
 // (a narrow region or presentation mode leaves it out: it is a hint, the tooltip of the views says it too).
 bool section(const char* title, const char* hint = nullptr) {
@@ -162,9 +155,9 @@ void fate_section(const FrameTrace& t, const CandidateRecord& c) {
     if (f.param.empty()) ImGui::TextDisabled("(none)");
     else ImGui::TextUnformatted(std::string(f.param).c_str());
     ImGui::TableNextColumn();
-    if (!f.param.empty()) ImGui::TextUnformatted(number(f.value).c_str());
+    if (!f.param.empty()) ImGui::TextUnformatted(short_number(f.value).c_str());
     ImGui::TableNextColumn();
-    if (!f.param.empty()) ImGui::TextUnformatted(number(f.limit).c_str());
+    if (!f.param.empty()) ImGui::TextUnformatted(short_number(f.limit).c_str());
     ImGui::EndTable();
   }
   if (const char* missing = missing_after(c)) ImGui::TextWrapped("%s", missing);
@@ -418,7 +411,7 @@ void bits_section(Context& ctx, InspectorState& st, const Frame& f, int index) {
     if (c.fate.stage == Stage::border_check) {
       flow(text_width("> 00 allowed"));
       ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(stage_colour(Stage::border_check)), "> %s allowed",
-                         number(c.fate.limit).c_str());
+                         short_number(c.fate.limit).c_str());
     }
   }
   if (best < 0) {
@@ -431,7 +424,7 @@ void bits_section(Context& ctx, InspectorState& st, const Frame& f, int index) {
   int budget = -1;
   if (c.fate.stage == Stage::identification) {
     budget = static_cast<int>(c.fate.limit);
-    budget_text = "budget " + number(c.fate.limit) + " bits (this frame)";
+    budget_text = "budget " + short_number(c.fate.limit) + " bits (this frame)";
   } else if (dict) {
     budget = stages::correction_budget(*dict, f.params);
     char buf[128];

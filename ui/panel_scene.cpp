@@ -20,9 +20,6 @@ struct SceneViewState : PanelState {
   std::string followed;            // the scene file the path input was last set from
 };
 
-const ImVec4 kRed{1.0f, 0.35f, 0.35f, 1.0f};
-const ImVec4 kGreen{0.35f, 0.9f, 0.4f, 1.0f};
-const ImVec4 kYellow{1.0f, 0.8f, 0.3f, 1.0f};
 
 void load_controls(Context& ctx, SceneViewState& st) {
   // A scene in use, or one whose load failed (the worker watches it for a fix).

@@ -29,8 +29,6 @@ constexpr double kSaveTimeoutS = 3.0;   // a save not seen on disk by then is re
 // ImGui 1.86's GLFW backend indexes io.KeysDown by GLFW key code, and GLFW_KEY_S is 'S'.
 constexpr int kKeyS = 'S';
 
-const ImVec4 kRed{1.0f, 0.35f, 0.35f, 1.0f};
-const ImVec4 kYellow{1.0f, 0.8f, 0.3f, 1.0f};
 
 struct ScriptState : PanelState {
   std::string followed;      // the scene file (SceneStatus::file) the editor last took

@@ -53,10 +53,11 @@ struct ShowOverlay {
 struct CycleStage {   // to the next (+1) or previous (-1) stage with a picture on this frame
   int delta = 1;
 };
-struct SetFullscreen {
+struct PlayerFullscreen {
   bool on = true;
 };
-using PlayerRequest = std::variant<ShowOverlay, CycleStage, ui::ShowStage, ui::ClickLiveView, SetFullscreen, ui::Quit>;
+using PlayerRequest =
+    std::variant<ShowOverlay, CycleStage, ui::ShowStage, ui::ClickLiveView, PlayerFullscreen, ui::Quit>;
 
 // [SECTION] State
 struct Player {
@@ -158,7 +159,7 @@ Result<PlayerRequest> player_request(const Action& a) {
   }
   if (a.verb == "fullscreen") {
     if (!on_off) return fail("--actions fullscreen: on or off, not '" + a.arg + "'");
-    return PlayerRequest(SetFullscreen{a.arg == "on"});
+    return PlayerRequest(PlayerFullscreen{a.arg == "on"});
   }
   if (a.verb == "quit") return PlayerRequest(ui::Quit{});
   return fail("--actions: the player has no step '" + a.verb + "' (overlay, stage, click, fullscreen, quit)");
@@ -170,7 +171,7 @@ void Player::carry_out(const PlayerRequest& request) {
                  [&](const CycleStage& r) { cycle_stage(r.delta); },
                  [&](const ui::ShowStage& r) { stage = r.stage ? static_cast<int>(*r.stage) : -1; },
                  [&](const ui::ClickLiveView& r) { click(r.at); },
-                 [&](const SetFullscreen& r) { set_fullscreen(r.on); },
+                 [&](const PlayerFullscreen& r) { set_fullscreen(r.on); },
                  [&](const ui::Quit&) { glfwSetWindowShouldClose(window, 1); },
              },
              request);
@@ -242,9 +243,9 @@ void Player::handle_input() {
   if (ImGui::IsKeyPressed(GLFW_KEY_F1) || ImGui::IsKeyPressed(GLFW_KEY_I)) carry_out(ShowOverlay{});
   if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT)) carry_out(CycleStage{1});
   if (ImGui::IsKeyPressed(GLFW_KEY_LEFT)) carry_out(CycleStage{-1});
-  if (ImGui::IsKeyPressed(GLFW_KEY_F11)) carry_out(SetFullscreen{!fullscreen});
+  if (ImGui::IsKeyPressed(GLFW_KEY_F11)) carry_out(PlayerFullscreen{!fullscreen});
   if (ImGui::IsKeyPressed(GLFW_KEY_Q)) carry_out(ui::Quit{});
-  if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) carry_out(fullscreen ? PlayerRequest(SetFullscreen{false}) : ui::Quit{});
+  if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) carry_out(fullscreen ? PlayerRequest(PlayerFullscreen{false}) : ui::Quit{});
   // A click on the picture (not on the overlay) in image pixels.
   if (ImGui::IsMouseClicked(ImGuiMouseButton_Left) && !ImGui::GetIO().WantCaptureMouse && frame && picture.width > 0) {
     const ImVec2 m = ImGui::GetMousePos();

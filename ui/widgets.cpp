@@ -27,6 +27,19 @@ ImU32 stage_colour(Stage s, float alpha) {
   return ImGui::ColorConvertFloat4ToU32(c);
 }
 
+void section_heading(const char* title) {
+  ImGui::Spacing();
+  ImGui::TextUnformatted(title);
+  ImGui::Separator();
+}
+
+std::string short_number(double v) {
+  char buf[32];
+  if (std::abs(v - std::round(v)) < 1e-9 && std::abs(v) < 1e9) std::snprintf(buf, sizeof buf, "%.0f", v);
+  else std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
 bool waiting_for_frame(const Context& ctx) {
   if (ctx.frame) return false;
   ImGui::TextDisabled("Waiting for the first frame from the source...");

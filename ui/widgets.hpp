@@ -30,6 +30,16 @@ int message_line_in(const std::string& message, const std::string& file);
 // .xml file the load error names, so it can be fixed in the editor (the worker reloads it when it changes).
 std::string scene_file_to_edit(const SceneStatus& s);
 
+// Text colours: a fault, a warning, all well.
+inline const ImVec4 kRed{1.0f, 0.35f, 0.35f, 1.0f};
+inline const ImVec4 kYellow{1.0f, 0.8f, 0.3f, 1.0f};
+inline const ImVec4 kGreen{0.35f, 0.9f, 0.4f, 1.0f};
+
+// A section's title over a separator, with a little space above.
+void section_heading(const char* title);
+// A figure for a table: a whole number as it is ("12"), another to 3 significant digits ("0.125", "1.5e+03").
+std::string short_number(double v);
+
 // The colour of a stage (rejected candidates are drawn in the colour of the stage that dropped them).
 ImU32 stage_colour(Stage s, float alpha = 1.0f);
 ImU32 accepted_colour(float alpha = 1.0f);

@@ -25,6 +25,15 @@ inline std::string fixed_text(double v, int decimals) {
   return buf;
 }
 
+// v as printf's %g (six significant digits: "0.5", "1e-06", "1.5e+07"); "nan" for every NaN (x86 makes 0/0 a
+// negative NaN, which %g prints as "-nan").
+inline std::string general_text(double v) {
+  if (std::isnan(v)) return "nan";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 // v with at most `decimals` decimals and no trailing zeros ("2.5", "3", never "-0"); "nan", "inf" or "-inf".
 inline std::string decimals_text(double v, int decimals) {
   if (std::isnan(v)) return "nan";

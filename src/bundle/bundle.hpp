@@ -156,7 +156,7 @@ class OpenedBundle {
  private:
   friend Result<OpenedBundle> open_bundle(const std::string& path, const BundleLimits& limits);
   OpenedBundle() = default;
-  TempDir dir_;
+  arwb::TempDir dir_;   // qualified: a file that includes this may have a TempDir of its own in scope
   Manifest manifest_;
   std::string source_;
 };

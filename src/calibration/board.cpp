@@ -16,7 +16,7 @@
 namespace arwb {
 
 namespace {
-std::string num(double v, int decimals = 1) { return fixed_text(v, decimals); }
+std::string figure(double v, int decimals = 1) { return fixed_text(v, decimals); }
 }  // namespace
 
 namespace {
@@ -385,7 +385,8 @@ Verdict ViewSelector::consider(const BoardDetection& det, cv::Size image) {
   for (const cv::Point2f& p : det.corners)
     margin = std::min({margin, double(p.x), double(p.y), image.width - 1.0 - p.x, image.height - 1.0 - p.y});
   if (margin < opt_.min_edge_margin_px)
-    return {false, "near the edge (a corner " + num(margin) + " px from it, need " + num(opt_.min_edge_margin_px) + ")",
+    return {false,
+            "near the edge (a corner " + figure(margin) + " px from it, need " + figure(opt_.min_edge_margin_px) + ")",
             "edge"};
   if (opt_.video) {
     if (previous.empty()) return {false, "moving (no board in the previous frame to compare with)", "moving"};
@@ -405,11 +406,12 @@ Verdict ViewSelector::consider(const BoardDetection& det, cv::Size image) {
     if (common == 0) return {false, "moving (no corner seen in the previous frame too)", "moving"};
     motion /= double(common);
     if (motion > opt_.max_motion_px)
-      return {false, "moving (corners moved " + num(motion) + " px since the previous frame, limit " +
-                         num(opt_.max_motion_px) + ")", "moving"};
+      return {false, "moving (corners moved " + figure(motion) + " px since the previous frame, limit " +
+                         figure(opt_.max_motion_px) + ")", "moving"};
   }
   if (det.edge_width_px > opt_.max_edge_width_px)
-    return {false, "blurred (edges " + num(det.edge_width_px) + " px wide, limit " + num(opt_.max_edge_width_px) + ")",
+    return {false,
+            "blurred (edges " + figure(det.edge_width_px) + " px wide, limit " + figure(opt_.max_edge_width_px) + ")",
             "blurred"};
   const ViewPose pose = view_pose(det.corners, det.ids, board_, image);
   for (size_t i = 0; i < kept_.size(); ++i) {
@@ -417,8 +419,8 @@ Verdict ViewSelector::consider(const BoardDetection& det, cv::Size image) {
     const double dist = std::abs(k.x - pose.x) + std::abs(k.y - pose.y) + std::abs(k.size - pose.size) +
                         std::abs(k.skew - pose.skew);
     if (dist < opt_.min_pose_distance)
-      return {false, "like view " + std::to_string(i + 1) + " (pose difference " + num(dist, 2) + " < " +
-                         num(opt_.min_pose_distance, 2) + ")" + part, "similar"};
+      return {false, "like view " + std::to_string(i + 1) + " (pose difference " + figure(dist, 2) + " < " +
+                         figure(opt_.min_pose_distance, 2) + ")" + part, "similar"};
   }
   kept_.push_back(pose);
   return {true, "kept" + part, "kept"};

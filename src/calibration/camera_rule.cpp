@@ -1,5 +1,7 @@
 #include "calibration/camera_rule.hpp"
 
+#include "base/decimals.hpp"
+
 #include <opencv2/calib3d.hpp>
 
 #include <cmath>
@@ -11,21 +13,15 @@ namespace {
 
 constexpr double kMaxPixels = 1e7;
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 }  // namespace
 
 std::string camera_matrix_problem(const cv::Matx33d& k) {
   for (const auto& [name, v] : {std::pair{"fx", k(0, 0)}, std::pair{"fy", k(1, 1)}})
     if (!(v >= 1 && v <= kMaxPixels))
-      return std::string("focal length ") + name + " " + num(v) + " is not 1 to " + num(kMaxPixels) + " pixels";
+      return std::string("focal length ") + name + " " + general_text(v) + " is not 1 to " + general_text(kMaxPixels) + " pixels";
   for (const auto& [name, v] : {std::pair{"cx", k(0, 2)}, std::pair{"cy", k(1, 2)}, std::pair{"skew", k(0, 1)}})
     if (!(std::abs(v) <= kMaxPixels))
-      return std::string(name) + " " + num(v) + " is not within " + num(kMaxPixels) + " pixels";
+      return std::string(name) + " " + general_text(v) + " is not within " + general_text(kMaxPixels) + " pixels";
   return {};
 }
 
@@ -49,7 +45,7 @@ std::string camera_picture_problem(const cv::Matx33d& k, const std::vector<doubl
     std::snprintf(where, sizeof where, "(%.0f, %.0f)", pixels[i].x, pixels[i].y);
     return std::string("its distortion cannot be undone at pixel ") + where + " of a " + std::to_string(size.width) +
            "x" + std::to_string(size.height) + " picture (" +
-           (std::isfinite(off) ? "undone and applied again, it lands " + num(off) + " px away" : "not a finite number") +
+           (std::isfinite(off) ? "undone and applied again, it lands " + general_text(off) + " px away" : "not a finite number") +
            "); calibrate again with views that reach the corners";
   }
   return {};

@@ -26,7 +26,7 @@
 namespace arwb {
 namespace {
 
-constexpr double kFps = 20;            // the paper's acquisition rate
+constexpr double kPaperFps = 20;            // the paper's acquisition rate
 constexpr int kAppearAfter = 20;       // the covered marker comes into view this many frames (and up to 4 more) in
 const cv::Size kSizes[] = {{640, 480}, {1280, 720}, {1920, 1080}, {3840, 2160}};
 
@@ -73,7 +73,7 @@ Newcomer newcomer_for(const Dictionary& dict, const SyntheticFrame& at, cv::Size
 }
 
 SyntheticFrame frame_of(const SyntheticWorld& world, const Dictionary& dict, int k, const Newcomer& n, bool shown) {
-  SyntheticFrame f = world.render(k / kFps);
+  SyntheticFrame f = world.render(k / kPaperFps);
   if (shown && n.id >= 0) {
     draw_marker(f.image, dict, n.id, n.corners, 1.0, 4, 30, 215);
     f.markers.push_back({n.id, dict.name(), n.corners});
@@ -146,7 +146,7 @@ Sequence make_sequence(const Dictionary& dict, const VideoBenchOptions& o, size_
   world.set_controls(ctl);
   Sequence s;
   s.seq = Seq{size, kAppearAfter + int((si * 3 + size_t(q)) % 5)};
-  s.newcomer = newcomer_for(dict, world.render(s.seq.appear / kFps), size);
+  s.newcomer = newcomer_for(dict, world.render(s.seq.appear / kPaperFps), size);
   for (int k = 0; k < o.frames; ++k) {
     s.frames.push_back(frame_of(world, dict, k, s.newcomer, k >= s.seq.appear));
     for (const TruthMarker& m : s.frames.back().markers)
@@ -230,7 +230,7 @@ void each_row(const VideoFigures& v, const std::string& only_dict, Fn&& fn) {
 
 void print_json(const VideoBenchOptions& o, const VideoFigures& v) {
   using Json = nlohmann::ordered_json;
-  Json out = {{"threads", 1}, {"reps", o.reps}, {"fps", kFps}, {"frames_per_sequence", o.frames},
+  Json out = {{"threads", 1}, {"reps", o.reps}, {"fps", kPaperFps}, {"frames_per_sequence", o.frames},
               {"sequences_per_resolution", o.sequences}, {"full_search_interval", o.params.full_search_interval},
               {"rows", Json::array()}};
   each_row(v, "", [&](const std::string& dict, const std::string& res, const std::string& name, const Figures& f,
@@ -263,7 +263,7 @@ void print_table(const VideoBenchOptions& o, const VideoFigures& v) {
   std::printf("Video: %d frames in %d sequences per resolution and dictionary at %g fps (%d frames in all), one "
               "thread, fastest of %d run%s per frame;\n"
               "arwb-video searches around the last frame's markers, whole every %d frames (full_search_interval)\n",
-              o.frames, o.sequences, kFps, v.total_frames, o.reps, o.reps == 1 ? "" : "s",
+              o.frames, o.sequences, kPaperFps, v.total_frames, o.reps, o.reps == 1 ? "" : "s",
               o.params.full_search_interval);
   for (const auto& entry : v.by_dict) {
     const std::string& dict = entry.first;

@@ -119,12 +119,6 @@ const ParamInfo kTable[] = {
 #undef ARWB_INT
 #undef ARWB_DBL
 
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 }  // namespace
 
 DetectorParams::DetectorParams() {
@@ -153,13 +147,13 @@ double get_param(const DetectorParams& p, const ParamInfo& info) {
 bool set_param(DetectorParams& p, const ParamInfo& info, double value, std::string* error) {
   if (!std::isfinite(value) || value < info.min_value || value > info.max_value) {
     if (error)
-      *error = std::string(info.name) + " = " + fmt(value) + " is outside " + fmt(info.min_value) + ".." +
-               fmt(info.max_value);
+      *error = std::string(info.name) + " = " + general_text(value) + " is outside " + general_text(info.min_value) + ".." +
+               general_text(info.max_value);
     return false;
   }
   if (info.integer) {
     if (value != std::floor(value)) {
-      if (error) *error = std::string(info.name) + " = " + fmt(value) + " must be a whole number";
+      if (error) *error = std::string(info.name) + " = " + general_text(value) + " must be a whole number";
       return false;
     }
     p.*(info.int_field) = static_cast<int>(value);
@@ -204,7 +198,7 @@ bool load_params_yaml(const std::string& path, DetectorParams& out, std::vector<
           note(key + ": 0 is no longer needed: the detector does not resize again; the one resize is "
                      "acquisition's (arwb --resize WxH, arwb render --size WxH, the Source panel)");
         else
-          note(key + " = " + (v < 0 ? std::string("?") : fmt(v)) +
+          note(key + " = " + (v < 0 ? std::string("?") : general_text(v)) +
                " is not applied: the detector no longer resizes; set acquisition's resize instead "
                "(arwb --resize WxH, arwb render --size WxH, the Source panel)");
         continue;

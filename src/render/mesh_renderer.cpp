@@ -18,7 +18,7 @@ namespace {
 // Pixel centres at integer coordinates, the framebuffer's row 0 the image's top row (as the quad pass). The
 // clip position is the pinhole's, linear in the camera point, so clipping against the near plane is exact; in
 // front of the camera its x and y are replaced by the distorted projection's (times z, so the division gives it).
-const char* kVertex = R"(#version 330 core
+const char* kMeshVertex = R"(#version 330 core
 layout(location = 0) in vec3 pos;
 layout(location = 1) in vec3 nrm;
 layout(location = 2) in vec2 uv;
@@ -57,7 +57,7 @@ void main() {
   gl_Position = vec4(2.0 * (px_z + 0.5 * z) / size - z, depth.x * z + depth.y, z);
 })";
 
-const char* kFragment = R"(#version 330 core
+const char* kMeshFragment = R"(#version 330 core
 in vec3 v_pos;
 in vec3 v_normal;
 in vec2 v_uv;
@@ -143,7 +143,7 @@ void MeshRenderer::release(MeshGL& m) {
 
 bool MeshRenderer::ensure_program() {
   if (program_) return true;
-  program_ = link_program(kVertex, kFragment, "mesh", &error_);
+  program_ = link_program(kMeshVertex, kMeshFragment, "mesh", &error_);
   if (!program_) return false;
   auto loc = [&](const char* n) { return glGetUniformLocation(program_, n); };
   loc_model_view_ = loc("model_view");

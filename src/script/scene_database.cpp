@@ -17,7 +17,7 @@ std::string trim(const std::string& s) {
   return s.substr(a, b - a);
 }
 
-bool only_space(const std::string& s) { return trim(s).empty(); }
+bool only_blank(const std::string& s) { return trim(s).empty(); }
 
 // A whole decimal integer ("7", "-1", "+3"), nothing else.
 bool parse_int(const std::string& s, long long* out) {
@@ -65,7 +65,7 @@ Status load_database(const std::string& display, const std::string& text, const 
       reporter.report(1, at(root.line) + "unknown attribute '" + k + "' of <database> ignored");
     }
   }
-  if (!only_space(root.text)) reporter.report(1, at(root.line) + "text directly inside <database> is ignored");
+  if (!only_blank(root.text)) reporter.report(1, at(root.line) + "text directly inside <database> is ignored");
 
   std::map<int, int> seen;   // id -> line of its first row
   for (const XmlElement& row : root.children) {
@@ -86,7 +86,7 @@ Status load_database(const std::string& display, const std::string& text, const 
     };
     for (const auto& a : row.attributes)
       reporter.report(1, at(row.line) + "unknown attribute '" + a.first + "' of <row> ignored");
-    if (!only_space(row.text)) reporter.report(1, at(row.line) + "text directly inside <row> is ignored");
+    if (!only_blank(row.text)) reporter.report(1, at(row.line) + "text directly inside <row> is ignored");
     const XmlElement* id_el = nullptr;
     const XmlElement* res_el = nullptr;
     bool dup = false;

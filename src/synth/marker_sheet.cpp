@@ -209,7 +209,7 @@ constexpr double kGapMm = 3.0;            // between cut outlines, so cutting on
 constexpr double kCutLineMm = 0.2;
 constexpr double kLabelPadMm = 1.0;       // each side of a label that is wider than the marker
 // A little slack so that sizes which fit exactly are not rejected over rounding.
-constexpr double kEpsMm = 1e-9;
+constexpr double kFitEpsMm = 1e-9;
 
 // Label font size: a fixed fraction of the marker, kept readable on small markers and modest on large ones.
 double label_font_mm(double marker_mm) { return std::clamp(0.06 * marker_mm, 1.8, 3.0); }
@@ -284,8 +284,8 @@ SheetLayout sheet_layout(double marker_mm, int marker_size, double label_width_m
   lay.label_mm = label_font_mm(marker_mm);
   lay.box_w_mm = std::max(marker_mm + 2 * (lay.quiet_mm + kCutLineMm), label_width_mm + 2 * (kLabelPadMm + kCutLineMm));
   lay.box_h_mm = marker_mm + 2 * (lay.quiet_mm + kCutLineMm) + label_height_mm(lay.label_mm);
-  lay.cols = static_cast<int>(std::floor((kPrintableWidthMm + kGapMm + kEpsMm) / (lay.box_w_mm + kGapMm)));
-  lay.rows = static_cast<int>(std::floor((kGridHeightMm + kGapMm + kEpsMm) / (lay.box_h_mm + kGapMm)));
+  lay.cols = static_cast<int>(std::floor((kPrintableWidthMm + kGapMm + kFitEpsMm) / (lay.box_w_mm + kGapMm)));
+  lay.rows = static_cast<int>(std::floor((kGridHeightMm + kGapMm + kFitEpsMm) / (lay.box_h_mm + kGapMm)));
   return lay;
 }
 

@@ -1,5 +1,7 @@
 #include "track/placement.hpp"
 
+#include "base/decimals.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -17,13 +19,6 @@ bool parse_name(std::string_view s, const std::array<E, N>& all, std::string_vie
       return true;
     }
   return false;
-}
-
-std::string num(double v) {
-  if (std::isnan(v)) return "nan";   // x86 makes 0/0 a negative NaN, which %g prints as -nan
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
 }
 
 // Maps a point through a homography; w is the homogeneous coordinate before division.
@@ -117,32 +112,32 @@ std::string PlaceSpec::describe() const {
   switch (kind) {
     case PlaceKind::on_marker:
       add(fit_name(fit));
-      if (scale != 1.0) add("scale", num(scale));
-      if (rotate_deg != 0.0) add("rotate", num(rotate_deg));
+      if (scale != 1.0) add("scale", general_text(scale));
+      if (rotate_deg != 0.0) add("rotate", general_text(rotate_deg));
       break;
     case PlaceKind::beside:
       add(side_name(side));
-      add("gap", num(gap));
-      add("size", num(size));
+      add("gap", general_text(gap));
+      add("size", general_text(size));
       if (overlap) add("overlap");
       break;
     case PlaceKind::billboard:
       add(side_name(side));
-      add("size", num(size));
+      add("size", general_text(size));
       if (overlap) add("overlap");
       break;
     case PlaceKind::screen:
       add(screen_corner_name(corner));
-      add("size", num(size));
+      add("size", general_text(size));
       break;
   }
-  if (opacity != 1.0) add("opacity", num(opacity));
+  if (opacity != 1.0) add("opacity", general_text(opacity));
   return d;
 }
 
 std::string PlaceSpec::validate() const {
   auto bad = [](const char* what, const char* rule, double v) {
-    return std::string(what) + " must be " + rule + " (got " + num(v) + ")";
+    return std::string(what) + " must be " + rule + " (got " + general_text(v) + ")";
   };
   if (!std::isfinite(opacity) || opacity < 0 || opacity > 1) return bad("opacity", "a number from 0 to 1", opacity);
   if (!std::isfinite(scale) || scale <= 0 || scale > 100) return bad("scale", "a finite number in (0, 100]", scale);

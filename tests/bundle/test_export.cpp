@@ -23,7 +23,6 @@ namespace arwb::bundle {
 namespace {
 
 using namespace fixture;
-using arwb::test::TempDir;
 using arwb::test::read_file;
 using arwb::test::write_file;
 
@@ -46,7 +45,7 @@ TEST(BundlePath, RefusesWhatCouldLeaveTheFolder) {
 }
 
 TEST(Export, MuseumToAFolderOpensElsewhereWithTheOriginalRemoved) {
-  TempDir out;
+  test::TempDir out;
   export_museum(out.path() / "museum");
   const fs::path b = out.path() / "museum";
   EXPECT_EQ(listing(b), (std::set<std::string>{"README.txt", "manifest.json", "markers.pdf", "scene/", "scene/media/",
@@ -107,7 +106,7 @@ TEST(Export, MuseumToAFolderOpensElsewhereWithTheOriginalRemoved) {
 }
 
 TEST(Export, MuseumToAZipOpensElsewhere) {
-  TempDir out;
+  test::TempDir out;
   const fs::path zip = out.path() / "museum.arwb";
   export_museum(zip);
   ASSERT_TRUE(fs::is_regular_file(zip));
@@ -161,7 +160,7 @@ TEST(Export, MuseumToAZipOpensElsewhere) {
 }
 
 TEST(Export, EveryFileAModelReadsAndTheWebCards) {
-  TempDir out;
+  test::TempDir out;
   ASSERT_TRUE(export_to(kScripts / "models/models.lua", out.path() / "m").ok());
   Result<Manifest> m = parse_manifest(read_file(out.str("m/manifest.json")));
   ASSERT_TRUE(m.ok()) << m.error();
@@ -185,7 +184,7 @@ TEST(Export, EveryFileAModelReadsAndTheWebCards) {
 }
 
 TEST(Export, ACubesFaceImagesAndTheXmlDatabasesMedia) {
-  TempDir out;
+  test::TempDir out;
   const fs::path dir = copy_example("museum", out.path());
   write_file((dir / "cube.lua").string(),
              "marker(4, { media = cube { size = 0.5, faces = { top = 'media/sunset.png', left = '#ff0000' } } })\n");
@@ -207,7 +206,7 @@ TEST(Export, ACubesFaceImagesAndTheXmlDatabasesMedia) {
 }
 
 TEST(Export, CalibrationIsCopiedAndReadsBack) {
-  TempDir out;
+  test::TempDir out;
   Calibration c;
   c.camera_matrix = cv::Matx33d(500, 0, 160, 0, 500, 120, 0, 0, 1);
   c.distortion = {0.01, -0.02, 0, 0, 0};
@@ -233,7 +232,7 @@ TEST(Export, CalibrationIsCopiedAndReadsBack) {
 
 TEST(Export, ThePapersCalibrationPairKeepsItsNames) {
   // The paper's cameraMatrix.xml reads only with distCoeffs.xml beside it: both go in under those names.
-  TempDir out;
+  test::TempDir out;
   const fs::path corpus = fs::path(ARWB_SOURCE_DIR) / "fuzz/corpus/calibration";
   fs::create_directory(out.path() / "paper");
   fs::copy_file(corpus / "paper_cameraMatrix.xml", out.path() / "paper/cameraMatrix.xml");
@@ -258,7 +257,7 @@ TEST(Export, ThePapersCalibrationPairKeepsItsNames) {
 
 TEST(Export, A16By9CalibrationPassesTheSelfTest) {
   // The self-test's frame takes the calibration's shape: a 1280x720 camera is not refused as "made for 16:9".
-  TempDir out;
+  test::TempDir out;
   Calibration c;
   c.camera_matrix = cv::Matx33d(1000, 0, 640, 0, 1000, 360, 0, 0, 1);
   c.distortion = {0.01, -0.02, 0, 0, 0};
@@ -301,7 +300,7 @@ class ExportRefused : public ::testing::Test {
     EXPECT_EQ(listing(out_.path()), before) << "something was written";
     return s.error();
   }
-  TempDir out_;
+  test::TempDir out_;
 };
 
 TEST_F(ExportRefused, AMissingMediaFile) {
@@ -361,7 +360,7 @@ TEST_F(ExportRefused, ASceneThatMapsNothing) {
 // --- Writing -------------------------------------------------------------------------------------------------
 
 TEST(ExportWrite, AnExistingOutIsReplacedOnlyWithForceAndOnlyWhenABundle) {
-  TempDir out;
+  test::TempDir out;
   const fs::path scene = kScripts / "museum/museum.lua";
   ASSERT_TRUE(export_to(scene, out.path() / "b").ok());
   Status s = export_to(scene, out.path() / "b");
@@ -402,7 +401,7 @@ TEST(ExportWrite, AnExistingOutIsReplacedOnlyWithForceAndOnlyWhenABundle) {
 }
 
 TEST(ExportWrite, AFolderNamedWithATrailingSlash) {
-  TempDir out;
+  test::TempDir out;
   const Status s = export_to(kScripts / "museum/museum.lua", out.str("museum/"));
   ASSERT_TRUE(s.ok()) << s.error();
   EXPECT_TRUE(fs::is_regular_file(out.path() / "museum/manifest.json"));
@@ -412,7 +411,7 @@ TEST(ExportWrite, AFolderNamedWithATrailingSlash) {
 
 TEST(ExportWrite, AZipsNameWithATrailingSlashIsRefused) {
   // "mz.arwb/" with --force once replaced the zip mz.arwb with a folder of that name.
-  TempDir out;
+  test::TempDir out;
   const fs::path scene = kScripts / "museum/museum.lua";
   ASSERT_TRUE(export_to(scene, out.path() / "mz.arwb").ok());
   const std::string zip = read_file(out.str("mz.arwb"));
@@ -435,7 +434,7 @@ TEST(ExportWrite, AZipsNameWithATrailingSlashIsRefused) {
 }
 
 TEST(ExportReadme, UnderlineCountsCharactersAndThePlayLineIsShellQuoted) {
-  TempDir out;
+  test::TempDir out;
   ExportOptions o;
   o.scene = (kScripts / "museum/museum.lua").string();
   o.out = out.str("Salle d'expo.arwb");
@@ -458,7 +457,7 @@ TEST(ExportReadme, UnderlineCountsCharactersAndThePlayLineIsShellQuoted) {
 }
 
 TEST(ExportReadme, ATitleWithControlCharactersOrTooLongIsRefused) {
-  TempDir out;
+  test::TempDir out;
   ExportOptions o;
   o.scene = (kScripts / "museum/museum.lua").string();
   o.out = out.str("b.arwb");
@@ -485,7 +484,7 @@ TEST(ExportReadme, ATitleWithControlCharactersOrTooLongIsRefused) {
 }
 
 TEST(ExportWrite, ASourceChangedAfterThePlanIsNamedAndNothingIsWritten) {
-  TempDir out;
+  test::TempDir out;
   const fs::path dir = copy_example("museum", out.path());
   ExportOptions o;
   o.scene = (dir / "museum.lua").string();
@@ -501,7 +500,7 @@ TEST(ExportWrite, ASourceChangedAfterThePlanIsNamedAndNothingIsWritten) {
 // --web: the phone player's site (DataDirs::web) goes in whole, each file listed with role "web", and the bundle
 // still opens for arwb play; a site without its page, service worker or core is named and nothing is written.
 TEST(ExportWeb, TheSiteGoesInWithItsOwnRoleAndTheBundleStillOpens) {
-  TempDir src, out;
+  test::TempDir src, out;
   const fs::path dir = copy_example("museum", src.path());
   const fs::path site = src.path() / "site";
   for (const char* f : {"index.html", "sw.js", "web/player.js", "web/arwb_core.wasm", "web/licenses/opencv.txt"}) {

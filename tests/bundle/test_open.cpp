@@ -23,7 +23,6 @@ namespace arwb::bundle {
 namespace {
 
 using namespace fixture;
-using arwb::test::TempDir;
 using arwb::test::read_file;
 using arwb::test::write_file;
 
@@ -58,7 +57,7 @@ class Tampered : public ::testing::Test {
  protected:
   void SetUp() override { export_museum(out_.path() / "museum"); }
   fs::path b() const { return out_.path() / "museum"; }
-  TempDir out_;
+  test::TempDir out_;
 };
 
 TEST_F(Tampered, MediaChangedInPlace) {
@@ -267,7 +266,7 @@ std::string raw_zip(const std::vector<RawEntry>& entries) {
 
 TEST(RawZip, TheTestsOwnWriterMakesAZipThatOpens) {
   // The fixture itself: a good bundle rewritten entry by entry with raw_zip opens.
-  TempDir out;
+  test::TempDir out;
   const fs::path src = out.path() / "src";
   export_museum(src);
   std::vector<RawEntry> entries;
@@ -291,7 +290,7 @@ class HostileZip : public ::testing::Test {
     write_file(p.string(), raw_zip(all));
     return p;
   }
-  TempDir out_;
+  test::TempDir out_;
   int n_ = 0;
 };
 
@@ -384,7 +383,7 @@ TEST_F(HostileZip, ABombIsRefusedOnTheBytesReallyInflated) {
   EXPECT_LT(fs::file_size(bomb), 100u << 10);
   EXPECT_REFUSED(refuse(bomb), "no manifest.json");
   const auto extract_refuses = [&](const fs::path& zip, const BundleLimits& l, const std::string& text) {
-    TempDir into;
+    test::TempDir into;
     const Status s = extract_zip(zip, into.path(), {l.max_entries, l.max_file_bytes, l.max_total_bytes, l.max_ratio});
     EXPECT_NE(s.ok() ? std::string::npos : s.error().find(text), std::string::npos) << (s.ok() ? "extracted" : s.error());
   };

@@ -153,13 +153,13 @@ TEST(Charuco, TheSelectorMeasuresMotionOverTheIdsBothFramesHold) {
   EXPECT_EQ(sel.consider(fourth, {640, 480}).kind, "moving");
 }
 
-struct Views {
+struct CharucoViews {
   std::vector<CalibrationView> views;
   int partial = 0;
 };
 
-Views charuco_views(const BoardSpec& spec, int full, int partial) {
-  Views out;
+CharucoViews charuco_views(const BoardSpec& spec, int full, int partial) {
+  CharucoViews out;
   const ChessboardRenderer& r = renderer_for(spec);
   auto poses = chessboard_poses(kCamera, SynthChessboard::of(spec), full, 5);
   const auto more = partial_board_poses(kCamera, SynthChessboard::of(spec), partial, 9);
@@ -178,7 +178,7 @@ Views charuco_views(const BoardSpec& spec, int full, int partial) {
 
 TEST(Charuco, CalibratesTheKnownCameraFromFullAndPartialViews) {
   const BoardSpec spec = charuco();
-  const Views v = charuco_views(spec, 16, 8);
+  const CharucoViews v = charuco_views(spec, 16, 8);
   ASSERT_GE(v.views.size(), 16u);
   EXPECT_GE(v.partial, 4) << "partial views must be kept too";
   const Result<Solution> s = solve_calibration(v.views, spec, kCamera.size);
@@ -219,7 +219,7 @@ TEST(Charuco, CalibratesTheKnownCameraFromFullAndPartialViews) {
 
 TEST(Charuco, DropsAViewWithMisplacedCornersAndSaysWhich) {
   const BoardSpec spec = charuco();
-  Views v = charuco_views(spec, 16, 0);
+  CharucoViews v = charuco_views(spec, 16, 0);
   ASSERT_GE(v.views.size(), 12u);
   for (size_t k = 0; k < v.views[2].corners.size(); ++k) v.views[2].corners[k].x += (k % 2 ? 4.f : -4.f);
   const Result<Solution> s = solve_calibration(v.views, spec, kCamera.size);

@@ -41,8 +41,6 @@ void write_views(const std::string& dir, size_t count) {
   }
 }
 
-size_t line_count(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
-
 TEST(Calibrate, AFolderOfViewsGivesTheKnownCameraInTheFileAndTheJson) {
   TempDir dir;
   write_views(dir.str("views"), 14);
@@ -115,7 +113,7 @@ void expect_one_line_and_nothing_written(const TempDir& dir, const std::string& 
                                          int status = 1) {
   const auto r = run_arwb("calibrate " + args);
   EXPECT_EQ(r.status, status) << r.err;
-  EXPECT_EQ(line_count(r.err), 1u) << r.err;
+  EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
   for (const auto& e : std::filesystem::recursive_directory_iterator(dir.path())) {
     const std::string n = e.path().filename().string();
@@ -147,7 +145,7 @@ TEST(Calibrate, AWrongBoardSizeNamesTheSizeFound) {
   for (const std::string size : {"--cols 7 --rows 5", "--cols 10 --rows 7", "--cols 8 --rows 6"}) {
     const auto r = run_arwb("calibrate --input " + q(dir.str("views")) + " " + size + " --out " + q(dir.str("cam.xml")));
     EXPECT_EQ(r.status, 1) << size;
-    EXPECT_EQ(line_count(r.err), 1u) << r.err;
+    EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("chessboard"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("a 9x6 chessboard is in view_00.png: give --cols 9 --rows 6"), std::string::npos)
         << size << ": " << r.err;
@@ -210,7 +208,7 @@ TEST(Calibrate, ACorruptVideoIsNamed) {
   test::write_file(dir.str("board.mp4"), std::string(4096, '\x5a'));   // a video's name, no video's bytes
   const auto r = run_arwb("calibrate --input " + q(dir.str("board.mp4")) + " --out " + q(dir.str("cam.xml")));
   EXPECT_EQ(r.status, 1) << r.err;
-  EXPECT_EQ(line_count(r.err), 1u) << r.err;
+  EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find(dir.str("board.mp4")), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir.str("cam.xml")));
 }

@@ -20,8 +20,6 @@ using test::TempDir;
 
 namespace {
 
-size_t line_count(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
-
 void expect_near_truth(const Calibration& got, const Calibration& truth) {
   EXPECT_NEAR(got.camera_matrix(0, 0), truth.camera_matrix(0, 0), 0.005 * truth.camera_matrix(0, 0));
   EXPECT_NEAR(got.camera_matrix(1, 1), truth.camera_matrix(1, 1), 0.005 * truth.camera_matrix(1, 1));
@@ -90,7 +88,7 @@ TEST(CalibrateCharuco, NoChArUcoBoardIsOneLineThatNamesTheOlderLayout) {
   const auto r = run_arwb("calibrate --board charuco --input " + q(dir.str("views")) + " --out " +
                           q(dir.str("cam.xml")));
   EXPECT_EQ(r.status, 1) << r.err;
-  EXPECT_EQ(line_count(r.err), 1u) << r.err;
+  EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find("no ChArUco 5x7 squares"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("older ChArUco layout (before 4.6"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir.str("cam.xml")));

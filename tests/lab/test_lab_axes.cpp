@@ -13,20 +13,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
-#include <sstream>
 
 namespace arwb::lab {
 namespace {
 
 const double kFocal = default_lab_camera().camera_matrix(0, 0);
-
-// Everything in the CSV but the median time (the last column).
-std::string without_times(const std::string& csv) {
-  std::string out;
-  std::stringstream in(csv);
-  for (std::string line; std::getline(in, line);) out += line.substr(0, line.rfind(',')) + "\n";
-  return out;
-}
 
 TEST(LabPlanAxes, APlanFileGivesTheAddedAxesAndCellsAreTheirProduct) {
   test::TempDir d;

@@ -3,6 +3,7 @@
 #include "lab/cell_source.hpp"
 #include "lab/detectors.hpp"
 #include "lab/session.hpp"
+#include "lab_test_util.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -22,20 +23,6 @@ LabPlan small_plan() {
   p.lux = {1000};
   p.frames_per_cell = 6;
   return p;
-}
-
-// The table without its last column, the detection times (which differ from run to run).
-std::string without_times(const std::string& csv) {
-  std::string out, line;
-  for (char c : csv) {
-    if (c != '\n') {
-      line += c;
-      continue;
-    }
-    out += line.substr(0, line.rfind(',')) + "\n";
-    line.clear();
-  }
-  return out;
 }
 
 std::shared_ptr<const LabProgress> wait_end(const LabSession& s) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -58,6 +59,9 @@ nlohmann::ordered_json stats(const std::string& out);
 
 // `s` in single quotes, as one word of run_arwb's shell line (for the paths the tests make, which hold no quote).
 inline std::string q(const std::string& s) { return "'" + s + "'"; }
+
+// The lines of a program's output (its newlines).
+inline size_t line_count(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 
 // The text's lines that are not empty.
 std::vector<std::string> lines(const std::string& text);

@@ -22,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::RunResult;
 using test::TempDir;
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;
 
 // `count` views of the paper's board through `camera` (poses drawn from `seed`) written to `dir` as board_NN.png.
 void write_board_views(const TempDir& dir, const SynthCamera& camera, int count, unsigned seed) {

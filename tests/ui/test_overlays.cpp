@@ -46,7 +46,7 @@ std::string crowded_image(const TempDir& tmp) {
 
 using test::window_args;
 
-bool accepted_green(const cv::Vec3b& bgr) { return bgr[1] > 200 && bgr[2] < 110 && bgr[0] < 130; }
+bool overlay_green(const cv::Vec3b& bgr) { return bgr[1] > 200 && bgr[2] < 110 && bgr[0] < 130; }
 bool magenta(const cv::Vec3b& p) { return p[0] > 200 && p[2] > 200 && p[1] < 60; }
 
 cv::Rect box_rect(const nlohmann::json& b) {
@@ -85,7 +85,7 @@ std::vector<cv::Rect> checked_label_boxes(const nlohmann::json& labels, const cv
     for (int y = inner.y; y < inner.br().y; ++y) {
       for (int x = inner.x; x < inner.br().x; ++x) {
         const cv::Vec3b p = shot.at<cv::Vec3b>(y, x);
-        green += accepted_green(p);
+        green += overlay_green(p);
         dark += p[0] < 70 && p[1] < 70 && p[2] < 70;
       }
     }

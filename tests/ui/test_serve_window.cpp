@@ -18,7 +18,7 @@ using test::TempDir;
 
 const std::string kMuseum = std::string(ARWB_SOURCE_DIR) + "/scripts/museum/museum.lua";
 
-std::string window_args(const TempDir& tmp, const std::string& actions) {
+std::string serve_window_args(const TempDir& tmp, const std::string& actions) {
   return "--verbose --config-dir '" + tmp.str("config") + "' --source synthetic --scene '" + kMuseum +
          "' --frames 40 --stats --screenshot '" + tmp.str("dialog.png") + "' --actions '" + actions + "'";
 }
@@ -26,7 +26,7 @@ std::string window_args(const TempDir& tmp, const std::string& actions) {
 TEST(WorkbenchServe, TheDialogServesTheBundleWrittenAndShowsItsAddressAsAQrCode) {
   TempDir tmp;
   const std::string out = tmp.str("museum-web");
-  RunResult r = test::run_arwb_window(window_args(
+  RunResult r = test::run_arwb_window(serve_window_args(
       tmp, "3:export_dialog=" + out + ";4:export_web=on;5:answer=export;6:export_wait;8:serve=on;9:export_wait"));
   ASSERT_EQ(r.status, 0) << r.err;
   auto stats = test::stats(r);
@@ -38,7 +38,7 @@ TEST(WorkbenchServe, TheDialogServesTheBundleWrittenAndShowsItsAddressAsAQrCode)
   EXPECT_EQ(test::read_qr(cv::imread(tmp.str("dialog.png"))), url);
 
   // Stopped: no address any more, and the log says after how many requests.
-  r = test::run_arwb_window(window_args(
+  r = test::run_arwb_window(serve_window_args(
       tmp, "3:export_dialog=" + out + ";3:export_force=on;4:export_web=on;5:answer=export;6:export_wait;8:serve=on;"
            "9:export_wait;12:serve=off"));
   ASSERT_EQ(r.status, 0) << r.err;
@@ -49,7 +49,7 @@ TEST(WorkbenchServe, TheDialogServesTheBundleWrittenAndShowsItsAddressAsAQrCode)
 
 TEST(WorkbenchServe, ABundleWithoutThePhonePageIsNotServedAndTheDialogSaysWhy) {
   TempDir tmp;
-  const RunResult r = test::run_arwb_window(window_args(
+  const RunResult r = test::run_arwb_window(serve_window_args(
       tmp, "3:export_dialog=" + tmp.str("plain") + ";5:answer=export;6:export_wait;8:serve=on;9:export_wait"));
   ASSERT_EQ(r.status, 0) << r.err;
   const auto stats = test::stats(r);

@@ -18,7 +18,7 @@
 namespace arwb {
 namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;
 using test::RunResult;
 using test::TempDir;
 

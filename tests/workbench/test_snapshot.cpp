@@ -16,14 +16,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Frame {
+struct TracedFrame {
   cv::Mat image;
   FrameTrace trace;
 };
 
-Frame traced_frame() {
+TracedFrame traced_frame() {
   const Dictionary d = make_aruco_original();
-  Frame f;
+  TracedFrame f;
   f.image = cv::Mat(240, 320, CV_8UC3, cv::Scalar(128, 128, 128));
   draw_marker(f.image, d, 12, project_square({160, 120}, 80, 10, 0, 0, 800));
   Detector({d}).detect(f.image, &f.trace, TraceLevel::full);
@@ -38,7 +38,7 @@ bool listed(const SnapshotResult& r, const std::string& name) {
 
 TEST(Snapshot, WritesFrameStageImagesCandidatesAndTrace) {
   test::TempDir tmp;
-  const Frame f = traced_frame();
+  const TracedFrame f = traced_frame();
   ASSERT_EQ(f.trace.markers.size(), 1u);
   const std::string parent = tmp.str("snaps/nested");  // made when missing
   const SnapshotResult r = write_snapshot(parent, f.image, f.trace);
@@ -93,7 +93,7 @@ TEST(Snapshot, WritesFrameStageImagesCandidatesAndTrace) {
 
 TEST(Snapshot, EverySnapshotGetsANewFolder) {
   test::TempDir tmp;
-  const Frame f = traced_frame();
+  const TracedFrame f = traced_frame();
   const SnapshotResult a = write_snapshot(tmp.str(), f.image, f.trace);
   const SnapshotResult b = write_snapshot(tmp.str(), f.image, f.trace);
   const SnapshotResult c = write_snapshot(tmp.str(), f.image, f.trace);
@@ -112,7 +112,7 @@ TEST(Snapshot, EverySnapshotGetsANewFolder) {
 
 TEST(Snapshot, AnUnwritableParentIsAnErrorNamingThePath) {
   test::TempDir tmp;
-  const Frame f = traced_frame();
+  const TracedFrame f = traced_frame();
   test::write_file(tmp.str("plain_file"), "not a folder");
   const std::string parent = tmp.str("plain_file") + "/snaps";
   const SnapshotResult r = write_snapshot(parent, f.image, f.trace);
@@ -123,7 +123,7 @@ TEST(Snapshot, AnUnwritableParentIsAnErrorNamingThePath) {
 
 TEST(Snapshot, ASummaryTraceWritesTheFrameAndTraceOnly) {
   test::TempDir tmp;
-  const Frame f = traced_frame();
+  const TracedFrame f = traced_frame();
   FrameTrace summary;
   Detector({make_aruco_original()}).detect(f.image, &summary, TraceLevel::summary);
   const SnapshotResult r = write_snapshot(tmp.str(), f.image, summary);
