@@ -3,17 +3,17 @@
 // depth buffer and a simple light. Meshes are tessellated finely enough (the cube's faces and flat media are
 // grids) that straight edges bend as the lens bends them; a vertex lands exactly where cv::projectPoints puts it.
 //
-// Depth: camera z between kNear and kFar marker sides, the usual perspective depth, so triangles of several
-// markers' media hide each other correctly. Light: a lamp above and to the left of the camera, plus ambient;
-// faces turned away from the camera are lit as seen from the front (models with open or one-sided faces).
+// The shaders are mesh.vert and mesh.frag, and their uniforms mesh_uniforms.hpp's, which the phone player draws
+// with too. Depth: kMeshNear to kMeshFar. Light: a lamp above and to the left of the camera, plus ambient.
 // Transparency is blended in drawing order without sorting.
 //
 // Needs the current OpenGL 3.3 core context the compositor draws with; called only by Compositor::draw, inside
 // its framebuffer and state.
 #pragma once
 
-#include "track/overlay.hpp"
+#include "render/mesh_uniforms.hpp"
 #include "render/texture.hpp"
+#include "track/overlay.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -30,8 +30,6 @@ class MeshRenderer {
   ~MeshRenderer();
   MeshRenderer(const MeshRenderer&) = delete;
   MeshRenderer& operator=(const MeshRenderer&) = delete;
-
-  static constexpr double kNear = 0.01, kFar = 1e4;   // marker sides
 
   // Draws `o.solid` into the bound framebuffer of size `frame` (depth test on, blending as set by the caller).
   // Parts textured with the overlay's media take o.content, cropped to o.quad's uv_min..uv_max. False (error()
@@ -59,16 +57,12 @@ class MeshRenderer {
 
   unsigned program_ = 0;
   int loc_model_view_ = -1, loc_normal_matrix_ = -1, loc_intrinsics_ = -1, loc_skew_ = -1, loc_knum_ = -1,
-      loc_kden_ = -1, loc_tangential_ = -1, loc_r2_max_ = -1, loc_size_ = -1, loc_depth_ = -1, loc_colour_ = -1,
+      loc_kden_ = -1, loc_tangential_ = -1, loc_r2_max_ = -1, loc_size_ = -1, loc_depth_ = -1, loc_y_sign_ = -1,
+      loc_colour_ = -1,
       loc_textured_ = -1, loc_lit_ = -1, loc_normals_ = -1, loc_uv_window_ = -1, loc_tex_ = -1;
   std::unordered_map<const Mesh*, MeshGL> meshes_;
   uint64_t frame_ = 0;
   std::string error_;
 };
-
-// The largest squared radius (in normalised image coordinates) up to which the lens model keeps growing, capped
-// at twice the image's farthest corner: beyond it OpenCV's polynomial turns back and would fold far-away
-// vertices into the picture, so the renderer holds the distortion there. Exposed for tests.
-double distortion_r2_limit(const cv::Matx33d& camera_matrix, const std::vector<double>& distortion, cv::Size frame);
 
 }  // namespace arwb::render

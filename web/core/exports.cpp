@@ -56,4 +56,7 @@ EMSCRIPTEN_KEEPALIVE void arwb_scene_video(const char* path, int width, int heig
 // The tracker and the scene on the last detect()'s markers, at `t_s` seconds; the overlays as JSON.
 EMSCRIPTEN_KEEPALIVE const char* arwb_scene_step(double t_s) { return scene().step(detector(), t_s).c_str(); }
 
+// A mesh a step named, its parts' arrays as addresses in the module's memory (valid until the next call).
+EMSCRIPTEN_KEEPALIVE const char* arwb_scene_mesh(int id) { return scene().mesh(id).c_str(); }
+
 }

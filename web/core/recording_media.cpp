@@ -18,7 +18,7 @@ std::shared_ptr<MediaContent> RecordingMedia::image(const std::string& path, std
     return nullptr;
   }
   if (error) error->clear();
-  return std::make_shared<SizedContent>(cv::Size(h->width, h->height));
+  return std::make_shared<SizedContent>(cv::Size(h->width, h->height), path);
 }
 
 std::shared_ptr<media::VideoContent> RecordingMedia::video(const std::string& path, bool loop, std::string* error) {
@@ -42,7 +42,7 @@ std::shared_ptr<MediaContent> RecordingMedia::web_card(const MediaSpec&) {
 
 std::shared_ptr<const Mesh> RecordingMedia::model(const std::filesystem::path&, const std::string& relative,
                                                   std::string* error, std::string* warning) {
-  if (error) *error = relative + ": 3D models are not drawn by the phone player yet";
+  if (error) *error = relative + ": 3D models (OBJ, glTF) are not drawn by the phone player yet";
   if (warning) warning->clear();
   return nullptr;
 }

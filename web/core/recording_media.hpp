@@ -12,11 +12,13 @@
 
 namespace arwb::web {
 
-// A medium the page draws: only its size is known here.
+// A medium the page draws: only its size is known here, and for a picture its path in the core's file system
+// (a cube face's, which the page finds by it).
 class SizedContent final : public MediaContent {
  public:
-  explicit SizedContent(cv::Size size) : size_(size) {}
+  explicit SizedContent(cv::Size size, std::string path = {}) : size_(size), path_(std::move(path)) {}
   cv::Size size() const override { return size_; }
+  const std::string& path() const { return path_; }
   std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
     if (version) *version = 0;
     return nullptr;
@@ -24,6 +26,7 @@ class SizedContent final : public MediaContent {
 
  private:
   cv::Size size_;
+  std::string path_;
 };
 
 // A text card the page draws: laid out as the desktop lays it out (media/card_layout.hpp), so of the same size.

@@ -1,11 +1,15 @@
 // The phone player core's scene (web_scene.hpp).
 #include "web_scene.hpp"
 
+#include "render/mesh_uniforms.hpp"
 #include "track/overlay_json.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <iterator>
 
 namespace arwb::web {
 
@@ -21,6 +25,11 @@ Json mapping_rows(const SceneStatus& s, bool live) {
       rows.push_back({{"ids", m.ids}, {"media", m.media}, {"placement", m.placement}, {"line", m.line}});
   }
   return rows;
+}
+Json uniforms_json(const render::MeshUniforms& u) {
+  return {{"model_view", u.model_view}, {"normal_matrix", u.normal_matrix}, {"intrinsics", u.intrinsics},
+          {"skew", u.skew}, {"knum", u.knum}, {"kden", u.kden}, {"tangential", u.tangential},
+          {"r2_max", u.r2_max}, {"size", u.size}, {"depth", u.depth}};
 }
 }  // namespace
 
@@ -67,6 +76,10 @@ const std::string& WebScene::step(WebDetector& d, double t_s) {
                    {"ascent", l.ascent}, {"width", l.width}, {"height", l.height},
                    {"colour", rgba(o.media.colour)}, {"background", rgba(o.media.background)}};
     }
+    if (o.solid && o.solid->mesh) {
+      j["solid"]["mesh"] = mesh_id(o.solid->mesh);
+      j["solid"]["uniforms"] = uniforms_json(render::mesh_uniforms(*o.solid, size));
+    }
     if (const auto* v = dynamic_cast<const RecordedVideo*>(o.content.get()))
       j["video"] = {{"t", v->position_s()}, {"playing", v->playing()}, {"loop", v->loop()},
                     {"duration", v->duration_s()}};
@@ -82,11 +95,47 @@ const std::string& WebScene::step(WebDetector& d, double t_s) {
       lines.push_back({{"level", s.console[i].level}, {"text", s.console[i].text}, {"repeats", s.console[i].repeats}});
     scene["console"] = std::move(lines);
   }
+  for (auto it = meshes_.begin(); it != meshes_.end();)
+    it = frame_index_ - it->second.last_frame > kKeepMeshFrames ? meshes_.erase(it) : std::next(it);
   Json result = {{"tracks", std::move(tracks)}, {"overlays", std::move(overlays)}, {"errors", step_.take_errors()},
                  {"scene", std::move(scene)}};
   if (!camera_error.empty()) result["camera_error"] = camera_error;
   result_ = result.dump();
   return result_;
+}
+
+int WebScene::mesh_id(const std::shared_ptr<const Mesh>& mesh) {
+  NamedMesh& m = meshes_[mesh.get()];
+  if (m.mesh != mesh) m = {next_mesh_id_++, mesh, 0};   // new, or a new mesh at a freed address
+  m.last_frame = frame_index_;
+  return m.id;
+}
+
+const std::string& WebScene::mesh(int id) {
+  mesh_vertices_.clear();
+  const auto it = std::find_if(meshes_.begin(), meshes_.end(), [&](const auto& m) { return m.second.id == id; });
+  if (it == meshes_.end()) {
+    mesh_result_ = Json{{"error", "no mesh " + std::to_string(id) + " is drawn"}}.dump();
+    return mesh_result_;
+  }
+  Json parts = Json::array();
+  for (const MeshPart& part : it->second.mesh->parts) {
+    mesh_vertices_.push_back(render::interleaved_vertices(part));
+    const auto* picture = dynamic_cast<const SizedContent*>(part.texture.get());
+    const size_t n = part.positions.size();
+    parts.push_back({{"vertices", reinterpret_cast<uintptr_t>(mesh_vertices_.back().data())},
+                     {"floats", mesh_vertices_.back().size()},
+                     {"indices", reinterpret_cast<uintptr_t>(part.indices.data())},
+                     {"count", part.indices.size()},
+                     {"colour", render::part_colour(part, 1.0)},
+                     {"lit", part.lit},
+                     {"normals", n > 0 && part.normals.size() == n},
+                     {"uvs", n > 0 && part.uvs.size() == n},
+                     {"overlay_texture", part.overlay_texture},
+                     {"texture", picture ? picture->path() : std::string()}});
+  }
+  mesh_result_ = Json{{"parts", std::move(parts)}}.dump();
+  return mesh_result_;
 }
 
 }  // namespace arwb::web

@@ -6,7 +6,10 @@
 #include "script/scene_step.hpp"
 #include "web_detector.hpp"
 
+#include <map>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace arwb::web {
 
@@ -22,10 +25,16 @@ class WebScene {
   // One frame at `t_s` seconds: the tracker and the scene on `d`'s last markers, with its camera and marker side.
   // {"tracks": [{"id","track","detected","corners"}], "overlays": overlays_json's, each video's also with "video":
   // {"t","playing","loop","duration"}, each text card's also with "card": {"lines","font_px","pad","line_h",
-  // "ascent","width","height","colour":[r,g,b,a],"background":[r,g,b,a]} (its layout), "errors": [new error
-  // lines], "scene": {"ok","error","mappings":[{"state","health","reason"}], "console": [the newest lines, when
-  // there are new ones]}}.
+  // "ascent","width","height","colour":[r,g,b,a],"background":[r,g,b,a]} (its layout), each solid's "solid" also
+  // with "mesh" (its id for mesh()) and "uniforms" (render/mesh_uniforms.hpp's, by their shader names), "errors":
+  // [new error lines], "scene": {"ok","error","mappings":[{"state","health","reason"}], "console": [the newest
+  // lines, when there are new ones]}}.
   const std::string& step(WebDetector& d, double t_s);
+  // The mesh a step named `id`, its arrays in the module's memory until the next call: {"parts": [{"vertices":
+  // address, "floats": count (render::interleaved_vertices'), "indices": address, "count": uint32 count,
+  // "colour": [r,g,b,a] in 0..1, "lit", "normals", "uvs", "overlay_texture", "texture": the picture's path in the
+  // core's file system or ""}]}; {"error": "..."} for an id no step named or one forgotten.
+  const std::string& mesh(int id);
 
  private:
   RecordingMedia media_;
@@ -33,6 +42,18 @@ class WebScene {
   uint64_t console_serial_ = 0;
   uint64_t frame_index_ = 0;
   std::string result_;
+  // The meshes steps named, each kept while drawn and for kKeepMeshFrames frames after, as the desktop keeps them.
+  struct NamedMesh {
+    int id = 0;
+    std::shared_ptr<const Mesh> mesh;
+    uint64_t last_frame = 0;
+  };
+  static constexpr uint64_t kKeepMeshFrames = 240;
+  std::map<const Mesh*, NamedMesh> meshes_;
+  int next_mesh_id_ = 1;
+  std::vector<std::vector<float>> mesh_vertices_;   // the last mesh()'s
+  std::string mesh_result_;
+  int mesh_id(const std::shared_ptr<const Mesh>& mesh);
 };
 
 }  // namespace arwb::web

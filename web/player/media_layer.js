@@ -3,20 +3,24 @@
 // compositor.cpp): texture coordinates per pixel through the inverse of the quad's homography (texture uv to image
 // pixels), clamped to the part of the medium shown, image pixel centres at integer coordinates. A text card is drawn
 // at the core's layout (the desktop's, media/card_layout.hpp) in the font it was measured with (web/card_font.ttf).
-// 3D media are not drawn here yet; the page says so once per scene.
+// Solids (cubes, axes, and flat media when the bundle has a calibration) are drawn by mesh_layer.js, in the
+// scene's order with the quads, as the compositor draws them.
 'use strict';
 // eslint-disable-next-line no-unused-vars
 class MediaLayer {
   // canvas: the WebGL canvas; file(path): a Promise of the bundle file's Blob; cardFor(url, title): the bundle path of
-  // a web card's picture, or ''.
-  constructor(canvas, file, cardFor) {
+  // a web card's picture, or ''; askMesh(id): asks the worker for a mesh the core named (its answer goes to mesh()).
+  constructor(canvas, file, cardFor, askMesh) {
     this.canvas = canvas;
     this.file = file;
     this.cardFor = cardFor;
-    this.gl = canvas.getContext('webgl2', { premultipliedAlpha: false, alpha: true });
+    this.gl = canvas.getContext('webgl2', { premultipliedAlpha: false, alpha: true, depth: true });
     this.textures = new Map();   // key -> {texture, source (ImageBitmap or video element), ready, video}
     this.drawn = [];             // the kinds of the quads drawn on the last frame
-    if (this.gl) this.program = this.link();
+    if (this.gl) {
+      this.program = this.link();
+      this.meshes = new MeshLayer(this.gl, askMesh);   // eslint-disable-line no-undef
+    }
     this.fontReady = false;      // the cards' font, loaded from the bundle
     const font = new FontFace('ArwbCard', 'url(web/card_font.ttf)');
     font.load().then((f) => { document.fonts.add(f); this.fontReady = true; }, () => { this.fontFailed = true; });
@@ -103,33 +107,79 @@ void main() {
       if (!this.fontReady) return null;
       key = `text ${JSON.stringify(o.card)}`;
     } else return null;
-    let t = this.textures.get(key);
-    if (!t) {
-      t = { texture: null, source: null, video: null, ready: false, used: performance.now() };
-      this.textures.set(key, t);
-      if (o.kind === 'text') {
-        t.source = MediaLayer.card(o.card);
-        t.ready = true;
-        return t;
+    if (o.kind === 'text') {
+      let t = this.textures.get(key);
+      if (!t) {
+        t = { texture: null, source: MediaLayer.card(o.card), video: null, ready: true, used: performance.now() };
+        this.textures.set(key, t);
       }
-      if (!path) return null;
-      this.file(path).then(async (blob) => {
-        if (video) {
-          const v = document.createElement('video');
-          v.muted = true;
-          v.loop = !!(o.video && o.video.loop);
-          v.playsInline = true;
-          v.src = URL.createObjectURL(blob);
-          t.video = v;
-          t.source = v;
-        } else {
-          t.source = await createImageBitmap(blob);
-          t.ready = true;
-        }
-      }).catch(() => { t.failed = true; });
+      return t;
     }
+    return this.fileTexture(key, path, video, !!(o.video && o.video.loop));
+  }
+
+  // The texture of a bundle file (a picture, or a video played by a <video>), started on first use.
+  fileTexture(key, path, video, loop) {
+    let t = this.textures.get(key);
+    if (t) return t;
+    t = { texture: null, source: null, video: null, ready: false, used: performance.now() };
+    this.textures.set(key, t);
+    if (!path) return t;
+    this.file(path).then(async (blob) => {
+      if (video) {
+        const v = document.createElement('video');
+        v.muted = true;
+        v.loop = loop;
+        v.playsInline = true;
+        v.src = URL.createObjectURL(blob);
+        t.video = v;
+        t.source = v;
+      } else {
+        t.source = await createImageBitmap(blob);
+        t.ready = true;
+      }
+    }).catch(() => { t.failed = true; });
     return t;
   }
+
+  // t's WebGL texture, made on first use and refreshed from a playing video; null until its picture is there.
+  glTexture(t, clock, now) {
+    if (!t) return null;
+    t.used = now;
+    if (!t.source) return null;
+    if (t.video) this.follow(t, clock);
+    if (!t.ready) return null;
+    const gl = this.gl;
+    // Filtered trilinearly over a mipmap chain, as the desktop's textures of media are (render/texture.hpp): a
+    // medium drawn much smaller than its pixels is averaged, not sampled.
+    if (!t.texture) {
+      t.texture = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, t.texture);
+      for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.LINEAR_MIPMAP_LINEAR], [gl.TEXTURE_MAG_FILTER, gl.LINEAR],
+                            [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]])
+        gl.texParameteri(gl.TEXTURE_2D, k, v);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, gl.RGBA, gl.UNSIGNED_BYTE, t.source);
+      gl.generateMipmap(gl.TEXTURE_2D);
+    } else if (t.video && t.uploaded !== now) {
+      gl.bindTexture(gl.TEXTURE_2D, t.texture);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, gl.RGBA, gl.UNSIGNED_BYTE, t.source);
+      gl.generateMipmap(gl.TEXTURE_2D);
+    }
+    t.uploaded = now;
+    return t.texture;
+  }
+
+  // A mesh part's texture: the overlay's own medium (a flat medium drawn through the lens), or a picture the core
+  // named by its path in its file system (/files/ + the bundle path: a cube's face).
+  partTexture(o, part, sceneDir, now) {
+    if (part.overlay_texture) return this.glTexture(this.texture(o, sceneDir, o.track), o.video, now);
+    if (!part.texture || !part.texture.startsWith('/files/')) return null;
+    const path = part.texture.slice('/files/'.length);
+    return this.glTexture(this.fileTexture(`image ${path}`, path, false, false), null, now);
+  }
+
+  // A mesh from the worker (MeshLayer.add).
+  mesh(msg) { if (this.meshes) this.meshes.add(msg); }
 
   // A video element following the core's clock: playing or paused as the scene says, and sought only when more
   // than a quarter second off, as the desktop's player waits for a wobbling clock (media/media_store.hpp).
@@ -156,34 +206,28 @@ void main() {
     }
     gl.viewport(0, 0, width, height);
     gl.clearColor(0, 0, 0, 0);
-    gl.clear(gl.COLOR_BUFFER_BIT);
-    gl.useProgram(this.program);
+    gl.clearDepth(1);
+    gl.depthMask(true);
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
     gl.enable(gl.BLEND);
     gl.blendFuncSeparate(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA, gl.ONE, gl.ONE_MINUS_SRC_ALPHA);
-    gl.uniform2f(this.at.size, width, height);
-    gl.bindBuffer(gl.ARRAY_BUFFER, this.buffer);
-    gl.enableVertexAttribArray(this.pos);
-    gl.vertexAttribPointer(this.pos, 2, gl.FLOAT, false, 0, 0);
     const now = performance.now();
     for (const o of overlays || []) {
-      if (o.solid) continue;
-      const t = this.texture(o, sceneDir, o.track);
-      if (t) t.used = now;
-      if (!t || !t.source) continue;
-      if (t.video) this.follow(t, o.video);
-      if (!t.ready) continue;
-      if (!t.texture) {
-        t.texture = gl.createTexture();
-        gl.bindTexture(gl.TEXTURE_2D, t.texture);
-        for (const [k, v] of [[gl.TEXTURE_MIN_FILTER, gl.LINEAR], [gl.TEXTURE_MAG_FILTER, gl.LINEAR],
-                              [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]])
-          gl.texParameteri(gl.TEXTURE_2D, k, v);
-        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, gl.RGBA, gl.UNSIGNED_BYTE, t.source);
-      } else if (t.video) {
-        gl.bindTexture(gl.TEXTURE_2D, t.texture);
-        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, gl.RGBA, gl.UNSIGNED_BYTE, t.source);
+      if (o.solid) {
+        if (o.solid.mesh && this.meshes && this.meshes.draw(o, (part) => this.partTexture(o, part, sceneDir, now)))
+          this.drawn.push(o.kind);
+        continue;
       }
-      gl.bindTexture(gl.TEXTURE_2D, t.texture);
+      const texture = this.glTexture(this.texture(o, sceneDir, o.track), o.video, now);
+      if (!texture) continue;
+      gl.useProgram(this.program);
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.buffer);
+      gl.enableVertexAttribArray(this.pos);
+      gl.vertexAttribPointer(this.pos, 2, gl.FLOAT, false, 0, 0);
+      gl.uniform2f(this.at.size, width, height);
+      gl.bindTexture(gl.TEXTURE_2D, texture);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
       gl.uniform1i(this.at.tex, 0);
       gl.uniformMatrix3fv(this.at.image_to_uv, false, MediaLayer.inverseColumnMajor(o.quad.H));
       gl.uniform2f(this.at.uv_min, o.quad.uv_min[0], o.quad.uv_min[1]);
@@ -193,6 +237,7 @@ void main() {
       gl.drawArrays(gl.TRIANGLE_FAN, 0, 4);
       this.drawn.push(o.kind);
     }
+    if (this.meshes) this.meshes.forget(now - 5000);
     this.forget(now - 5000);
   }
 

@@ -60,6 +60,22 @@
       c.getContext('2d').putImageData(new ImageData(new Uint8ClampedArray(f.rgba), f.width, f.height), 0, 0);
       return { png: c.toDataURL('image/png'), result: f.result };
     },
+    // The last searched frame with its scene's media drawn over it, as the view shows them, and the frame alone, as
+    // PNG data URLs, with what was found (for the tests: `arwb render` on the same pixels). Null before a search.
+    composite() {
+      const f = player.lastFrame;
+      const m = player.bundle.manifest;
+      if (!f || !m || !m.scene) return null;
+      const frame = player.grab();
+      layer.draw(f.overlays, f.width, f.height, sceneDir(m));
+      const c = document.createElement('canvas');
+      c.width = f.width;
+      c.height = f.height;
+      const g = c.getContext('2d');
+      g.putImageData(new ImageData(new Uint8ClampedArray(f.rgba), f.width, f.height), 0, 0);
+      g.drawImage($('media'), 0, 0);   // read in the task that drew it, before the page shows it
+      return { png: c.toDataURL('image/png'), frame: frame.png, result: f.result, drawn: layer.drawn };
+    },
   };
   const report = (message) => {
     player.errors.push(message);
@@ -206,7 +222,8 @@
                                   const c = (player.bundle.manifest.web_cards || [])
                                     .find((w) => w.url === url && w.title === title);
                                   return c ? c.picture : '';
-                                });
+                                },
+                                (id) => worker.postMessage({ type: 'mesh', id }));
   const notDrawn = new Set();   // the kinds said not to be drawn on phones yet, once per scene
   worker.onmessage = (e) => {
     const msg = e.data;
@@ -216,6 +233,7 @@
     }
     else if (msg.type === 'error') report(msg.message);
     else if (msg.type === 'camera') player.camera = msg.camera;
+    else if (msg.type === 'mesh') layer.mesh(msg);
     else if (msg.type === 'scene') {
       player.scene.status = msg.status;
       notDrawn.clear();
@@ -233,7 +251,8 @@
       }
       player.detectMs.push(msg.result.ms || 0);
       if (player.detectMs.length > 30) player.detectMs.shift();
-      player.lastFrame = { width: msg.width, height: msg.height, rgba: msg.rgba, result: msg.result };
+      player.lastFrame = { width: msg.width, height: msg.height, rgba: msg.rgba, result: msg.result,
+                           overlays: msg.scene ? msg.scene.overlays : [] };
       if (msg.scene) takeScene(msg.scene);
       drawOverlay();
     }
@@ -246,11 +265,11 @@
     for (const e of scene.errors) report(e);
     if (scene.scene.console) player.scene.console = scene.scene.console;
     for (const o of scene.overlays) {
-      if (['image', 'video', 'web', 'text'].includes(o.kind) && !o.solid) continue;
-      const kind = o.solid ? `${o.kind} (3D)` : o.kind;
-      if (notDrawn.has(kind)) continue;
-      notDrawn.add(kind);
-      player.notes.push(`${kind} media are not drawn on phones yet (marker ${o.marker}: ${o.source}); the desktop ` +
+      // Every kind but the detector's stage pictures, which need the trace the page's core does not keep (a model
+      // file is refused by the core when the scene loads, with its name).
+      if (o.kind !== 'stage' || notDrawn.has(o.kind)) continue;
+      notDrawn.add(o.kind);
+      player.notes.push(`stage pictures are not drawn on phones (marker ${o.marker}: ${o.source}); the desktop ` +
                         'draws them');
     }
   }
@@ -432,7 +451,8 @@
     if (b.state === 'verified')
       $('bundle').textContent = `${b.manifest.ids.length} marker${b.manifest.ids.length === 1 ? '' : 's'} of ` +
         `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. ` +
-        'Pictures, videos, web and text cards are drawn on their markers; 3D media are not drawn on phones yet.';
+        'Pictures, videos, web and text cards, cubes and axes are drawn on their markers; 3D model files are not ' +
+        'drawn on phones yet.';
     else $('bundle').textContent = '';
     useBundle();
     player.state = 'ready';

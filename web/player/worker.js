@@ -1,13 +1,16 @@
 // The phone player's worker: the WebAssembly core (arwb_core.js, the desktop's detector) on frames the page sends.
 // Messages in: {type: 'detect', width, height, rgba: Uint8ClampedArray, t}, {type: 'dictionaries', list},
-// {type: 'param', name, value} (one row of the detector's parameter table) and
+// {type: 'param', name, value} (one row of the detector's parameter table), {type: 'mesh', id} (a mesh a scene step
+// named) and
 // {type: 'camera', files: [{path, bytes}], path, side} (the bundle's calibration files, written into the core's file
 // system under /bundle/, the one to read, '' for the default camera, and the markers' side) and {type: 'scene',
 // scene, files: [{path, blob}], videos: [{path, width, height, duration}]} (the scene file's bundle path, the
 // files of its folder, mounted read-only under /files/ where the core reads only the bytes it asks for, and each
 // video's size and length as the page's <video> read them).
 // Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'scene', status} (the
-// scene's load status), {type: 'result', result, scene, width, height, rgba} (the pixels go back to the page, which
+// scene's load status), {type: 'mesh', id, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit,
+// normals, uvs, overlay_texture, texture}]} or {type: 'mesh', id, error} (WebScene::mesh's, the arrays copied out
+// of the core's memory), {type: 'result', result, scene, width, height, rgba} (the pixels go back to the page, which
 // keeps the frame it drew and what was found in it; scene: the core's overlays for it, when a scene runs),
 // {type: 'error', message}.
 'use strict';
@@ -41,6 +44,7 @@ const ready = ArwbCore().then((m) => {
     sceneLoad: m.cwrap('arwb_scene_load', 'string', ['string']),
     sceneVideo: m.cwrap('arwb_scene_video', null, ['string', 'number', 'number', 'number']),
     sceneStep: m.cwrap('arwb_scene_step', 'string', ['number']),
+    sceneMesh: m.cwrap('arwb_scene_mesh', 'string', ['number']),
   };
   postMessage({ type: 'ready' });
 }, (e) => postMessage({ type: 'error', message: `the detector did not load: ${e && e.message ? e.message : e}` }));
@@ -90,6 +94,17 @@ onmessage = async (e) => {
       status = { ok: false, error: `the scene's files could not be given to the core: ${e.message}` };
     }
     postMessage({ type: 'scene', status });
+    return;
+  }
+  if (msg.type === 'mesh') {
+    const mesh = JSON.parse(core.sceneMesh(msg.id));
+    if (mesh.error) return postMessage({ type: 'mesh', id: msg.id, error: mesh.error });
+    const buffer = core.module.HEAPU8.buffer;   // after the call: memory may have grown
+    const parts = mesh.parts.map((p) => Object.assign(p, {
+      vertices: new Float32Array(buffer, p.vertices, p.floats).slice(),
+      indices: new Uint32Array(buffer, p.indices, p.count).slice(),
+    }));
+    postMessage({ type: 'mesh', id: msg.id, parts }, parts.flatMap((p) => [p.vertices.buffer, p.indices.buffer]));
     return;
   }
   if (msg.type !== 'detect') return;
