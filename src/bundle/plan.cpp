@@ -48,7 +48,10 @@ std::string id_ranges(const std::vector<int>& ids) {
     while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
     if (!out.empty()) out += ", ";
     out += std::to_string(ids[i]);
-    if (j > i) out += "-" + std::to_string(ids[j]);
+    if (j > i) {
+      out += '-';   // (not "-" + to_string: GCC 12 warns of a false overflow in that inlined insert)
+      out += std::to_string(ids[j]);
+    }
     i = j + 1;
   }
   return out;

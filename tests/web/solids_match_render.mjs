@@ -1,6 +1,6 @@
 // The scene's solids on the phone, against `arwb render`: a bundle with a calibration (so that flat media are drawn
-// through the lens model too) and a scene of a cube with a picture on its top face on marker 0, the axes on marker
-// 1 and a picture on marker 2, exported with --web and opened in headless Chromium whose fake camera holds one
+// through the lens model too) and a scene of a cube with a picture on its top face on marker 0, the axes and a text
+// card on marker 1 and a picture on marker 2, exported with --web and opened in headless Chromium whose fake camera holds one
 // synthetic frame. The page's composite of a searched frame (the frame with its media layer over it) is compared
 // with `arwb render` of the same pixels with the same calibration: where either drew, the two agree but for the
 // media's edges. Run by ctest as
@@ -34,6 +34,8 @@ try {
     'marker(0, { media = cube { colour = "#46b4eb", faces = { top = "media/composition.png", front = "#e05050" } } })',
     'marker(1, { media = axes { length = 1.4 } })',
     'marker(2, { media = image "media/sunset.png", place = on_marker { scale = 1.2 } })',
+    // A card on its default half-clear background, laid over the frame as the desktop lays it (premultiplied).
+    'marker(1, { media = text("axes", { size = 28 }), place = beside { side = "bottom", gap = 0.1, size = 0.45 } })',
     ''].join('\n'));
   // A calibration with lens distortion, of the synthetic frames' size.
   run(['synth', '--chessboard', '--out', path.join(tmp, 'views'), '--count', '1']);
@@ -67,14 +69,14 @@ try {
   let shot = null;
   for (const end = Date.now() + 60000; !shot && Date.now() < end;) {
     const drawn = await page.evaluate('arwbPlayer.scene.drawn');
-    if (['cube', 'axes', 'image'].every((k) => drawn.includes(k))) {
+    if (['cube', 'axes', 'image', 'text'].every((k) => drawn.includes(k))) {
       await new Promise((r) => setTimeout(r, 500));   // the pictures' textures, made on first use
       const c = await page.evaluate('arwbPlayer.composite()');
       if (c && [0, 1, 2].every((id) => c.result.markers.some((m) => m.id === id))) shot = c;
     }
     await new Promise((r) => setTimeout(r, 200));
   }
-  if (!shot) throw new Error(`the page did not draw the cube, the axes and the picture in 60 s (${camera})`);
+  if (!shot) throw new Error(`the page did not draw the cube, the axes, the card and the picture in 60 s (${camera})`);
   const grabbed = path.join(tmp, 'grabbed.png');
   const composite = path.join(tmp, 'page.png');
   fs.writeFileSync(grabbed, Buffer.from(shot.frame.split(',')[1], 'base64'));

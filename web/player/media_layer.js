@@ -14,7 +14,9 @@ class MediaLayer {
     this.canvas = canvas;
     this.file = file;
     this.cardFor = cardFor;
-    this.gl = canvas.getContext('webgl2', { premultipliedAlpha: false, alpha: true, depth: true });
+    // Premultiplied: blending SRC_ALPHA, ONE_MINUS_SRC_ALPHA onto a clear canvas leaves colours times alpha, which
+    // the page then lays over the camera view as the desktop's compositor lays media over the frame.
+    this.gl = canvas.getContext('webgl2', { premultipliedAlpha: true, alpha: true, depth: true });
     this.textures = new Map();   // key -> {texture, source (ImageBitmap or video element), ready, video}
     this.drawn = [];             // the kinds of the quads drawn on the last frame
     if (this.gl) {
