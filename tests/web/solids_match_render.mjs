@@ -34,8 +34,9 @@ try {
     'marker(0, { media = cube { colour = "#46b4eb", faces = { top = "media/composition.png", front = "#e05050" } } })',
     'marker(1, { media = axes { length = 1.4 } })',
     'marker(2, { media = image "media/sunset.png", place = on_marker { scale = 1.2 } })',
-    // A card on its default half-clear background, laid over the frame as the desktop lays it (premultiplied).
-    'marker(1, { media = text("axes", { size = 28 }), place = beside { side = "bottom", gap = 0.1, size = 0.45 } })',
+    // A card on a light half-clear background, laid over the frame as the desktop lays it (premultiplied).
+    'marker(1, { media = text("axes", { size = 28, colour = "#202020", background = "#f0f0f080" }),',
+    '            place = beside { side = "bottom", gap = 0.1, size = 0.45 } })',
     ''].join('\n'));
   // A calibration with lens distortion, of the synthetic frames' size.
   run(['synth', '--chessboard', '--out', path.join(tmp, 'views'), '--count', '1']);
