@@ -6,10 +6,6 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
-#include <opencv2/calib3d.hpp>
-
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 
 namespace arwb::render {
