@@ -54,9 +54,6 @@ struct PhoneCopy {
   std::string reason;      // why the original would not do ("not an MP4 file (FMP4): ...")
 };
 
-// Pictures larger than this a side are more than many phones' WebGL draws (4096 is the common texture limit).
-inline constexpr int kPhoneMaxImageSide = 4096;
-
 // "" when a phone's browser shows or plays `file` as it is, or it is no picture or video; else why not, naming
 // what it is: "a TIFF picture: phones' browsers show PNG, JPEG and WebP", "not an MP4 file (FMP4): phones'
 // browsers play MP4 with H.264", "H.264 in 444P: phones' browsers play 8-bit 4:2:0 (yuv420p)".

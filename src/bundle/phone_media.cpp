@@ -9,6 +9,7 @@
 #include "base/files.hpp"
 #include "base/process.hpp"
 #include "base/temp_dir.hpp"
+#include "capture/image_header.hpp"
 #include "capture/image_io.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -113,12 +114,7 @@ std::string phone_problem(const std::string& file) {
     case PathKind::image: {
       const std::optional<ImageHeader> h = read_image_header(file);
       if (!h) return "";   // the desktop's own checks say what is wrong with it
-      if (h->format != "PNG" && h->format != "JPEG" && h->format != "WebP" && h->format != "BMP")
-        return "a " + h->format + " picture: phones' browsers show PNG, JPEG and WebP";
-      if (std::max(h->width, h->height) > kPhoneMaxImageSide)
-        return "a " + std::to_string(h->width) + "x" + std::to_string(h->height) + " picture: many phones draw " +
-               "at most " + std::to_string(kPhoneMaxImageSide) + " pixels a side";
-      return "";
+      return phone_picture_problem(*h);
     }
     case PathKind::video: return video_problem(file);
     default: return "";

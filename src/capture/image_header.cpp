@@ -96,4 +96,22 @@ std::optional<ImageHeader> parse_image_header(std::span<const uint8_t> bytes, st
   return parsed->header;
 }
 
+std::string image_limit_error(const ImageHeader& h, int64_t max_pixels) {
+  const std::string declared = "declares " + std::to_string(h.width) + "x" + std::to_string(h.height) + " pixels, ";
+  if (int64_t{h.width} * h.height > max_pixels)
+    return declared + "more than the limit of " + std::to_string(max_pixels);
+  if (h.width > kMaxImageSide || h.height > kMaxImageSide)
+    return declared + "a side longer than the limit of " + std::to_string(kMaxImageSide);
+  return {};
+}
+
+std::string phone_picture_problem(const ImageHeader& h) {
+  if (h.format != "PNG" && h.format != "JPEG" && h.format != "WebP" && h.format != "BMP")
+    return "a " + h.format + " picture: phones' browsers show PNG, JPEG and WebP";
+  if (std::max(h.width, h.height) > kPhoneMaxImageSide)
+    return "a " + std::to_string(h.width) + "x" + std::to_string(h.height) + " picture: many phones draw " +
+           "at most " + std::to_string(kPhoneMaxImageSide) + " pixels a side";
+  return "";
+}
+
 }  // namespace arwb

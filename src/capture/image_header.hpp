@@ -49,4 +49,16 @@ std::optional<ImageHeader> read_image_header(const std::string& path, std::strin
 // fuzz/image_header.cpp reads headers this way.
 std::optional<ImageHeader> parse_image_header(std::span<const uint8_t> bytes, std::string* error = nullptr);
 
+// "" when a picture of header `h` may be decoded within `max_pixels` (and kMaxImageSide a side), else why not:
+// "declares 9000x9000 pixels, more than the limit of 40000000". load_image's check, and the phone player's.
+std::string image_limit_error(const ImageHeader& h, int64_t max_pixels);
+
+// Pictures larger than this a side are more than many phones' WebGL draws (4096 is the common texture limit).
+inline constexpr int kPhoneMaxImageSide = 4096;
+
+// "" when phones' browsers show a picture of header `h` as it is, else why not: "a TIFF picture: phones' browsers
+// show PNG, JPEG and WebP", "a 5000x300 picture: many phones draw at most 4096 pixels a side". Export's check of
+// a scene's pictures (bundle/bundle.hpp's phone_problem), and the phone player core's of a model's textures.
+std::string phone_picture_problem(const ImageHeader& h);
+
 }  // namespace arwb

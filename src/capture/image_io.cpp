@@ -67,15 +67,6 @@ cv::Mat decode_quietly(std::span<const uint8_t> bytes, int flags, std::string* s
   return image;
 }
 
-std::string limit_error(const ImageHeader& h, int64_t max_pixels) {
-  const std::string declared = "declares " + std::to_string(h.width) + "x" + std::to_string(h.height) + " pixels, ";
-  if (int64_t{h.width} * h.height > max_pixels)
-    return declared + "more than the limit of " + std::to_string(max_pixels);
-  if (h.width > kMaxImageSide || h.height > kMaxImageSide)
-    return declared + "a side longer than the limit of " + std::to_string(kMaxImageSide);
-  return {};
-}
-
 }  // namespace
 
 LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
@@ -96,7 +87,7 @@ LoadedImage load_image(const std::string& path, int flags, int64_t max_pixels) {
   const Format format = sniff(file);
   ParseResult header = parse_header(format, file, &reason);
   if (!header) return failed(reason);
-  if (!(reason = limit_error(header->header, max_pixels)).empty()) return failed(reason);
+  if (!(reason = image_limit_error(header->header, max_pixels)).empty()) return failed(reason);
   // A valid header followed by gigabytes of anything must not be read into memory either. The bound is generous:
   // 24 bytes a pixel covers 4 float channels and 16-bit ASCII PPM, 64 MiB covers metadata and appended data.
   const uint64_t pixels = static_cast<uint64_t>(header->header.width) * static_cast<uint64_t>(header->header.height);
@@ -126,7 +117,7 @@ LoadedImage decode_image(std::span<const uint8_t> bytes, const std::string& name
   const Format format = sniff(memory);
   ParseResult header = parse_header(format, memory, &reason);
   if (!header) return failed(reason);
-  if (!(reason = limit_error(header->header, max_pixels)).empty()) return failed(reason);
+  if (!(reason = image_limit_error(header->header, max_pixels)).empty()) return failed(reason);
   if (!(reason = check_complete(format, *header, bytes)).empty()) return failed(reason);
 
   // cv::imdecode takes the bytes as one Mat row, whose length is an int.

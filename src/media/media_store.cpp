@@ -5,7 +5,6 @@
 #include "media/cards.hpp"
 #include "media/contents.hpp"
 #include "media/media_path.hpp"
-#include "media/model_file.hpp"
 #include "media/video_player.hpp"
 
 #include <algorithm>
@@ -21,12 +20,6 @@ std::string key_number(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%a", v);
   return buf;
-}
-
-// The scene's folder as a cache key: canonical when it can be resolved, else as given.
-std::string fs_key(const std::filesystem::path& dir, std::error_code& ec) {
-  const std::filesystem::path canonical = std::filesystem::canonical(dir, ec);
-  return ec ? dir.string() : canonical.string();
 }
 
 size_t card_bytes(const MediaContent& card) {
@@ -68,44 +61,7 @@ std::shared_ptr<MediaContent> MediaStore::image(const std::string& path, std::st
 
 std::shared_ptr<const Mesh> MediaStore::model(const std::filesystem::path& scene_dir, const std::string& relative,
                                               std::string* error, std::string* warning) {
-  if (warning) warning->clear();
-  // The key is the resolved file, so "models/a.obj" and "./models/a.obj" share one mesh; the scene's folder is
-  // part of it because the model's own references are judged against that folder.
-  const ResolvedFile file = resolve_scene_file(scene_dir, relative);
-  if (!file.ok()) {
-    if (error) *error = file.error;
-    return nullptr;
-  }
-  std::error_code ec;
-  const std::string key = fs_key(scene_dir, ec) + '\x1f' + file.path;
-  {
-    std::lock_guard lock(mutex_);
-    if (auto it = models_.find(key); it != models_.end())
-      if (std::shared_ptr<const Mesh> held = it->second.mesh.lock()) {
-        if (error) error->clear();
-        if (warning) *warning = it->second.warning;
-        return held;
-      }
-  }
-  // Read without the lock, as images are decoded.
-  std::string warned;
-  Result<std::shared_ptr<Mesh>> loaded = load_model(scene_dir, relative, ModelLimits{}, &warned);
-  if (!loaded) {
-    if (error) *error = loaded.error();
-    return nullptr;
-  }
-  std::shared_ptr<const Mesh> mesh = std::move(*loaded);
-  std::lock_guard lock(mutex_);
-  CachedModel& slot = models_[key];
-  if (std::shared_ptr<const Mesh> raced = slot.mesh.lock()) {  // read twice: keep one
-    mesh = std::move(raced);
-  } else {
-    slot.mesh = mesh;
-    slot.warning = warned;
-  }
-  if (error) error->clear();
-  if (warning) *warning = slot.warning;
-  return mesh;
+  return models_.get(scene_dir, relative, error, warning);
 }
 
 std::shared_ptr<VideoContent> MediaStore::video(const std::string& path, bool loop, std::string* error) {
@@ -175,7 +131,7 @@ void MediaStore::evict_cards() {
 void MediaStore::trim() {
   std::lock_guard lock(mutex_);
   std::erase_if(images_, [](const auto& entry) { return entry.second.expired(); });
-  std::erase_if(models_, [](const auto& entry) { return entry.second.mesh.expired(); });
+  models_.trim();
   for (auto key = card_order_.begin(); key != card_order_.end();) {
     auto it = cards_.find(*key);
     if (it->second.use_count() > 1) {

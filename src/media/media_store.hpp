@@ -9,6 +9,7 @@
 #pragma once
 
 #include "media/media_provider.hpp"
+#include "media/model_cache.hpp"
 
 #include <cstddef>
 #include <filesystem>
@@ -52,10 +53,7 @@ class MediaStore final : public MediaProvider {
   // A card for a web link: a globe mark, the title in large type and the URL below it, "click to open".
   // kWebCardSize; the title is spec.title, else url_host(spec.url), else the URL.
   std::shared_ptr<MediaContent> web_card(const MediaSpec& spec) override;
-  // The 3D model `relative` (as the scene wrote it) inside `scene_dir`, read by load_model (model_file.hpp) once
-  // and shared while anyone holds it, cached by the scene's folder and the model's canonical path. Null and
-  // *error set on failure (load_model's message); *error cleared on success. *warning (if given) gets what the
-  // load warned about (a texture that could not be read), again on each call that finds the model cached.
+  // The 3D model `relative` (as the scene wrote it) inside `scene_dir`: ModelCache::get.
   std::shared_ptr<const Mesh> model(const std::filesystem::path& scene_dir, const std::string& relative,
                                     std::string* error, std::string* warning = nullptr) override;
   // Forgets cached images, models and cards no one holds (after a scene reload).
@@ -75,11 +73,7 @@ class MediaStore final : public MediaProvider {
   StoreMode mode_;
   std::mutex mutex_;
   std::unordered_map<std::string, std::weak_ptr<MediaContent>> images_;
-  struct CachedModel {
-    std::weak_ptr<const Mesh> mesh;
-    std::string warning;
-  };
-  std::unordered_map<std::string, CachedModel> models_;
+  ModelCache models_;
   std::unordered_map<std::string, std::shared_ptr<MediaContent>> cards_;
   std::list<std::string> card_order_;  // keys of cards_, least recently asked for first
   size_t card_bytes_ = 0;              // pixels held by cards_

@@ -2,14 +2,10 @@
 //
 // The libraries parse; everything that touches the file system or the pixels of a texture is ours. Every file a
 // model names goes through resolve_scene_file (media_path.hpp), so it obeys the same rules as an image the scene
-// names; textures are decoded by decode_image (capture/image_io.hpp), which checks the header and the limits
-// before OpenCV allocates anything, never by the stb copy inside tinygltf.
+// names; textures are decoded by Context::decode_texture (model_texture.cpp), never by the stb copy inside tinygltf.
 #include "media/model_loader.hpp"
 
 #include "base/files.hpp"
-#include "capture/image_io.hpp"
-#include "capture/pixels.hpp"
-#include "media/contents.hpp"
 #include "media/media_path.hpp"
 
 #include <algorithm>
@@ -76,16 +72,6 @@ Result<std::shared_ptr<MediaContent>> Context::external_texture(const std::strin
   std::shared_ptr<MediaContent> texture = decode_texture(*bytes, shown_name(written), what);
   textures[file.path] = texture;
   return texture;
-}
-
-std::shared_ptr<MediaContent> Context::decode_texture(std::span<const uint8_t> bytes, const std::string& shown,
-                                                      const std::string& what) {
-  LoadedImage image = decode_image(bytes, shown, cv::IMREAD_UNCHANGED, kMaxMediaPixels);
-  if (!image.ok()) {
-    warnings.push_back(name + ": " + what + ": " + image.error);
-    return nullptr;
-  }
-  return std::make_shared<StillContent>(to_bgr8(image.image, Alpha::keep));
 }
 
 cv::Scalar bgra(double r, double g, double b, double a) {

@@ -1,7 +1,8 @@
 // What the model loaders share (internal to src/media): where the model is, what it may use and what went wrong
 // so far (Context), files read under a limit, textures decoded by ours, and what every part gets once built.
 //   model_file.cpp    load_model: the format by its bytes, then the mesh checked and its bounds computed
-//   model_loader.cpp  what is declared here
+//   model_loader.cpp  what is declared here but decode_texture
+//   model_texture.cpp decode_texture (the phone player's core has its own: web/core/model_texture.cpp)
 //   model_obj.cpp     Wavefront OBJ and the material libraries (.mtl) it names, through tinyobjloader
 //   model_gltf.cpp    glTF 2.0 (.gltf with its files, or one .glb), through tinygltf
 #pragma once
@@ -54,7 +55,8 @@ struct Context {
   // when it breaks the path rules (absolute, "..", a link leading out): those are refused as for the model.
   Result<std::shared_ptr<MediaContent>> external_texture(const std::string& written, const std::string& what);
 
-  // Pixels by their bytes: decode_image checks signature, header and limits before OpenCV decodes.
+  // A texture by its bytes (null and a warning when it cannot be shown): pixels on the desktop, decoded by
+  // decode_image, which checks signature, header and limits first; the checked bytes in the phone player's core.
   std::shared_ptr<MediaContent> decode_texture(std::span<const uint8_t> bytes, const std::string& shown,
                                                const std::string& what);
 };

@@ -5,6 +5,7 @@
 
 #include "base/process.hpp"
 #include "bundle/bundle_files.hpp"
+#include "capture/image_header.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -25,6 +25,7 @@ export async function loadCore(coreJs, { video = false } = {}) {
   const sceneLoad = m.cwrap('arwb_scene_load', 'string', ['string']);
   const sceneVideo = m.cwrap('arwb_scene_video', null, ['string', 'number', 'number', 'number']);
   const sceneStep = m.cwrap('arwb_scene_step', 'string', ['number']);
+  const sceneMesh = m.cwrap('arwb_scene_mesh', 'string', ['number']);
   return {
     setDictionaries,
     setParam,
@@ -41,6 +42,12 @@ export async function loadCore(coreJs, { video = false } = {}) {
     sceneVideo,
     // The tracker and the scene on the last detections at t seconds: the overlays as the core's JSON, parsed.
     sceneStep: (t) => JSON.parse(sceneStep(t)),
+    // A mesh a step named, parsed, with its pictures' bytes copied out as Buffers.
+    sceneMesh(id) {
+      const r = JSON.parse(sceneMesh(id));
+      if (r.pictures) r.pictures = r.pictures.map((p) => Buffer.from(m.HEAPU8.slice(p.bytes, p.bytes + p.length)));
+      return r;
+    },
     // image: {width, height, data: RGBA bytes}. The detections as the core's JSON, parsed.
     detect(image) {
       const at = frame(image.width, image.height);

@@ -40,11 +40,10 @@ std::shared_ptr<MediaContent> RecordingMedia::web_card(const MediaSpec&) {
       cv::Size(media::MediaStore::kWebCardWidth, media::MediaStore::kWebCardHeight));
 }
 
-std::shared_ptr<const Mesh> RecordingMedia::model(const std::filesystem::path&, const std::string& relative,
+// The desktop's loader and checks (media/model_file.hpp); its textures stay encoded (model_texture.cpp here).
+std::shared_ptr<const Mesh> RecordingMedia::model(const std::filesystem::path& scene_dir, const std::string& relative,
                                                   std::string* error, std::string* warning) {
-  if (error) *error = relative + ": 3D models (OBJ, glTF) are not drawn by the phone player yet";
-  if (warning) warning->clear();
-  return nullptr;
+  return models_.get(scene_dir, relative, error, warning);
 }
 
 }  // namespace arwb::web

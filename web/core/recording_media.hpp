@@ -5,10 +5,13 @@
 #pragma once
 #include "media/card_layout.hpp"
 #include "media/media_provider.hpp"
+#include "media/model_cache.hpp"
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace arwb::web {
 
@@ -27,6 +30,23 @@ class SizedContent final : public MediaContent {
  private:
   cv::Size size_;
   std::string path_;
+};
+
+// A model's texture the page decodes (web/core/model_texture.cpp): the picture file's bytes, checked here as the
+// desktop checks them before decoding (its header, its size within the limits, a format browsers show).
+class EncodedPicture final : public MediaContent {
+ public:
+  EncodedPicture(cv::Size size, std::vector<uint8_t> bytes) : size_(size), bytes_(std::move(bytes)) {}
+  cv::Size size() const override { return size_; }
+  const std::vector<uint8_t>& bytes() const { return bytes_; }
+  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
+    if (version) *version = 0;
+    return nullptr;
+  }
+
+ private:
+  cv::Size size_;
+  std::vector<uint8_t> bytes_;
 };
 
 // A text card the page draws: laid out as the desktop lays it out (media/card_layout.hpp), so of the same size.
@@ -82,7 +102,7 @@ class RecordingMedia final : public media::MediaProvider {
   std::shared_ptr<MediaContent> web_card(const MediaSpec& spec) override;
   std::shared_ptr<const Mesh> model(const std::filesystem::path& scene_dir, const std::string& relative,
                                     std::string* error, std::string* warning) override;
-  void trim() override {}
+  void trim() override { models_.trim(); }
 
  private:
   struct VideoInfo {
@@ -90,6 +110,7 @@ class RecordingMedia final : public media::MediaProvider {
     double duration_s = 0;
   };
   std::map<std::string, VideoInfo> videos_;
+  media::ModelCache models_;
 };
 
 }  // namespace arwb::web

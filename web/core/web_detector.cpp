@@ -41,7 +41,8 @@ std::string WebDetector::set_param(const std::string& name, double value) {
 }
 
 std::string WebDetector::set_camera(const std::string& path, double marker_side) {
-  if (!(marker_side >= 0) || marker_side > 1e5) return "marker side " + std::to_string(marker_side) + ": not 0 to 100000";
+  if (!(marker_side >= 0) || marker_side > 1e5)
+    return "marker side " + std::to_string(marker_side) + ": not 0 to 100000";
   std::optional<Calibration> c;
   if (!path.empty()) {
     Result<Calibration> read = read_calibration(path);
@@ -106,8 +107,8 @@ const std::string& WebDetector::detect() {
         // The marker's axes as the workbench's live view draws them: through the lens, one side long.
         const double L = marker_side_;
         Json axes = Json::array();
-        for (const cv::Point2d& a : project_marker_points({{0, 0, 0}, {L, 0, 0}, {0, L, 0}, {0, 0, L}}, p->pose, *camera))
-          axes.push_back({a.x, a.y});
+        const std::vector<cv::Point3d> ends = {{0, 0, 0}, {L, 0, 0}, {0, L, 0}, {0, 0, L}};
+        for (const cv::Point2d& a : project_marker_points(ends, p->pose, *camera)) axes.push_back({a.x, a.y});
         marker["pose"] = {{"rvec", vec(p->pose.rvec)}, {"tvec", vec(p->pose.tvec)}, {"error_px", p->pose.error_px},
                           {"ambiguity", p->ambiguity},
                           {"alternative", {{"rvec", vec(p->alternative.rvec)}, {"tvec", vec(p->alternative.tvec)},

@@ -118,10 +118,18 @@ const std::string& WebScene::mesh(int id) {
     mesh_result_ = Json{{"error", "no mesh " + std::to_string(id) + " is drawn"}}.dump();
     return mesh_result_;
   }
-  Json parts = Json::array();
+  Json parts = Json::array(), pictures = Json::array();
+  std::map<const EncodedPicture*, int> picture_index;   // a texture several parts share is sent once
   for (const MeshPart& part : it->second.mesh->parts) {
     mesh_vertices_.push_back(render::interleaved_vertices(part));
     const auto* picture = dynamic_cast<const SizedContent*>(part.texture.get());
+    int encoded = -1;
+    if (const auto* e = dynamic_cast<const EncodedPicture*>(part.texture.get())) {
+      const auto [at, added] = picture_index.emplace(e, static_cast<int>(pictures.size()));
+      if (added) pictures.push_back({{"bytes", reinterpret_cast<uintptr_t>(e->bytes().data())},
+                                     {"length", e->bytes().size()}});
+      encoded = at->second;
+    }
     const size_t n = part.positions.size();
     parts.push_back({{"vertices", reinterpret_cast<uintptr_t>(mesh_vertices_.back().data())},
                      {"floats", mesh_vertices_.back().size()},
@@ -132,9 +140,12 @@ const std::string& WebScene::mesh(int id) {
                      {"normals", n > 0 && part.normals.size() == n},
                      {"uvs", n > 0 && part.uvs.size() == n},
                      {"overlay_texture", part.overlay_texture},
-                     {"texture", picture ? picture->path() : std::string()}});
+                     {"texture", picture ? picture->path() : std::string()},
+                     {"picture", encoded},
+                     {"name", part.name}});
   }
-  mesh_result_ = Json{{"parts", std::move(parts)}}.dump();
+  mesh_result_ =
+      Json{{"source", it->second.mesh->source}, {"parts", std::move(parts)}, {"pictures", std::move(pictures)}}.dump();
   return mesh_result_;
 }
 

@@ -30,10 +30,13 @@ class WebScene {
   // [new error lines], "scene": {"ok","error","mappings":[{"state","health","reason"}], "console": [the newest
   // lines, when there are new ones]}}.
   const std::string& step(WebDetector& d, double t_s);
-  // The mesh a step named `id`, its arrays in the module's memory until the next call: {"parts": [{"vertices":
-  // address, "floats": count (render::interleaved_vertices'), "indices": address, "count": uint32 count,
-  // "colour": [r,g,b,a] in 0..1, "lit", "normals", "uvs", "overlay_texture", "texture": the picture's path in the
-  // core's file system or ""}]}; {"error": "..."} for an id no step named or one forgotten.
+  // The mesh a step named `id`, its arrays in the module's memory until the next call: {"source": what the scene
+  // named ("models/duck.glb", "cube"), "parts": [{"vertices": address, "floats": count
+  // (render::interleaved_vertices'), "indices": address, "count": uint32 count, "colour": [r,g,b,a] in 0..1, "lit",
+  // "normals", "uvs", "overlay_texture", "texture": the picture's path in the core's file system or "", "picture":
+  // its index in pictures or -1, "name": the material's}], "pictures": [{"bytes": address, "length"}] (a model's
+  // textures as encoded picture files, for the page to decode)}; {"error": "..."} for an id no step named or one
+  // forgotten.
   const std::string& mesh(int id);
 
  private:

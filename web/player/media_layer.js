@@ -9,10 +9,12 @@
 // eslint-disable-next-line no-unused-vars
 class MediaLayer {
   // canvas: the WebGL canvas; file(path): a Promise of the bundle file's Blob; cardFor(url, title): the bundle path of
-  // a web card's picture, or ''; askMesh(id): asks the worker for a mesh the core named (its answer goes to mesh()).
-  constructor(canvas, file, cardFor, askMesh) {
+  // a web card's picture, or ''; askMesh(id): asks the worker for a mesh the core named (its answer goes to mesh());
+  // report(message): says what could not be drawn.
+  constructor(canvas, file, cardFor, askMesh, report) {
     this.canvas = canvas;
     this.file = file;
+    this.report = report;
     this.cardFor = cardFor;
     // Premultiplied: blending SRC_ALPHA, ONE_MINUS_SRC_ALPHA onto a clear canvas leaves colours times alpha, which
     // the page then lays over the camera view as the desktop's compositor lays media over the frame.
@@ -122,25 +124,34 @@ void main() {
 
   // The texture of a bundle file (a picture, or a video played by a <video>), started on first use.
   fileTexture(key, path, video, loop) {
+    return this.blobTexture(key, path, path ? () => this.file(path) : null, video, loop);
+  }
+
+  // The texture of a picture or video file's Blob (blob(): a Promise of it), started on first use; `name` is said
+  // once if this browser cannot decode it.
+  blobTexture(key, name, blob, video, loop) {
     let t = this.textures.get(key);
     if (t) return t;
     t = { texture: null, source: null, video: null, ready: false, used: performance.now() };
     this.textures.set(key, t);
-    if (!path) return t;
-    this.file(path).then(async (blob) => {
+    if (!blob) return t;
+    blob().then(async (b) => {
       if (video) {
         const v = document.createElement('video');
         v.muted = true;
         v.loop = loop;
         v.playsInline = true;
-        v.src = URL.createObjectURL(blob);
+        v.src = URL.createObjectURL(b);
         t.video = v;
         t.source = v;
       } else {
-        t.source = await createImageBitmap(blob);
+        t.source = await createImageBitmap(b);
         t.ready = true;
       }
-    }).catch(() => { t.failed = true; });
+    }).catch((e) => {
+      t.failed = true;
+      this.report(`${name}: this browser cannot ${video ? 'play' : 'decode'} it (${e && e.message ? e.message : e})`);
+    });
     return t;
   }
 
@@ -171,10 +182,15 @@ void main() {
     return t.texture;
   }
 
-  // A mesh part's texture: the overlay's own medium (a flat medium drawn through the lens), or a picture the core
-  // named by its path in its file system (/files/ + the bundle path: a cube's face).
+  // A mesh part's texture: the overlay's own medium (a flat medium drawn through the lens), a model's picture (its
+  // encoded bytes, from the core), or a picture the core named by its path in its file system (/files/ + the
+  // bundle path: a cube's face).
   partTexture(o, part, sceneDir, now) {
     if (part.overlay_texture) return this.glTexture(this.texture(o, sceneDir, o.track), o.video, now);
+    if (part.pictureBlob) {
+      const t = this.blobTexture(part.pictureKey, part.pictureName, () => Promise.resolve(part.pictureBlob));
+      return this.glTexture(t, null, now);
+    }
     if (!part.texture || !part.texture.startsWith('/files/')) return null;
     const path = part.texture.slice('/files/'.length);
     return this.glTexture(this.fileTexture(`image ${path}`, path, false, false), null, now);

@@ -37,14 +37,21 @@ class MeshLayer {
     return p;
   }
 
-  // A mesh from the worker: {id, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit, normals,
-  // uvs, overlay_texture, texture}]}, or {id, error}.
+  // A mesh from the worker: {id, source, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit, normals,
+  // uvs, overlay_texture, texture, picture}], pictures: [Uint8Array]} (a model's textures as picture files, a
+  // part's by index), or {id, error}.
   add(msg) {
     const gl = this.gl;
     const old = this.meshes.get(msg.id);
     if (!old || !old.asked) return;
     if (msg.error) { old.error = msg.error; return; }
+    const blobs = (msg.pictures || []).map((bytes) => new Blob([bytes]));
     const parts = msg.parts.map((meta) => {
+      if (meta.picture >= 0 && meta.picture < blobs.length) {
+        meta.pictureBlob = blobs[meta.picture];
+        meta.pictureKey = `mesh ${msg.id} picture ${meta.picture}`;
+        meta.pictureName = `${msg.source}: texture of material '${meta.name}'`;
+      }
       const vao = gl.createVertexArray(), vbo = gl.createBuffer(), ebo = gl.createBuffer();
       gl.bindVertexArray(vao);
       gl.bindBuffer(gl.ARRAY_BUFFER, vbo);

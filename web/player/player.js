@@ -223,7 +223,7 @@
                                     .find((w) => w.url === url && w.title === title);
                                   return c ? c.picture : '';
                                 },
-                                (id) => worker.postMessage({ type: 'mesh', id }));
+                                (id) => worker.postMessage({ type: 'mesh', id }), (message) => report(message));
   const notDrawn = new Set();   // the kinds said not to be drawn on phones yet, once per scene
   worker.onmessage = (e) => {
     const msg = e.data;
@@ -265,8 +265,7 @@
     for (const e of scene.errors) report(e);
     if (scene.scene.console) player.scene.console = scene.scene.console;
     for (const o of scene.overlays) {
-      // Every kind but the detector's stage pictures, which need the trace the page's core does not keep (a model
-      // file is refused by the core when the scene loads, with its name).
+      // Every kind but the detector's stage pictures, which need the trace the page's core does not keep.
       if (o.kind !== 'stage' || notDrawn.has(o.kind)) continue;
       notDrawn.add(o.kind);
       player.notes.push(`stage pictures are not drawn on phones (marker ${o.marker}: ${o.source}); the desktop ` +
@@ -395,9 +394,16 @@
       `camera: ${player.camera}`,
       `bundle: ${bundleLine()}`,
       `newest error: ${player.errors.length ? player.errors[player.errors.length - 1] : 'none'}`,
+      ...newestWarning(),
       ...player.notes.map((n) => `note: ${n}`),
     ];
     o.textContent = lines.join('\n');
+  }
+
+  // The scene console's newest warning (a model's texture not shown, say), as the desktop's Scene panel lists it.
+  function newestWarning() {
+    const w = player.scene.console.filter((l) => l.level === 1).pop();
+    return w ? [`newest warning: ${w.text}`] : [];
   }
 
   function sceneLine() {
@@ -451,8 +457,7 @@
     if (b.state === 'verified')
       $('bundle').textContent = `${b.manifest.ids.length} marker${b.manifest.ids.length === 1 ? '' : 's'} of ` +
         `${b.manifest.dictionary}, every file checked${b.offline ? ' and kept for offline use' : ''}. ` +
-        'Pictures, videos, web and text cards, cubes and axes are drawn on their markers; 3D model files are not ' +
-        'drawn on phones yet.';
+        'Its media are drawn on their markers as on the desktop.';
     else $('bundle').textContent = '';
     useBundle();
     player.state = 'ready';

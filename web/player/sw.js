@@ -24,7 +24,8 @@ self.addEventListener('install', (event) => {
     const checked = await arwbVerify.files(base, m.parsed.files);
     if (checked.problems.length) throw new Error(checked.problems[0]);
     const cache = await caches.open(cacheName);
-    const put = (path, body) => cache.put(new URL(path, base), new Response(body, { headers: { 'Content-Type': type(path) } }));
+    const put = (path, body) => cache.put(new URL(path, base),
+                                          new Response(body, { headers: { 'Content-Type': type(path) } }));
     await put('manifest.json', m.text);
     for (const [path, body] of checked.files) await put(path, body);
     // The page itself at its folder's address.

@@ -9,10 +9,10 @@
 // video's size and length as the page's <video> read them).
 // Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'scene', status} (the
 // scene's load status), {type: 'mesh', id, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit,
-// normals, uvs, overlay_texture, texture}]} or {type: 'mesh', id, error} (WebScene::mesh's, the arrays copied out
-// of the core's memory), {type: 'result', result, scene, width, height, rgba} (the pixels go back to the page, which
-// keeps the frame it drew and what was found in it; scene: the core's overlays for it, when a scene runs),
-// {type: 'error', message}.
+// normals, uvs, overlay_texture, texture, picture}], pictures: [Uint8Array], source} or {type: 'mesh', id, error}
+// (WebScene::mesh's, the arrays and a model's texture files copied out of the core's memory), {type: 'result',
+// result, scene, width, height, rgba} (the pixels go back to the page, which keeps the frame it drew and what was
+// found in it; scene: the core's overlays for it, when a scene runs), {type: 'error', message}.
 'use strict';
 importScripts('arwb_core.js');
 
@@ -104,7 +104,9 @@ onmessage = async (e) => {
       vertices: new Float32Array(buffer, p.vertices, p.floats).slice(),
       indices: new Uint32Array(buffer, p.indices, p.count).slice(),
     }));
-    postMessage({ type: 'mesh', id: msg.id, parts }, parts.flatMap((p) => [p.vertices.buffer, p.indices.buffer]));
+    const pictures = mesh.pictures.map((p) => new Uint8Array(buffer, p.bytes, p.length).slice());
+    postMessage({ type: 'mesh', id: msg.id, source: mesh.source, parts, pictures },
+                parts.flatMap((p) => [p.vertices.buffer, p.indices.buffer]).concat(pictures.map((p) => p.buffer)));
     return;
   }
   if (msg.type !== 'detect') return;
