@@ -79,6 +79,7 @@ export class Chromium {
     await page.send('Network.enable');
     await page.send('Page.enable');
     await page.send('Emulation.setDeviceMetricsOverride', { width, height, deviceScaleFactor: scale, mobile });
+    if (mobile) await page.send('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 5 });
     await page.goto(url);
     return page;
   }
@@ -147,6 +148,12 @@ class Page {
       if (Date.now() > until) throw new Error(`waited ${seconds} s for ${expression}`);
       await new Promise((r) => setTimeout(r, 100));
     }
+  }
+
+  // A finger's tap at (x, y) CSS pixels of the window: touch start and end, which the browser turns into a click.
+  async tap(x, y) {
+    await this.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x, y }] });
+    await this.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
   }
 
   async screenshot(file) {

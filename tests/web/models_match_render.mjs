@@ -1,7 +1,7 @@
 // Model files and flat cards on the phone without a calibration (the assumed camera), against `arwb render`
 // (render_support.mjs): an OBJ box with its material library and a picture file (map_Kd) on marker 0, a GLB box
 // whose picture is inside the file (an image in a buffer view) on marker 1, and a web card and a text card drawn as
-// flat quads on marker 2. Run by ctest as
+// flat quads on marker 2; a tap on the web card opens its link. Run by ctest as
 //   node --no-experimental-fetch models_match_render.mjs ARWB CORE_JS
 import fs from 'node:fs';
 import path from 'node:path';
@@ -75,6 +75,25 @@ function boxGlb(png) {
   return Buffer.concat([header, jsonHead, text, binHead, bin]);
 }
 
+// A finger's tap on the web card's middle, and one in the frame's top-left corner, away from every medium: what
+// each opened (window.open recorded, not followed).
+async function tapCard(page) {
+  const at = await page.evaluate(`(() => {
+    const o = arwbPlayer.scene.overlays.find((x) => x.kind === 'web');
+    const v = document.getElementById('view'), r = v.getBoundingClientRect();
+    const s = Math.min(r.width / v.width, r.height / v.height);
+    const left = r.left + (r.width - v.width * s) / 2, top = r.top + (r.height - v.height * s) / 2;
+    const [x, y] = o.quad.corners.reduce(([a, b], [cx, cy]) => [a + cx / 4, b + cy / 4], [0, 0]);
+    window.opened = [];
+    window.open = (url) => { window.opened.push(url); return null; };
+    return { url: o.url, x: left + (x + 0.5) * s, y: top + (y + 0.5) * s, corner: [left + 4, top + 4] };
+  })()`);
+  await page.tap(at.x, at.y);
+  const opened = await page.evaluate('window.opened.splice(0)');
+  await page.tap(...at.corner);
+  return { url: at.url, opened, missed: await page.evaluate('window.opened') };
+}
+
 await comparisonTest('arwb-models-', async (tmp, fail) => {
   const sceneDir = path.join(tmp, 'scene');
   const models = path.join(sceneDir, 'models');
@@ -92,5 +111,10 @@ await comparisonTest('arwb-models-', async (tmp, fail) => {
     'marker(2, { media = text("a card", { size = 28, colour = "#202020", background = "#f0f0f0c0" }),',
     '            place = beside { side = "top", gap = 0.1, size = 0.4 } })',
     ''].join('\n'));
-  judge(await pageAgainstRender({ arwb, tmp, scene, calib: '', kinds: ['model', 'web', 'text'] }), 2000, fail);
+  const r = await pageAgainstRender({ arwb, tmp, scene, calib: '', kinds: ['model', 'web', 'text'], then: tapCard });
+  judge(r, 2000, fail);
+  const { url, opened, missed } = r.then;
+  if (opened.length !== 1 || opened[0] !== url) fail(`a tap on the web card opened [${opened}], not ${url}`);
+  if (missed.length) fail(`a tap beside the markers opened [${missed}]`);
+  console.log(`a tap on the web card opened ${opened.join(', ')}; one beside the markers opened nothing`);
 });

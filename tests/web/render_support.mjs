@@ -14,9 +14,10 @@ import { arwbServe, readPng, writeY4m } from './web_support.mjs';
 export const kChannel = 48, kMaxDiffering = 0.03;
 
 // scene: the scene file (its folder is exported); calib: a calibration file or ''; kinds: the overlay kinds the page
-// must have drawn before its composite is taken; tmp: a folder for the frames, the bundle and the pictures.
-// Returns {camera, drawnPx, differing, share, composite, native, errors, exceptions}.
-export async function pageAgainstRender({ arwb, tmp, scene, calib, kinds }) {
+// must have drawn before its composite is taken; tmp: a folder for the frames, the bundle and the pictures;
+// then(page): more of the test, on the page still showing the frame.
+// Returns {camera, drawnPx, differing, share, composite, native, errors, exceptions, then: then's}.
+export async function pageAgainstRender({ arwb, tmp, scene, calib, kinds, then = async () => null }) {
   const run = (args) => execFileSync(arwb, args, { encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] });
   const ids = [0, 1, 2];
   // A synthetic frame with markers 0, 1 and 2, held in front of the fake camera.
@@ -76,8 +77,9 @@ export async function pageAgainstRender({ arwb, tmp, scene, calib, kinds }) {
       ++drawnPx;
       if (off(want.data, got.data, i) > kChannel) ++differing;
     }
+    const more = await then(page);
     return { camera, drawnPx, differing, share: differing / Math.max(drawnPx, 1), composite, native,
-             errors: await page.evaluate('arwbPlayer.errors'), exceptions: page.exceptions };
+             errors: await page.evaluate('arwbPlayer.errors'), exceptions: page.exceptions, then: more };
   } finally {
     if (browser) await browser.close();
     await server.close();
