@@ -5,6 +5,7 @@
 
 #include "detect/detector.hpp"
 #include "inspect/trace_view.hpp"
+#include "script/self_test_verdict.hpp"
 #include "synth/synth.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -52,10 +53,7 @@ Result<cv::Size> test_frame(const Calibration& c) {
 
 Result<TestResult> self_test(SceneStage& stage, const Dictionary& dict, const std::optional<Calibration>& calib,
                              const ExportOptions& options) {
-  const auto mapping_ids = stage.runtime().mapping_ids();
-  std::map<int, std::vector<size_t>> by_id;   // id -> the mappings that cover it
-  for (size_t mi = 0; mi < mapping_ids.size(); ++mi)
-    for (const int id : expand(mapping_ids[mi])) by_id[id].push_back(mi);
+  const std::map<int, std::vector<size_t>> by_id = script::mapped_ids(stage.runtime());
   Detector detector({dict});
   std::shared_ptr<const Calibration> camera;
   cv::Size frame_size = kTestFrame;
@@ -89,27 +87,17 @@ Result<TestResult> self_test(SceneStage& stage, const Dictionary& dict, const st
     bool detected = false;
     for (const Marker& m : f.trace.markers) detected = detected || m.id == id;
     for (const size_t mi : mappings) {
+      const script::MappingVerdict v = script::judge_mapping(id, mi, detected, f.scene, f.overlays, errors);
       SelfTestRow row;
       row.id = id;
-      const MappingRow* mrow = mi < f.scene.mappings.size() ? &f.scene.mappings[mi] : nullptr;
-      row.mapping_line = mrow ? mrow->line : 0;
-      row.media = mrow ? mrow->media : "?";
+      row.mapping_line = v.line;
+      row.media = v.media;
       row.detected = detected;
-      const bool callbacks_only = mrow && mrow->media == "callbacks only";
-      const Overlay* shown = nullptr;
-      for (const Overlay& o : f.overlays)
-        if (o.marker_id == id && o.mapping == int(mi) && (o.content || o.solid)) shown = &o;
-      const bool healthy = mrow && mrow->health == MappingHealth::ok;
-      row.fired = detected && healthy && (shown || callbacks_only);
-      if (!detected) {
-        row.detail = "not detected on its synthetic frame";
-        if (!unambiguous(dict, id)) row.detail += " (it reads the same as a marker turned: it cannot be told apart)";
-      } else if (!healthy) {
-        row.detail = mrow ? mrow->reason : "no such mapping";
-      } else if (!row.fired) {
-        row.detail = errors.empty() ? "no media shown for it" : errors.front();
-      }
-      if (row.media.empty() && shown) row.media = shown->media.describe();
+      row.fired = v.fired;
+      row.detail = v.detail;
+      if (!detected && !unambiguous(dict, id))
+        row.detail += " (it reads the same as a marker turned: it cannot be told apart)";
+      const Overlay* shown = v.shown;
       if (shown && shown->media.kind == MediaKind::web &&
           cards_seen.insert({shown->media.url, shown->media.title}).second) {
         uint64_t version = 0;

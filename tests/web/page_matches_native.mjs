@@ -53,6 +53,13 @@ try {
   const kept = await page.evaluate('[arwbPlayer.bundle.state, arwbPlayer.bundle.offline]');
   if (kept[0] !== 'verified' || kept[1] !== true)
     fail(`the bundle was ${kept[0]}, ${kept[1] ? '' : 'not '}kept for offline use: ${await text('bundle')}`);
+  // The bundle's self-test, run again by the page's core before the camera starts, passes as it did at export and
+  // says so on the first screen.
+  const selfTest = await page.waitFor('arwbPlayer.selfTest', 20);
+  const rows = await page.evaluate('arwbPlayer.bundle.manifest.self_test.length');
+  if (!selfTest.passed || selfTest.rows.length !== rows || !(await text('selftest')).includes(selfTest.text))
+    fail(`the page's self-test: ${selfTest.text} (${selfTest.rows.length} rows, the manifest's ${rows}); the first ` +
+         `screen says "${await text('selftest')}"`);
   // Each frame searched whole, as `arwb detect` searches the grabbed stills (the page's video mode searches around
   // the last frame's markers, as the workbench's live view does).
   await page.evaluate('arwbPlayer.setParam("full_search_interval", 1)');
@@ -133,7 +140,7 @@ try {
   console.log(`${grabs.size} frames searched in the page's worker, ${tally.markers} markers, the same ids as arwb ` +
               `detect; corners differ by up to ${tally.worst.toFixed(6)} px; ${stats.drawn} frames drawn, ` +
               `${stats.detected} searched, median ${median.toFixed(2)} ms; ` +
-              `media drawn: ${[...drawnKinds].join(', ')}; ` +
+              `media drawn: ${[...drawnKinds].join(', ')}; self-test: ${selfTest.text}; ` +
               `${server.served.length} requests, ` +
               `all to 127.0.0.1`);
 } catch (e) {

@@ -84,6 +84,34 @@ try {
   if (tally.placed < 20 || tally.videos < 3 || tally.texts < 10)
     fail(`too little compared: ${JSON.stringify(tally)}`);
 
+  // The bundle's self-test in the core gives export's rows (manifest.json's): the same ids, lines and media, each
+  // fired. A mapping whose callback fails does not fire, in the core as at export, with the scene's words.
+  run(arwb, ['export', '--scene', path.join(source, 'museum.lua'), '--out', path.join(tmp, 'bundle'), '--quiet']);
+  const exported = JSON.parse(fs.readFileSync(path.join(tmp, 'bundle', 'manifest.json'), 'utf8')).self_test;
+  const tested = core.sceneSelfTest('/bundle/scene/museum.lua');
+  const row = (r) => `${r.id}/${r.line}/${r.media}/${r.fired}`;
+  if (!tested.passed || tested.rows.map(row).join(' ') !== exported.map(row).join(' '))
+    fail(`the core's self-test ${tested.rows.map(row).join(' ')} (${tested.error}), export's ` +
+         `${exported.map(row).join(' ')}`);
+  const broken = 'marker(0, { media = text "fine" })\n' +
+                 'marker(1, { media = text "x", on_enter = function(m) error("broken exhibit") end })\n';
+  fs.mkdirSync(path.join(tmp, 'broken'));
+  fs.writeFileSync(path.join(tmp, 'broken', 'scene.lua'), broken);
+  core.writeFile('/bundle/broken/scene.lua', broken);
+  const brokenTest = core.sceneSelfTest('/bundle/broken/scene.lua');
+  let refused = '';
+  try {
+    run(arwb, ['export', '--scene', path.join(tmp, 'broken', 'scene.lua'), '--out', path.join(tmp, 'b2'), '--quiet']);
+  } catch (e) {
+    refused = String(e.stderr);
+  }
+  const failed = brokenTest.rows.filter((r) => !r.fired);
+  // The same words after the scene's folder, which differs (the core's file system, the test's folder).
+  const words = failed.length ? failed[0].detail.slice(failed[0].detail.lastIndexOf('scene.lua:')) : '?';
+  if (brokenTest.passed || failed.length !== 1 || failed[0].id !== 1 || !words.includes('broken exhibit') ||
+      !refused.includes(`marker 1 does not fire its mapping in the self-test: ${path.join(tmp, 'broken')}/${words}`))
+    fail(`a failing callback: the core's self-test ${JSON.stringify(brokenTest)}; export said "${refused}"`);
+
   // A hostile scene: a callback that never returns is stopped by the desktop's limits and disabled; the frames
   // after it still run the scene (marker 1's text stays).
   core.writeFile('/bundle/hostile/scene.lua', 'marker(0, { on_update = function(m) while true do end end })\n' +
@@ -108,7 +136,9 @@ try {
   console.log(`${tally.frames} frames: ${tally.placed} media placed as arwb render places them (to ` +
               `${tally.worst.toExponential(2)} px), ${tally.videos} videos with their clock, ${tally.texts} of ` +
               'them text cards laid out at the desktop\'s size; ' +
-              `a runaway callback stopped and disabled in ${ms} ms over 4 frames`);
+              `a runaway callback stopped and disabled in ${ms} ms over 4 frames; the self-test's ` +
+              `${tested.rows.length} rows as export's, and "${words}" for a failing ` +
+              'callback');
 } catch (e) {
   fail(e.stack || String(e));
 } finally {

@@ -26,6 +26,7 @@ export async function loadCore(coreJs, { video = false } = {}) {
   const sceneVideo = m.cwrap('arwb_scene_video', null, ['string', 'number', 'number', 'number']);
   const sceneStep = m.cwrap('arwb_scene_step', 'string', ['number']);
   const sceneMesh = m.cwrap('arwb_scene_mesh', 'string', ['number']);
+  const sceneSelfTest = m.cwrap('arwb_scene_self_test', 'string', ['string']);
   return {
     setDictionaries,
     setParam,
@@ -42,6 +43,8 @@ export async function loadCore(coreJs, { video = false } = {}) {
     sceneVideo,
     // The tracker and the scene on the last detections at t seconds: the overlays as the core's JSON, parsed.
     sceneStep: (t) => JSON.parse(sceneStep(t)),
+    // The bundle's self-test on a scene file of the module's file system: its rows, parsed.
+    sceneSelfTest: (file) => JSON.parse(sceneSelfTest(file)),
     // A mesh a step named, parsed, with its pictures' bytes copied out as Buffers.
     sceneMesh(id) {
       const r = JSON.parse(sceneMesh(id));

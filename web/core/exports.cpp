@@ -59,4 +59,10 @@ EMSCRIPTEN_KEEPALIVE const char* arwb_scene_step(double t_s) { return scene().st
 // A mesh a step named, its parts' arrays as addresses in the module's memory (valid until the next call).
 EMSCRIPTEN_KEEPALIVE const char* arwb_scene_mesh(int id) { return scene().mesh(id).c_str(); }
 
+// The bundle's self-test on the scene file at `path`, beside the running scene; its rows as JSON.
+EMSCRIPTEN_KEEPALIVE const char* arwb_scene_self_test(const char* path) {
+  g_message = scene().self_test(path ? path : "");
+  return g_message.c_str();
+}
+
 }

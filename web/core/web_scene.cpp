@@ -1,6 +1,8 @@
 // The phone player core's scene (web_scene.hpp).
 #include "web_scene.hpp"
 
+#include "web_self_test.hpp"
+
 #include "render/mesh_uniforms.hpp"
 #include "track/overlay_json.hpp"
 
@@ -148,5 +150,7 @@ const std::string& WebScene::mesh(int id) {
       Json{{"source", it->second.mesh->source}, {"parts", std::move(parts)}, {"pictures", std::move(pictures)}}.dump();
   return mesh_result_;
 }
+
+std::string WebScene::self_test(const std::string& path) { return self_test_json(path, media_); }
 
 }  // namespace arwb::web

@@ -38,6 +38,9 @@ class WebScene {
   // textures as encoded picture files, for the page to decode)}; {"error": "..."} for an id no step named or one
   // forgotten.
   const std::string& mesh(int id);
+  // The bundle's self-test on the scene at `path` (web_self_test.hpp), beside the running scene, which it leaves
+  // as it is.
+  std::string self_test(const std::string& path);
 
  private:
   RecordingMedia media_;

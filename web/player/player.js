@@ -40,6 +40,7 @@
     errors: [],          // newest last
     notes: [],           // what the page does not do for this bundle (media it does not draw yet), once each
     lastFrame: null,     // {width, height, rgba, result}: a frame the worker searched and what it found
+    selfTest: null,      // {passed, text, rows}: the bundle's self-test run by this device's core (checkSelfTest)
     // The scene: its load status from the core, the overlays of the last searched frame (the core's JSON), the kinds
     // of media drawn over the view on the last frame; line: the overlay's line about it.
     scene: { status: null, overlays: [], drawn: [], console: [], line: () => sceneLine() },
@@ -239,6 +240,12 @@
       notDrawn.clear();
       player.notes = [];
       if (!msg.status.ok) report(`the scene did not load: ${msg.status.error}`);
+      player.selfTest = checkSelfTest(msg.selfTest, player.bundle.manifest);
+      if (player.selfTest) {
+        $('selftest').textContent = `Self-test on this device: ${player.selfTest.text}.`;
+        $('selftest').className = player.selfTest.passed ? 'bundle' : 'advice';
+        if (!player.selfTest.passed) report(`self-test: ${player.selfTest.text}`);
+      }
     }
     else if (msg.type === 'result') {
       workerBusy = false;
@@ -258,6 +265,20 @@
     }
   };
   worker.onerror = (e) => report(`the detector stopped: ${e.message}`);
+
+  // The bundle's self-test as this device's core ran it (the worker's), against the one export ran (the manifest's
+  // rows): it passes when every mapping fires here for every id, as each did at export.
+  function checkSelfTest(t, m) {
+    if (!t) return null;
+    if (t.error) return { passed: false, text: `it could not run: ${t.error}`, rows: [] };
+    const exported = (m && m.self_test) || [];
+    const here = (r) => t.rows.find((p) => p.id === r.id && p.line === r.line);
+    const failed = t.rows.find((p) => !p.fired) || exported.find((r) => !here(r));
+    const fired = t.rows.filter((p) => p.fired).length;
+    if (!failed) return { passed: true, text: `${fired} of ${t.rows.length} mappings fire, as at export`, rows: t.rows };
+    return { passed: false, rows: t.rows,
+             text: `marker ${failed.id} (line ${failed.line}) does not fire here: ${failed.detail || 'not tested here'}` };
+  }
 
   // One frame's scene from the core: its overlays to draw, its new error lines, its console.
   function takeScene(scene) {
@@ -393,6 +414,7 @@
       `scene: ${sceneLine()}`,
       `camera: ${player.camera}`,
       `bundle: ${bundleLine()}`,
+      `self-test: ${player.selfTest ? player.selfTest.text : 'not run'}`,
       `newest error: ${player.errors.length ? player.errors[player.errors.length - 1] : 'none'}`,
       ...newestWarning(),
       ...player.notes.map((n) => `note: ${n}`),

@@ -7,8 +7,8 @@
 // scene, files: [{path, blob}], videos: [{path, width, height, duration}]} (the scene file's bundle path, the
 // files of its folder, mounted read-only under /files/ where the core reads only the bytes it asks for, and each
 // video's size and length as the page's <video> read them).
-// Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'scene', status} (the
-// scene's load status), {type: 'mesh', id, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit,
+// Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'scene', status, selfTest}
+// (the scene's load status, and the bundle's self-test run by this core: WebScene::self_test's rows), {type: 'mesh', id, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit,
 // normals, uvs, overlay_texture, texture, picture}], pictures: [Uint8Array], source} or {type: 'mesh', id, error}
 // (WebScene::mesh's, the arrays and a model's texture files copied out of the core's memory), {type: 'result',
 // result, scene, width, height, rgba} (the pixels go back to the page, which keeps the frame it drew and what was
@@ -31,7 +31,9 @@ function loadScene(msg) {
   for (const v of msg.videos) core.sceneVideo(`/files/${v.path}`, v.width, v.height, v.duration);
   const status = JSON.parse(core.sceneLoad(`/files/${msg.scene}`));
   sceneRunning = true;
-  return status;
+  // The bundle's self-test again, on this core, beside the scene just loaded.
+  const selfTest = status.ok ? JSON.parse(core.sceneSelfTest(`/files/${msg.scene}`)) : null;
+  return { status, selfTest };
 }
 const ready = ArwbCore().then((m) => {
   core = {
@@ -45,6 +47,7 @@ const ready = ArwbCore().then((m) => {
     sceneVideo: m.cwrap('arwb_scene_video', null, ['string', 'number', 'number', 'number']),
     sceneStep: m.cwrap('arwb_scene_step', 'string', ['number']),
     sceneMesh: m.cwrap('arwb_scene_mesh', 'string', ['number']),
+    sceneSelfTest: m.cwrap('arwb_scene_self_test', 'string', ['string']),
   };
   postMessage({ type: 'ready' });
 }, (e) => postMessage({ type: 'error', message: `the detector did not load: ${e && e.message ? e.message : e}` }));
@@ -87,13 +90,13 @@ onmessage = async (e) => {
     return;
   }
   if (msg.type === 'scene') {
-    let status;
+    let loaded;
     try {
-      status = loadScene(msg);
+      loaded = loadScene(msg);
     } catch (e) {
-      status = { ok: false, error: `the scene's files could not be given to the core: ${e.message}` };
+      loaded = { status: { ok: false, error: `the scene's files could not be given to the core: ${e.message}` } };
     }
-    postMessage({ type: 'scene', status });
+    postMessage(Object.assign({ type: 'scene' }, loaded));
     return;
   }
   if (msg.type === 'mesh') {
