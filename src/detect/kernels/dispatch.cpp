@@ -47,6 +47,7 @@ constexpr Kernels simd128_table() {
   k.row_masks = simd128::row_masks;
   k.drop_specks = simd128::drop_specks;
   k.drop_small_regions = simd128::drop_small_regions;
+  k.farthest_point = simd128::farthest_point;
   return k;
 }
 constexpr Kernels kSimd128 = simd128_table();

@@ -52,6 +52,7 @@ void threshold_row(const uint16_t* v, int mw, const uint8_t* grey, uint8_t* bina
 void row_masks(const uint8_t* row, int w, int words, uint64_t* out, bool light);
 int drop_specks(const BitRows& bits, uint64_t* scratch, bool count);
 int drop_small_regions(const BitRows& bits, int k, bool count, uint64_t* scratch);
+Farthest farthest_point(const Point* c, int n, Point p0, Point dir, bool from_line);
 }  // namespace simd128
 
 // AVX2 with POPCNT.

@@ -8,6 +8,7 @@
 
 #include <hwy/highway.h>
 
+#include <cstdlib>
 #include <cstring>
 
 namespace arwb::kernels::simd128 {
@@ -80,13 +81,27 @@ void grey_row(const uint8_t* s, uint8_t* o, int n) {
   plain::grey_row(s + 3 * x, o + x, n - x);
 }
 
+// 16 pixels a step, four a dot product pair: each pixel's first two bytes as one pair of 16-bit lanes, its third
+// byte with the constant 1 as another, so the second product's second weight adds the rounding (the fourth byte
+// is not read).
 void grey_row4(const uint8_t* s, uint8_t* o, int n, bool rgba) {
-  const v128_t w = grey_weights(rgba), round = wasm_i32x4_splat(1 << (kGreyShift - 1));
+  const int w0 = rgba ? kGreyR : kGreyB, w2 = rgba ? kGreyB : kGreyR;
+  const v128_t w01 = wasm_i16x8_make(w0, kGreyG, w0, kGreyG, w0, kGreyG, w0, kGreyG);
+  const v128_t w2_round = wasm_i16x8_make(w2, 1 << (kGreyShift - 1), w2, 1 << (kGreyShift - 1), w2,
+                                          1 << (kGreyShift - 1), w2, 1 << (kGreyShift - 1));
+  const v128_t first = wasm_i8x16_const(0, -1, 1, -1, 4, -1, 5, -1, 8, -1, 9, -1, 12, -1, 13, -1);
+  const v128_t third = wasm_i8x16_const(2, -1, -1, -1, 6, -1, -1, -1, 10, -1, -1, -1, 14, -1, -1, -1);
+  const v128_t one = wasm_i32x4_const_splat(1 << 16);
+  const auto four = [&](const uint8_t* p) {
+    const v128_t px = wasm_v128_load(p);
+    const v128_t a = wasm_i32x4_dot_i16x8(wasm_i8x16_swizzle(px, first), w01);
+    const v128_t b = wasm_i32x4_dot_i16x8(wasm_v128_or(wasm_i8x16_swizzle(px, third), one), w2_round);
+    return wasm_u32x4_shr(wasm_i32x4_add(a, b), kGreyShift);
+  };
   int x = 0;
   for (; x + 16 <= n; x += 16) {
     const uint8_t* p = s + 4 * x;
-    store_grey16(o + x, grey4(wasm_v128_load(p), w, round), grey4(wasm_v128_load(p + 16), w, round),
-                 grey4(wasm_v128_load(p + 32), w, round), grey4(wasm_v128_load(p + 48), w, round));
+    store_grey16(o + x, four(p), four(p + 16), four(p + 32), four(p + 48));
   }
   plain::grey_row4(s + 4 * x, o + x, n - x, rgba);
 }
@@ -150,6 +165,45 @@ int drop_specks(const BitRows& bits, uint64_t* scratch, bool count) {
 
 int drop_small_regions(const BitRows& bits, int k, bool count, uint64_t* scratch) {
   return drop_small_regions_of<VectorWords<2>>(bits, k, count, scratch);
+}
+
+// Four points a step in 32-bit lanes: x and y gathered by two shuffles, the measure in 32-bit integers, per lane
+// the first largest with its index. Exact while every coordinate lies within +-kFarthestReach (each lane's
+// measure then fits: 2 * 32766^2 < 2^31, as do the cross products); a point or argument beyond it leaves the whole
+// search to plain, which works in 64 bits. Merged as plain finds them: the largest, the lowest index among equals.
+Farthest farthest_point(const Point* c, int n, Point p0, Point dir, bool from_line) {
+  constexpr int kFarthestReach = 16383;
+  const auto near = [](Point p) { return std::abs(p.x) <= kFarthestReach && std::abs(p.y) <= kFarthestReach; };
+  if (n < 8 || !near(p0) || !near(dir)) return plain::farthest_point(c, n, p0, dir, from_line);
+  const v128_t ox = wasm_i32x4_splat(p0.x), oy = wasm_i32x4_splat(p0.y);
+  const v128_t ix = wasm_i32x4_splat(dir.x), iy = wasm_i32x4_splat(dir.y), reach = wasm_i32x4_splat(kFarthestReach);
+  v128_t top = wasm_i32x4_splat(-1), where = wasm_i32x4_splat(-1), index = wasm_i32x4_make(0, 1, 2, 3);
+  v128_t beyond = wasm_i32x4_splat(0);
+  const v128_t four = wasm_i32x4_splat(4);
+  int k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const v128_t a = wasm_v128_load(c + k), b = wasm_v128_load(c + k + 2);
+    beyond = wasm_v128_or(beyond, wasm_v128_or(wasm_i32x4_gt(wasm_i32x4_abs(a), reach),
+                                               wasm_i32x4_gt(wasm_i32x4_abs(b), reach)));
+    const v128_t dx = wasm_i32x4_sub(wasm_i32x4_shuffle(a, b, 0, 2, 4, 6), ox);
+    const v128_t dy = wasm_i32x4_sub(wasm_i32x4_shuffle(a, b, 1, 3, 5, 7), oy);
+    const v128_t m = from_line ? wasm_i32x4_abs(wasm_i32x4_sub(wasm_i32x4_mul(dy, ix), wasm_i32x4_mul(dx, iy)))
+                               : wasm_i32x4_add(wasm_i32x4_mul(dx, dx), wasm_i32x4_mul(dy, dy));
+    const v128_t more = wasm_i32x4_gt(m, top);
+    top = wasm_v128_bitselect(m, top, more);
+    where = wasm_v128_bitselect(index, where, more);
+    index = wasm_i32x4_add(index, four);
+  }
+  if (wasm_v128_any_true(beyond)) return plain::farthest_point(c, n, p0, dir, from_line);
+  Farthest f;
+  int32_t tops[4], wheres[4];
+  wasm_v128_store(tops, top);
+  wasm_v128_store(wheres, where);
+  for (int l = 0; l < 4; ++l)
+    if (tops[l] > f.measure || (tops[l] == f.measure && tops[l] >= 0 && wheres[l] < f.at)) f = {tops[l], wheres[l]};
+  const Farthest rest = plain::farthest_point(c + k, n - k, p0, dir, from_line);
+  if (rest.measure > f.measure) f = {rest.measure, k + rest.at};
+  return f;
 }
 
 }  // namespace arwb::kernels::simd128

@@ -114,12 +114,16 @@ TEST(Kernels, FarthestPointAndNearestCodeGiveThePlainAnswers) {
       std::vector<kernels::Point> c(static_cast<size_t>(n));
       for (auto& p : c) p = {coord(rng) / 40, coord(rng) / 40};   // few distinct values: ties are common
       const kernels::Point p0{coord(rng), coord(rng)}, dir{coord(rng), coord(rng)};
-      for (bool line : {false, true}) {
-        const kernels::Farthest got = k.farthest_point(c.data(), n, p0, dir, line);
-        const kernels::Farthest want = plain.farthest_point(c.data(), n, p0, dir, line);
-        ASSERT_EQ(got.measure, want.measure) << "n " << n;
-        ASSERT_EQ(got.at, want.at) << "n " << n;
-      }
+      // And with one point far out (beyond 32-bit measures: SIMD128's kernel must leave those to 64 bits).
+      std::vector<kernels::Point> far = c;
+      if (n > 0) far[size_t(n) / 2] = {coord(rng) * 40, coord(rng) * 40};
+      for (bool line : {false, true})
+        for (const auto* points : {&c, &far}) {
+          const kernels::Farthest got = k.farthest_point(points->data(), n, p0, dir, line);
+          const kernels::Farthest want = plain.farthest_point(points->data(), n, p0, dir, line);
+          ASSERT_EQ(got.measure, want.measure) << "n " << n;
+          ASSERT_EQ(got.at, want.at) << "n " << n;
+        }
     }
     std::uniform_int_distribution<uint64_t> bits(0, (uint64_t(1) << 36) - 1);
     for (int ids : {0, 1, 2, 3, 50, 587}) {

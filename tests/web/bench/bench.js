@@ -74,6 +74,12 @@
   const result = { frames: images.length, repeats, isolated: crossOriginIsolated, detectors: {} };
   for (const [name, { prepare, run }] of [['arwb (WebAssembly)', ours], ['opencv.js ArucoDetector', opencv],
                                           ['js-aruco2', jsAruco]]) {
+    // One untimed pass over every frame first: the engine compiles hot WebAssembly and JavaScript again with its
+    // optimising tier as they run, so the first frames timed would otherwise measure the baseline compiler's code.
+    for (const img of images) {
+      prepare(img);
+      run();
+    }
     const perFrame = [];
     let found = 0, wanted = 0, extra = 0;
     images.forEach((img, i) => {
