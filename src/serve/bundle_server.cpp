@@ -24,7 +24,7 @@ namespace {
 // By extension (in any case), what a bundle holds; anything else is application/octet-stream. A browser refuses a
 // module worker or WebAssembly streaming compilation under another type, and plays a video only under its own.
 std::string content_type(std::string_view path) {
-  static constexpr std::array<std::pair<std::string_view, std::string_view>, 24> kTypes{{
+  static constexpr std::array<std::pair<std::string_view, std::string_view>, 25> kTypes{{
       {".html", "text/html; charset=utf-8"}, {".js", "text/javascript; charset=utf-8"},
       {".mjs", "text/javascript; charset=utf-8"}, {".css", "text/css; charset=utf-8"},
       {".wasm", "application/wasm"}, {".json", "application/json"}, {".png", "image/png"},
@@ -33,6 +33,7 @@ std::string content_type(std::string_view path) {
       {".ogv", "video/ogg"}, {".pdf", "application/pdf"}, {".txt", "text/plain; charset=utf-8"},
       {".lua", "text/plain; charset=utf-8"}, {".xml", "application/xml"}, {".yml", "text/plain; charset=utf-8"},
       {".yaml", "text/plain; charset=utf-8"}, {".gltf", "model/gltf+json"}, {".glb", "model/gltf-binary"},
+      {".woff2", "font/woff2"},
   }};
   std::string lower(path);
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -2,7 +2,7 @@
 // on a WebGL 2 canvas laid over the camera view. Each quad is drawn as the desktop's compositor draws it (src/render/
 // compositor.cpp): texture coordinates per pixel through the inverse of the quad's homography (texture uv to image
 // pixels), clamped to the part of the medium shown, image pixel centres at integer coordinates. A text card is drawn
-// at the core's layout (the desktop's, media/card_layout.hpp) in the font it was measured with (web/card_font.ttf).
+// at the core's layout (the desktop's, media/card_layout.hpp) in the font it was measured with (web/card_font.woff2).
 // Solids (cubes, axes, and flat media when the bundle has a calibration) are drawn by mesh_layer.js, in the
 // scene's order with the quads, as the compositor draws them.
 'use strict';
@@ -26,7 +26,7 @@ class MediaLayer {
       this.meshes = new MeshLayer(this.gl, askMesh);   // eslint-disable-line no-undef
     }
     this.fontReady = false;      // the cards' font, loaded from the bundle
-    const font = new FontFace('ArwbCard', 'url(web/card_font.ttf)');
+    const font = new FontFace('ArwbCard', "url(web/card_font.woff2) format('woff2')");
     font.load().then((f) => { document.fonts.add(f); this.fontReady = true; }, () => { this.fontFailed = true; });
   }
 

@@ -13,7 +13,7 @@ const base = new URL('./', location.href);
 const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.wasm': 'application/wasm',
                 '.json': 'application/json', '.png': 'image/png', '.jpg': 'image/jpeg', '.jpeg': 'image/jpeg',
                 '.mp4': 'video/mp4', '.webm': 'video/webm', '.txt': 'text/plain', '.pdf': 'application/pdf',
-                '.lua': 'text/plain', '.xml': 'text/xml' };
+                '.lua': 'text/plain', '.xml': 'text/xml', '.woff2': 'font/woff2' };
 const type = (path) => types[(path.match(/\.[^./]+$/) || [''])[0].toLowerCase()] || 'application/octet-stream';
 
 self.addEventListener('install', (event) => {
