@@ -1,8 +1,9 @@
 // Model files and flat cards on the phone without a calibration (the assumed camera), against `arwb render`
 // (render_support.mjs): an OBJ box with its material library and a picture file (map_Kd) on marker 0, a GLB box
-// whose picture is inside the file (an image in a buffer view) on marker 1, and a web card and a text card drawn as
-// flat quads on marker 2; a tap on the web card opens its link. Run by ctest as
+// whose picture is inside the file (an image in a buffer view) on marker 1, and a web card, a text card and a video
+// drawn as flat quads on marker 2; a tap on the web card opens its link. Run by ctest as
 //   node --no-experimental-fetch models_match_render.mjs ARWB CORE_JS
+import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -102,6 +103,12 @@ await comparisonTest('arwb-models-', async (tmp, fail) => {
   fs.writeFileSync(path.join(models, 'box.mtl'), 'newmtl painted\nKd 1 1 1\nmap_Kd composition.png\n');
   fs.writeFileSync(path.join(models, 'box.obj'), boxObj('box.mtl'));
   fs.writeFileSync(path.join(models, 'box.glb'), boxGlb(fs.readFileSync(path.join(museum, 'media', 'sunset.png'))));
+  // A video that shows one picture throughout, so that the page's frame, at whatever time it plays, is the one
+  // arwb render decodes (H.264, as phones play).
+  fs.mkdirSync(path.join(sceneDir, 'media'));
+  execFileSync('ffmpeg', ['-v', 'error', '-loop', '1', '-i', path.join(museum, 'media', 'composition.png'), '-t', '4',
+                          '-r', '10', '-vf', 'scale=320:240,format=yuv420p', '-c:v', 'libx264', '-movflags',
+                          '+faststart', path.join(sceneDir, 'media', 'still.mp4')]);
   const scene = path.join(sceneDir, 'models.lua');
   fs.writeFileSync(scene, [
     'dictionary "ARUCO_ORIGINAL"',
@@ -110,8 +117,10 @@ await comparisonTest('arwb-models-', async (tmp, fail) => {
     'marker(2, { media = web("https://www.lua.org", { title = "Lua" }), place = on_marker { scale = 1.1 } })',
     'marker(2, { media = text("a card", { size = 28, colour = "#202020", background = "#f0f0f0c0" }),',
     '            place = beside { side = "top", gap = 0.1, size = 0.4 } })',
+    'marker(2, { media = video("media/still.mp4", { loop = true }), place = beside { side = "bottom", gap = 0.1 } })',
     ''].join('\n'));
-  const r = await pageAgainstRender({ arwb, tmp, scene, calib: '', kinds: ['model', 'web', 'text'], then: tapCard });
+  const r = await pageAgainstRender({ arwb, tmp, scene, calib: '', kinds: ['model', 'web', 'text', 'video'],
+                                       then: tapCard });
   judge(r, 2000, fail);
   const { url, opened, missed } = r.then;
   if (opened.length !== 1 || opened[0] !== url) fail(`a tap on the web card opened [${opened}], not ${url}`);

@@ -15,17 +15,23 @@
 
 namespace arwb::web {
 
+// What every medium here answers for its pixels: none, at version 0 (the page draws it from the bundle's files).
+template <class Content>
+class DrawnByPage : public Content {
+ public:
+  std::shared_ptr<const cv::Mat> current(uint64_t* version) const final {
+    if (version) *version = 0;
+    return nullptr;
+  }
+};
+
 // A medium the page draws: only its size is known here, and for a picture its path in the core's file system
 // (a cube face's, which the page finds by it).
-class SizedContent final : public MediaContent {
+class SizedContent final : public DrawnByPage<MediaContent> {
  public:
   explicit SizedContent(cv::Size size, std::string path = {}) : size_(size), path_(std::move(path)) {}
   cv::Size size() const override { return size_; }
   const std::string& path() const { return path_; }
-  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
-    if (version) *version = 0;
-    return nullptr;
-  }
 
  private:
   cv::Size size_;
@@ -34,15 +40,11 @@ class SizedContent final : public MediaContent {
 
 // A model's texture the page decodes (web/core/model_texture.cpp): the picture file's bytes, checked here as the
 // desktop checks them before decoding (its header, its size within the limits, a format browsers show).
-class EncodedPicture final : public MediaContent {
+class EncodedPicture final : public DrawnByPage<MediaContent> {
  public:
   EncodedPicture(cv::Size size, std::vector<uint8_t> bytes) : size_(size), bytes_(std::move(bytes)) {}
   cv::Size size() const override { return size_; }
   const std::vector<uint8_t>& bytes() const { return bytes_; }
-  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
-    if (version) *version = 0;
-    return nullptr;
-  }
 
  private:
   cv::Size size_;
@@ -50,14 +52,10 @@ class EncodedPicture final : public MediaContent {
 };
 
 // A text card the page draws: laid out as the desktop lays it out (media/card_layout.hpp), so of the same size.
-class CardContent final : public MediaContent {
+class CardContent final : public DrawnByPage<MediaContent> {
  public:
   explicit CardContent(media::CardLayout layout) : layout_(std::move(layout)) {}
   cv::Size size() const override { return {layout_.width, layout_.height}; }
-  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
-    if (version) *version = 0;
-    return nullptr;
-  }
   const media::CardLayout& layout() const { return layout_; }
 
  private:
@@ -65,14 +63,10 @@ class CardContent final : public MediaContent {
 };
 
 // A video the page plays: the scene's clock, recorded for the page.
-class RecordedVideo final : public media::VideoContent {
+class RecordedVideo final : public DrawnByPage<media::VideoContent> {
  public:
   RecordedVideo(cv::Size size, double duration_s, bool loop) : size_(size), duration_s_(duration_s), loop_(loop) {}
   cv::Size size() const override { return size_; }
-  std::shared_ptr<const cv::Mat> current(uint64_t* version) const override {
-    if (version) *version = 0;
-    return nullptr;
-  }
   void set_clock(double position_s, bool playing) override {
     position_s_ = position_s >= 0 ? position_s : 0;   // negative or NaN: 0, as the desktop's player
     playing_ = playing;

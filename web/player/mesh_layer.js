@@ -39,12 +39,12 @@ class MeshLayer {
 
   // A mesh from the worker: {id, source, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit, normals,
   // uvs, overlay_texture, texture, picture}], pictures: [Uint8Array]} (a model's textures as picture files, a
-  // part's by index), or {id, error}.
+  // part's by index), or {id, error}: asked for, or sent ahead of the first frame that draws it.
   add(msg) {
     const gl = this.gl;
-    const old = this.meshes.get(msg.id);
-    if (!old || !old.asked) return;
-    if (msg.error) { old.error = msg.error; return; }
+    const old = this.meshes.get(msg.id) || { used: performance.now() };
+    if (old.parts) return;   // asked for again while the worker was sending it
+    if (msg.error) { this.meshes.set(msg.id, Object.assign(old, { error: msg.error })); return; }
     const blobs = (msg.pictures || []).map((bytes) => new Blob([bytes]));
     const parts = msg.parts.map((meta) => {
       if (meta.picture >= 0 && meta.picture < blobs.length) {

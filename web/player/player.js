@@ -275,9 +275,10 @@
     const here = (r) => t.rows.find((p) => p.id === r.id && p.line === r.line);
     const failed = t.rows.find((p) => !p.fired) || exported.find((r) => !here(r));
     const fired = t.rows.filter((p) => p.fired).length;
-    if (!failed) return { passed: true, text: `${fired} of ${t.rows.length} mappings fire, as at export`, rows: t.rows };
-    return { passed: false, rows: t.rows,
-             text: `marker ${failed.id} (line ${failed.line}) does not fire here: ${failed.detail || 'not tested here'}` };
+    const rows = t.rows;
+    if (!failed) return { passed: true, rows, text: `${fired} of ${rows.length} mappings fire, as at export` };
+    const why = failed.detail || 'not tested here';
+    return { passed: false, rows, text: `marker ${failed.id} (line ${failed.line}) does not fire here: ${why}` };
   }
 
   // One frame's scene from the core: its overlays to draw, its new error lines, its console.

@@ -8,8 +8,10 @@
 // files of its folder, mounted read-only under /files/ where the core reads only the bytes it asks for, and each
 // video's size and length as the page's <video> read them).
 // Out: {type: 'ready'}, {type: 'camera', camera} (what the poses use, in words), {type: 'scene', status, selfTest}
-// (the scene's load status, and the bundle's self-test run by this core: WebScene::self_test's rows), {type: 'mesh', id, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit,
-// normals, uvs, overlay_texture, texture, picture}], pictures: [Uint8Array], source} or {type: 'mesh', id, error}
+// (the scene's load status, and the bundle's self-test run by this core: WebScene::self_test's rows),
+// {type: 'mesh', id, parts: [{vertices: Float32Array, indices: Uint32Array, colour, lit, normals, uvs,
+// overlay_texture, texture, picture}], pictures: [Uint8Array], source} (asked for, or sent ahead of the first frame
+// that draws it) or {type: 'mesh', id, error}
 // (WebScene::mesh's, the arrays and a model's texture files copied out of the core's memory), {type: 'result',
 // result, scene, width, height, rgba} (the pixels go back to the page, which keeps the frame it drew and what was
 // found in it; scene: the core's overlays for it, when a scene runs), {type: 'error', message}.
@@ -18,6 +20,23 @@ importScripts('arwb_core.js');
 
 let core = null;
 let sceneRunning = false;
+const meshesSent = new Set();   // ids of the meshes sent unasked (the page asks again for one it has let go)
+
+// A mesh a scene step named, to the page: WebScene::mesh's, its arrays and a model's pictures copied out of the
+// core's memory.
+function sendMesh(id) {
+  meshesSent.add(id);
+  const mesh = JSON.parse(core.sceneMesh(id));
+  if (mesh.error) return postMessage({ type: 'mesh', id, error: mesh.error });
+  const buffer = core.module.HEAPU8.buffer;   // after the call: memory may have grown
+  const parts = mesh.parts.map((p) => Object.assign(p, {
+    vertices: new Float32Array(buffer, p.vertices, p.floats).slice(),
+    indices: new Uint32Array(buffer, p.indices, p.count).slice(),
+  }));
+  const pictures = mesh.pictures.map((p) => new Uint8Array(buffer, p.bytes, p.length).slice());
+  return postMessage({ type: 'mesh', id, source: mesh.source, parts, pictures },
+                     parts.flatMap((p) => [p.vertices.buffer, p.indices.buffer]).concat(pictures.map((p) => p.buffer)));
+}
 
 // The scene's folder mounted read-only (WORKERFS: the core reads the Blobs' bytes as it asks), and the scene loaded.
 function loadScene(msg) {
@@ -99,19 +118,7 @@ onmessage = async (e) => {
     postMessage(Object.assign({ type: 'scene' }, loaded));
     return;
   }
-  if (msg.type === 'mesh') {
-    const mesh = JSON.parse(core.sceneMesh(msg.id));
-    if (mesh.error) return postMessage({ type: 'mesh', id: msg.id, error: mesh.error });
-    const buffer = core.module.HEAPU8.buffer;   // after the call: memory may have grown
-    const parts = mesh.parts.map((p) => Object.assign(p, {
-      vertices: new Float32Array(buffer, p.vertices, p.floats).slice(),
-      indices: new Uint32Array(buffer, p.indices, p.count).slice(),
-    }));
-    const pictures = mesh.pictures.map((p) => new Uint8Array(buffer, p.bytes, p.length).slice());
-    postMessage({ type: 'mesh', id: msg.id, source: mesh.source, parts, pictures },
-                parts.flatMap((p) => [p.vertices.buffer, p.indices.buffer]).concat(pictures.map((p) => p.buffer)));
-    return;
-  }
+  if (msg.type === 'mesh') return sendMesh(msg.id);
   if (msg.type !== 'detect') return;
   const at = core.frame(msg.width, msg.height);
   if (!at) {
@@ -123,6 +130,9 @@ onmessage = async (e) => {
   core.module.HEAPU8.set(msg.rgba, at);
   const result = JSON.parse(core.detect());
   const scene = sceneRunning ? JSON.parse(core.sceneStep(msg.t)) : null;
+  // A mesh the scene names for the first time goes ahead of the frame that draws it.
+  for (const o of scene ? scene.overlays : [])
+    if (o.solid && o.solid.mesh && !meshesSent.has(o.solid.mesh)) sendMesh(o.solid.mesh);
   postMessage({ type: 'result', result, scene, width: msg.width, height: msg.height, rgba: msg.rgba },
               [msg.rgba.buffer]);
 };
