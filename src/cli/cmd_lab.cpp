@@ -205,10 +205,10 @@ int cmd_lab(int argc, char** argv) {
               r->options.camera_name.c_str(), seed);
   std::fputs(lab::lab_table_text(*r).c_str(), stdout);
   if (out.empty())
-    std::printf("%.1f s\n", r->seconds);
+    std::printf("%s\n", lab::lab_time_text(*r).c_str());
   else
-    std::printf("%.1f s; wrote table.txt, table.csv, results.json, report.pdf and %zu PNG plots to %s\n", r->seconds,
-                lab::lab_report_png_names(*r).size(), out.c_str());
+    std::printf("%s; wrote table.txt, table.csv, results.json, report.pdf and %zu PNG plots to %s\n",
+                lab::lab_time_text(*r).c_str(), lab::lab_report_png_names(*r).size(), out.c_str());
   return 0;
 }
 

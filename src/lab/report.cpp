@@ -416,8 +416,8 @@ void draw_title_page(const LabResults& r) {
                   number(s.focus_m) + " m; hand-held shake " + number(s.shake_deg_s) + " deg/s RMS"},
       {true, "Run"},
       {false, "detectors: " + detectors.str()},
-      {false, "seed " + std::to_string(r.options.seed) + ", ran in " + number(r.seconds, 1) + " s, report written " +
-                  when},
+      {false, "seed " + std::to_string(r.options.seed) + ", report written " + when},
+      {false, "ran in " + lab_time_text(r)},
       {true, "Measure"},
       {false, "P_Rec = frames in which a detector reported the marker's id, on the marker,"},
       {false, "           / frames with the marker in view x 100; intervals are 95 % Wilson intervals"},
@@ -428,12 +428,17 @@ void draw_title_page(const LabResults& r) {
   plcol0(kInk);
   plschr(0, 1.8);
   plptex(0, 0.96, 1, 0, 0, "ArUco Workbench: recognition lab report");
+  // The lines' steps, closer together when a plan with added axes or a resumed run's time needs more of them than
+  // the page holds at the usual spacing.
+  double needed = 0;
+  for (const auto& line : lines) needed += line.first ? 0.062 : 0.04;
+  const double step = std::min(1.0, 0.86 / needed);
   double y = 0.87;
   for (const auto& [heading, text] : lines) {
-    if (heading) y -= 0.015;
+    if (heading) y -= 0.015 * step;
     plschr(0, heading ? 1.1 : 0.85);
     plptex(heading ? 0 : 0.02, y, 1, 0, 0, plain(text).c_str());
-    y -= heading ? 0.047 : 0.04;
+    y -= (heading ? 0.047 : 0.04) * step;
   }
   plschr(0, 1);
 }

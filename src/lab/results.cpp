@@ -50,6 +50,7 @@ std::string cell_to_line(const std::string& key, size_t index, const CellResult&
   j["gain"] = c.gain;
   j["snr"] = c.snr_black_white;
   j["blur_px"] = c.blur_px;
+  j["seconds"] = c.seconds;
   nlohmann::json ds = nlohmann::json::array();
   for (const DetectorTally& t : c.detectors)
     ds.push_back({t.frames, t.detected, t.wrong_id, t.ms, t.empty_frames, t.false_positives, t.marks});
@@ -96,6 +97,8 @@ std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& k
     c.gain = j.at("gain").get<double>();
     c.snr_black_white = j.at("snr").get<double>();
     c.blur_px = j.at("blur_px").get<double>();
+    c.seconds = j.value("seconds", -1.0);   // absent from cells saved by an older arwb
+    if (!(c.seconds >= 0) || !std::isfinite(c.seconds)) c.seconds = -1;
     const auto& ds = j.at("detectors");
     if (!ds.is_array() || ds.size() != detectors) return std::nullopt;
     for (const auto& d : ds) {

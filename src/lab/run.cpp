@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -203,9 +204,11 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     // A cell finished by an earlier run (resume): taken as it was.
     if (ci < options.finished.size() && options.finished[ci]) {
       out.cells.push_back(*options.finished[ci]);
+      ++out.resumed;
       for (int k = 0; k < per_cell; ++k) report();
       continue;
     }
+    const auto cell_t0 = Clock::now();
     CellResult cr = cell_before_frames(cells[ci], options, f);
     std::vector<FrameOutcome> frames(static_cast<size_t>(per_cell));
     if (const std::string failure = run_frames(*workers, ci, cr.side_px, stopped, report, frames); !failure.empty())
@@ -215,11 +218,29 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
                   " cells (those are kept)");
     }
     tally(frames, cr);
+    cr.seconds = std::chrono::duration<double>(Clock::now() - cell_t0).count();
     if (options.on_cell) options.on_cell(ci, cr);
     out.cells.push_back(std::move(cr));
   }
   out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return out;
+}
+
+std::string lab_time_text(const LabResults& r) {
+  const auto seconds = [](double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f s", s);
+    return std::string(buf);
+  };
+  if (r.resumed == 0) return seconds(r.seconds);
+  const std::string earlier = std::to_string(r.resumed) + " of " + std::to_string(r.cells.size());
+  double cells = 0;
+  for (const CellResult& c : r.cells) {
+    if (c.seconds < 0)
+      return seconds(r.seconds) + " here; " + earlier + " cells from an earlier run, time not recorded";
+    cells += c.seconds;
+  }
+  return seconds(r.seconds) + " here; all its cells took " + seconds(cells) + " (" + earlier + " from an earlier run)";
 }
 
 }  // namespace arwb::lab

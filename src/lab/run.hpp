@@ -82,6 +82,8 @@ struct CellResult {
   // frame whose marker could not be placed: recall against tilt bins frames by it.
   std::vector<float> tilts_deg;
   std::vector<DetectorTally> detectors;   // in LabOptions::detectors' order
+  // The wall time its frames took in the run that ran it; -1 when not recorded (a cell saved by an older arwb).
+  double seconds = -1;
 };
 
 struct LabResults {
@@ -89,8 +91,14 @@ struct LabResults {
   LabOptions options;
   std::vector<int> ids;
   std::vector<CellResult> cells;
-  double seconds = 0;
+  double seconds = 0;   // this run's wall time
+  int resumed = 0;      // cells taken from an earlier run (LabOptions::finished)
 };
+
+// What a run took, in words: "12.5 s"; for a resumed run, this run's time and what all its cells took: "12.5 s
+// here; all its cells took 40.1 s (2 of 4 from an earlier run)", or when a saved cell's time was not recorded (an
+// older arwb's), "12.5 s here; 2 of 4 cells from an earlier run, time not recorded".
+std::string lab_time_text(const LabResults& r);
 
 // The markers a run shows: `plan.markers` distinct random ids of the plan's dictionary, drawn with the seed.
 std::vector<int> lab_marker_ids(const LabPlan& plan, unsigned seed);

@@ -11,6 +11,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <sstream>
 
@@ -192,6 +193,28 @@ TEST(LabRun, AnyThreadCountAndAResumedRunGiveTheSameTable) {
   EXPECT_EQ(calls, 2);
   EXPECT_EQ(strip(lab_table_csv(*one)), strip(lab_table_csv(*resumed)));
   EXPECT_EQ(resumed->cells[0].detectors[0].ms, one->cells[0].detectors[0].ms);
+  // Its time is this run's and all its cells': the saved cells' own times are read back.
+  EXPECT_EQ(resumed->resumed, 2);
+  EXPECT_EQ(resumed->cells[0].seconds, one->cells[0].seconds);
+  double all = 0;
+  for (const CellResult& c : resumed->cells) all += c.seconds;
+  char said[160];
+  std::snprintf(said, sizeof said, " here; all its cells took %.1f s (2 of 4 from an earlier run)", all);
+  EXPECT_NE(lab_time_text(*resumed).find(said), std::string::npos) << lab_time_text(*resumed);
+  EXPECT_GT(all, resumed->seconds);
+  EXPECT_EQ(lab_time_text(*one).find("earlier"), std::string::npos) << lab_time_text(*one);
+  // A saved cell without its time (an older arwb's) is still taken; the time says it is not recorded.
+  std::string old_line = lines[0];
+  const size_t at = old_line.find(",\"seconds\":");
+  ASSERT_NE(at, std::string::npos);
+  old_line.erase(at, old_line.find(',', at + 1) - at);
+  auto old = cell_from_line(key, old_line, o.detectors.size());
+  ASSERT_TRUE(old) << old_line;
+  o.finished[old->first] = std::make_shared<const CellResult>(old->second);
+  const auto older = run_lab(p, o);
+  ASSERT_TRUE(older);
+  EXPECT_NE(lab_time_text(*older).find("2 of 4 cells from an earlier run, time not recorded"),
+            std::string::npos) << lab_time_text(*older);
   // A saved cell of another plan or seed, or a line cut short, is not taken.
   LabOptions other = o;
   other.seed = 9;
