@@ -3,13 +3,13 @@
 #include "lab/run.hpp"
 
 #include "lab/detectors.hpp"
+#include "base/decimals.hpp"
 #include "detect/dictionary.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -227,11 +227,7 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
 }
 
 std::string lab_time_text(const LabResults& r) {
-  const auto seconds = [](double s) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.1f s", s);
-    return std::string(buf);
-  };
+  const auto seconds = [](double s) { return fixed_text(s, 1) + " s"; };
   if (r.resumed == 0) return seconds(r.seconds);
   const std::string earlier = std::to_string(r.resumed) + " of " + std::to_string(r.cells.size());
   double cells = 0;

@@ -155,10 +155,15 @@
   const worker = new Worker('web/worker.js');
   let workerReady = false, workerBusy = false;
   // The bundle's dictionary, and its camera for the markers' poses: its calibration's files (the paper's pair is two)
-  // handed to the worker, else the default camera; the markers' side in mm, as printed on its sheet.
+  // handed to the worker, else the default camera; the markers' side in mm, as printed on its sheet. Once, when both
+  // the worker and the bundle's check are done (whichever ends last calls it), so that the scene is loaded and its
+  // self-test run once, on files already checked.
+  let bundleUsed = null;
   const useBundle = async () => {
     const m = player.bundle.manifest;
-    if (!workerReady || !m) return;
+    const state = player.bundle.state;
+    if (!workerReady || !m || state === 'checking' || state === 'refused' || bundleUsed === m) return;
+    bundleUsed = m;
     worker.postMessage({ type: 'dictionaries', list: m.dictionary });
     let files = [];
     try {
