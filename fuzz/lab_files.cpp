@@ -6,6 +6,7 @@
 // written again reads again to the same counts.
 #include "fuzz_files.hpp"
 #include "lab/plan.hpp"
+#include "lab/cells_file.hpp"
 #include "lab/run.hpp"
 #include "lab/videos.hpp"
 

@@ -3,18 +3,22 @@
 #include "calibration/calibration_file.hpp"
 #include "cli/cli_common.hpp"
 #include "cli/commands.hpp"
+#include "lab/cells_file.hpp"
 #include "lab/report.hpp"
 #include "lab/run.hpp"
 #include "lab/videos.hpp"
+#include "base/decimals.hpp"
 #include "base/files.hpp"
 #include "base/text.hpp"
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 namespace arwb {
@@ -57,6 +61,76 @@ int run_on_videos(CommandLine& cl, const std::string& dir, const lab::LabOptions
   return 0;
 }
 
+
+// The cells of run `key` saved in `path` into options.finished; the lines that cannot be a run's are named. Null
+// with the problem printed when the file cannot be read.
+std::optional<lab::CellsFile> take_saved_cells(const std::string& path, const std::string& key,
+                                               lab::LabOptions& options, const char* then) {
+  Result<lab::CellsFile> f = lab::read_cells_file(path, key, options.detectors.size(), options.finished);
+  if (!f) {
+    print_problem("arwb lab: %s\n", f.error().c_str());
+    return std::nullopt;
+  }
+  for (const std::string& p : f->problems) std::fprintf(stderr, "arwb lab: %s; %s\n", p.c_str(), then);
+  return std::move(*f);
+}
+
+// "cell 2 (65 mm, 1.0 m, 850 lx)".
+std::string cell_words(size_t index, const lab::Cell& c) {
+  return "cell " + std::to_string(index + 1) + " (" + fixed_text(c.size_mm, 0) + " mm, " + fixed_text(c.distance_m, 1) +
+         " m, " + fixed_text(c.lux, 0) + " lx)";
+}
+
+// --merge: every cell of the plan from the parts' folders into options.finished; false with the problem printed.
+bool take_parts(const std::vector<std::string>& dirs, const std::string& key, const lab::LabPlan& plan,
+                lab::LabOptions& options) {
+  options.finished.assign(plan.cell_count(), nullptr);
+  for (const std::string& dir : dirs) {
+    const std::string path = (std::filesystem::path(dir) / "cells.jsonl").string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+      print_problem("arwb lab: --merge %s: no cells.jsonl there (the --out folder of a part run with --shard "
+                    "holds one)\n", printable(dir).c_str());
+      return false;
+    }
+    const std::optional<lab::CellsFile> f = take_saved_cells(path, key, options, "that cell is left out");
+    if (!f) return false;
+    if (f->taken == 0 && f->other_runs > 0) {
+      print_problem("arwb lab: --merge %s: its cells are of another run (%s); give --merge the plan and options its "
+                    "parts were run with\n", printable(path).c_str(), f->other_run.c_str());
+      return false;
+    }
+  }
+  const std::vector<lab::Cell> cells = plan.cells(options.camera.camera_matrix(0, 0));
+  std::vector<size_t> missing;
+  for (size_t i = 0; i < cells.size(); ++i)
+    if (!options.finished[i]) missing.push_back(i);
+  if (missing.empty()) return true;
+  std::string names;
+  for (size_t k = 0; k < missing.size() && k < 3; ++k) names += (k ? ", " : "") + cell_words(missing[k], cells[missing[k]]);
+  if (missing.size() > 3) names += ", ...";
+  print_problem("arwb lab: --merge: %zu of %zu cells are in none of the folders: %s; run the parts that hold them "
+                "(--shard) and merge again\n", missing.size(), cells.size(), names.c_str());
+  return false;
+}
+
+// --shard K/N: the part's cells run (or resumed) and saved; no table, which the merge of all parts makes.
+int run_part(CommandLine& cl, const lab::LabPlan& plan, const lab::LabOptions& options, const lab::Shard& shard,
+             const std::string& cells_path, const std::string& plan_words) {
+  const bool bar = ::isatty(2);
+  Result<lab::PartRun> r = lab::run_lab_part(plan, options, shard, [&](int done, int total) {
+    if (bar) std::fprintf(stderr, "\rarwb lab: part %d of %d: %d of %d frames%s", shard.index, shard.count, done,
+                          total, done == total ? "\n" : "");
+  });
+  if (!r) return cl.usage_error(r.error());
+  std::printf("Part %d of %d of %s: %d of %zu cells", shard.index, shard.count, plan_words.c_str(), r->cells,
+              plan.cell_count());
+  if (r->resumed > 0) std::printf(" (%d from an earlier run)", r->resumed);
+  std::printf(" in %s s, saved in %s\nWhen every part is done: arwb lab --merge FOLDER... with the same plan and "
+              "options\n", fixed_text(r->seconds, 1).c_str(), cells_path.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int cmd_lab(int argc, char** argv) {
@@ -69,7 +143,9 @@ int cmd_lab(int argc, char** argv) {
                  "P_Rec = detected frames / frames with the marker in view x 100 per cell, with its 95 % Wilson "
                  "interval.",
                  "The same seed gives the same frames and the same table.");
-  std::string detectors_opt = "arwb,opencv,opencv-aruco3", out, calib_file, params_file, plan_opt = "paper", videos;
+  std::string detectors_opt = "arwb,opencv,opencv-aruco3", out, calib_file, params_file, plan_opt = "paper", videos,
+              shard_opt;
+  std::vector<std::string> merge;
   int frames = 0, seed = 1, threads = 1;
   bool json = false, restart = false;
   cl.app.add_option("--detectors", detectors_opt, "a comma list of arwb, opencv, opencv-aruco3, apriltag")
@@ -100,7 +176,17 @@ int cmd_lab(int argc, char** argv) {
       ->type_name("DIR")
       ->check(out_kinds({}, true));
   cl.app.add_flag("--restart", restart, "with --out: forget the cells saved by an earlier run");
-  cl.app.add_flag("--json", json, "print results.json instead of the table");
+  auto* shard_flag = cl.app.add_option("--shard", shard_opt, "runs only the K-th of N parts of the plan's cells "
+                                       "(every N-th cell) and saves them in --out's cells.jsonl, for a run spread "
+                                       "over processes or machines; --merge joins the parts (docs/lab.md)")
+                         ->type_name("K/N");
+  auto* merge_flag = cl.app.add_option("--merge", merge, "joins the cells of the parts run with --shard (their --out "
+                                       "folders) into the run's table, plots and report, as one run gives them; "
+                                       "with the plan and options the parts were run with")
+                         ->type_name("FOLDER...")
+                         ->excludes(shard_flag);
+  cl.app.add_flag("--json", json, "print results.json instead of the table")->excludes(shard_flag);
+  cl.app.get_option("--videos")->excludes(shard_flag)->excludes(merge_flag);
   if (const auto status = cl.parse(argc, argv)) return *status;
 
   lab::LabPlan plan = lab::paper_plan();
@@ -131,44 +217,30 @@ int cmd_lab(int argc, char** argv) {
   options.threads = threads;
   if (!videos.empty()) return run_on_videos(cl, videos, options, out, json);
 
+  lab::Shard shard;
+  if (!shard_opt.empty()) {
+    Result<lab::Shard> sh = lab::parse_shard(shard_opt);
+    if (!sh) return cl.usage_error("--shard " + sh.error());
+    if (out.empty()) return cl.usage_error("--shard needs --out: a part's cells are saved there for --merge");
+    shard = *sh;
+  }
+  const std::string plan_words = plan_opt == "paper" ? "the paper's plan" : "plan " + plan.name;
   // Resuming: the cells an earlier run with the same plan and options saved; the others are run and saved as
-  // they finish, one line each, so an interruption loses at most the cell it was in.
-  std::FILE* saved = nullptr;
+  // they finish, one line each, so an interruption loses at most the cell it was in. A merge takes them all from
+  // the parts' folders instead.
   const std::string key = lab::lab_run_key(plan, options);
-  if (!out.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
-    const std::string cells_path = (std::filesystem::path(out) / "cells.jsonl").string();
+  const std::string cells_path = out.empty() ? "" : (std::filesystem::path(out) / "cells.jsonl").string();
+  if (!merge.empty() && !take_parts(merge, key, plan, options)) return 1;
+  std::FILE* saved = nullptr;
+  std::error_code ec;
+  if (!out.empty()) std::filesystem::create_directories(out, ec);
+  if (!out.empty() && merge.empty()) {
     if (restart) std::filesystem::remove(cells_path, ec);
     options.finished.resize(plan.cell_count());
-    int resumed = 0;
-    if (std::filesystem::symlink_status(cells_path, ec).type() != std::filesystem::file_type::not_found) {
-      // Through the file check: a FIFO or a device in its place is refused at once instead of blocking or reading
-      // without end, and the results could not be appended to it either.
-      const Result<std::string> text =
-          read_file_bytes(cells_path, FileLimit{"a lab's cells file", std::uintmax_t(256) << 20});
-      if (!text) {
-        print_problem("arwb lab: %s\n", printable(text.error()).c_str());
-        return 1;
-      }
-      size_t start = 0;
-      for (int n = 1; start < text->size(); ++n) {
-        size_t end = text->find('\n', start);
-        if (end == std::string::npos) break;   // a last line without its newline: cut short by an interruption
-        std::string problem;
-        if (auto c = lab::cell_from_line(key, text->substr(start, end - start), options.detectors.size(), &problem);
-            c && c->first < options.finished.size() && !options.finished[c->first]) {
-          options.finished[c->first] = std::make_shared<const lab::CellResult>(std::move(c->second));
-          ++resumed;
-        } else if (!problem.empty()) {
-          std::fprintf(stderr, "arwb lab: %s:%d: %s; the cell is run again\n", printable(cells_path).c_str(), n,
-                       problem.c_str());
-        }
-        start = end + 1;
-      }
-    }
-    if (resumed > 0)
-      std::fprintf(stderr, "arwb lab: resuming: %d of %zu cells from %s (--restart runs them again)\n", resumed,
+    const std::optional<lab::CellsFile> f = take_saved_cells(cells_path, key, options, "the cell is run again");
+    if (!f) return 1;
+    if (f->taken > 0)
+      std::fprintf(stderr, "arwb lab: resuming: %d of %zu cells from %s (--restart runs them again)\n", f->taken,
                    plan.cell_count(), cells_path.c_str());
     saved = std::fopen(cells_path.c_str(), "a");
     if (!saved) {
@@ -180,6 +252,11 @@ int cmd_lab(int argc, char** argv) {
       std::fwrite(line.data(), 1, line.size(), saved);
       std::fflush(saved);
     };
+  }
+  if (!shard_opt.empty()) {
+    const int status = run_part(cl, plan, options, shard, cells_path, plan_words);
+    if (saved) std::fclose(saved);
+    return status;
   }
 
   const bool bar = ::isatty(2);
@@ -194,13 +271,24 @@ int cmd_lab(int argc, char** argv) {
   });
   if (saved) std::fclose(saved);
   if (!r) return cl.usage_error(r.error());
+  if (!merge.empty()) {
+    r->merged_parts = int(merge.size());
+    std::string error;
+    // The merged folder holds every cell, as a single run's does: it resumes, and merges again.
+    if (!out.empty() && !write_file_atomically(cells_path, lab::cells_file_text(key, r->cells), &error)) {
+      print_problem("arwb lab: %s\n", error.c_str());
+      return 1;
+    }
+  }
   if (!out.empty() && !write_outputs(*r, out)) return 1;
   if (json) {
     std::fputs(lab::lab_results_json(*r).c_str(), stdout);
     return 0;
   }
+  std::string title = plan_words;
+  title[0] = char(std::toupper(static_cast<unsigned char>(title[0])));
   std::printf("%s: %zu cells x %d frames (and %d without a marker), markers %s, camera %s, seed %d\n\n",
-              plan_opt == "paper" ? "The paper's plan" : ("Plan " + plan.name).c_str(), plan.cell_count(),
+              title.c_str(), plan.cell_count(),
               plan.frames_per_cell, plan.empty_frames_per_cell(), plan.dictionary.c_str(),
               r->options.camera_name.c_str(), seed);
   std::fputs(lab::lab_table_text(*r).c_str(), stdout);

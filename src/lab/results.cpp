@@ -1,10 +1,9 @@
-// A lab run's results written out (run.hpp): the line a finished cell is saved as for resuming, and back; the
-// paper's table as text and CSV; everything as JSON.
+// A lab run's results written out (run.hpp): the paper's table as text and CSV; everything as JSON. The line a
+// finished cell is saved as is cells_file.cpp's.
 #include "lab/run.hpp"
 
 #include "lab/stats.hpp"
 #include "base/decimals.hpp"
-#include "base/json_depth.hpp"
 #include "base/json_text.hpp"
 
 #include <nlohmann/json.hpp>
@@ -15,112 +14,6 @@
 #include <utility>
 
 namespace arwb::lab {
-
-std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
-  nlohmann::ordered_json j;
-  j["plan"] = {plan.name,        plan.dictionary,   plan.markers,         plan.sizes_mm, plan.distances_m,
-               plan.lux,         plan.max_tilt_deg, plan.frames_per_cell, plan.empty_share,  plan.sides_px,
-               plan.tilts_deg,   plan.blurs_px,     plan.noises,          plan.occlusions};
-  j["seed"] = options.seed;
-  j["detectors"] = options.detectors;
-  nlohmann::ordered_json params = nlohmann::ordered_json::object();
-  for (const ParamInfo& info : param_table()) params[info.name] = get_param(options.params, info);
-  j["params"] = params;
-  const SynthCamera& c = options.camera;
-  j["camera"] = {c.size.width, c.size.height, std::vector<double>(c.camera_matrix.val, c.camera_matrix.val + 9),
-                 c.distortion};
-  const SensorModel& m = options.sensor;
-  j["sensor"] = {m.sensitivity, m.full_well,    m.read_noise, m.target_level, m.max_exposure_s,
-                 m.max_gain,    m.focal_length_mm, m.f_number, m.focus_m,  m.shake_deg_s};
-  const SceneLight& l = options.light;
-  j["light"] = {l.direct_outdoor,   l.direct_indoor,   l.direct_evening, l.shadow_chance_half_metre,
-                l.sun_diameter_rad, l.glare_chance,    l.glare_lobe_deg, l.glare_peak};
-  return json_text(j);
-}
-
-std::string cell_to_line(const std::string& key, size_t index, const CellResult& c) {
-  nlohmann::json j;
-  j["key"] = key;
-  j["index"] = index;
-  j["cell"] = {c.cell.size_mm, c.cell.distance_m, c.cell.lux,      c.cell.side_px,
-               c.cell.tilt_deg, c.cell.blur_px,    c.cell.noise, c.cell.occlusion};
-  j["side_px"] = c.side_px;
-  j["tilts"] = c.tilts_deg;
-  j["exposure_ms"] = c.exposure_ms;
-  j["gain"] = c.gain;
-  j["snr"] = c.snr_black_white;
-  j["blur_px"] = c.blur_px;
-  j["seconds"] = c.seconds;
-  nlohmann::json ds = nlohmann::json::array();
-  for (const DetectorTally& t : c.detectors)
-    ds.push_back({t.frames, t.detected, t.wrong_id, t.ms, t.empty_frames, t.false_positives, t.marks});
-  j["detectors"] = ds;
-  return json_text(j) + "\n";
-}
-
-namespace {
-
-// Why the tally of a saved cell cannot be (empty when it can): a negative count, more found than frames.
-std::string impossible_tally(const DetectorTally& t) {
-  const std::pair<const char*, int> counts[] = {{"frames", t.frames},
-                                                {"detected", t.detected},
-                                                {"wrong_id", t.wrong_id},
-                                                {"empty_frames", t.empty_frames},
-                                                {"false_positives", t.false_positives}};
-  for (const auto& [name, v] : counts)
-    if (v < 0) return std::string(name) + " " + std::to_string(v) + " is negative";
-  // A frame counts once as detected and once as wrong_id at most (another id may be reported beside the right one).
-  for (const auto& [name, v] : {std::pair{"detected", t.detected}, std::pair{"wrong_id", t.wrong_id}})
-    if (v > t.frames) return std::string(name) + " " + std::to_string(v) + " is more than its " +
-                             std::to_string(t.frames) + " frames";
-  for (double ms : t.ms)
-    if (!(ms >= 0) || !std::isfinite(ms)) return "a time of " + std::to_string(ms) + " ms";
-  return {};
-}
-
-}  // namespace
-
-std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& key, const std::string& line,
-                                                            size_t detectors, std::string* problem) {
-  if (!check_json_depth(line, "")) return std::nullopt;
-  const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-  try {
-    if (!j.is_object() || j.value("key", std::string()) != key) return std::nullopt;
-    CellResult c;
-    const auto& cell = j.at("cell");
-    double* fields[] = {&c.cell.size_mm, &c.cell.distance_m, &c.cell.lux,      &c.cell.side_px,
-                        &c.cell.tilt_deg, &c.cell.blur_px,    &c.cell.noise, &c.cell.occlusion};
-    for (size_t i = 0; i < std::size(fields); ++i) *fields[i] = cell.at(i).get<double>();
-    c.side_px = j.at("side_px").get<double>();
-    c.tilts_deg = j.at("tilts").get<std::vector<float>>();
-    c.exposure_ms = j.at("exposure_ms").get<double>();
-    c.gain = j.at("gain").get<double>();
-    c.snr_black_white = j.at("snr").get<double>();
-    c.blur_px = j.at("blur_px").get<double>();
-    c.seconds = j.value("seconds", -1.0);   // absent from cells saved by an older arwb
-    if (!(c.seconds >= 0) || !std::isfinite(c.seconds)) c.seconds = -1;
-    const auto& ds = j.at("detectors");
-    if (!ds.is_array() || ds.size() != detectors) return std::nullopt;
-    for (const auto& d : ds) {
-      DetectorTally t;
-      t.frames = d.at(0).get<int>();
-      t.detected = d.at(1).get<int>();
-      t.wrong_id = d.at(2).get<int>();
-      t.ms = d.at(3).get<std::vector<double>>();
-      t.empty_frames = d.at(4).get<int>();
-      t.false_positives = d.at(5).get<int>();
-      if (d.size() > 6) t.marks = d.at(6).get<std::string>();
-      if (const std::string why = impossible_tally(t); !why.empty()) {
-        if (problem) *problem = why;
-        return std::nullopt;
-      }
-      c.detectors.push_back(std::move(t));
-    }
-    return std::pair{j.at("index").get<size_t>(), std::move(c)};
-  } catch (const nlohmann::json::exception&) {
-    return std::nullopt;   // a line cut short by the interruption, or one edited by hand
-  }
-}
 
 std::string lab_table_text(const LabResults& r) {
   std::string s;

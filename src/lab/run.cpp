@@ -174,23 +174,26 @@ char frame_mark(const LabFrame& frame, const std::vector<Marker>& found, double 
   return right ? mark::detected : wrong ? mark::wrong_id : mark::missed;
 }
 
-Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
-                           const std::function<void(int, int)>& progress) {
-  const auto t0 = Clock::now();
+namespace {
+
+// The cells `take` selects, in order: each one finished by an earlier run (LabOptions::finished) taken as it was,
+// the others run; `keep(index, cell, resumed)` gets each. The marker ids shown, or an error.
+Result<std::vector<int>> run_cells(const LabPlan& plan, const LabOptions& options,
+                                   const std::function<bool(size_t)>& take,
+                                   const std::function<void(size_t, CellResult&&, bool)>& keep,
+                                   const std::function<void(int, int)>& progress) {
   const auto dict = dictionary_by_name(plan.dictionary);
   if (!dict) return fail("the plan's dictionary '" + plan.dictionary + "' is unknown");
   if (plan.frames_per_cell < 1) return fail("a plan needs at least one frame per cell");
   Result<std::vector<std::unique_ptr<Worker>>> workers =
       make_workers(plan, options, std::clamp(options.threads, 1, 64));
   if (!workers) return fail(workers.error());
-  LabResults out;
-  out.plan = plan;
-  out.options = options;
-  out.ids = (*workers)[0]->renderer.ids();
   const double f = options.camera.camera_matrix(0, 0);
   const std::vector<Cell> cells = plan.cells(f);
   const int per_cell = plan.frames_per_cell + plan.empty_frames_per_cell();
-  const int total = int(cells.size()) * per_cell;
+  int taken = 0;
+  for (size_t ci = 0; ci < cells.size(); ++ci) taken += take(ci);
+  const int total = taken * per_cell;
   std::atomic<int> done{0};
   std::mutex progress_mutex;
   auto report = [&] {
@@ -200,11 +203,12 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     progress(d, total);
   };
   auto stopped = [&] { return options.stop && options.stop->load(); };
+  int before = 0;   // the selected cells before this one, finished
   for (size_t ci = 0; ci < cells.size(); ++ci) {
-    // A cell finished by an earlier run (resume): taken as it was.
+    if (!take(ci)) continue;
+    ++before;
     if (ci < options.finished.size() && options.finished[ci]) {
-      out.cells.push_back(*options.finished[ci]);
-      ++out.resumed;
+      keep(ci, CellResult(*options.finished[ci]), true);
       for (int k = 0; k < per_cell; ++k) report();
       continue;
     }
@@ -214,28 +218,88 @@ Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
     if (const std::string failure = run_frames(*workers, ci, cr.side_px, stopped, report, frames); !failure.empty())
       return fail(failure);
     if (stopped()) {
-      return fail("stopped after " + std::to_string(ci) + " of " + std::to_string(cells.size()) +
+      return fail("stopped after " + std::to_string(before - 1) + " of " + std::to_string(taken) +
                   " cells (those are kept)");
     }
     tally(frames, cr);
     cr.seconds = std::chrono::duration<double>(Clock::now() - cell_t0).count();
     if (options.on_cell) options.on_cell(ci, cr);
-    out.cells.push_back(std::move(cr));
+    keep(ci, std::move(cr), false);
   }
+  return (*workers)[0]->renderer.ids();
+}
+
+}  // namespace
+
+Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
+                           const std::function<void(int, int)>& progress) {
+  const auto t0 = Clock::now();
+  LabResults out;
+  out.plan = plan;
+  out.options = options;
+  Result<std::vector<int>> ids = run_cells(
+      plan, options, [](size_t) { return true; },
+      [&](size_t, CellResult&& c, bool resumed) {
+        out.cells.push_back(std::move(c));
+        out.resumed += resumed;
+      },
+      progress);
+  if (!ids) return fail(ids.error());
+  out.ids = std::move(*ids);
+  out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return out;
+}
+
+size_t Shard::cells(size_t plan_cells) const {
+  if (count <= 1) return plan_cells;
+  return plan_cells / size_t(count) + (size_t(index) <= plan_cells % size_t(count) ? 1 : 0);
+}
+
+Result<Shard> parse_shard(const std::string& text) {
+  const size_t slash = text.find('/');
+  const auto whole = [](const std::string& s, int& v) {
+    if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return false;
+    v = std::stoi(s);
+    return true;
+  };
+  Shard s;
+  if (slash == std::string::npos || !whole(text.substr(0, slash), s.index) || !whole(text.substr(slash + 1), s.count))
+    return fail("'" + text + "' is not K/N, the K-th of N parts (for example 2/4)");
+  if (s.count < 1 || s.count > 100000) return fail("'" + text + "': N is from 1 to 100000 parts");
+  if (s.index < 1 || s.index > s.count) return fail("'" + text + "': K is from 1 to N (" + std::to_string(s.count) + ")");
+  return s;
+}
+
+Result<PartRun> run_lab_part(const LabPlan& plan, const LabOptions& options, const Shard& shard,
+                             const std::function<void(int, int)>& progress) {
+  const auto t0 = Clock::now();
+  PartRun out;
+  Result<std::vector<int>> ids = run_cells(
+      plan, options, [&](size_t ci) { return shard.has(ci); },
+      [&](size_t, CellResult&&, bool resumed) {
+        ++out.cells;
+        out.resumed += resumed;
+      },
+      progress);
+  if (!ids) return fail(ids.error());
   out.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return out;
 }
 
 std::string lab_time_text(const LabResults& r) {
   const auto seconds = [](double s) { return fixed_text(s, 1) + " s"; };
-  if (r.resumed == 0) return seconds(r.seconds);
-  const std::string earlier = std::to_string(r.resumed) + " of " + std::to_string(r.cells.size());
   double cells = 0;
+  bool recorded = true;
   for (const CellResult& c : r.cells) {
-    if (c.seconds < 0)
-      return seconds(r.seconds) + " here; " + earlier + " cells from an earlier run, time not recorded";
+    recorded = recorded && c.seconds >= 0;
     cells += c.seconds;
   }
+  if (r.merged_parts > 0)
+    return "merged from " + std::to_string(r.merged_parts) + " parts; " +
+           (recorded ? "its cells took " + seconds(cells) : "its cells' time not recorded");
+  if (r.resumed == 0) return seconds(r.seconds);
+  const std::string earlier = std::to_string(r.resumed) + " of " + std::to_string(r.cells.size());
+  if (!recorded) return seconds(r.seconds) + " here; " + earlier + " cells from an earlier run, time not recorded";
   return seconds(r.seconds) + " here; all its cells took " + seconds(cells) + " (" + earlier + " from an earlier run)";
 }
 

@@ -93,11 +93,13 @@ struct LabResults {
   std::vector<CellResult> cells;
   double seconds = 0;   // this run's wall time
   int resumed = 0;      // cells taken from an earlier run (LabOptions::finished)
+  int merged_parts = 0;   // the parts (Shard) its cells were run in, when it joins them (arwb lab --merge)
 };
 
 // What a run took, in words: "12.5 s"; for a resumed run, this run's time and what all its cells took: "12.5 s
 // here; all its cells took 40.1 s (2 of 4 from an earlier run)", or when a saved cell's time was not recorded (an
-// older arwb's), "12.5 s here; 2 of 4 cells from an earlier run, time not recorded".
+// older arwb's), "12.5 s here; 2 of 4 cells from an earlier run, time not recorded"; for a run joined from its
+// parts, "merged from 3 parts; its cells took 40.1 s".
 std::string lab_time_text(const LabResults& r);
 
 // The markers a run shows: `plan.markers` distinct random ids of the plan's dictionary, drawn with the seed.
@@ -143,15 +145,26 @@ char frame_mark(const LabFrame& frame, const std::vector<Marker>& found, double 
 Result<LabResults> run_lab(const LabPlan& plan, const LabOptions& options,
                            const std::function<void(int, int)>& progress = {});
 
-// Resuming an interrupted run. The key names everything the frames and tallies depend on (the plan, seed,
-// detectors and their parameters, camera, sensor): a saved cell is taken only under the same key. A cell as one
-// line of JSON, and back: nullopt for a line that is not one, or of another key; nullopt and `problem` for a line
-// of this key whose counts cannot be (a negative count, more found than frames: an edited line), so that the
-// cell is run again and the user told why.
-std::string lab_run_key(const LabPlan& plan, const LabOptions& options);
-std::string cell_to_line(const std::string& key, size_t index, const CellResult& c);
-std::optional<std::pair<size_t, CellResult>> cell_from_line(const std::string& key, const std::string& line,
-                                                            size_t detectors, std::string* problem = nullptr);
+// One of `count` disjoint parts of a plan's cells, to spread a run over processes or machines (arwb lab --shard
+// K/N): cell i (from 0, in plan.cells()' order) is part (i mod count) + 1's. Dealt in turn rather than in blocks,
+// every part gets cells of every size and distance, so the parts take about the same time.
+struct Shard {
+  int index = 1, count = 1;   // 1 <= index <= count
+  bool has(size_t cell) const { return count <= 1 || int(cell % size_t(count)) + 1 == index; }
+  size_t cells(size_t plan_cells) const;   // how many of a plan's cells are this part's
+};
+// Parses "K/N" (1 <= K <= N <= 100000); an error in words otherwise.
+Result<Shard> parse_shard(const std::string& text);
+
+struct PartRun {
+  int cells = 0;     // the part's cells
+  int resumed = 0;   // ... of them taken from an earlier run (LabOptions::finished)
+  double seconds = 0;
+};
+// Runs the part's cells only, each finished one given to options.on_cell (its tallies are a single run's for
+// that cell: frames depend on the cell and frame only); the run's table is made by joining the parts' cells.
+Result<PartRun> run_lab_part(const LabPlan& plan, const LabOptions& options, const Shard& shard,
+                             const std::function<void(int, int)>& progress = {});
 
 // The paper's table as text: per detector, a row per size and distance (and the added axes' values the plan
 // has: "26 mm  1.0 m   14 px tilt 60 blur 1.5"), a column per light level, each cell "P_Rec% [low-high]", then its

@@ -2,6 +2,7 @@
 // of the paper's plan: extreme cells behave, and the same seed gives the same table.
 #include "lab/plan.hpp"
 #include "lab_test_util.hpp"
+#include "lab/cells_file.hpp"
 #include "lab/run.hpp"
 #include "lab/sensor.hpp"
 #include "lab/stats.hpp"

@@ -3,6 +3,7 @@
 // normal, the share covered), each costing recognition at its extreme, and left at their defaults changing nothing.
 #include "lab/plan.hpp"
 #include "lab_test_util.hpp"
+#include "lab/cells_file.hpp"
 #include "lab/run.hpp"
 #include "lab/sensor.hpp"
 
