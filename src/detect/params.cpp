@@ -52,7 +52,7 @@ const ParamInfo kTable[] = {
     ARWB_DBL(coarse_min_perimeter_px, "coarse_search", "px", 120, 48, 100000,
              "Contours of the coarse search shorter than this (in the frame's pixels) are not traced: it looks for "
              "large markers, the first search finds the small ones."),
-    ARWB_DBL(min_perimeter_px, "size_filter", "px", 48, 4, 100000,
+    ARWB_DBL(min_perimeter_px, "size_filter", "px", 32, 4, 100000,
              "Contours shorter than this are dropped before fitting. Lower finds smaller markers, costs time."),
     ARWB_DBL(max_perimeter_rate, "size_filter", "rate", 4, 0.1, 8,
              "Contours longer than this times the frame's larger side are dropped."),

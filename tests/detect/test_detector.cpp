@@ -446,7 +446,7 @@ TEST(Trace, RecordsEveryStageAndEachCandidatesFate) {
       EXPECT_EQ(c.per_rotation[size_t(found[0].rotation)].id, 77);
     }
     if (c.fate.stage == Stage::otsu) {
-      ++uniform;
+      uniform += c.bbox == cv::Rect(200, 60, 80, 80);   // (a speck between the marker's cells may be uniform too)
       EXPECT_EQ(c.fate.param, "otsu_min_stddev");
     }
     if (c.fate.stage != Stage::accepted) {

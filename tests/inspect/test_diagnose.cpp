@@ -143,10 +143,10 @@ TEST(ExplainRegion, AnEmptyPatchIsLostAtAdaptiveThreshold) {
 
 TEST(ExplainRegion, ATooSmallMarkerStopsAtSizeFilterNamingMinPerimeter) {
   const Dictionary d = make_aruco_original();
-  const cv::Mat img = frame_with_marker(d, 12, {320, 240}, 10);
+  const cv::Mat img = frame_with_marker(d, 12, {320, 240}, 6);   // a border of about 24 px < 32
   FrameTrace t;
   EXPECT_TRUE(Detector({d}).detect(img, &t, TraceLevel::full).empty());
-  const RegionReport rep = explain_region(t, around({320, 240}, 12));
+  const RegionReport rep = explain_region(t, around({320, 240}, 8));
   const bool at_size_filter = !rep.candidates.empty() && rep.candidates.front().fate.stage == Stage::size_filter &&
                               rep.candidates.front().fate.param == "min_perimeter_px";
   EXPECT_TRUE(at_size_filter || rep.lost_at == Stage::contours) << rep.summary;

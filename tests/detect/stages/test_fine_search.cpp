@@ -15,7 +15,7 @@
 using namespace arwb;
 
 TEST(Stages, FineSearchPlansARegionAroundEachSmallSquarishShape) {
-  DetectorParams p;   // fine_max_side_px 80, threshold_window_px 17, min_perimeter_px 48
+  DetectorParams p;   // fine_max_side_px 80, threshold_window_px 17, min_perimeter_px 32
   const cv::Size frame(640, 480);
   // A 30 px shape: half a side (15 px) of margin each way.
   std::vector<cv::Rect> r = stages::plan_fine_search({cv::Rect(100, 100, 30, 30)}, frame, p);
@@ -48,7 +48,7 @@ TEST(Stages, QuadHolesFindTheInsideOfARingMergedIntoALargerShape) {
   for (const Simd level : simd_levels_here()) {
     SimdCap cap(level);
     SCOPED_TRACE(simd_name(level));
-    DetectorParams p;   // fine_max_side_px 80, min_perimeter_px 48
+    DetectorParams p;   // fine_max_side_px 80, min_perimeter_px 32
     cv::Mat bin(200, 300, CV_8UC1, cv::Scalar(0));
     cv::rectangle(bin, cv::Rect(20, 20, 60, 150), cv::Scalar(255), -1);    // the larger shape
     cv::rectangle(bin, cv::Rect(80, 60, 16, 16), cv::Scalar(255), -1);     // the ring, touching it

@@ -22,6 +22,6 @@ TEST(Stages, SizeFilterNamesTheParameterAndValue) {
   EXPECT_EQ(why->stage, Stage::size_filter);
   EXPECT_EQ(why->param, "min_perimeter_px");
   EXPECT_EQ(why->value, 31);
-  EXPECT_EQ(why->message, "perimeter 31 px < min_perimeter_px 48 px");
+  EXPECT_EQ(why->message, "perimeter 31 px < min_perimeter_px 32 px");
   EXPECT_FALSE(stages::size_filter(std::vector<cv::Point>(100), {640, 480}, p));
 }
