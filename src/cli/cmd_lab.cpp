@@ -157,7 +157,7 @@ int cmd_lab(int argc, char** argv) {
   cl.app.add_option("--videos", videos, "real clips instead of rendered frames: DIR/videos.csv lists each clip with "
                                         "its marker and conditions (docs/lab.md); the same table from them")
       ->type_name("DIR");
-  cl.app.add_option("--frames-per-cell", frames, "frames rendered for each cell (default: the plan's, 40 in the "
+  cl.app.add_option("--frames-per-cell", frames, "frames rendered for each cell (default: the plan's, 400 in the "
                                                  "paper's)")
       ->type_name("N")
       ->check(whole_number(1, 100000));

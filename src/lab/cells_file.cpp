@@ -24,8 +24,9 @@ const char* const kPlanFields[] = {"name",         "dictionary",      "markers",
 const char* const kCameraFields[] = {"width", "height", "camera matrix", "distortion"};
 const char* const kSensorFields[] = {"sensitivity", "full_well", "read_noise", "target_level", "max_exposure_s",
                                      "max_gain", "focal_length_mm", "f_number", "focus_m", "shake_deg_s"};
-const char* const kLightFields[] = {"direct_outdoor", "direct_indoor", "direct_evening", "shadow_chance_half_metre",
-                                    "sun_diameter_rad", "glare_chance", "glare_lobe_deg", "glare_peak"};
+const char* const kLightFields[] = {"direct_outdoor",   "direct_indoor", "direct_evening", "body_width_m",
+                                    "shadow_chance",    "sun_diameter_rad", "glare_chance", "glare_lobe_deg",
+                                    "glare_peak"};
 
 }  // namespace
 
@@ -46,8 +47,8 @@ std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
   j["sensor"] = {m.sensitivity, m.full_well,    m.read_noise, m.target_level, m.max_exposure_s,
                  m.max_gain,    m.focal_length_mm, m.f_number, m.focus_m,  m.shake_deg_s};
   const SceneLight& l = options.light;
-  j["light"] = {l.direct_outdoor,   l.direct_indoor,   l.direct_evening, l.shadow_chance_half_metre,
-                l.sun_diameter_rad, l.glare_chance,    l.glare_lobe_deg, l.glare_peak};
+  j["light"] = {l.direct_outdoor,   l.direct_indoor, l.direct_evening, l.body_width_m,  l.shadow_chance,
+                l.sun_diameter_rad, l.glare_chance,  l.glare_lobe_deg, l.glare_peak};
   return json_text(j);
 }
 

@@ -18,6 +18,17 @@ std::string LightEvents::text() const {
   return {};
 }
 
+double shadow_edge_chance(const SceneLight& light, double side_m, double distance_m) {
+  if (light.shadow_chance >= 0) return light.shadow_chance;
+  const double d = std::max(distance_m, 1e-3), w = light.body_width_m;
+  return std::min(1.0, 2 * side_m * d / (CV_PI * (d * d + w * w / 4)));
+}
+
+double glint_chance(const SceneLight& light) {
+  if (light.glare_chance >= 0) return light.glare_chance;
+  return 1 - std::cos(light.glare_lobe_deg * CV_PI / 180);
+}
+
 LightEvents apply_scene_light(cv::Mat1f& levels, const SceneLight& light, double distance_m, double lux,
                               double focal_px, const Quad& corners, std::mt19937& rng) {
   LightEvents ev;
@@ -35,7 +46,8 @@ LightEvents apply_scene_light(cv::Mat1f& levels, const SceneLight& light, double
   const cv::Point2d centre((lo.x + hi.x) / 2, (lo.y + hi.y) / 2);
   const double half = std::max(hi.x - lo.x, hi.y - lo.y) / 2;
 
-  ev.shadow = shadow_draw < direct * std::min(1.0, light.shadow_chance_half_metre * 0.5 / distance_m);
+  // The marker's side in metres from its image: 2 x half x distance / f.
+  ev.shadow = shadow_draw < shadow_edge_chance(light, 2 * half * distance_m / focal_px, distance_m);
   if (ev.shadow) {
     // A straight edge through the marker's middle half, the side beyond it in shadow, a linear penumbra.
     const cv::Point2d n(std::cos(edge_angle), std::sin(edge_angle));
@@ -51,7 +63,7 @@ LightEvents apply_scene_light(cv::Mat1f& levels, const SceneLight& light, double
       }
     }
   }
-  ev.glare = glare_draw < direct * light.glare_chance;
+  ev.glare = glare_draw < glint_chance(light);
   if (ev.glare) {
     // A Gaussian lobe centred somewhere on the marker; its radius in pixels is f tan(lobe) at any distance.
     const cv::Point2d at(lo.x + glint_x * (hi.x - lo.x), lo.y + glint_y * (hi.y - lo.y));

@@ -39,7 +39,7 @@ struct LabPlan {
   std::vector<double> blurs_px{0};
   std::vector<double> noises{0};
   std::vector<double> occlusions{0};
-  int frames_per_cell = 40;
+  int frames_per_cell = 400;   // 95 % intervals of at most about +-5 points (the Wilson interval at 50 %)
   // Frames without a marker per cell, for false positives: this share of frames_per_cell (at least one).
   double empty_share = 0.25;
   int empty_frames_per_cell() const;

@@ -290,8 +290,8 @@ void draw_recall_by_blur(const LabResults& r) {
 }
 
 // Size (rows, the plan's order from the top) x distance (columns), each cell's colour and number P_Rec pooled
-// over light, with its interval and the marker's side underneath.
-void draw_heatmap(const LabResults& r, size_t d) {
+// over light (lux < 0) or under one light, with its interval and the marker's side underneath.
+void draw_heatmap(const LabResults& r, size_t d, double lux) {
   // A sides_px plan's rows are its sides in pixels (its printed sizes differ by distance).
   const bool by_side = !r.plan.sides_px.empty();
   const std::vector<double>& sizes = by_side ? r.plan.sides_px : r.plan.sizes_mm;
@@ -302,8 +302,10 @@ void draw_heatmap(const LabResults& r, size_t d) {
   plvpor(0.17, 0.8, 0.14, 0.88);
   plwind(0, std::max(cols, 1.0), 0, std::max(rows, 1.0));
   plcol0(kInk);
+  const std::string light = lux < 0 ? ", pooled over light" : ", under " + number(lux) + " lx";
   pllab("distance", "",
-        ("P#dRec#u of " + plain(r.options.detectors[d]) + ", pooled over light" + (added ? " and the added axes" : ""))
+        ("P#dRec#u of " + plain(r.options.detectors[d]) + light + (added ? (lux < 0 ? " and" : ", pooled over") +
+                                                                         std::string(" the added axes") : ""))
             .c_str());
   // Clear of the sizes' labels, which are wider than numbers.
   plmtex("l", 7.5, 0.5, 0.5, by_side ? "marker side at the centre" : "printed size");
@@ -317,7 +319,7 @@ void draw_heatmap(const LabResults& r, size_t d) {
       double side = 0;
       for (const CellResult& c : r.cells)
         if ((by_side ? c.cell.side_px : c.cell.size_mm) == sizes[i] && c.cell.distance_m == distances[j] &&
-            d < c.detectors.size()) {
+            (lux < 0 || c.cell.lux == lux) && d < c.detectors.size()) {
           pool.add(c.detectors[d]);
           side = c.side_px;
         }
@@ -443,19 +445,68 @@ void draw_title_page(const LabResults& r) {
   plschr(0, 1);
 }
 
-// The pages in their order (the title page is the PDF's alone).
-constexpr size_t kCurvePages = 4;
-void draw_plot(const LabResults& r, size_t page) {
-  if (page == 0)
-    draw_recall_by_side(r);
-  else if (page == 1)
-    draw_recall_by_light(r);
-  else if (page == 2)
-    draw_recall_by_tilt(r);
-  else if (page == 3)
-    draw_recall_by_blur(r);
-  else
-    draw_heatmap(r, page - kCurvePages);
+// A detector's part of the paper's table (lab_table_text: a row per size and distance, a column per light) in a
+// fixed-width font, small enough for its longest line; a plan of more rows than a page holds ends with where the
+// rest is.
+void draw_table_page(const std::string& section) {
+  std::vector<std::string> lines;
+  std::istringstream in(section);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  size_t longest = 1;
+  for (const std::string& l : lines) longest = std::max(longest, l.size());
+  constexpr size_t kRowsPerPage = 44;
+  if (lines.size() > kRowsPerPage) {
+    lines.resize(kRowsPerPage - 1);
+    lines.push_back("... the other rows are in table.txt");
+  }
+  pladv(0);
+  plvpor(0.05, 0.97, 0.05, 0.95);
+  plwind(0, 1, 0, 1);
+  plcol0(kInk);
+  plsfont(PL_FCI_MONO, PL_FCI_UPRIGHT, PL_FCI_MEDIUM);
+  plschr(0, std::min(1.1, 58.0 / double(longest)));   // about 60 characters of the font at scale 1 span the page
+  const double step = std::min(0.045, 0.95 / double(lines.size()));
+  for (size_t i = 0; i < lines.size(); ++i) plptex(0, 0.97 - double(i) * step, 1, 0, 0, plain(lines[i]).c_str());
+  plsfont(PL_FCI_SANS, PL_FCI_UPRIGHT, PL_FCI_MEDIUM);
+  plschr(0, 1);
+}
+
+// One page of plots: a curve (0 side, 1 light, 2 tilt, 3 blur), or a detector's heatmap pooled over light
+// (lux < 0) or under one light (when the plan has more than one), with its PNG's name.
+struct PlotPage {
+  int curve = -1;
+  size_t detector = 0;
+  double lux = -1;
+  std::string png;
+};
+
+std::vector<PlotPage> plot_pages(const LabResults& r) {
+  std::vector<PlotPage> pages{{0, 0, -1, "recall_by_side.png"},
+                              {1, 0, -1, "recall_by_light.png"},
+                              {2, 0, -1, "recall_by_tilt.png"},
+                              {3, 0, -1, "recall_by_blur.png"}};
+  const auto taken = [&](const std::string& png) {
+    return std::any_of(pages.begin(), pages.end(), [&](const PlotPage& p) { return p.png == png; });
+  };
+  for (size_t d = 0; d < r.options.detectors.size(); ++d) {
+    // Two detectors whose names read alike in a file name ("a b", "a_b", or one named twice) get a number each.
+    std::string name = "heatmap_" + file_safe(r.options.detectors[d]);
+    for (int k = 2; taken(name + ".png"); ++k) name = "heatmap_" + file_safe(r.options.detectors[d]) + "_" + std::to_string(k);
+    pages.push_back({-1, d, -1, name + ".png"});
+    if (r.plan.lux.size() > 1)
+      for (double lux : r.plan.lux) pages.push_back({-1, d, lux, name + "_" + number(lux) + "lx.png"});
+  }
+  return pages;
+}
+
+void draw_plot(const LabResults& r, const PlotPage& page) {
+  switch (page.curve) {
+    case 0: draw_recall_by_side(r); break;
+    case 1: draw_recall_by_light(r); break;
+    case 2: draw_recall_by_tilt(r); break;
+    case 3: draw_recall_by_blur(r); break;
+    default: draw_heatmap(r, page.detector, page.lux);
+  }
 }
 
 // One PLplot stream for one output file, ended (plend1) and the caller's stream made current again whatever
@@ -543,15 +594,8 @@ Status draw_file(const fs::path& path, const char* device, int width, int height
 }  // namespace
 
 std::vector<std::string> lab_report_png_names(const LabResults& r) {
-  std::vector<std::string> names{"recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png",
-                                 "recall_by_blur.png"};
-  for (const std::string& d : r.options.detectors) {
-    // Two detectors whose names read alike in a file name ("a b", "a_b", or one named twice) get a number each.
-    std::string name = "heatmap_" + file_safe(d);
-    for (int k = 2; std::find(names.begin(), names.end(), name + ".png") != names.end(); ++k)
-      name = "heatmap_" + file_safe(d) + "_" + std::to_string(k);
-    names.push_back(name + ".png");
-  }
+  std::vector<std::string> names;
+  for (const PlotPage& p : plot_pages(r)) names.push_back(p.png);
   return names;
 }
 
@@ -562,18 +606,27 @@ Status write_lab_report(const LabResults& r, const std::string& dir) {
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir, ec)) return fail("lab report: cannot create the folder " + dir +
                                                     (ec ? ": " + ec.message() : ": a file is in the way"));
-  const std::vector<std::string> pngs = lab_report_png_names(r);
+  const std::vector<PlotPage> pages = plot_pages(r);
 
   const std::lock_guard lock(plplot_mutex);
   if (Status s = check_devices(); !s) return s;
-  for (size_t page = 0; page < pngs.size(); ++page)
-    if (Status s = draw_file(fs::path(dir) / pngs[page], "pngcairo", kPlotWidthPx, kPlotHeightPx,
+  for (const PlotPage& page : pages)
+    if (Status s = draw_file(fs::path(dir) / page.png, "pngcairo", kPlotWidthPx, kPlotHeightPx,
                              [&] { draw_plot(r, page); });
         !s)
       return s;
+  // The table's sections, one per detector, are separated by an empty line.
+  const std::string table = lab_table_text(r);
+  std::vector<std::string> sections;
+  for (size_t start = 0; start < table.size();) {
+    const size_t end = std::min(table.find("\n\n", start), table.size());
+    if (end > start) sections.push_back(table.substr(start, end - start));
+    start = end + 2;
+  }
   return draw_file(fs::path(dir) / "report.pdf", "pdfcairo", kReportPageWidthPt, kReportPageHeightPt, [&] {
     draw_title_page(r);
-    for (size_t page = 0; page < pngs.size(); ++page) draw_plot(r, page);
+    for (const std::string& section : sections) draw_table_page(section);
+    for (const PlotPage& page : pages) draw_plot(r, page);
   });
 }
 

@@ -21,7 +21,9 @@ inline constexpr int kReportPageWidthPt = 842, kReportPageHeightPt = 595;
 //   recall_by_tilt.png   P_Rec against the marker's tilt, frame by frame in 10-degree bins, a line per detector;
 //   recall_by_blur.png   P_Rec against the cell's whole blur in px (CellResult::blur_px), cells in bins;
 //   heatmap_<detector>.png  size (rows) x distance (columns), colour and number = P_Rec pooled over light;
-//   report.pdf           a title page (plan, camera, sensor, seed, time), then the plots above, one per page.
+//   heatmap_<detector>_<lux>lx.png  the same under each light, when the plan has more than one;
+//   report.pdf           a title page (plan, camera, sensor, seed, time), the paper's table (a page per detector:
+//                        a row per size and distance, a column per light), then the plots above, one per page.
 // Each file is drawn under a temporary name (".arwb-saving") and renamed when complete. An error names the folder or file that
 // could not be written, or the PLplot device that is missing; results without cells or detectors are an error.
 Status write_lab_report(const LabResults& r, const std::string& dir);

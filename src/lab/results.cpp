@@ -145,8 +145,10 @@ std::string lab_results_json(const LabResults& r) {
                  {"focus_m", m.focus_m},                  {"shake_deg_s", m.shake_deg_s}};
   const SceneLight& l = r.options.light;
   j["light"] = {{"direct_outdoor", l.direct_outdoor},   {"direct_indoor", l.direct_indoor},
-                {"direct_evening", l.direct_evening},   {"shadow_chance_half_metre", l.shadow_chance_half_metre},
-                {"sun_diameter_rad", l.sun_diameter_rad}, {"glare_chance", l.glare_chance},
+                {"direct_evening", l.direct_evening},   {"body_width_m", l.body_width_m},
+                // null: from the geometry (shadow_edge_chance), which depends on the cell
+                {"shadow_chance", l.shadow_chance >= 0 ? Json(l.shadow_chance) : Json(nullptr)},
+                {"sun_diameter_rad", l.sun_diameter_rad}, {"glare_chance", glint_chance(l)},
                 {"glare_lobe_deg", l.glare_lobe_deg},   {"glare_peak", l.glare_peak}};
   j["detectors"] = r.options.detectors;
   // Each detector's "marks": a character per frame of the cell (frames with a marker, then those without): D

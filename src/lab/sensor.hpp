@@ -22,8 +22,24 @@
 
 namespace arwb::lab {
 
+// A pixel's electrons per lux-second at reflectance 1, from its optics and silicon: photons of 555 nm per lux,
+// second and um^2 (1 lx = 1/683 W/m^2, 3.58e-19 J a photon: 4090); a Lambertian wall's illuminance reaches the
+// sensor through an f/N lens as 1 / (4 N^2) of it, times the lens's transmission; the pixel's area; the share of
+// the visible light its colour filter passes; its quantum efficiency. docs/lab.md gives each value's source.
+struct PixelSilicon {
+  double pixel_um = 1.4;              // pitch of 1080p laptop camera modules' sensors (OmniVision OV2740's)
+  double lens_transmission = 0.9;     // a few coated plastic elements
+  double filter_share = 0.33;         // one of a Bayer filter's three bands
+  double quantum_efficiency = 0.5;    // a small back-illuminated pixel's, averaged over its band
+};
+constexpr double kPhotonsPerLuxSecondUm2 = 4090;
+constexpr double sensitivity_from(const PixelSilicon& p, double f_number) {
+  return kPhotonsPerLuxSecondUm2 * p.pixel_um * p.pixel_um / (4 * f_number * f_number) * p.lens_transmission *
+         p.filter_share * p.quantum_efficiency;
+}
+
 struct SensorModel {
-  double sensitivity = 120;        // electrons per lux-second at reflectance 1
+  double sensitivity = sensitivity_from(PixelSilicon{}, 2.0);   // electrons per lux-second at reflectance 1 (74)
   double full_well = 6000;         // electrons at which a pixel clips
   double read_noise = 4;           // electrons RMS
   double target_level = 0.18;      // auto-exposure's aim for a reflectance-0.18 card, fraction of full scale

@@ -51,9 +51,10 @@ TEST(LabCli, PrintsAndWritesThePapersTable) {
   EXPECT_TRUE(j["cells"][0]["tilt_deg"].is_null());
   EXPECT_EQ(j["cells"][0]["tilts_deg"].size(), 2u);
   // The plots and report.pdf beside them (tests/lab/test_lab_report.cpp looks inside).
-  EXPECT_NE(r.out.find("report.pdf and 6 PNG plots to " + d.str("out")), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("report.pdf and 12 PNG plots to " + d.str("out")), std::string::npos) << r.out;
   for (const char* name : {"report.pdf", "recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png",
-                           "recall_by_blur.png", "heatmap_arwb.png", "heatmap_opencv.png"})
+                           "recall_by_blur.png", "heatmap_arwb.png", "heatmap_opencv.png",
+                           "heatmap_arwb_850lx.png"})
     EXPECT_GT(slurp(d.str("out/") + name).size(), 1000u) << name;
 }
 

@@ -98,8 +98,11 @@ TEST(LabReport, WritesEveryPlotAndAPdfWithATitlePage) {
   ASSERT_TRUE(s) << s.error();
 
   const std::vector<std::string> pngs = lab_report_png_names(r);
+  // A heatmap per detector pooled over light, and one under each light (the plan has two).
   ASSERT_EQ(pngs, (std::vector<std::string>{"recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png",
-                                            "recall_by_blur.png", "heatmap_arwb.png", "heatmap_opencv.png"}));
+                                            "recall_by_blur.png", "heatmap_arwb.png", "heatmap_arwb_1000lx.png",
+                                            "heatmap_arwb_500lx.png", "heatmap_opencv.png",
+                                            "heatmap_opencv_1000lx.png", "heatmap_opencv_500lx.png"}));
   for (const std::string& name : pngs) {
     SCOPED_TRACE(name);
     const cv::Mat img = cv::imread(out + "/" + name, cv::IMREAD_COLOR);
@@ -124,7 +127,7 @@ TEST(LabReport, WritesEveryPlotAndAPdfWithATitlePage) {
   const std::string pdf = test::read_file(out + "/report.pdf");
   ASSERT_GE(pdf.size(), 5u);
   EXPECT_EQ(pdf.substr(0, 5), "%PDF-");
-  EXPECT_EQ(pdf_pages(pdf), int(pngs.size()) + 1);
+  EXPECT_EQ(pdf_pages(pdf), 1 + 2 + int(pngs.size())) << "the title, the table of each detector, the plots";
   // Nothing but the report's files is left in the folder (no temporary ".arwb-saving" files).
   int files = 0;
   for (const auto& e : fs::directory_iterator(out)) {
@@ -141,13 +144,14 @@ TEST(LabReport, PdfinfoCountsThePagesToo) {
   const std::string info = dir.str("info.txt");
   ASSERT_EQ(std::system(("pdfinfo '" + dir.str("report.pdf") + "' > '" + info + "'").c_str()), 0);
   const std::string text = test::read_file(info);
-  EXPECT_TRUE(std::regex_search(text, std::regex("Pages:\\s+7\\n"))) << text;
+  EXPECT_TRUE(std::regex_search(text, std::regex("Pages:\\s+13\\n"))) << text;
   EXPECT_NE(text.find("842 x 595 pts"), std::string::npos) << text;
 }
 
 TEST(LabReport, DetectorsWhoseNamesReadAlikeGetAHeatmapEach) {
   LabResults r = made_up_results();
   r.options.detectors = {"a b", "a_b", "a/b"};
+  r.plan.lux = {1000};   // one light: no heatmaps per light
   EXPECT_EQ(lab_report_png_names(r), (std::vector<std::string>{"recall_by_side.png", "recall_by_light.png",
                                                                "recall_by_tilt.png", "recall_by_blur.png",
                                                                "heatmap_a_b.png", "heatmap_a_b_2.png",
