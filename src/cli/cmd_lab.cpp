@@ -107,7 +107,8 @@ bool take_parts(const std::vector<std::string>& dirs, const std::string& key, co
     if (!options.finished[i]) missing.push_back(i);
   if (missing.empty()) return true;
   std::string names;
-  for (size_t k = 0; k < missing.size() && k < 3; ++k) names += (k ? ", " : "") + cell_words(missing[k], cells[missing[k]]);
+  for (size_t k = 0; k < missing.size() && k < 3; ++k)
+    names += (k ? ", " : "") + cell_words(missing[k], cells[missing[k]]);
   if (missing.size() > 3) names += ", ...";
   print_problem("arwb lab: --merge: %zu of %zu cells are in none of the folders: %s; run the parts that hold them "
                 "(--shard) and merge again\n", missing.size(), cells.size(), names.c_str());

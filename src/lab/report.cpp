@@ -491,7 +491,8 @@ std::vector<PlotPage> plot_pages(const LabResults& r) {
   for (size_t d = 0; d < r.options.detectors.size(); ++d) {
     // Two detectors whose names read alike in a file name ("a b", "a_b", or one named twice) get a number each.
     std::string name = "heatmap_" + file_safe(r.options.detectors[d]);
-    for (int k = 2; taken(name + ".png"); ++k) name = "heatmap_" + file_safe(r.options.detectors[d]) + "_" + std::to_string(k);
+    for (int k = 2; taken(name + ".png"); ++k)
+      name = "heatmap_" + file_safe(r.options.detectors[d]) + "_" + std::to_string(k);
     pages.push_back({-1, d, -1, name + ".png"});
     if (r.plan.lux.size() > 1)
       for (double lux : r.plan.lux) pages.push_back({-1, d, lux, name + "_" + number(lux) + "lx.png"});

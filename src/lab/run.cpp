@@ -266,7 +266,8 @@ Result<Shard> parse_shard(const std::string& text) {
   if (slash == std::string::npos || !whole(text.substr(0, slash), s.index) || !whole(text.substr(slash + 1), s.count))
     return fail("'" + text + "' is not K/N, the K-th of N parts (for example 2/4)");
   if (s.count < 1 || s.count > 100000) return fail("'" + text + "': N is from 1 to 100000 parts");
-  if (s.index < 1 || s.index > s.count) return fail("'" + text + "': K is from 1 to N (" + std::to_string(s.count) + ")");
+  if (s.index < 1 || s.index > s.count)
+    return fail("'" + text + "': K is from 1 to N (" + std::to_string(s.count) + ")");
   return s;
 }
 

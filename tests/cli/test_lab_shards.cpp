@@ -45,15 +45,14 @@ TEST(LabShards, ThreePartsInSeparateProcessesMergeIntoTheSingleRun) {
   // The three parts at once, each its own arwb, as a cluster's tasks would be.
   std::string parts;
   for (int k = 1; k <= 3; ++k) parts += " " + d.str("part" + std::to_string(k));
-  const std::string shards = "for k in 1 2 3; do '" + std::string(ARWB_BINARY) + "' " + options + " --shard $k/3 --out " +
-                             d.str("part") + "$k >" + d.str("out") + "$k.txt 2>&1 & done; wait";
+  const std::string shards = "for k in 1 2 3; do '" + std::string(ARWB_BINARY) + "' " + options +
+                             " --shard $k/3 --out " + d.str("part") + "$k >" + d.str("out") +
+                             "$k.txt 2>&1 & done; wait";
   ASSERT_EQ(std::system(shards.c_str()), 0) << shards;
   for (int k = 1; k <= 3; ++k) {
     const std::string k_text = std::to_string(k);
-    EXPECT_EQ(read_file(d.str("out" + k_text + ".txt")).rfind("Part " + k_text + " of 3 of the paper's plan: 9 of 27 cells in ",
-                                                         0),
-              0u)
-        << read_file(d.str("out" + k_text + ".txt"));
+    const std::string printed = read_file(d.str("out" + k_text + ".txt"));
+    EXPECT_EQ(printed.rfind("Part " + k_text + " of 3 of the paper's plan: 9 of 27 cells in ", 0), 0u) << printed;
     EXPECT_EQ(line_count(read_file(d.str("part" + k_text + "/cells.jsonl"))), 9u);
   }
   const auto merged = run_arwb(options + " --merge" + parts + " --out " + d.str("all"));
