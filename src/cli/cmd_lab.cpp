@@ -61,7 +61,6 @@ int run_on_videos(CommandLine& cl, const std::string& dir, const lab::LabOptions
   return 0;
 }
 
-
 // The cells of run `key` saved in `path` into options.finished; the lines that cannot be a run's are named. Null
 // with the problem printed when the file cannot be read.
 std::optional<lab::CellsFile> take_saved_cells(const std::string& path, const std::string& key,

@@ -1,7 +1,8 @@
 // The light on the wall, beyond its level: what the paper blames for the losses its table shows outdoors (section
 // 5.2: "shadows created by users on the surfaces where markers are applied" at 0.5 m, "reflection phenomena" at
 // 2 m) and finds much weaker indoors, where "the uniform diffusion of the natural light ... reduces shadows and
-// reflections" (5.3). Both come from the share of the light that arrives straight from the sun:
+// reflections" (5.3). Both need the sun: the share of the light that arrives straight from it says whether there
+// is any (none in the evening), how dark a shadow is and how bright a glint; how often each happens is geometry:
 //
 //   shadow: the user stands between the sun and the wall and casts a shadow as wide as their shoulders; one of its
 //     two edges crosses the marker when the sun's azimuth puts it there. Inside it only the diffuse light remains
