@@ -384,8 +384,8 @@ int cmd_bench(int argc, char** argv) {
                  "per condition on a hard set): median ms per frame, recall, false positives (all, and on images "
                  "without markers), mean corner error of found markers, and arwb's time as a ratio of each peer's.",
                  "Without DIR, synthetic sets are made in memory for each dictionary: --count images of the standard "
-                 "set (mixed 640x480, 1280x720 and 1920x1080) and of the hard set (low_contrast, tiny and low_light "
-                 "in turn, up to 3840x2160), as --set says.");
+                 "set (mixed 640x480, 1280x720 and 1920x1080) and of the hard set (low_contrast, tiny, low_light and "
+                 "crossed in turn, up to 3840x2160), as --set says.");
   declare_options(cl.app, a);
   if (const auto status = cl.parse(argc, argv)) return *status;
   a.has_dir = cl.app.count("DIR") > 0;

@@ -89,8 +89,9 @@ int cmd_synth(int argc, char** argv) {
   cl.app.add_option("--set", set_arg,
                     "standard: the photographs above; hard: what detectors miss, each image one of low_contrast "
                     "(large markers grey on grey, a soft shadow edge and a steep light gradient across them), tiny "
-                    "(markers of 10 to 24 px) and low_light (strong sensor noise and blur), at 640x480 up to "
-                    "3840x2160 unless --size says otherwise")
+                    "(markers of 10 to 24 px), low_light (strong sensor noise and blur) and crossed (thin lines "
+                    "across markers' borders, a large marker half in a shadow band), at 640x480 up to 3840x2160 "
+                    "unless --size says otherwise")
       ->type_name("standard|hard")
       ->check(CLI::IsMember({"standard", "hard"}));
   if (const auto status = cl.parse(argc, argv)) return *status;

@@ -32,6 +32,7 @@ struct DetectorParams {
   double polygon_epsilon_rate = 0;
   double min_side_rate = 0;
   int min_border_distance_px = 0;
+  int cut_thin_lines = 0;
   // nested_filter
   double min_marker_distance_rate = 0;
   // corner_refinement

@@ -144,7 +144,9 @@ std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::
                                      bool explain = true, int factor = 1);
 
 // quad_fit: a convex quad, clockwise on screen, or the rejection (its message only when `explain` asks: most
-// contours of a frame stop here too).
+// contours of a frame stop here too). With cut_thin_lines, a polygon that is a quad with a thin line's stub (a line
+// that crosses a marker's quiet zone into its border joins the two in one shape) gives the quad, its sides fitted
+// without the stub's points.
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
                                   Quad* quad, int factor = 1, bool explain = true);
 

@@ -191,6 +191,7 @@ std::string_view hardship_name(Hardship h) {
     case Hardship::low_contrast: return "low_contrast";
     case Hardship::tiny: return "tiny";
     case Hardship::low_light: return "low_light";
+    case Hardship::crossed: return "crossed";
     case Hardship::none: break;
   }
   return "none";
@@ -220,8 +221,17 @@ MarkerRange marker_range(const SynthOptions& opt, Hardship hard, double short_si
     r.max_side = 24;
     r.tilt = std::min(r.tilt, 35.0);
     r.min_px_per_cell = 1.25;
+  } else if (hard == Hardship::crossed) {
+    r.max_markers = 3;
   }
   return r;
+}
+
+// A crossed image's marker k: the sides it is drawn between (the held-out set's misses: large markers, and markers
+// of 37 and 55 px).
+std::pair<double, double> crossed_side(size_t k) {
+  constexpr double kSides[3][2] = {{190, 265}, {34, 40}, {50, 60}};
+  return {kSides[k % 3][0], kSides[k % 3][1]};
 }
 
 // The markers drawn into out.image, each in perspective, its quiet zone inside the frame and clear of the others.
@@ -229,11 +239,14 @@ void place_markers(const SynthOptions& opt, Hardship hard, const MarkerRange& ra
                    cv::RNG& rng, SynthImage& out) {
   const cv::Size size = opt.size;
   const bool empty = rng.uniform(0.0, 1.0) < opt.empty_fraction;
-  const int want = empty ? 0 : rng.uniform(1, range.max_markers + 1);
+  int want = empty ? 0 : rng.uniform(1, range.max_markers + 1);
+  if (hard == Hardship::crossed && !empty) want = 3;
   std::vector<cv::Rect> taken;
   for (int attempt = 0; int(out.markers.size()) < want && attempt < 200; ++attempt) {
     const Dictionary& d = opt.dictionaries[size_t(int(out.markers.size() + size_t(index)) % int(opt.dictionaries.size()))];
-    const double side = std::exp(rng.uniform(std::log(range.min_side), std::log(range.max_side)));
+    auto [lo, hi] = hard == Hardship::crossed ? crossed_side(out.markers.size())
+                                              : std::pair<double, double>(range.min_side, range.max_side);
+    const double side = std::exp(rng.uniform(std::log(lo), std::log(hi)));
     // One draw a statement, in the order GCC took them (see draw_clutter).
     const double cy = rng.uniform(side, size.height - side), cx = rng.uniform(side, size.width - side);
     const cv::Point2d centre(cx, cy);
@@ -268,6 +281,28 @@ void place_markers(const SynthOptions& opt, Hardship hard, const MarkerRange& ra
   }
 }
 
+// A crossed image's lines, dark and thin (1 to 2.5 px at 720 rows, thicker in larger frames): through the large
+// marker's border into it, and across each other marker's quiet zone, ending on its border, where a detector sees
+// one shape of the marker and the line.
+void draw_crossing_lines(cv::Mat& image, const std::vector<TruthMarker>& markers, double short_side, cv::RNG& rng) {
+  for (size_t k = 0; k < markers.size(); ++k) {
+    const Quad& q = markers[k].corners;
+    const int s = rng.uniform(0, 4);
+    const double t = rng.uniform(0.2, 0.8);
+    const cv::Point2d a = q[size_t(s)], b = q[size_t((s + 1) % 4)];
+    const cv::Point2d on = a + t * (b - a), along = (b - a) / cv::norm(b - a), out(along.y, -along.x);
+    // Out of the marker (its corners run clockwise on screen: the left of a side is outside), at 30 to 150 degrees
+    // to the side.
+    const double angle = rng.uniform(30.0, 150.0) * CV_PI / 180.0;
+    const cv::Point2d dir = std::cos(angle) * along + std::sin(angle) * out;
+    const double side = quad_perimeter(q) / 4;
+    const double outside = rng.uniform(1.0, 3.0) * side, inside = k == 0 ? rng.uniform(0.3, 0.9) * side : 0.0;
+    const int thickness = std::max(1, int(std::lround(rng.uniform(1.0, 2.5) * short_side / 720.0)));
+    const int grey = rng.uniform(15, 70);
+    cv::line(image, on - inside * dir, on + outside * dir, cv::Scalar::all(grey), thickness, cv::LINE_AA);
+  }
+}
+
 // Light: a gradient across the frame, and sometimes a soft shadow; what was added is appended to *notes.
 cv::Mat light_of(cv::Size size, Hardship hard, const std::vector<TruthMarker>& markers, double short_side,
                  cv::RNG& rng, std::string* notes) {
@@ -282,9 +317,9 @@ cv::Mat light_of(cv::Size size, Hardship hard, const std::vector<TruthMarker>& m
     for (int x = 0; x < size.width; ++x)
       light.at<float>(y, x) =
           float(std::max(0.05, base + gx * (x / double(size.width) - 0.5) + gy * (y / double(size.height) - 0.5)));
-  if (hard == Hardship::low_contrast && !markers.empty()) {
+  if ((hard == Hardship::low_contrast || hard == Hardship::crossed) && !markers.empty()) {
     // A shadow whose soft edge crosses the first marker: a straight edge at a random angle through a point near
-    // its centre, everything on one side darkened.
+    // its centre, everything on one side darkened; in a crossed image, a band from that edge about a side wide.
     const Quad& q = markers[0].corners;
     const cv::Point2f c = quad_centre(q);
     const double reach = 0.075 * quad_perimeter(q);  // 0.3 of a side
@@ -294,13 +329,14 @@ cv::Mat light_of(cv::Size size, Hardship hard, const std::vector<TruthMarker>& m
     const double softness = rng.uniform(1.0, 6.0) * std::max(1.0, short_side / 720.0);
     const cv::Point2d p(c.x + ox, c.y + oy), along(std::cos(angle), std::sin(angle)), across(-along.y, along.x);
     const double far = 4.0 * (size.width + size.height);
-    const std::vector<cv::Point> half = {p + far * along, p + far * along + far * across,
-                                         p - far * along + far * across, p - far * along};
+    const double width = hard == Hardship::crossed ? rng.uniform(0.7, 1.3) * quad_perimeter(q) / 4 : far;
+    const std::vector<cv::Point> half = {p + far * along, p + far * along + width * across,
+                                         p - far * along + width * across, p - far * along};
     cv::Mat shadow(size, CV_32FC1, cv::Scalar(1));
     cv::fillConvexPoly(shadow, half, cv::Scalar(depth), cv::LINE_AA);
     cv::GaussianBlur(shadow, shadow, cv::Size(0, 0), softness);
     light = light.mul(shadow);
-    *notes += "shadow_edge ";
+    *notes += hard == Hardship::crossed ? "shadow_band " : "shadow_edge ";
   } else if (rng.uniform(0, 3) == 0) {
     cv::Mat shadow(size, CV_32FC1, cv::Scalar(1));
     std::vector<cv::Point> poly;
@@ -364,6 +400,7 @@ SynthImage synth_photo(const SynthOptions& opt, uint64_t seed, int index) {
   const double short_side = std::min(size.width, size.height);
   place_markers(opt, hard, marker_range(opt, hard, short_side), index, focal, rng, out);
   if (!opt.effects) return out;
+  if (hard == Hardship::crossed) draw_crossing_lines(out.image, out.markers, short_side, rng);
 
   std::string notes;
   if (hard != Hardship::none) notes = std::string(hardship_name(hard)) + " ";

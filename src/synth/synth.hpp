@@ -47,8 +47,11 @@ enum class Hardship {
                  // steep light gradient across them
   tiny,          // markers of 10 to 24 px
   low_light,     // a dim scene: strong sensor noise and the blur of a long exposure
+  crossed,       // thin dark lines across markers' borders: a large marker (190 to 265 px) half in a soft shadow
+                 // band with a line through it, and a marker of about 37 px and one of about 55 px, each with a line
+                 // that crosses its quiet zone and ends on its border
 };
-constexpr Hardship kHardships[] = {Hardship::low_contrast, Hardship::tiny, Hardship::low_light};
+constexpr Hardship kHardships[] = {Hardship::low_contrast, Hardship::tiny, Hardship::low_light, Hardship::crossed};
 std::string_view hardship_name(Hardship h);
 
 struct SynthOptions {

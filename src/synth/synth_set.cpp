@@ -147,7 +147,7 @@ Result<std::vector<SetItem>> read_set(const std::string& dir, std::vector<std::s
                            return hardship_name(h) == c->get_ref<const std::string&>();
                          });
       if (!known) {
-        skip("\"condition\" is not one of low_contrast, tiny, low_light");
+        skip("\"condition\" is not one of low_contrast, tiny, low_light, crossed");
         continue;
       }
       item.condition = c->get<std::string>();

@@ -346,7 +346,7 @@ TEST(CliBench, VideoSequencesCompareWholeAndVideoSearch) {
 }
 
 TEST(CliBench, TheHardSetHasARowPerConditionAndPeersAreChosen) {
-  const auto r = run_arwb("bench --count 12 --reps 1 --json --set hard --peers aruco3 --dict ARUCO_ORIGINAL");
+  const auto r = run_arwb("bench --count 16 --reps 1 --json --set hard --peers aruco3 --dict ARUCO_ORIGINAL");
   ASSERT_EQ(r.status, 0) << r.err;
   Json j = parse(r.out);
   EXPECT_EQ(j["peers"], Json::array({"aruco3"}));
@@ -363,7 +363,7 @@ TEST(CliBench, TheHardSetHasARowPerConditionAndPeersAreChosen) {
   }
   EXPECT_EQ(detectors, (std::set<std::string>{"arwb", "aruco3"}));
   EXPECT_EQ(resolutions, (std::set<std::string>{"640x480", "1280x720", "1920x1080", "3840x2160", "all"}));
-  EXPECT_EQ(conditions, (std::set<std::string>{"low_contrast", "tiny", "low_light"}));
+  EXPECT_EQ(conditions, (std::set<std::string>{"low_contrast", "tiny", "low_light", "crossed"}));
 
   const auto table = run_arwb("bench --count 3 --reps 1 --set hard --peers none");
   ASSERT_EQ(table.status, 0) << table.err;

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <set>
@@ -132,7 +133,8 @@ TEST(SynthSet, TheHardSetHasEachHardshipAtEverySize) {
   std::map<std::string, std::set<int>> widths;
   double tiny_max = 0, contrast_max = 0;
   int tiny_markers = 0, contrast_markers = 0, dim_images = 0;
-  for (int i = 0; i < 12; ++i) {
+  std::vector<double> crossed_sides;
+  for (int i = 0; i < 16; ++i) {
     const SetItem item = make_set_item({d}, hard_sizes(), 1, i, SetKind::hard);
     ASSERT_FALSE(item.condition.empty());
     EXPECT_EQ(item.notes.rfind(item.condition + " ", 0), 0u) << item.notes;
@@ -146,10 +148,14 @@ TEST(SynthSet, TheHardSetHasEachHardshipAtEverySize) {
         contrast_max = std::max(contrast_max, std::abs(around - inside));
         ++contrast_markers;
       }
+      if (item.condition == "crossed") crossed_sides.push_back(side);
+    }
+    if (item.condition == "crossed" && !item.truth.empty()) {
+      EXPECT_NE(item.notes.find("shadow_band"), std::string::npos) << item.notes;
     }
     if (item.condition == "low_light") dim_images += cv::mean(item.image)[0] < 60;
   }
-  ASSERT_EQ(widths.size(), 3u);
+  ASSERT_EQ(widths.size(), 4u);
   for (const auto& [condition, seen] : widths)
     EXPECT_EQ(seen, (std::set<int>{640, 1280, 1920, 3840})) << condition;
   EXPECT_GT(tiny_markers, 4);
@@ -157,11 +163,21 @@ TEST(SynthSet, TheHardSetHasEachHardshipAtEverySize) {
   EXPECT_GT(contrast_markers, 2);
   EXPECT_LT(contrast_max, 60);  // grey on grey: a printed marker's black and white are 170 levels apart or more
   EXPECT_EQ(dim_images, 4);
+  // Crossed: in each image with markers, a large marker, one of about 37 px and one of about 55 px (less after
+  // perspective).
+  std::sort(crossed_sides.begin(), crossed_sides.end());
+  ASSERT_EQ(crossed_sides.size() % 3, 0u);
+  const size_t n = crossed_sides.size() / 3;
+  ASSERT_GE(n, 3u);
+  EXPECT_GT(crossed_sides[0], 24);
+  EXPECT_LE(crossed_sides[n - 1], 41);
+  EXPECT_LE(crossed_sides[2 * n - 1], 61);
+  EXPECT_GT(crossed_sides[2 * n], 120);
 }
 
 TEST(SynthSet, AHardSetsConditionReadsBackAndAnUnknownOneIsSkipped) {
   test::TempDir dir;
-  const SetItem item = make_set_item({make_aruco_original()}, {{320, 240}}, 7, 4, SetKind::hard);
+  const SetItem item = make_set_item({make_aruco_original()}, {{320, 240}}, 7, 5, SetKind::hard);
   ASSERT_EQ(item.condition, "tiny");
   ASSERT_TRUE(cv::imwrite(dir.str(item.file), item.image));
   std::string bad = truth_line(item);
@@ -173,5 +189,6 @@ TEST(SynthSet, AHardSetsConditionReadsBackAndAnUnknownOneIsSkipped) {
   ASSERT_EQ(set->size(), 1u);
   EXPECT_EQ(set->front().condition, "tiny");
   ASSERT_EQ(skipped.size(), 1u);
-  EXPECT_EQ(skipped[0], dir.str("truth.jsonl") + ":2: \"condition\" is not one of low_contrast, tiny, low_light");
+  EXPECT_EQ(skipped[0],
+            dir.str("truth.jsonl") + ":2: \"condition\" is not one of low_contrast, tiny, low_light, crossed");
 }

@@ -101,7 +101,9 @@ int approx_polygon(const std::vector<cv::Point>& c, double epsilon, std::array<i
 // sides stay straight. Each side uses the contour between its two vertices, less a fifth at each end (the
 // rounding). A side with too few points, or a corner that lands implausibly far from its vertex, keeps the
 // vertices as they are. `shift`: what the contour points lack of their block's centre on a decimated search.
-Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::array<int, 4>& at, double shift) {
+// `max_off`: points farther than this from the chord between the side's vertices are not the side's (a line's stub).
+Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::array<int, 4>& at, double shift,
+                        double max_off = 1e30) {
   Quad out;
   std::array<cv::Point, 4> poly;
   for (size_t i = 0; i < 4; ++i) {
@@ -115,7 +117,12 @@ Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::array<
     const int from = at[i], len = (at[(i + 1) % 4] - from + n) % n;
     const int trim = len / 5;
     pts.clear();
-    for (int k = trim; k <= len - trim; ++k) pts.emplace_back(contour[size_t((from + k) % n)]);
+    const cv::Point2d p0 = poly[i], d = cv::Point2d(poly[(i + 1) % 4]) - p0;
+    const double chord = std::max(cv::norm(d), 1.0);
+    for (int k = trim; k <= len - trim; ++k) {
+      const cv::Point c = contour[size_t((from + k) % n)];
+      if (std::abs((c.x - p0.x) * d.y - (c.y - p0.y) * d.x) <= max_off * chord) pts.emplace_back(c);
+    }
     if (pts.size() < 3) return out;
     lines[i] = fit_side(pts);
   }
@@ -127,6 +134,82 @@ Quad corners_from_sides(const std::vector<cv::Point>& contour, const std::array<
     if (cv::norm(fitted[i] - out[i]) > 0.25 * side) return out;
   }
   return fitted;
+}
+
+// A polygon of 5 to kMaxVertices corners that is a quad with a thin line's stub: four of its corners (in contour
+// order) make a convex quad no larger than the contour (5 % spare), at least min_perimeter_px around; the others
+// are one run between two of the four, at least one at least 3 blocks outside the quad (the stub's end), none
+// inside it by more than `epsilon` (a notch: no marker), and the run's first and last within `epsilon` of the side
+// it leaves (where the line leaves it and comes back). Of several, the largest quad. Text, rings, blobs and other
+// polygons do not pass; what does is read like any quad.
+bool quad_under_stub(const std::vector<cv::Point>& contour, double area, const std::array<int, kMaxVertices + 1>& at,
+                     int n, double epsilon, int factor, double min_perimeter, std::array<int, 4>* four) {
+  const double stub = 3.0 * factor;
+  double best = 0;
+  std::array<cv::Point2f, 4> q;
+  auto cross = [&](int k) {
+    const cv::Point2f u = q[size_t((k + 1) % 4)] - q[size_t(k)], w = q[size_t((k + 2) % 4)] - q[size_t((k + 1) % 4)];
+    return double(u.x) * w.y - double(u.y) * w.x;
+  };
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      for (int c = b + 1; c < n; ++c)
+        for (int d = c + 1; d < n; ++d) {
+          const int idx[4] = {a, b, c, d};
+          for (int k = 0; k < 4; ++k) q[size_t(k)] = contour[size_t(at[size_t(idx[k])])];
+          const double turn0 = cross(0);
+          if (turn0 == 0 || turn0 * cross(1) <= 0 || turn0 * cross(2) <= 0 || turn0 * cross(3) <= 0) continue;
+          double quad_area = 0;
+          for (int k = 0; k < 4; ++k) quad_area += double(q[size_t(k)].x) * q[size_t((k + 1) % 4)].y -
+                                                   double(q[size_t((k + 1) % 4)].x) * q[size_t(k)].y;
+          quad_area = std::abs(quad_area) / 2;
+          if (quad_area <= best || quad_area > 1.05 * area) continue;
+          double around = 0;
+          for (int k = 0; k < 4; ++k) around += cv::norm(q[size_t((k + 1) % 4)] - q[size_t(k)]);
+          if (around < min_perimeter) continue;
+          // The run: the one gap between consecutive chosen corners (cyclically) that holds the others.
+          const int gaps[4] = {b - a - 1, c - b - 1, d - c - 1, n - d - 1 + a};
+          int gap = -1;
+          for (int k = 0; k < 4; ++k)
+            if (gaps[k] > 0) gap = gap < 0 ? k : 4;
+          if (gap < 0 || gap == 4 || gaps[gap] < 2) continue;
+          const cv::Point2f s0 = q[size_t(gap)], s1 = q[size_t((gap + 1) % 4)];
+          const double len = std::max(double(cv::norm(s1 - s0)), 1.0);
+          auto off_side = [&](int v) {
+            const cv::Point2f r = cv::Point2f(contour[size_t(at[size_t(v % n)])]) - s0;
+            return std::abs(double(r.x) * (s1 - s0).y - double(r.y) * (s1 - s0).x) / len;
+          };
+          if (off_side(idx[gap] + 1) > epsilon || off_side(idx[gap] + gaps[gap]) > epsilon) continue;
+          const std::vector<cv::Point2f> poly(q.begin(), q.end());
+          bool outside = false, notch = false;
+          for (int v = 0; v < n; ++v) {
+            if (v == a || v == b || v == c || v == d) continue;
+            const double dist = cv::pointPolygonTest(poly, cv::Point2f(contour[size_t(at[size_t(v)])]), true);
+            outside = outside || dist <= -stub;
+            notch = notch || dist > epsilon;
+          }
+          if (!outside || notch) continue;
+          best = quad_area;
+          *four = {at[size_t(a)], at[size_t(b)], at[size_t(c)], at[size_t(d)]};
+        }
+  return best > 0;
+}
+
+// cut_thin_lines: the four corners of a polygon of more than 4 that is a quad with a stub, into at[0..3]. The stub's
+// length counts twice in the contour's perimeter, and so in epsilon: a corner near where the line leaves can fall
+// within it. So the polygon is made again at the tolerance of a square of the shape's area.
+bool cut_stub(const std::vector<cv::Point>& contour, const DetectorParams& p, int factor, double epsilon,
+              int vertices, std::array<int, kMaxVertices + 1>* at) {
+  const double area = cv::contourArea(contour);
+  const double fine_epsilon = std::min(epsilon, p.polygon_epsilon_rate * 4 * std::sqrt(area));
+  std::array<int, kMaxVertices + 1> fine_at = *at;
+  const int n = fine_epsilon < epsilon ? approx_polygon(contour, fine_epsilon, &fine_at) : vertices;
+  std::array<int, 4> four{};
+  if (n <= 4 || n > kMaxVertices ||
+      !quad_under_stub(contour, area, fine_at, n, fine_epsilon, factor, p.min_perimeter_px, &four))
+    return false;
+  std::copy(four.begin(), four.end(), at->begin());
+  return true;
 }
 
 }  // namespace
@@ -152,6 +235,10 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
       vertices = 4;
     }
   }
+  // Only a polygon of up to kMaxVertices corners: one of more is clutter, and the stub's search costs.
+  const bool stub = vertices > 4 && vertices <= kMaxVertices && p.cut_thin_lines &&
+                    cut_stub(contour, p, factor, epsilon, vertices, &at);
+  if (stub) vertices = 4;
   if (vertices != 4) {
     std::string why;
     if (explain)
@@ -168,7 +255,8 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
     const cv::Point d = poly[size_t(i)] - poly[size_t((i + 1) % 4)];
     min_side = std::min(min_side, std::sqrt(double(d.dot(d))));
   }
-  const double min_allowed = p.min_side_rate * perimeter;
+  // Of the quad's own perimeter when a stub was cut (the contour's holds the line's length twice).
+  const double min_allowed = p.min_side_rate * (stub ? cv::arcLength(poly, true) : perimeter);
   if (min_side < min_allowed)
     return reject(Stage::quad_fit, "min_side_rate", min_side, min_allowed,
                   explain ? fmt("shortest side %.1f px < min_side_rate x perimeter = %.1f px", min_side, min_allowed)
@@ -181,7 +269,9 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
                   explain ? fmt("corner %.0f px from the image edge < min_border_distance_px %.0f px", edge,
                                 p.min_border_distance_px)
                           : "");
-  Quad q = corners_from_sides(contour, {at[0], at[1], at[2], at[3]}, (factor - 1) / 2.0 - (factor - 1) / 2);
+  // A stub's points are off the sides by more than its thickness near where it leaves them.
+  Quad q = corners_from_sides(contour, {at[0], at[1], at[2], at[3]}, (factor - 1) / 2.0 - (factor - 1) / 2,
+                              stub ? 1.5 * factor : 1e30);
   // Clockwise on screen (y down): the cross product of the first two edges is positive.
   const cv::Point2f a = q[1] - q[0], b = q[2] - q[0];
   if (double(a.x) * b.y - double(a.y) * b.x < 0) std::swap(q[1], q[3]);

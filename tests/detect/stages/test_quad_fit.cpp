@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
@@ -141,4 +142,53 @@ TEST(Stages, QuadFitCornersAreWhereTheSidesMeetWhenBlurRoundsThem) {
   // 1.5 px inside the printed edge; the corners should be its sides' crossings, not a point on the rounding.
   const cv::Point2f truth[4] = {{61.5f, 51.5f}, {157.5f, 51.5f}, {157.5f, 157.5f}, {61.5f, 157.5f}};
   for (size_t k = 0; k < 4; ++k) EXPECT_LT(cv::norm(q[k] - truth[k]), 1.2) << k << ": " << q[k];
+}
+
+// A square of 60 px with a line 2 px thick leaving one side, and the same at half size (factor 2): no quad fits
+// the polygon as it is, the square's does once the stub is cut, where the square lies; a rectangle crossed by a
+// line end to end (two stubs, a corner more than kMaxVertices allows), an L and a square with a notch are no quads.
+TEST(Stages, QuadFitCutsAThinLinesStubFromAQuad) {
+  for (const int factor : {1, 2}) {
+    SCOPED_TRACE(factor);
+    DetectorParams p;
+    cv::Mat bin(400 / factor, 400 / factor, CV_8UC1, cv::Scalar(0));
+    const int s = 60 / factor;
+    cv::rectangle(bin, cv::Rect(100 / factor, 100 / factor, s, s), cv::Scalar(255), -1);
+    cv::line(bin, cv::Point(100 / factor + s, 100 / factor + s / 2), cv::Point(360 / factor, 40 / factor),
+             cv::Scalar(255), 2);
+    const auto contours = stages::find_contours(bin, p.min_perimeter_px, nullptr, nullptr, factor);
+    ASSERT_EQ(contours.size(), 1u);
+    Quad q;
+    p.cut_thin_lines = 0;
+    EXPECT_TRUE(stages::fit_quad(contours[0], cv::Size(400, 400), p, &q, factor));
+    p.cut_thin_lines = 1;
+    ASSERT_FALSE(stages::fit_quad(contours[0], cv::Size(400, 400), p, &q, factor));
+    // The outer pixels' centres: 100 .. 159 (at factor 2 the blocks' centres 100 .. 158).
+    const float far = factor == 1 ? 159.f : 158.f;
+    const Quad want{cv::Point2f(100, 100), {far, 100}, {far, far}, {100, far}};
+    for (const cv::Point2f& w : want) {
+      double nearest = 1e9;
+      for (const cv::Point2f& c : q) nearest = std::min(nearest, double(cv::norm(c - w)));
+      EXPECT_LT(nearest, 0.75) << w;
+    }
+  }
+  DetectorParams p;
+  auto fits = [&](const cv::Mat& bin) {
+    const auto contours = stages::find_contours(bin, p.min_perimeter_px);
+    Quad q;
+    return contours.size() == 1 && !stages::fit_quad(contours[0], bin.size(), p, &q);
+  };
+  cv::Mat through(300, 300, CV_8UC1, cv::Scalar(0));
+  cv::rectangle(through, cv::Rect(100, 100, 40, 40), cv::Scalar(255), -1);
+  cv::line(through, cv::Point(40, 60), cv::Point(260, 200), cv::Scalar(255), 2);
+  EXPECT_FALSE(fits(through));
+  cv::Mat ell(300, 300, CV_8UC1, cv::Scalar(0));
+  cv::rectangle(ell, cv::Rect(100, 100, 20, 60), cv::Scalar(255), -1);
+  cv::rectangle(ell, cv::Rect(100, 140, 60, 20), cv::Scalar(255), -1);
+  EXPECT_FALSE(fits(ell));
+  cv::Mat notch(300, 300, CV_8UC1, cv::Scalar(0));
+  cv::rectangle(notch, cv::Rect(100, 100, 40, 40), cv::Scalar(255), -1);
+  cv::rectangle(notch, cv::Rect(115, 100, 10, 15), cv::Scalar(0), -1);
+  cv::line(notch, cv::Point(140, 120), cv::Point(220, 90), cv::Scalar(255), 2);
+  EXPECT_FALSE(fits(notch));
 }
