@@ -255,14 +255,29 @@ Result<Request> lab_span(Arg, Arg arg) {
   return Request(MarkClipSpan{arg == "start" ? SpanEnd::start : arg == "end" ? SpanEnd::end : SpanEnd::whole});
 }
 
-Result<Request> lab_clip(Arg, Arg arg) {
-  // lab_clip=ID,SIZE_MM,DISTANCE_M,LUX[,DIR]: the clip's row as typed in the panel, then Save to videos.csv.
+// ID,SIZE_MM,DISTANCE_M,LUX[,DIR]: a clip's marker and conditions as typed in the Lab panel.
+Result<ClipRow> clip_row(const char* action, Arg arg) {
   ClipRow row;
   char dir[1024] = "";
   if (std::sscanf(arg.c_str(), "%d,%lf,%lf,%lf,%1023[^\n]", &row.id, &row.size_mm, &row.distance_m, &row.lux, dir) < 4)
-    return fail("--actions lab_clip: ID,SIZE_MM,DISTANCE_M,LUX[,DIR], not '" + arg + "'");
+    return fail(std::string("--actions ") + action + ": ID,SIZE_MM,DISTANCE_M,LUX[,DIR], not '" + arg + "'");
   row.dir = dir;
-  return Request(SaveClip{row});
+  return row;
+}
+
+Result<Request> lab_clip(Arg, Arg arg) {
+  // lab_clip=ID,SIZE_MM,DISTANCE_M,LUX[,DIR]: the clip's row as typed in the panel, then Save to videos.csv.
+  Result<ClipRow> row = clip_row("lab_clip", arg);
+  if (!row) return fail(row.error());
+  return Request(SaveClip{*row});
+}
+
+Result<Request> lab_record(Arg, Arg arg) {
+  // lab_record=ID,SIZE_MM,DISTANCE_M,LUX[,DIR]: the conditions as typed in the panel, then Record; lab_record=stop.
+  if (arg == "stop") return Request(StopClip{});
+  Result<ClipRow> row = clip_row("lab_record", arg);
+  if (!row) return fail(row.error() + " (or stop)");
+  return Request(RecordClip{*row});
 }
 
 Result<Request> export_size(Arg, Arg arg) {
@@ -350,6 +365,8 @@ const Verb kVerbs[] = {
     {"lab_save", [](Arg, Arg a) -> Result<Request> { return Request(SaveLabReport{a}); }},
     {"lab_span", lab_span},
     {"lab_clip", lab_clip},
+    {"lab_record", lab_record},
+    {"lab_print", [](Arg, Arg) -> Result<Request> { return Request(PrintClipMarker{}); }},
     {"export_dialog", [](Arg, Arg a) -> Result<Request> { return Request(OpenExportDialog{a}); }},
     {"export", [](Arg, Arg a) -> Result<Request> { return Request(WriteExport{a}); }},
     {"export_title", [](Arg, Arg a) -> Result<Request> { return Request(SetExportTitle{a}); }},

@@ -114,6 +114,10 @@ struct App {
   lab::LabSession lab_session;
   std::future<Status> lab_save_future;
   std::string lab_save_dir;
+  // The clip being recorded from the source (Record), and the row and folder it goes into videos.csv with.
+  std::shared_ptr<ClipRecorder> recorder;
+  lab::VideoRow recording_row;
+  std::string recording_dir;
   // File > Export... and the players started (ui/export_requests.cpp).
   ExportDialog export_dialog;
   std::shared_ptr<Players> players = std::make_shared<Players>();
@@ -201,6 +205,9 @@ struct App {
   void save_lab_report(const std::string& dir);
   void save_clip(const std::optional<ui::ClipRow>& typed);
   void mark_clip_span(ui::SpanEnd end);
+  void record_clip(const std::optional<ui::ClipRow>& typed);
+  void stop_clip();
+  void print_clip_marker();
   void why_lab_marker();
   void lab_say(const std::string& message, bool is_error);
   void poll_lab();

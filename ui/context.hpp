@@ -13,6 +13,7 @@
 #include "workbench/frame.hpp"
 #include "detect/params.hpp"
 #include "synth/synthetic_world.hpp"
+#include "capture/clip_recorder.hpp"
 #include "capture/source.hpp"
 #include "detect/trace.hpp"
 #include "workbench/log.hpp"
@@ -60,7 +61,16 @@ struct LabSettings {
   // ("": the clip's own folder).
   lab::VideoRow clip{"", "", 0, "ARUCO_ORIGINAL", 65, 1, 850, -1, -1, 0};
   std::string videos_dir;
+  // Recording clips from the source with those conditions: the folder whose videos.csv lists them ("": the user's
+  // lab/videos), and the paper's protocol as ticked (panel_lab_clips.cpp's kProtocol).
+  std::string record_dir;
+  std::array<bool, 6> protocol{};
 };
+
+// Where Record writes clips/ and videos.csv: the folder typed, or the user's lab/videos.
+inline std::string record_folder(const LabSettings& s, const std::string& config_dir) {
+  return s.record_dir.empty() ? config_dir + "/lab/videos" : s.record_dir;
+}
 
 // Settings the user edits; the workbench sends each change to the worker.
 struct Settings {
@@ -174,6 +184,9 @@ struct Status {
   std::string lab_message;
   bool lab_message_error = false;
   bool lab_saving = false;
+  // A clip being recorded (lab_recording), or the last one recorded: its file, frames and dropped frames.
+  bool lab_recording = false;
+  ClipSummary lab_clip;
 };
 
 // Zoom and pan of an image view; the live view and the pipeline's large view share one, so the same pixel sits

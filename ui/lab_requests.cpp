@@ -18,6 +18,26 @@ namespace {
 
 std::string plural(int n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); }
 
+// The conditions as typed in the Lab panel (--actions lab_clip, lab_record), the marker of the first dictionary.
+void type_clip_row(lab::VideoRow& clip, const ui::ClipRow& typed, const std::vector<std::string>& dictionaries) {
+  clip.id = typed.id;
+  clip.size_mm = typed.size_mm;
+  clip.distance_m = typed.distance_m;
+  clip.lux = typed.lux;
+  clip.dictionary = dictionaries.empty() ? "ARUCO_ORIGINAL" : dictionaries[0];
+}
+
+// clips/m17_65mm_1m_850lx_1.mkv: the marker and conditions in the name, then the first number not taken in `dir`.
+std::string clip_name(const std::string& dir, const lab::VideoRow& row) {
+  char stem[160];
+  std::snprintf(stem, sizeof stem, "clips/m%d_%gmm_%gm_%glx_", row.id, row.size_mm, row.distance_m, row.lux);
+  std::error_code ec;
+  for (int k = 1;; ++k) {
+    const std::string name = stem + std::to_string(k) + ".mkv";
+    if (!std::filesystem::exists(std::filesystem::path(dir) / name, ec)) return name;
+  }
+}
+
 }  // namespace
 
 void App::lab_say(const std::string& message, bool is_error) {
@@ -93,11 +113,7 @@ void App::save_lab_report(const std::string& dir) {
 void App::save_clip(const std::optional<ui::ClipRow>& typed) {
   lab::VideoRow& clip = settings.lab.clip;
   if (typed) {
-    clip.id = typed->id;
-    clip.size_mm = typed->size_mm;
-    clip.distance_m = typed->distance_m;
-    clip.lux = typed->lux;
-    clip.dictionary = settings.dictionaries.empty() ? "ARUCO_ORIGINAL" : settings.dictionaries[0];
+    type_clip_row(clip, *typed, settings.dictionaries);
     settings.lab.videos_dir = typed->dir;
   }
   const SourceSpec src = engine->source();
@@ -112,6 +128,77 @@ void App::save_clip(const std::optional<ui::ClipRow>& typed) {
               (row.last_frame >= 0 ? ", frames " + std::to_string(row.first_frame) + " to " + std::to_string(row.last_frame)
                                    : ", the whole clip"),
           false);
+}
+
+// Record: the source's frames from now into a clip of DIR/clips (lossless), with the conditions as typed; the row
+// goes into DIR/videos.csv when it stops. The conditions are checked first, so that no clip is filmed for nothing.
+void App::record_clip(const std::optional<ui::ClipRow>& typed) {
+  lab::VideoRow& clip = settings.lab.clip;
+  if (typed) {
+    type_clip_row(clip, *typed, settings.dictionaries);
+    if (!typed->dir.empty()) settings.lab.record_dir = typed->dir;
+  }
+  if (status.lab_recording) return lab_say("a clip is being recorded: Stop it first", true);
+  const SourceSpec src = engine->source();
+  if (src.kind == SourceKind::lab)
+    return lab_say("recording needs a camera or a video as the source, not a lab cell", true);
+  if (!frame || frame->source.size.area() == 0) return lab_say("recording needs a frame from the source first", true);
+  lab::VideoRow row = clip;
+  row.first_frame = 0;
+  row.last_frame = -1;
+  if (const Status s = lab::check_video_row(row); !s) return lab_say("the clip's conditions: " + s.error(), true);
+  const std::string dir = ui::record_folder(settings.lab, status.config_dir);
+  const std::string path = (std::filesystem::path(dir) / clip_name(dir, row)).string();
+  auto rec = std::make_shared<ClipRecorder>();
+  if (const Status s = rec->start(path, frame->source.size, frame->source.native_fps); !s)
+    return lab_say(s.error(), true);
+  recorder = std::move(rec);
+  engine->set_recorder(recorder);
+  recording_row = row;
+  recording_dir = dir;
+  status.lab_recording = true;
+  status.lab_clip = recorder->progress();
+  lab::Cell cell;
+  cell.size_mm = row.size_mm;
+  cell.distance_m = row.distance_m;
+  cell.lux = row.lux;
+  lab_say("recording " + path + " from " + src.text() + ": marker " + std::to_string(row.id) + ", " +
+              lab::cell_name(cell),
+          false);
+}
+
+// Stop: the clip is closed and listed in videos.csv as one whole-clip row. A clip that got no frame is removed.
+void App::stop_clip() {
+  if (!status.lab_recording || !recorder) return lab_say("no clip is being recorded", true);
+  engine->set_recorder(nullptr);
+  status.lab_clip = recorder->stop();
+  status.lab_recording = false;
+  const ClipSummary& c = status.lab_clip;
+  std::error_code ec;
+  if (c.frames == 0) {
+    std::filesystem::remove(c.path, ec);
+    return lab_say("no frame came from the source while recording (is it frozen or at its end?): no clip kept" +
+                       (c.error.empty() ? "" : "; " + c.error),
+                   true);
+  }
+  const std::string list = (std::filesystem::path(recording_dir) / "videos.csv").string();
+  if (const Status s = lab::save_video_row(recording_dir, c.path, recording_row); !s)
+    return lab_say(s.error() + " (the clip is kept: " + c.path + ")", true);
+  char b[160];
+  std::snprintf(b, sizeof b, ", %lld frames in %.1f s", (long long)c.frames, c.seconds);
+  std::string said = list + ": " + std::filesystem::path(c.path).filename().string() + b;
+  if (c.dropped > 0) said += "; " + plural(int(c.dropped), "frame", "frames") + " dropped (the disk was too slow)";
+  if (!c.error.empty()) said += "; " + c.error;
+  lab_say(said, c.dropped > 0 || !c.error.empty());
+}
+
+// The marker to film, at the size typed: one page with the printer's check bar, beside the clips.
+void App::print_clip_marker() {
+  const lab::VideoRow& c = settings.lab.clip;
+  char name[96];
+  std::snprintf(name, sizeof name, "marker_%d_%gmm.pdf", c.id, c.size_mm);
+  const std::string dir = ui::record_folder(settings.lab, status.config_dir);
+  write_marker_sheet({(std::filesystem::path(dir) / name).string(), c.dictionary, std::to_string(c.id), c.size_mm});
 }
 
 // The Lab panel's span buttons on the video frame shown.
@@ -130,6 +217,10 @@ void App::why_lab_marker() {
 }
 
 void App::poll_lab() {
+  if (status.lab_recording && recorder) {
+    status.lab_clip = recorder->progress();
+    if (!recorder->recording()) stop_clip();   // it ended on its own: the source's frames changed size
+  }
   const std::shared_ptr<const lab::LabProgress> before = status.lab;
   status.lab = lab_session.snapshot();
   const lab::LabProgress* p = status.lab.get();

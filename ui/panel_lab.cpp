@@ -356,50 +356,6 @@ void cell_section(Context& ctx, LabView& v, const lab::LabProgress& p) {
   }
 }
 
-// A video playing: its span and conditions as a row of videos.csv, for arwb lab --videos (the paper's F_Num: the
-// frames in which the marker is visible).
-void clip_section(Context& ctx) {
-  const Frame* f = ctx.frame;
-  if (!f || f->source.kind != SourceKind::video) return;
-  lab::VideoRow& row = ctx.settings.lab.clip;
-  ImGui::Separator();
-  ImGui::TextUnformatted("This clip for arwb lab --videos");
-  const int at = f->source.position;
-  if (ImGui::Button("Span starts here")) row.first_frame = at;
-  flow(button_width("Span ends here"));
-  if (ImGui::Button("Span ends here")) row.last_frame = at;
-  flow(button_width("Whole clip"));
-  if (ImGui::Button("Whole clip")) row.first_frame = row.last_frame = -1;
-  char b[160];
-  if (row.first_frame >= 0 && row.last_frame >= 0)
-    std::snprintf(b, sizeof b, "the marker is in view in frames %lld to %lld (%lld frames)", (long long)row.first_frame,
-                  (long long)row.last_frame, (long long)(row.last_frame - row.first_frame + 1));
-  else if (row.first_frame >= 0 || row.last_frame >= 0)
-    std::snprintf(b, sizeof b, "mark the span's %s too", row.first_frame >= 0 ? "end" : "start");
-  else
-    std::snprintf(b, sizeof b, "the marker is in view in the whole clip");
-  ImGui::TextWrapped("%s", b);
-  // The marker: the one detected now, by default.
-  if (!f->trace.markers.empty() && ImGui::Button("Use the marker in view")) {
-    row.id = f->trace.markers[0].id;
-    row.dictionary = f->trace.markers[0].dict;
-  }
-  const float w = 130 * ctx.scale;
-  fit_item_width(w, "marker id");
-  ImGui::InputInt("marker id", &row.id);
-  row.id = std::max(0, row.id);
-  fit_item_width(w, "size (mm)");
-  ImGui::InputDouble("size (mm)", &row.size_mm, 1, 10, "%.1f");
-  fit_item_width(w, "distance (m)");
-  ImGui::InputDouble("distance (m)", &row.distance_m, 0.1, 0.5, "%.2f");
-  fit_item_width(w, "light (lux)");
-  ImGui::InputDouble("light (lux)", &row.lux, 50, 100, "%.0f");
-  ImGui::TextDisabled("dictionary %s", row.dictionary.c_str());
-  if (ImGui::Button("Save to videos.csv")) ctx.request(SaveClip{});
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("A row in videos.csv beside the clip (replacing this clip's row if there is one).");
-}
-
 void save_section(Context& ctx, LabView& v, const lab::LabProgress& p) {
   if (!p.complete) return;
   ImGui::Separator();
@@ -423,7 +379,7 @@ void draw_lab(Context& ctx) {
   const bool running = p && p->running;
   if (ImGui::CollapsingHeader("Plan", running ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) plan_section(ctx, v, running);
   run_section(ctx, p);
-  clip_section(ctx);
+  draw_lab_clips(ctx);
   if (!p || p->cells.empty()) return;
   grid(ctx, v, *p);
   cell_section(ctx, v, *p);

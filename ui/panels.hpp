@@ -26,8 +26,9 @@ void draw_script(Context& ctx);       // the scene file's text: edit, save, erro
 void draw_console(Context& ctx);      // the scene's print output, warnings and errors
 void draw_calibrate(Context& ctx);    // the calibration coach: board, capture, checklist, coverage, the camera
 void draw_calibration_views(Context& ctx);   // per-view errors (click drops), coverage and cross-validation maps
-void draw_pose(Context& ctx);
-void draw_lab(Context& ctx);          // the recognition lab: plan, run, the grid filling in, a cell's frames         // each tracked marker's pose: position, angles, ambiguity, errors over time
+void draw_pose(Context& ctx);         // each tracked marker's pose: position, angles, ambiguity, errors over time
+void draw_lab(Context& ctx);          // the recognition lab: plan, run, the grid filling in, a cell's frames
+void draw_lab_clips(Context& ctx);    // its clips for arwb lab --videos: Record from the source, a video's span
 
 // Draws panel p into the current window.
 void draw_panel(Panel p, Context& ctx);

@@ -250,6 +250,11 @@ struct ClipRow {   // the clip's row as typed in the Lab panel
 struct SaveClip {   // Settings::lab.clip for the video playing, into videos.csv
   std::optional<ClipRow> typed;
 };
+struct RecordClip {   // Record: a clip from the source with Settings::lab.clip's conditions, listed in videos.csv
+  std::optional<ClipRow> typed;   // dir: the folder of clips/ and videos.csv ("": as the panel says)
+};
+struct StopClip {};   // Stop: the clip ends, and its row goes into videos.csv
+struct PrintClipMarker {};   // the clip's marker at its size typed, a PDF in Record's folder
 struct SaveLabReport {   // tables, plots and report.pdf
   std::string dir;
 };
@@ -312,7 +317,8 @@ using Request = std::variant<
     SetCalibrationBoard, SetCalibrationCapture, SetUndistort, SetMarkerSize, DropCalibrationView, ResetCalibration,
     SaveCalibrationAs, SaveCalibration, WaitForCalibration,
     UsePaperPlan, ReadLabPlan, SetLabFrames, SetLabAxis, SetLabDetectors, StartLab, StopLab, WaitForLab, OpenLabCell,
-    WhyLabMarker, MarkClipSpan, SaveClip, SaveLabReport,
+    WhyLabMarker, MarkClipSpan, SaveClip, RecordClip, StopClip, PrintClipMarker,
+    SaveLabReport,
     OpenExportDialog, CheckExport, WriteExport, SetExportTitle, SetExportSize, SetExportCalibration, SetExportForce,
     SetExportWeb, SetExportConvert, ServeBundle, WaitForExport, PlayBundle, SetPlayArgs, WaitForPlayers, WaitForSource>;
 

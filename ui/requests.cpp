@@ -172,6 +172,9 @@ void App::carry_out(const ui::Request& request) {
           [&](const WhyLabMarker&) { why_lab_marker(); },
           [&](const MarkClipSpan& r) { mark_clip_span(r.end); },
           [&](const SaveClip& r) { save_clip(r.typed); },
+          [&](const RecordClip& r) { record_clip(r.typed); },
+          [&](const StopClip&) { stop_clip(); },
+          [&](const PrintClipMarker&) { print_clip_marker(); },
           [&](const SaveLabReport& r) { save_lab_report(r.dir); },
           // Export and play (ui/export_requests.cpp).
           [&](const OpenExportDialog& r) { open_export_dialog(r.out); },

@@ -103,6 +103,9 @@ Json lab_stats(const App& app) {
   lab["frame"] = app.frame && app.frame->source.kind == SourceKind::lab ? app.frame->source.position : -1;
   lab["message"] = app.status.lab_message;
   lab["plan_set"] = app.settings.lab.plan.name;   // the panel's plan (what Run would run)
+  const ClipSummary& c = app.status.lab_clip;   // Record: the clip being recorded, or the last one
+  lab["clip"] = {{"recording", app.status.lab_recording}, {"path", c.path}, {"frames", c.frames},
+                 {"dropped", c.dropped}, {"error", c.error}};
   return lab;
 }
 

@@ -358,6 +358,8 @@ int run_workbench(const WorkbenchOptions& options) {
     app.sweep_cancel = true;
     app.sweep_future.wait();
   }
+  // A clip still recording is closed and listed, as Stop does: quitting loses no footage.
+  if (app.status.lab_recording) app.stop_clip();
   const uint64_t detected = app.engine->frames_done();
   // Quitting waits for the worker half a second at most: one stuck in a scene's library call must not hold the
   // window open (the UI never waits for it while running, so frames were drawn all along).

@@ -115,17 +115,7 @@ Result<std::vector<VideoRow>> read_video_list(const std::string& dir) {
   return rows;
 }
 
-Status save_video_row(const std::string& dir, const std::string& clip, const VideoRow& row) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (dir.empty() || !fs::is_directory(dir, ec)) return fail("the videos' folder '" + shown_name(dir) + "' is not a folder");
-  const fs::path base = fs::weakly_canonical(fs::absolute(dir), ec);
-  const fs::path file = fs::weakly_canonical(fs::absolute(clip), ec);
-  const fs::path rel = file.lexically_relative(base);
-  if (rel.empty() || *rel.begin() == "..") return fail(shown_name(clip) + ": not inside the videos' folder " + shown_name(dir));
-  const std::string name = rel.generic_string();
-  if (name.find(',') != std::string::npos || name.find('"') != std::string::npos)
-    return fail(shown_name(name) + ": a file name with a comma or a quote cannot be a row of videos.csv");
+Status check_video_row(const VideoRow& row) {
   const auto dict = dictionary_by_name(row.dictionary);
   if (!dict) return fail("dictionary: unknown '" + shown_name(row.dictionary) + "'");
   if (row.id < 0 || row.id >= dict->size())
@@ -142,9 +132,24 @@ Status save_video_row(const std::string& dir, const std::string& clip, const Vid
       return fail(b);
     }
   }
-  const bool span = row.last_frame >= 0;
-  if (span && (row.first_frame < 0 || row.last_frame < row.first_frame))
+  if (row.last_frame >= 0 && (row.first_frame < 0 || row.last_frame < row.first_frame))
     return fail("last_frame " + std::to_string(row.last_frame) + " is before first_frame " + std::to_string(row.first_frame));
+  return {};
+}
+
+Status save_video_row(const std::string& dir, const std::string& clip, const VideoRow& row) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (dir.empty() || !fs::is_directory(dir, ec)) return fail("the videos' folder '" + shown_name(dir) + "' is not a folder");
+  const fs::path base = fs::weakly_canonical(fs::absolute(dir), ec);
+  const fs::path file = fs::weakly_canonical(fs::absolute(clip), ec);
+  const fs::path rel = file.lexically_relative(base);
+  if (rel.empty() || *rel.begin() == "..") return fail(shown_name(clip) + ": not inside the videos' folder " + shown_name(dir));
+  const std::string name = rel.generic_string();
+  if (name.find(',') != std::string::npos || name.find('"') != std::string::npos)
+    return fail(shown_name(name) + ": a file name with a comma or a quote cannot be a row of videos.csv");
+  if (Status s = check_video_row(row); !s) return s;
+  const bool span = row.last_frame >= 0;
   char b[512];
   std::snprintf(b, sizeof b, "%s,%d,%s,%g,%g,%g", name.c_str(), row.id, row.dictionary.c_str(), row.size_mm,
                 row.distance_m, row.lux);

@@ -33,6 +33,10 @@ struct VideoRow {
 // "videos.csv:1: the header must be file,id,dictionary,size_mm,distance_m,lux[,first_frame,last_frame]".
 Result<std::vector<VideoRow>> read_video_list(const std::string& dir);
 
+// A row's fields as save_video_row takes them: the dictionary known, the id one of its markers, size_mm, distance_m
+// and lux in range, the span (when given) in order. The one line of the first problem, naming the field.
+Status check_video_row(const VideoRow& row);
+
 // Marks a clip in DIR/videos.csv, as the Lab workspace does from the clip playing in the live view: `clip` is the
 // video's path (it must be inside DIR; the row names it relative to DIR), the other fields as VideoRow's
 // (first_frame and last_frame both given, or last_frame -1 for the whole clip). A row for the same file is replaced,

@@ -115,6 +115,7 @@ void Engine::reset_calibration() { ARWB_SET(calibration_reset, true); }
 void Engine::load_calibration(const std::string& path) { ARWB_SET(calibration_file, path); }
 void Engine::set_undistort(bool on) { ARWB_SET(undistort, on); }
 void Engine::set_marker_size(double side) { ARWB_SET(marker_size, side); }
+void Engine::set_recorder(std::shared_ptr<ClipRecorder> recorder) { ARWB_SET(recorder, std::move(recorder)); }
 #undef ARWB_SET
 void Engine::drop_calibration_view(const std::string& name) {
   std::lock_guard lock(s_->mutex_);

@@ -16,6 +16,7 @@
 #include "workbench/frame.hpp"
 #include "detect/params.hpp"
 #include "synth/synthetic_source.hpp"
+#include "capture/clip_recorder.hpp"
 #include "capture/source.hpp"
 
 #include <atomic>
@@ -107,6 +108,9 @@ class Engine {
   void set_undistort(bool on);
   // The printed marker's side for poses (Frame::pose_marker_side); 0 or less: poses in marker sides.
   void set_marker_size(double side);
+  // Every new frame from the source, as taken (before acquisition), into `recorder` (the Lab workspace's Record);
+  // null stops handing them over. The recorder encodes on its own thread: the worker never waits on the disk.
+  void set_recorder(std::shared_ptr<ClipRecorder> recorder);
 
   double detect_fps() const;                 // finished frames per second over the last second or so
   uint64_t frames_done() const;

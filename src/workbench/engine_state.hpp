@@ -40,10 +40,12 @@ struct Engine::Pending {
   bool calibration_reset = false;
   std::optional<std::string> calibration_file;
   std::optional<double> marker_size;
+  std::optional<std::shared_ptr<ClipRecorder>> recorder;
   bool any() const {
     return source || made || params || dictionaries || acquisition || playback || !steps.empty() || seek || synthetic || frozen ||
            next_frame || peers || stage_style || scene_file || calibrating || calibration_capture || undistort || calibration_board ||
-           !calibration_drops.empty() || calibration_reset || calibration_file || marker_size;
+           !calibration_drops.empty() || calibration_reset || calibration_file || marker_size ||
+           recorder;
   }
 };
 
@@ -67,6 +69,7 @@ struct Engine::Worker {
   std::unique_ptr<AprilTagPeer> apriltag;
   std::string peers_dict;        // the dictionary the peers were made for
   cv::Mat raw;                   // the source's last frame, before acquisition
+  std::shared_ptr<ClipRecorder> recorder;   // set_recorder: takes every new raw frame
   std::vector<TruthMarker> raw_truth;
   SourceInfo info;
   double capture_ms = 0;

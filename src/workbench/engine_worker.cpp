@@ -91,6 +91,7 @@ void Engine::State::fall_back(const std::string& why) {
 void Engine::State::apply(Pending& p) {
   Worker& w = *worker_;
   w.asked = std::max(w.asked, p.asked);
+  if (p.recorder) w.recorder = std::move(*p.recorder);   // before the source: its first frame is the clip's
   apply_source(p);
   apply_detector(p);
   apply_playback(p);
@@ -279,6 +280,7 @@ bool Engine::State::capture(double now) {
     case FrameStatus::ok:
       if (!next.empty()) {
         w.raw = std::move(next);
+        if (w.recorder) w.recorder->push(w.raw);
         const auto* known = dynamic_cast<const TruthSource*>(w.source.get());
         w.raw_truth = known ? known->truth() : std::vector<TruthMarker>{};
         fresh = true;

@@ -46,7 +46,8 @@ TEST(Actions, EveryVerbTheHelpListsMakesARequest) {
       {"undistort", "on"}, {"pose", "all"}, {"marker_size", "50"}, {"lab_plan", "paper"}, {"lab_frames", "4"},
       {"lab_axis", "lux:850"}, {"lab_detectors", "arwb"}, {"lab_run", ""}, {"lab_stop", ""}, {"lab_wait", ""},
       {"lab_cell", "2,0"}, {"lab_why", ""}, {"lab_save", "out"}, {"lab_span", "start"},
-      {"lab_clip", "5,65,1,850"}, {"export_dialog", ""}, {"export", "b.arwb"}, {"export_title", "T"},
+      {"lab_clip", "5,65,1,850"}, {"lab_record", "5,65,1,850"}, {"lab_print", ""},
+      {"export_dialog", ""}, {"export", "b.arwb"}, {"export_title", "T"},
       {"export_size", "65"}, {"export_calibration", "off"}, {"export_force", "on"}, {"export_web", "on"}, {"export_convert", "on"}, {"serve", "on"}, {"export_wait", ""}, {"source_wait", ""},
       {"play", "b.arwb"}, {"play_args", "--frames 5"}, {"play_wait", "3"}};
   ASSERT_EQ(samples.size(), action_verbs().size()) << "a verb without a sample here";
@@ -121,6 +122,12 @@ TEST(Actions, ArgumentsLandInNamedFields) {
   EXPECT_EQ(clip.typed->id, 5);
   EXPECT_EQ(clip.typed->distance_m, 1.5);
   EXPECT_EQ(clip.typed->dir, "/tmp/clips");
+  const RecordClip record = request_of<RecordClip>("lab_record", "7,39,0.5,500");
+  ASSERT_TRUE(record.typed.has_value());
+  EXPECT_EQ(record.typed->id, 7);
+  EXPECT_EQ(record.typed->size_mm, 39);
+  EXPECT_EQ(record.typed->dir, "") << "no folder: the panel's";
+  EXPECT_TRUE(std::holds_alternative<StopClip>(*action_request("lab_record", "stop")));
   EXPECT_EQ(request_of<WriteExport>("export", "b.arwb").out, std::optional<std::string>("b.arwb"));
   EXPECT_EQ(request_of<WaitForExport>("export_wait").seconds, 120);
   EXPECT_EQ(request_of<WaitForPlayers>("play_wait", "9999").seconds, 600) << "at most 600 s";
@@ -143,6 +150,7 @@ TEST(Actions, ABadArgumentIsRefusedNamingTheVerbAndTheArgument) {
   EXPECT_EQ(refusal("marker_size", "big"), "--actions marker_size: a size from 0 (marker sides) to 1000000, not 'big'");
   EXPECT_EQ(refusal("lab_frames", "0"), "--actions lab_frames: 1 to 10000 frames per cell, not '0'");
   EXPECT_EQ(refusal("lab_span", "middle"), "--actions lab_span: start, end or whole, not 'middle'");
+  EXPECT_EQ(refusal("lab_record", "go"), "--actions lab_record: ID,SIZE_MM,DISTANCE_M,LUX[,DIR], not 'go' (or stop)");
   EXPECT_EQ(refusal("export_size", "0.5"), "--actions export_size: 1 to 1000 mm, not '0.5'");
   EXPECT_EQ(refusal("focus", "title"), "--actions focus: script, source_path or preset_path, not 'title'");
   EXPECT_EQ(refusal("answer", "maybe"), "--actions answer: save, discard, cancel, write, browse, check or export, not 'maybe'");

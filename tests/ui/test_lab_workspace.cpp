@@ -3,6 +3,7 @@
 // plan and seed; a cell a detector missed a frame of opened in the live view on that very frame, with the marker's
 // truth, and "Why not detected?" answering with a candidate and the stage that dropped it; a stopped run keeping
 // its finished cells; a bad plan file named while the panel's plan and the window carry on.
+#include "capture/video_reader.hpp"
 #include "detect/dictionary.hpp"
 #include "synth/synth.hpp"
 #include "support/support.hpp"
@@ -12,6 +13,8 @@
 #include <opencv2/videoio.hpp>
 
 #include <filesystem>
+#include <map>
+#include <vector>
 
 #include <string>
 
@@ -185,6 +188,86 @@ TEST(LabWorkspace, AClipsSpanMarkedInTheWorkbenchIsWhatArwbLabVideosCounts) {
     }
   }
   EXPECT_TRUE(found) << lab.out;
+}
+
+// Record with a video file as the source: the conditions typed once (a bad one refused before anything is filmed),
+// the marker printed at its size, a clip stopped and one still recording when the window quits; each is the
+// source's frames as taken (bit for bit, in order), listed in videos.csv, and arwb lab --videos counts them.
+TEST(LabWorkspace, RecordFilmsTheSourceIntoClipsThatArwbLabVideosReads) {
+  TempDir d;
+  const Dictionary dict = make_aruco_original();
+  // Frame i carries i in a band of 8 stripes above marker 5, so that a clip's frame names its source frame.
+  constexpr int kFrames = 256;
+  const cv::Size size(320, 240);
+  const std::string clip = d.str("source.avi");
+  {
+    cv::VideoWriter w(clip, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 20.0, size);
+    ASSERT_TRUE(w.isOpened());
+    for (int i = 0; i < kFrames; ++i) {
+      cv::Mat img(size, CV_8UC3, cv::Scalar(200, 200, 200));
+      for (int bit = 0; bit < 8; ++bit)
+        if (i >> bit & 1) img(cv::Rect(bit * 40, 0, 40, 40)).setTo(cv::Scalar::all(20));
+      draw_marker(img, dict, 5, Quad{{{110, 70}, {210, 70}, {210, 170}, {110, 170}}}, 1.0, 4, 20, 235);
+      w.write(img);
+    }
+  }
+  std::vector<cv::Mat> source(1);
+  {
+    Result<VideoReader> r = VideoReader::open(clip, &source[0]);
+    ASSERT_TRUE(r.ok()) << r.error();
+    for (cv::Mat m; r->read(&m) == VideoReader::Read::frame;) source.push_back(m.clone());
+  }
+  ASSERT_EQ(int(source.size()), kFrames);
+  const std::string dir = d.str("videos");
+  const RunResult r = test::run_arwb_window("--config-dir '" + d.str("config") + "' --source '" + clip +
+                                            "' --stats --frames 40 --actions '1:lab_record=2000,65,1,850," + dir +
+                                            ";2:lab_record=5,65,1,850," + dir +
+                                            ";3:lab_print;20:lab_record=stop;22:lab_record=5,39,2,500'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("the clip's conditions: id 2000 is not a marker of ARUCO_ORIGINAL (0 to 1023)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(test::read_file(dir + "/marker_5_65mm.pdf").rfind("%PDF", 0), 0u) << "the marker printed at its size";
+  const Json s = stats(r);
+  EXPECT_FALSE(s["lab"]["clip"]["recording"].get<bool>()) << "quitting closed the clip";
+  EXPECT_EQ(s["lab"]["clip"]["path"], dir + "/clips/m5_39mm_2m_500lx_1.mkv") << s["lab"];
+  const std::string csv = test::read_file(dir + "/videos.csv");
+  EXPECT_EQ(csv, "file,id,dictionary,size_mm,distance_m,lux,first_frame,last_frame\n"
+                 "clips/m5_65mm_1m_850lx_1.mkv,5,ARUCO_ORIGINAL,65,1,850\n"
+                 "clips/m5_39mm_2m_500lx_1.mkv,5,ARUCO_ORIGINAL,39,2,500\n");
+  // Each clip: frames of the source exactly, later ones later.
+  std::map<std::string, int> frames;
+  for (const char* name : {"m5_65mm_1m_850lx_1.mkv", "m5_39mm_2m_500lx_1.mkv"}) {
+    cv::Mat m;
+    Result<VideoReader> rd = VideoReader::open(dir + "/clips/" + name, &m);
+    ASSERT_TRUE(rd.ok()) << rd.error();
+    int n = 0, last = -1;
+    do {
+      int i = 0;
+      for (int bit = 0; bit < 8; ++bit)
+        if (cv::mean(m(cv::Rect(bit * 40 + 10, 10, 20, 20)))[0] < 110) i |= 1 << bit;
+      EXPECT_GT(i, last) << name << " frame " << n;
+      EXPECT_EQ(cv::norm(m, source[size_t(i)], cv::NORM_INF), 0) << name << " frame " << n << " is source frame " << i;
+      last = i;
+      ++n;
+    } while (rd->read(&m) == VideoReader::Read::frame);
+    frames[name] = n;
+  }
+  EXPECT_EQ(s["lab"]["clip"]["frames"], frames["m5_39mm_2m_500lx_1.mkv"]);
+  // arwb lab --videos: every frame of each clip counted, and read.
+  const RunResult lab = test::run_arwb("lab --videos '" + dir + "' --detectors arwb --json");
+  ASSERT_EQ(lab.status, 0) << lab.err;
+  const Json j = test::parse(lab.out);
+  int cells = 0;
+  for (const Json& c : j["cells"]) {
+    const std::string name = c["size_mm"] == 65 ? "m5_65mm_1m_850lx_1.mkv" : "m5_39mm_2m_500lx_1.mkv";
+    if (!c.contains("results") || !c["results"].contains("arwb") || c["results"]["arwb"].value("frames", 0) == 0)
+      continue;   // a cell of the grid no clip was filmed in
+    ++cells;
+    EXPECT_EQ(c["results"]["arwb"]["frames"], frames[name]) << c.dump();
+    EXPECT_EQ(c["results"]["arwb"]["detected"], frames[name]) << c.dump();
+  }
+  EXPECT_EQ(cells, 2) << lab.out;
 }
 
 }  // namespace
