@@ -2,11 +2,14 @@
 // of the paper's plan: extreme cells behave, and the same seed gives the same table.
 #include "lab/plan.hpp"
 #include "lab_test_util.hpp"
+#include "lab/cell_source.hpp"
 #include "lab/cells_file.hpp"
 #include "lab/run.hpp"
 #include "lab/sensor.hpp"
 #include "lab/stats.hpp"
 #include "synth/marker_view.hpp"
+#include "detect/detector.hpp"
+#include "detect/dictionary.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
@@ -238,4 +241,19 @@ TEST(LabRun, DetectorsThatCannotRunAreNamed) {
 }
 
 }  // namespace
+// The paper's plan, cell 25 (26 mm at 0.5 m, 850 lx), frame 438: an empty frame with a checkerboard patch whose
+// squares touch at their corners. With cut_thin_lines a 51x17 px sliver across one row of it was cut from them as
+// a quad with a stub and read as ARUCO_ORIGINAL 1023; a quad cut from a stub must not be that thin.
+TEST(LabRun, ACheckerboardsRowIsNotAMarkerWithAStub) {
+  const LabPlan plan = paper_plan();
+  const LabOptions o;
+  LabCellSource src(plan, o, lab_marker_ids(plan, o.seed), 25, 438);
+  cv::Mat img;
+  src.next(0, img);
+  ASSERT_FALSE(img.empty());
+  ASSERT_TRUE(src.frame().empty) << "one of the cell's frames without a marker";
+  const std::vector<Marker> found = Detector({*dictionary_by_name("ARUCO_ORIGINAL")}).detect(img);
+  EXPECT_TRUE(found.empty()) << found.size() << " markers, the first " << found[0].id;
+}
+
 }  // namespace arwb::lab

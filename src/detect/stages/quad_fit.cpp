@@ -255,8 +255,12 @@ std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Siz
     const cv::Point d = poly[size_t(i)] - poly[size_t((i + 1) % 4)];
     min_side = std::min(min_side, std::sqrt(double(d.dot(d))));
   }
-  // Of the quad's own perimeter when a stub was cut (the contour's holds the line's length twice).
-  const double min_allowed = p.min_side_rate * (stub ? cv::arcLength(poly, true) : perimeter);
+  // Of the quad's own perimeter when a stub was cut (the contour's holds the line's length twice), and half as
+  // strict again: a quad cut from a row of a checkerboard's squares, which touch at their corners, is a 3:1 sliver
+  // that reads as ARUCO_ORIGINAL 1023 (the lab's empty frames had one); a marker behind a stub is not that thin.
+  constexpr double kStubSideFactor = 1.5;
+  const double min_allowed = stub ? kStubSideFactor * p.min_side_rate * cv::arcLength(poly, true)
+                                  : p.min_side_rate * perimeter;
   if (min_side < min_allowed)
     return reject(Stage::quad_fit, "min_side_rate", min_side, min_allowed,
                   explain ? fmt("shortest side %.1f px < min_side_rate x perimeter = %.1f px", min_side, min_allowed)
