@@ -231,7 +231,9 @@ void grid(Context& ctx, LabView& v, const lab::LabProgress& p) {
   const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_ScrollX |
                                 ImGuiTableFlags_ScrollY;
   const float row_h = ImGui::GetFrameHeightWithSpacing();
-  const float height = std::min(row_h * float(p.cells.size() / L + 1) + 6, 14 * row_h);
+  // The grid's cells (the curves' cells after them are in the report and table.txt).
+  const size_t grid = std::min(p.cells.size(), p.plan.grid_count());
+  const float height = std::min(row_h * float(grid / L + 1) + 6, 14 * row_h);
   if (!ImGui::BeginTable("lab_grid", cols, flags, {0, height})) return;
   ImGui::TableSetupScrollFreeze(1, 1);
   ImGui::TableSetupColumn("size, distance");
@@ -242,7 +244,7 @@ void grid(Context& ctx, LabView& v, const lab::LabProgress& p) {
   }
   ImGui::TableHeadersRow();
   const float cell_w = ImGui::CalcTextSize("100% [100-100]").x;
-  for (size_t i = 0; i < p.cells.size(); i += L) {
+  for (size_t i = 0; i < grid; i += L) {
     ImGui::TableNextRow();
     ImGui::TableSetColumnIndex(0);
     const lab::Cell& c0 = p.cells[i];
@@ -253,7 +255,7 @@ void grid(Context& ctx, LabView& v, const lab::LabProgress& p) {
     // Rows are every combination but light: the added axes the plan has name theirs ("tilt 60 blur 1.5").
     const std::string added = lab::added_axes_text(p.plan, c0);
     ImGui::TextUnformatted(added.empty() ? b : (std::string(b) + ", " + added).c_str());
-    for (size_t j = i; j < i + L && j < p.cells.size(); ++j) {
+    for (size_t j = i; j < i + L && j < grid; ++j) {
       ImGui::TableSetColumnIndex(int(j - i) + 1);
       const lab::CellResult* r = p.results[j].get();
       ImGui::PushID(int(j));
@@ -284,6 +286,8 @@ void grid(Context& ctx, LabView& v, const lab::LabProgress& p) {
     }
   }
   ImGui::EndTable();
+  if (const std::string curves = p.plan.curves_text(); !curves.empty())
+    text_disabled_wrapped(("And " + curves + ": in table.txt and the report.").c_str());
 }
 
 // The opened cell: a strip per detector, a square per frame (click: that frame), the frame's verdicts, and the

@@ -287,10 +287,10 @@ int cmd_lab(int argc, char** argv) {
   }
   std::string title = plan_words;
   title[0] = char(std::toupper(static_cast<unsigned char>(title[0])));
-  std::printf("%s: %zu cells x %d frames (and %d without a marker), markers %s, camera %s, seed %d\n\n",
-              title.c_str(), plan.cell_count(),
-              plan.frames_per_cell, plan.empty_frames_per_cell(), plan.dictionary.c_str(),
-              r->options.camera_name.c_str(), seed);
+  const std::string curves = plan.curves_text().empty() ? "" : ", and " + plan.curves_text();
+  std::printf("%s: %zu cells x %d frames (and %d without a marker)%s, markers %s, camera %s, seed %d\n\n",
+              title.c_str(), plan.grid_count(), plan.frames_per_cell, plan.empty_frames_per_cell(), curves.c_str(),
+              plan.dictionary.c_str(), r->options.camera_name.c_str(), seed);
   std::fputs(lab::lab_table_text(*r).c_str(), stdout);
   if (out.empty())
     std::printf("%s\n", lab::lab_time_text(*r).c_str());

@@ -20,7 +20,8 @@ namespace {
 // The key's arrays' fields, in the key's order: key_difference names them.
 const char* const kPlanFields[] = {"name",         "dictionary",      "markers",     "sizes_mm", "distances_m",
                                    "lux",          "max_tilt_deg",    "frames_per_cell", "empty_share", "sides_px",
-                                   "tilts_deg",    "blurs_px",        "noises",      "occlusions"};
+                                   "tilts_deg",    "blurs_px",        "noises",      "occlusions",  "curve_at",
+                                   "curve_blurs_px", "curve_noises"};
 const char* const kCameraFields[] = {"width", "height", "camera matrix", "distortion"};
 const char* const kSensorFields[] = {"sensitivity", "full_well", "read_noise", "target_level", "max_exposure_s",
                                      "max_gain", "focal_length_mm", "f_number", "focus_m", "shake_deg_s"};
@@ -34,7 +35,8 @@ std::string lab_run_key(const LabPlan& plan, const LabOptions& options) {
   nlohmann::ordered_json j;
   j["plan"] = {plan.name,        plan.dictionary,   plan.markers,         plan.sizes_mm, plan.distances_m,
                plan.lux,         plan.max_tilt_deg, plan.frames_per_cell, plan.empty_share,  plan.sides_px,
-               plan.tilts_deg,   plan.blurs_px,     plan.noises,          plan.occlusions};
+               plan.tilts_deg,   plan.blurs_px,     plan.noises,          plan.occlusions,   plan.curve_at,
+               plan.curve_blurs_px, plan.curve_noises};
   j["seed"] = options.seed;
   j["detectors"] = options.detectors;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();

@@ -45,16 +45,64 @@ std::vector<Cell> LabPlan::cells(double focal_px) const {
                 c.occlusion = o;
                 out.push_back(c);
               }
+  if (const long base = curve_base(); base >= 0) {
+    const Cell at = out[size_t(base)];
+    for (double b : curve_blurs_px) {
+      out.push_back(at);
+      out.back().blur_px = b;
+      out.back().curve = kBlurCurve;
+    }
+    for (double n : curve_noises) {
+      out.push_back(at);
+      out.back().noise = n;
+      out.back().curve = kNoiseCurve;
+    }
+  }
   return out;
 }
 
 size_t LabPlan::cell_count() const {
+  return grid_count() + (curve_base() >= 0 ? curve_blurs_px.size() + curve_noises.size() : 0);
+}
+
+long LabPlan::curve_base(std::string* why) const {
+  auto none = [&](const std::string& reason) {
+    if (why) *why = reason;
+    return -1L;
+  };
+  if (curve_blurs_px.empty() && curve_noises.empty()) return none("the plan asks for none");
+  if (!sides_px.empty()) return none("the plan gives sides_px, not sizes_mm");
+  if (has_tilts() || has_blurs() || has_noises() || has_occlusions()) return none("the plan has added axes of its own");
+  const auto at = [](const std::vector<double>& axis, double v) {
+    return long(std::find(axis.begin(), axis.end(), v) - axis.begin());
+  };
+  if (curve_at.size() != 3) return none("curve_at is not a size, a distance and a light");
+  const long si = at(sizes_mm, curve_at[0]), di = at(distances_m, curve_at[1]), li = at(lux, curve_at[2]);
+  if (si == long(sizes_mm.size()) || di == long(distances_m.size()) || li == long(lux.size())) {
+    char b[160];
+    std::snprintf(b, sizeof b, "the grid has no cell at %g mm, %g m, %g lx (curve_at)", curve_at[0], curve_at[1],
+                  curve_at[2]);
+    return none(b);
+  }
+  return (si * long(distances_m.size()) + di) * long(lux.size()) + li;
+}
+
+std::string LabPlan::curves_text() const {
+  if (curve_base() < 0) return "";
+  char b[160];
+  std::snprintf(b, sizeof b, "%zu cells for the blur and noise curves at %g mm, %g m, %g lx",
+                curve_blurs_px.size() + curve_noises.size(), curve_at[0], curve_at[1], curve_at[2]);
+  return b;
+}
+
+size_t LabPlan::grid_count() const {
   return (sides_px.empty() ? sizes_mm.size() : sides_px.size()) * distances_m.size() *
          std::max<size_t>(1, tilts_deg.size()) * std::max<size_t>(1, blurs_px.size()) *
          std::max<size_t>(1, noises.size()) * std::max<size_t>(1, occlusions.size()) * lux.size();
 }
 
 size_t LabPlan::pose_index(size_t index) const {
+  if (index >= grid_count()) return size_t(curve_base());   // no added axes: the base's own index
   const size_t L = std::max<size_t>(1, lux.size());
   const size_t added = std::max<size_t>(1, tilts_deg.size()) * std::max<size_t>(1, blurs_px.size()) *
                        std::max<size_t>(1, noises.size()) * std::max<size_t>(1, occlusions.size());
@@ -189,6 +237,40 @@ std::string read_number(const cv::FileNode& n, const char* key, double lo, doubl
   return {};
 }
 
+// curve_at: [size_mm, distance_m, lux], each in its axis's range; curve_blurs_px and curve_noises: lists in the
+// added axes' ranges, or [] for none. A curve_at given must be a cell of the grid.
+std::string read_curves(const cv::FileNode& root, LabPlan* p) {
+  std::string e;
+  const std::vector<PlanAxis>& axes = plan_axes();
+  if (const cv::FileNode n = root["curve_at"]; !n.empty()) {
+    if (!n.isSeq() || n.size() != 3) return "curve_at: give [size_mm, distance_m, lux], three numbers";
+    for (int i = 0; i < 3; ++i) {
+      std::vector<double> one;
+      if (!(e = read_list(n[i], axes[size_t(i)], &one)).empty()) return "curve_at: " + e;
+      p->curve_at[size_t(i)] = one[0];
+    }
+    if (std::string why; p->curve_base(&why) < 0 && why.find("curve_at") != std::string::npos)
+      return "curve_at: " + why;
+  }
+  const struct {
+    const char* key;
+    const PlanAxis& like;
+    std::vector<double>* out;
+  } lists[] = {{"curve_blurs_px", axes[5], &p->curve_blurs_px}, {"curve_noises", axes[6], &p->curve_noises}};
+  for (const auto& l : lists) {
+    const cv::FileNode n = root[l.key];
+    if (n.empty()) continue;
+    if (n.isSeq() && n.size() == 0) {
+      l.out->clear();
+      continue;
+    }
+    PlanAxis axis = l.like;
+    axis.key = l.key;
+    if (!(e = read_list(n, axis, l.out)).empty()) return e;
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<LabPlan> read_plan(const std::string& path) {
@@ -200,7 +282,8 @@ Result<LabPlan> read_plan(const std::string& path) {
   if (!root.isMap()) return fail(path + ": a plan is a map of fields (sizes_mm: [65, 39, 26], ...)");
   static const std::vector<std::string_view> kKnown = {"name", "dictionary", "markers", "sizes_mm", "distances_m",
                                                        "lux", "max_tilt_deg", "frames_per_cell", "empty_share",
-                                                       "sides_px", "tilts_deg", "blurs_px", "noises", "occlusions"};
+                                                       "sides_px", "tilts_deg", "blurs_px", "noises", "occlusions",
+                                                       "curve_at", "curve_blurs_px", "curve_noises"};
   for (const cv::FileNode& n : root) {
     const std::string key = n.name();
     if (std::find(kKnown.begin(), kKnown.end(), key) != kKnown.end()) continue;
@@ -222,6 +305,7 @@ Result<LabPlan> read_plan(const std::string& path) {
   }
   for (const PlanAxis& axis : plan_axes())
     if (e.empty() && !at(axis.key).empty()) e = read_list(at(axis.key), axis, &(p.*axis.values));
+  if (e.empty()) e = read_curves(root, &p);
   double v = 0;
   if (e.empty() && !at("max_tilt_deg").empty() && (e = read_number(at("max_tilt_deg"), "max_tilt_deg", 0, 80, &v)).empty())
     p.max_tilt_deg = v;

@@ -20,7 +20,11 @@ struct Cell {
   double blur_px = 0;       // a Gaussian blur (sigma, px) on top of the optics' defocus and the hand's motion
   double noise = 0;         // a Gaussian noise (sigma, grey levels) on top of the sensor's
   double occlusion = 0;     // the share of the marker covered along one of its sides
+  // 0: a cell of the plan's grid; kBlurCurve or kNoiseCurve: a point of the report's blur or noise curve, the
+  // grid's cell at LabPlan::curve_at with only blur_px or noise changed.
+  int curve = 0;
 };
+inline constexpr int kBlurCurve = 1, kNoiseCurve = 2;
 
 struct LabPlan {
   std::string name = "paper";
@@ -39,6 +43,12 @@ struct LabPlan {
   std::vector<double> blurs_px{0};
   std::vector<double> noises{0};
   std::vector<double> occlusions{0};
+  // The report's blur and noise curves: at curve_at (size in mm, distance in m, light in lux: a cell of the grid),
+  // a cell per added blur and per added noise, each on that cell's very frames with only the one factor changed.
+  // None when the grid has no such cell, is sized by sides_px, or has added axes of its own (curve_base()).
+  std::vector<double> curve_at{39, 1, 500};
+  std::vector<double> curve_blurs_px{0.5, 1, 1.5, 2};
+  std::vector<double> curve_noises{15, 30, 45, 60};
   int frames_per_cell = 400;   // 95 % intervals of at most about +-5 points (the Wilson interval at 50 %)
   // Frames without a marker per cell, for false positives: this share of frames_per_cell (at least one).
   double empty_share = 0.25;
@@ -46,11 +56,18 @@ struct LabPlan {
   // Every combination, sizes (or sides) outermost, then distances, tilts, blurs, noises, occlusions, and light
   // innermost (the paper's table's order: a row per everything but light, a column per light level). A sides_px
   // plan's cells get their size_mm through the camera's focal length `focal_px`.
+  // Then the curves' cells, blurs first, after the grid's.
   std::vector<Cell> cells(double focal_px) const;
   size_t cell_count() const;
+  size_t grid_count() const;   // the grid's cells, the first of cells()
+  // The index of the grid's cell the curves vary; -1 when there are no curves (the reason in *why, when given).
+  long curve_base(std::string* why = nullptr) const;
+  // "8 cells for the blur and noise curves at 39 mm, 1 m, 500 lx", or "" without curves.
+  std::string curves_text() const;
   // The cell of the paper's three axes (size or side, distance, light) cell `index` belongs to, as an index into
   // those axes' product: cells that differ only in the added axes share it, and with it their frames' markers,
-  // poses and noise (so the added axes are compared on the same frames). For the paper's plan it is `index`.
+  // poses and noise (so the added axes are compared on the same frames). For the paper's plan it is `index`; for a
+  // curve's cell, its base cell's.
   size_t pose_index(size_t index) const;
   // Which of the added axes the plan varies (a tilt given, or a blur, noise or occlusion other than none).
   bool has_tilts() const { return !tilts_deg.empty(); }

@@ -53,7 +53,7 @@ std::vector<Curve> curves_by(const LabResults& r, Key key) {
   for (size_t d = 0; d < out.size(); ++d) {
     std::map<double, Pool> pools;
     for (const CellResult& c : r.cells)
-      if (d < c.detectors.size()) pools[key(c)].add(c.detectors[d]);
+      if (d < c.detectors.size() && !c.cell.curve) pools[key(c)].add(c.detectors[d]);
     for (const auto& [x, pool] : pools) {
       if (pool.frames == 0) continue;
       const auto [lo, hi] = pool.interval();
@@ -110,7 +110,7 @@ std::vector<Curve> curves_by_tilt(const LabResults& r) {
   for (size_t d = 0; d < out.size(); ++d) {
     Bins bins{10, {}};
     for (const CellResult& c : r.cells) {
-      if (d >= c.detectors.size()) continue;
+      if (d >= c.detectors.size() || c.cell.curve) continue;
       const std::string& marks = c.detectors[d].marks;
       for (size_t k = 0; k < c.tilts_deg.size() && k < marks.size(); ++k) {
         const char m = marks[k];
@@ -127,13 +127,14 @@ std::vector<Curve> curves_by_tilt(const LabResults& r) {
 // plan's spread of blurs.
 std::vector<Curve> curves_by_blur(const LabResults& r) {
   double lo = INFINITY, hi = -INFINITY;
-  for (const CellResult& c : r.cells) lo = std::min(lo, c.blur_px), hi = std::max(hi, c.blur_px);
+  for (const CellResult& c : r.cells)
+    if (!c.cell.curve) lo = std::min(lo, c.blur_px), hi = std::max(hi, c.blur_px);
   const double width = std::isfinite(lo) ? std::max(0.1, bin_width(hi - lo)) : 1;
   std::vector<Curve> out(r.options.detectors.size());
   for (size_t d = 0; d < out.size(); ++d) {
     Bins bins{width, {}};
     for (const CellResult& c : r.cells) {
-      if (d >= c.detectors.size()) continue;
+      if (d >= c.detectors.size() || c.cell.curve) continue;
       const DetectorTally& t = c.detectors[d];
       Bins::Bin& b = bins.bins[std::lround(std::floor(c.blur_px / width))];
       b.pool.add(t);
@@ -143,6 +144,27 @@ std::vector<Curve> curves_by_blur(const LabResults& r) {
       it = it->second.pool.frames == 0 ? bins.bins.erase(it) : std::next(it);
     out[d] = bins.curve();
   }
+  return out;
+}
+
+// P_Rec against one added factor (kBlurCurve, kNoiseCurve) at the plan's curve_at: the grid's cell there at 0,
+// then the curve's cells, all on the same frames.
+std::vector<Curve> curves_at_point(const LabResults& r, int curve) {
+  std::vector<Curve> out(r.options.detectors.size());
+  const long base = r.plan.curve_base();
+  if (base < 0 || size_t(base) >= r.cells.size()) return out;
+  for (size_t d = 0; d < out.size(); ++d)
+    for (size_t i = size_t(base); i < r.cells.size(); i = i == size_t(base) ? r.plan.grid_count() : i + 1) {
+      const CellResult& c = r.cells[i];
+      if (d >= c.detectors.size() || (i != size_t(base) && c.cell.curve != curve) || c.detectors[d].frames == 0)
+        continue;
+      const Pool pool{c.detectors[d].frames, c.detectors[d].detected};
+      const auto [lo, hi] = pool.interval();
+      out[d].x.push_back(curve == kBlurCurve ? c.cell.blur_px : c.cell.noise);
+      out[d].p.push_back(pool.p_rec());
+      out[d].lo.push_back(lo);
+      out[d].hi.push_back(hi);
+    }
   return out;
 }
 
@@ -289,6 +311,16 @@ void draw_recall_by_blur(const LabResults& r) {
               "Recognition against blur (cells in bins)");
 }
 
+// The curves at curve_at: only the added blur, or only the added noise, changes.
+void draw_recall_at_point(const LabResults& r, int curve) {
+  char where[96];
+  std::snprintf(where, sizeof where, " at %g mm, %g m, %g lx (same frames)", r.plan.curve_at[0], r.plan.curve_at[1],
+                r.plan.curve_at[2]);
+  const bool blur = curve == kBlurCurve;
+  draw_curves(r, curves_at_point(r, curve), blur ? "added blur (sigma, px)" : "added noise (sigma, grey levels)",
+              std::string(blur ? "Recognition against blur" : "Recognition against noise") + where);
+}
+
 // Size (rows, the plan's order from the top) x distance (columns), each cell's colour and number P_Rec pooled
 // over light (lux < 0) or under one light, with its interval and the marker's side underneath.
 void draw_heatmap(const LabResults& r, size_t d, double lux) {
@@ -319,7 +351,7 @@ void draw_heatmap(const LabResults& r, size_t d, double lux) {
       double side = 0;
       for (const CellResult& c : r.cells)
         if ((by_side ? c.cell.side_px : c.cell.size_mm) == sizes[i] && c.cell.distance_m == distances[j] &&
-            (lux < 0 || c.cell.lux == lux) && d < c.detectors.size()) {
+            (lux < 0 || c.cell.lux == lux) && d < c.detectors.size() && !c.cell.curve) {
           pool.add(c.detectors[d]);
           side = c.side_px;
         }
@@ -386,7 +418,7 @@ void draw_title_page(const LabResults& r) {
   std::vector<std::pair<bool, std::string>> lines{
       {true, "Plan"},
       {false, "'" + p.name + "': " + std::to_string(p.markers) + " random " + p.dictionary + " markers, " +
-                  std::to_string(p.cell_count()) + " cells x " + std::to_string(p.frames_per_cell) + " frames"},
+                  std::to_string(p.grid_count()) + " cells x " + std::to_string(p.frames_per_cell) + " frames"},
       {false, (p.sides_px.empty() ? "printed " + joined(p.sizes_mm, "mm")
                                   : "sides of " + joined(p.sides_px, "px") + " at the image centre") +
                   "; at " + joined(p.distances_m, "m") + "; under " + joined(p.lux, "lux")},
@@ -401,6 +433,7 @@ void draw_title_page(const LabResults& r) {
     if (p.has_occlusions()) more += (more.empty() ? "" : "; ") + std::string("occluded ") + joined(p.occlusions, "of the marker");
     if (!more.empty()) lines.emplace_back(false, more);
   }
+  if (const std::string curves = p.curves_text(); !curves.empty()) lines.emplace_back(false, "and " + curves);
   for (const std::string& l : id_lines) lines.emplace_back(false, l);
   lines.insert(lines.end(), {
       {true, "Camera"},
@@ -471,8 +504,9 @@ void draw_table_page(const std::string& section) {
   plschr(0, 1);
 }
 
-// One page of plots: a curve (0 side, 1 light, 2 tilt, 3 blur), or a detector's heatmap pooled over light
-// (lux < 0) or under one light (when the plan has more than one), with its PNG's name.
+// One page of plots: a curve (0 side, 1 light, 2 tilt, 3 blur; 4 and 5 blur and noise at curve_at), or a
+// detector's heatmap pooled over light (lux < 0) or under one light (when the plan has more than one), with its
+// PNG's name.
 struct PlotPage {
   int curve = -1;
   size_t detector = 0;
@@ -485,6 +519,10 @@ std::vector<PlotPage> plot_pages(const LabResults& r) {
                               {1, 0, -1, "recall_by_light.png"},
                               {2, 0, -1, "recall_by_tilt.png"},
                               {3, 0, -1, "recall_by_blur.png"}};
+  if (r.plan.curve_base() >= 0 && r.cells.size() > r.plan.grid_count()) {
+    if (!r.plan.curve_blurs_px.empty()) pages.push_back({4, 0, -1, "recall_at_added_blur.png"});
+    if (!r.plan.curve_noises.empty()) pages.push_back({5, 0, -1, "recall_at_added_noise.png"});
+  }
   const auto taken = [&](const std::string& png) {
     return std::any_of(pages.begin(), pages.end(), [&](const PlotPage& p) { return p.png == png; });
   };
@@ -506,6 +544,8 @@ void draw_plot(const LabResults& r, const PlotPage& page) {
     case 1: draw_recall_by_light(r); break;
     case 2: draw_recall_by_tilt(r); break;
     case 3: draw_recall_by_blur(r); break;
+    case 4: draw_recall_at_point(r, kBlurCurve); break;
+    case 5: draw_recall_at_point(r, kNoiseCurve); break;
     default: draw_heatmap(r, page.detector, page.lux);
   }
 }

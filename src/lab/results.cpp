@@ -15,9 +15,44 @@
 
 namespace arwb::lab {
 
+namespace {
+
+const char* curve_name(const Cell& c) {
+  return c.curve == kBlurCurve ? "blur" : c.curve == kNoiseCurve ? "noise" : "";
+}
+
+// A detector's blur and noise curves under its part of the table: the grid's cell at curve_at, then each curve
+// cell, P_Rec with its interval. Nothing when the run has no curve cell.
+std::string curves_text(const LabResults& r, size_t d) {
+  const long base = r.plan.curve_base();
+  if (base < 0 || size_t(base) >= r.cells.size() || r.cells.size() <= r.plan.grid_count()) return "";
+  char b[200];
+  const CellResult& at = r.cells[size_t(base)];
+  std::snprintf(b, sizeof b, "blur and noise at %g mm, %g m, %g lx (%.0f px), on the same frames:\n", at.cell.size_mm,
+                at.cell.distance_m, at.cell.lux, at.side_px);
+  std::string s = b;
+  auto row = [&](const char* what, double v, const DetectorTally& t) {
+    const auto [lo, hi] = wilson_interval(t.detected, t.frames);
+    std::snprintf(b, sizeof b, "  added %-5s %4g  %5.1f [%4.0f-%3.0f]\n", what, v, t.p_rec(), 100 * lo, 100 * hi);
+    s += b;
+  };
+  for (int curve : {kBlurCurve, kNoiseCurve}) {
+    const char* what = curve == kBlurCurve ? "blur" : "noise";
+    row(what, 0, at.detectors[d]);
+    for (size_t i = r.plan.grid_count(); i < r.cells.size(); ++i)
+      if (r.cells[i].cell.curve == curve)
+        row(what, curve == kBlurCurve ? r.cells[i].cell.blur_px : r.cells[i].cell.noise, r.cells[i].detectors[d]);
+  }
+  return s;
+}
+
+}  // namespace
+
 std::string lab_table_text(const LabResults& r) {
   std::string s;
   char b[256];
+  // The grid's cells; the curves' come after them.
+  const size_t grid = std::min(r.cells.size(), r.plan.grid_count());
   // The added axes' values of each row (nothing for the paper's plan), each axis's values padded to one width so
   // the columns stay in line: "tilt 0  blur 1.5", "tilt 60 blur 1.5".
   const size_t per_row = std::max<size_t>(1, r.plan.lux.size());
@@ -31,7 +66,7 @@ std::string lab_table_text(const LabResults& r) {
               {r.plan.has_occlusions(), "occluded", &Cell::occlusion}};
   std::vector<std::vector<std::string>> values;   // per row, per axis the plan has
   std::vector<size_t> widths(std::size(axes), 0);
-  for (size_t i = 0; i < r.cells.size(); i += per_row) {
+  for (size_t i = 0; i < grid; i += per_row) {
     values.emplace_back();
     for (size_t a = 0; a < std::size(axes); ++a) {
       if (!axes[a].has) continue;
@@ -60,12 +95,12 @@ std::string lab_table_text(const LabResults& r) {
       s += b;
     }
     s += "\n";
-    for (size_t i = 0; i < r.cells.size(); i += r.plan.lux.size()) {
+    for (size_t i = 0; i < grid; i += r.plan.lux.size()) {
       const CellResult& c0 = r.cells[i];
       std::snprintf(b, sizeof b, "%3.0f mm %4.1f m %4.0f px", c0.cell.size_mm, c0.cell.distance_m, c0.side_px);
       s += b;
       s += added[i / per_row];
-      for (size_t j = i; j < i + r.plan.lux.size() && j < r.cells.size(); ++j) {
+      for (size_t j = i; j < i + r.plan.lux.size() && j < grid; ++j) {
         const DetectorTally& t = r.cells[j].detectors[d];
         const auto [lo, hi] = wilson_interval(t.detected, t.frames);
         if (t.frames == 0)   // a cell no frame was taken in (videos of some conditions only)
@@ -76,16 +111,17 @@ std::string lab_table_text(const LabResults& r) {
       }
       s += "\n";
     }
-    int empty = 0, fps = 0;
-    for (const CellResult& c : r.cells) {
-      empty += c.detectors[d].empty_frames;
-      fps += c.detectors[d].false_positives;
+    int empty = 0, fps = 0;   // the grid's (a curve's cell has its base's empty frames, blurred or noisier)
+    for (size_t i = 0; i < grid; ++i) {
+      empty += r.cells[i].detectors[d].empty_frames;
+      fps += r.cells[i].detectors[d].false_positives;
     }
     if (empty > 0) {
       std::snprintf(b, sizeof b, "false positives: %d on %d frames without a marker (%.3f per frame)\n", fps, empty,
                     double(fps) / empty);
       s += b;
     }
+    s += curves_text(r, d);
     s += "\n";
   }
   return s;
@@ -94,7 +130,7 @@ std::string lab_table_text(const LabResults& r) {
 std::string lab_table_csv(const LabResults& r) {
   std::string s =
       "detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,wrong_id_rate,empty_frames,"
-      "false_positives,tilt_deg,added_blur_px,added_noise,occlusion,median_ms\n";
+      "false_positives,tilt_deg,added_blur_px,added_noise,occlusion,curve,median_ms\n";
   char b[400];
   for (size_t d = 0; d < r.options.detectors.size(); ++d)
     for (const CellResult& c : r.cells) {
@@ -103,11 +139,11 @@ std::string lab_table_csv(const LabResults& r) {
       // tilt_deg is empty for a random tilt (up to the plan's max_tilt_deg).
       char tilt[32] = "";
       if (c.cell.tilt_deg >= 0) std::snprintf(tilt, sizeof tilt, "%g", c.cell.tilt_deg);
-      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%d,%d,%s,%g,%g,%g,%.3f\n",
+      std::snprintf(b, sizeof b, "%s,%g,%g,%g,%.1f,%d,%d,%.2f,%.2f,%.2f,%.4f,%d,%d,%s,%g,%g,%g,%s,%.3f\n",
                     r.options.detectors[d].c_str(), c.cell.size_mm, c.cell.distance_m, c.cell.lux, c.side_px, t.frames,
                     t.detected, t.p_rec(), 100 * lo, 100 * hi, t.frames ? double(t.wrong_id) / t.frames : 0.0,
                     t.empty_frames, t.false_positives, tilt, c.cell.blur_px, c.cell.noise, c.cell.occlusion,
-                    t.median_ms());
+                    curve_name(c.cell), t.median_ms());
       s += b;
     }
   return s;
@@ -129,6 +165,9 @@ std::string lab_results_json(const LabResults& r) {
                {"blurs_px", r.plan.blurs_px},
                {"noises", r.plan.noises},
                {"occlusions", r.plan.occlusions},
+               {"curve_at", r.plan.curve_base() >= 0 ? Json(r.plan.curve_at) : Json(nullptr)},
+               {"curve_blurs_px", r.plan.curve_blurs_px},
+               {"curve_noises", r.plan.curve_noises},
                {"frames_per_cell", r.plan.frames_per_cell},
                {"empty_frames_per_cell", r.plan.empty_frames_per_cell()}};
   j["seed"] = r.options.seed;
@@ -181,6 +220,8 @@ std::string lab_results_json(const LabResults& r) {
                      {"added_blur_px", c.cell.blur_px},
                      {"added_noise", c.cell.noise},
                      {"occlusion", c.cell.occlusion},
+                     // "blur" or "noise": a point of that curve (the grid's cell at curve_at, one factor changed)
+                     {"curve", c.cell.curve ? Json(curve_name(c.cell)) : Json(nullptr)},
                      {"exposure_ms", round_decimals(c.exposure_ms, 2)},
                      {"gain", round_decimals(c.gain, 2)},
                      {"snr_ink", round_decimals(c.snr_black_white, 1)},

@@ -208,7 +208,9 @@ Result<std::vector<int>> run_cells(const LabPlan& plan, const LabOptions& option
     if (!take(ci)) continue;
     ++before;
     if (ci < options.finished.size() && options.finished[ci]) {
-      keep(ci, CellResult(*options.finished[ci]), true);
+      CellResult saved(*options.finished[ci]);
+      saved.cell.curve = cells[ci].curve;   // not in the saved line: which curve a cell is, the plan says
+      keep(ci, std::move(saved), true);
       for (int k = 0; k < per_cell; ++k) report();
       continue;
     }

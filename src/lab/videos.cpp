@@ -208,6 +208,8 @@ Result<LabResults> run_videos(const std::string& dir, const std::vector<VideoRow
   out.plan.dictionary = rows.front().dictionary;
   out.plan.frames_per_cell = 0;
   out.plan.empty_share = 0;
+  out.plan.curve_blurs_px.clear();   // clips are as filmed: no blur or noise is added to them
+  out.plan.curve_noises.clear();
   std::set<double, std::greater<>> sizes, distances, lux;
   std::set<int> ids;
   for (const VideoRow& r : rows) {

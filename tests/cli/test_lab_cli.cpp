@@ -38,11 +38,21 @@ TEST(LabCli, PrintsAndWritesThePapersTable) {
   EXPECT_NE(r.out.find(" 26 mm  2.0 m    7 px"), std::string::npos) << r.out;
   const std::string csv = slurp(d.str("out/table.csv"));
   EXPECT_EQ(csv.rfind("detector,size_mm,distance_m,lux,side_px,frames,detected,p_rec,ci_low,ci_high,", 0), 0u);
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 27);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * 35) << "27 cells, and 8 for the curves";
   EXPECT_EQ(slurp(d.str("out/table.txt")), r.out.substr(r.out.find("arwb: P_Rec"), slurp(d.str("out/table.txt")).size()));
   const auto j = nlohmann::json::parse(slurp(d.str("out/results.json")), nullptr, false);
   ASSERT_TRUE(j.is_object());
-  EXPECT_EQ(j["cells"].size(), 27u);
+  EXPECT_EQ(j["cells"].size(), 35u);
+  EXPECT_TRUE(j["cells"][26]["curve"].is_null());
+  EXPECT_EQ(j["cells"][27]["curve"], "blur");
+  EXPECT_EQ(j["cells"][34]["curve"], "noise");
+  EXPECT_EQ(j["plan"]["curve_at"], nlohmann::json({39, 1, 500}));
+  // The curves under each detector's table, from the grid's cell at 39 mm, 1 m, 500 lx.
+  EXPECT_NE(r.out.find(", and 8 cells for the blur and noise curves at 39 mm, 1 m, 500 lx,"), std::string::npos);
+  EXPECT_NE(r.out.find("blur and noise at 39 mm, 1 m, 500 lx (22 px), on the same frames:\n  added blur     0  "),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("\n  added noise   60  "), std::string::npos) << r.out;
   EXPECT_EQ(j["ids"].size(), 25u);
   EXPECT_EQ(j["plan"]["sizes_mm"], nlohmann::json({65, 39, 26}));
   EXPECT_TRUE(j["cells"][0]["results"].contains("opencv"));
@@ -51,10 +61,10 @@ TEST(LabCli, PrintsAndWritesThePapersTable) {
   EXPECT_TRUE(j["cells"][0]["tilt_deg"].is_null());
   EXPECT_EQ(j["cells"][0]["tilts_deg"].size(), 2u);
   // The plots and report.pdf beside them (tests/lab/test_lab_report.cpp looks inside).
-  EXPECT_NE(r.out.find("report.pdf and 12 PNG plots to " + d.str("out")), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("report.pdf and 14 PNG plots to " + d.str("out")), std::string::npos) << r.out;
   for (const char* name : {"report.pdf", "recall_by_side.png", "recall_by_light.png", "recall_by_tilt.png",
-                           "recall_by_blur.png", "heatmap_arwb.png", "heatmap_opencv.png",
-                           "heatmap_arwb_850lx.png"})
+                           "recall_by_blur.png", "recall_at_added_blur.png", "recall_at_added_noise.png",
+                           "heatmap_arwb.png", "heatmap_opencv.png", "heatmap_arwb_850lx.png"})
     EXPECT_GT(slurp(d.str("out/") + name).size(), 1000u) << name;
 }
 
@@ -79,14 +89,14 @@ TEST(LabCli, AnInterruptedRunIsResumed) {
   ASSERT_EQ(full.status, 0) << full.err;
   const std::string table = slurp(d.str("out/table.txt"));
   const std::string saved = slurp(d.str("out/cells.jsonl"));
-  ASSERT_EQ(std::count(saved.begin(), saved.end(), '\n'), 27);
+  ASSERT_EQ(std::count(saved.begin(), saved.end(), '\n'), 35);
   size_t cut = 0;
   for (int i = 0; i < 10; ++i) cut = saved.find('\n', cut) + 1;
   test::write_file(d.str("out/cells.jsonl"), saved.substr(0, cut) + saved.substr(cut, 40));
   std::remove(d.str("out/table.txt").c_str());
   const auto resumed = run_arwb(args);
   ASSERT_EQ(resumed.status, 0) << resumed.err;
-  EXPECT_NE(resumed.err.find("resuming: 10 of 27 cells"), std::string::npos) << resumed.err;
+  EXPECT_NE(resumed.err.find("resuming: 10 of 35 cells"), std::string::npos) << resumed.err;
   EXPECT_EQ(slurp(d.str("out/table.txt")), table);
   // --restart forgets them.
   const auto again = run_arwb(args + " --restart");

@@ -61,7 +61,69 @@ TEST(LabPlanAxes, APlanFileGivesTheAddedAxesAndCellsAreTheirProduct) {
   // The paper's plan has none of them, and its pose index is the cell's own.
   const LabPlan paper = paper_plan();
   EXPECT_EQ(added_axes_text(paper, paper.cells(kFocal)[5]), "");
-  for (size_t i = 0; i < paper.cell_count(); ++i) EXPECT_EQ(paper.pose_index(i), i);
+  for (size_t i = 0; i < paper.grid_count(); ++i) EXPECT_EQ(paper.pose_index(i), i);
+}
+
+// The report's blur and noise curves: after the grid, a cell per added blur and per added noise at curve_at, each
+// the grid's cell there with only that factor changed, on its frames (its pose index).
+TEST(LabPlanAxes, TheCurvesCellsAreTheGridsCellAtCurveAtWithOneFactorChanged) {
+  const LabPlan paper = paper_plan();
+  const std::vector<Cell> cells = paper.cells(kFocal);
+  ASSERT_EQ(paper.grid_count(), 27u);
+  ASSERT_EQ(cells.size(), 35u);
+  ASSERT_EQ(paper.cell_count(), 35u);
+  const long base = paper.curve_base();
+  ASSERT_EQ(base, 14) << "39 mm (the second size), 1 m (the second distance), 500 lx (the third light)";
+  EXPECT_EQ(cells[14].size_mm, 39);
+  EXPECT_EQ(cells[14].distance_m, 1);
+  EXPECT_EQ(cells[14].lux, 500);
+  for (size_t i = 27; i < 35; ++i) {
+    const bool blur = i < 31;
+    EXPECT_EQ(cells[i].curve, blur ? kBlurCurve : kNoiseCurve) << i;
+    EXPECT_EQ(cells[i].blur_px, blur ? paper.curve_blurs_px[i - 27] : 0) << i;
+    EXPECT_EQ(cells[i].noise, blur ? 0 : paper.curve_noises[i - 31]) << i;
+    EXPECT_EQ(cells[i].size_mm, 39);
+    EXPECT_EQ(cells[i].distance_m, 1);
+    EXPECT_EQ(cells[i].lux, 500);
+    EXPECT_EQ(paper.pose_index(i), 14u) << "the base cell's frames";
+  }
+  EXPECT_EQ(paper.curves_text(), "8 cells for the blur and noise curves at 39 mm, 1 m, 500 lx");
+  // Where there are none, and why.
+  std::string why;
+  LabPlan other = paper;
+  other.sizes_mm = {80, 50};
+  EXPECT_EQ(other.curve_base(&why), -1);
+  EXPECT_EQ(why, "the grid has no cell at 39 mm, 1 m, 500 lx (curve_at)");
+  EXPECT_EQ(other.cell_count(), other.grid_count());
+  EXPECT_EQ(other.curves_text(), "");
+  LabPlan added = paper;
+  added.tilts_deg = {30};
+  EXPECT_EQ(added.curve_base(&why), -1);
+  EXPECT_EQ(why, "the plan has added axes of its own");
+  // A plan file moves them, asks for none, or names what is wrong.
+  test::TempDir d;
+  test::write_file(d.str("moved.yml"), "curve_at: [65, 2, 1000]\ncurve_blurs_px: [1]\ncurve_noises: []\n");
+  Result<LabPlan> moved = read_plan(d.str("moved.yml"));
+  ASSERT_TRUE(moved) << moved.error();
+  EXPECT_EQ(moved->curve_base(), 0);
+  ASSERT_EQ(moved->cell_count(), 28u);
+  EXPECT_EQ(moved->cells(kFocal)[27].blur_px, 1);
+  test::write_file(d.str("none.yml"), "curve_blurs_px: []\ncurve_noises: []\n");
+  Result<LabPlan> none = read_plan(d.str("none.yml"));
+  ASSERT_TRUE(none) << none.error();
+  EXPECT_EQ(none->cell_count(), 27u);
+  const std::pair<const char*, const char*> bad[] = {
+      {"curve_at: [40, 1, 500]\n", "curve_at: the grid has no cell at 40 mm, 1 m, 500 lx (curve_at)"},
+      {"curve_at: [39, 1]\n", "curve_at: give [size_mm, distance_m, lux], three numbers"},
+      {"curve_at: [39, -1, 500]\n", "curve_at: distances_m: value 1 (-1) must be a distance in m from 0.05 to 100"},
+      {"curve_noises: [15, 300]\n", "curve_noises: value 2 (300) must be a noise sigma in grey levels from 0 to 100"},
+  };
+  for (const auto& [text, message] : bad) {
+    test::write_file(d.str("bad.yml"), text);
+    Result<LabPlan> r = read_plan(d.str("bad.yml"));
+    ASSERT_FALSE(r) << text;
+    EXPECT_EQ(r.error(), d.str("bad.yml") + ": " + message) << text;
+  }
 }
 
 TEST(LabPlanAxes, MistakesInTheAddedAxesAreOneLineNamingTheField) {
@@ -274,7 +336,7 @@ TEST(LabAxes, TheAddedAxesAtTheirDefaultsChangeNothing) {
   EXPECT_NE(lab_table_text(*a).find("\n 65 mm  2.0 m   18 px  "), std::string::npos) << lab_table_text(*a);
   for (size_t i = 0; i < a->cells.size(); ++i) EXPECT_EQ(a->cells[i].detectors[0].marks, b->cells[i].detectors[0].marks);
   // The CSV always has the added axes' columns, empty tilt for a random one.
-  EXPECT_NE(lab_table_csv(*a).find(",false_positives,tilt_deg,added_blur_px,added_noise,occlusion,median_ms\n"),
+  EXPECT_NE(lab_table_csv(*a).find(",false_positives,tilt_deg,added_blur_px,added_noise,occlusion,curve,median_ms\n"),
             std::string::npos);
   EXPECT_NE(lab_table_csv(*a).find(",,0,0,0,"), std::string::npos);
   // A resumed run takes no cell of another plan: the added axes are in the key.
