@@ -62,7 +62,7 @@ struct LabSettings {
   lab::VideoRow clip{"", "", 0, "ARUCO_ORIGINAL", 65, 1, 850, -1, -1, 0};
   std::string videos_dir;
   // Recording clips from the source with those conditions: the folder whose videos.csv lists them ("": the user's
-  // lab/videos), and the paper's protocol as ticked (panel_lab_clips.cpp's kProtocol).
+  // lab/videos), and the paper's protocol as ticked (panel_lab_clips.cpp's protocol(), in its order).
   std::string record_dir;
   std::array<bool, 6> protocol{};
 };

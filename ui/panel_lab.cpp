@@ -172,9 +172,11 @@ void plan_section(Context& ctx, LabView& v, bool running) {
   add(plan.has_occlusions(), "occluded", plan.occlusions);
   if (!added.empty()) text_disabled_wrapped(("From the plan file: " + added).c_str());
   const int frames = int(plan.cell_count()) * (plan.frames_per_cell + plan.empty_frames_per_cell());
-  char b[300];
-  std::snprintf(b, sizeof b, "%s: %zu cells x %d frames (and %d without a marker), %d frames in all",
-                plan.name.c_str(), plan.cell_count(), plan.frames_per_cell, plan.empty_frames_per_cell(), frames);
+  const std::string curves = plan.curves_text().empty() ? "" : ", and " + plan.curves_text();
+  char b[400];
+  std::snprintf(b, sizeof b, "%s: %zu cells x %d frames (and %d without a marker)%s, %d frames in all",
+                plan.name.c_str(), plan.grid_count(), plan.frames_per_cell, plan.empty_frames_per_cell(),
+                curves.c_str(), frames);
   text_disabled_wrapped(b);
 }
 
@@ -383,11 +385,12 @@ void draw_lab(Context& ctx) {
   const bool running = p && p->running;
   if (ImGui::CollapsingHeader("Plan", running ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) plan_section(ctx, v, running);
   run_section(ctx, p);
-  draw_lab_clips(ctx);
-  if (!p || p->cells.empty()) return;
-  grid(ctx, v, *p);
-  cell_section(ctx, v, *p);
-  save_section(ctx, v, *p);
+  if (p && !p->cells.empty()) {
+    grid(ctx, v, *p);
+    cell_section(ctx, v, *p);
+    save_section(ctx, v, *p);
+  }
+  draw_lab_clips(ctx);   // after the run's results, which a finished run is opened for
 }
 
 }  // namespace arwb::ui

@@ -128,11 +128,13 @@ void draw_lab_clips(Context& ctx) {
   const bool recording = ctx.status.lab_recording;
   // A lab cell's frames are the run's own: there is nothing to film or mark in them.
   if (!recording && (!f || f->source.kind == SourceKind::lab)) return;
-  ImGui::Separator();
-  ImGui::TextUnformatted("Clips for arwb lab --videos");
+  // Open from the start while a clip is filmed or a video plays; a click opens it on a camera.
+  const bool video = f && f->source.kind == SourceKind::video;
+  if (!ImGui::CollapsingHeader("Clips for arwb lab --videos", video || recording ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+    return;
   conditions(ctx, ctx.settings.lab.clip);
   record_section(ctx, record_folder(ctx.settings.lab, ctx.status.config_dir));
-  if (f && f->source.kind == SourceKind::video && !recording) span_section(ctx);
+  if (video && !recording) span_section(ctx);
 }
 
 }  // namespace arwb::ui

@@ -53,8 +53,6 @@ class ClipRecorder {
   ClipSummary progress() const;   // so far, while recording; the last clip's after stop()
 
  private:
-  void encode();   // the encoding thread
-
   mutable std::mutex m_;
   std::condition_variable wake_;
   std::deque<cv::Mat> queue_;
