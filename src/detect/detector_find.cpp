@@ -165,7 +165,8 @@ int DetectorRun::found_before(const Quad& q) const {
 
 void DetectorRun::fit(int i) {
   Quad q;
-  auto why = stages::fit_quad(contours_[size_t(i)], grey().size(), p_, &q, contour_factor_[size_t(i)], timed_);
+  bool cut = false;
+  auto why = stages::fit_quad(contours_[size_t(i)], grey().size(), p_, &q, contour_factor_[size_t(i)], timed_, &cut);
   if (why) fine_shape(i);
   // A quad of the coarse search that the first search found too is not read twice.
   if (!why && coarse_ > 0 && contour_factor_[size_t(i)] == coarse_)
@@ -181,7 +182,7 @@ void DetectorRun::fit(int i) {
     t_.candidates[size_t(rec)].has_quad = true;
     t_.candidates[size_t(rec)].quad = q;
   }
-  quads_.push_back({rec, i, q});
+  quads_.push_back({rec, i, q, cut});
 }
 
 void DetectorRun::fit_quads() {

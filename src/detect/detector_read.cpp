@@ -22,7 +22,7 @@ std::string fmt_msg(const char* f, double a, double b, double c = 0) {
 // As found (the quad's corners unrefined, read before corner_refinement to decide whether to refine it): no quiet
 // zone, and the nearest id may miss by unrefined_miss_rate x the code's bits more than the budget.
 template <class Lap>
-void DetectorRun::read_at(const Quad& q, int n, bool as_found, Reading& r, Lap&& lap) const {
+void DetectorRun::read_at(const Quad& q, int n, bool as_found, bool cut, Reading& r, Lap&& lap) const {
   const int cells = n + 2;
   const char* found = as_found ? " (read as found, before corner_refinement)" : "";
   r.record.read_as_found = as_found;
@@ -49,7 +49,9 @@ void DetectorRun::read_at(const Quad& q, int n, bool as_found, Reading& r, Lap&&
   lap(3);
   r.record.border_errors = stages::border_errors(bits);
   r.record.border_cells = 4 * (cells - 1);
-  const int allowed = static_cast<int>(p_.border_max_error_rate * r.record.border_cells);
+  // A quad cut from thin lines has its whole border black: the lines only darken, and the border is what says that
+  // the region's edge there is a marker's (an outlined rectangle crossed by a line can read as a code inside).
+  const int allowed = cut ? 0 : static_cast<int>(p_.border_max_error_rate * r.record.border_cells);
   // A black border inside a larger dark shape (a piece of some other pattern) has no light quiet zone.
   const stages::QuietZone quiet = as_found || r.record.border_errors > allowed || p_.quiet_zone_max_dark_rate >= 1
                                       ? stages::QuietZone{}
@@ -59,8 +61,10 @@ void DetectorRun::read_at(const Quad& q, int n, bool as_found, Reading& r, Lap&&
     r.reached = 3;
     r.record.fate = Rejection{Stage::border_check, "border_max_error_rate", double(r.record.border_errors),
                               double(allowed),
-                              fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
-                                      r.record.border_errors, r.record.border_cells, allowed) + found};
+                              cut ? fmt_msg("%.0f white border cells in a quad cut from thin lines (cut_thin_lines), "
+                                            "which must have none", r.record.border_errors, 0) + found
+                                  : fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
+                                            r.record.border_errors, r.record.border_cells, allowed) + found};
     return;
   }
   if (quiet.dark_share > p_.quiet_zone_max_dark_rate) {
@@ -139,7 +143,7 @@ void DetectorRun::read_one(size_t k) {
     };
     bool refine = true;
     if (read_first) {
-      read_at(quad, n, true, r, lap);
+      read_at(quad, n, true, quads_[k].cut, r, lap);
       refine = r.reached == 5;
       if (refine) {
         Reading again;
@@ -151,7 +155,7 @@ void DetectorRun::read_one(size_t k) {
       Quad q = quad;
       stages::refine_corners(grey(), q, n + 2, p_, contour_factor_[size_t(quads_[k].contour)]);
       lap(0);
-      read_at(q, n, false, r, lap);
+      read_at(q, n, false, quads_[k].cut, r, lap);
     }
     if (r.reached > best.reached) best = std::move(r);
     if (best.reached == 5) break;

@@ -55,6 +55,7 @@ class DetectorRun {
     int record;   // index into the trace's candidates, or -1 when not traced
     int contour;
     Quad quad;
+    bool cut = false;   // quad_fit cut it from thin lines (cut_thin_lines)
   };
   // A region the first search searched, for fine_search's holes: its binary image and its contours' indices.
   struct Searched {
@@ -81,7 +82,7 @@ class DetectorRun {
   // Reading quad q at marker size n into r, from perspective_removal to identification; `as_found`: before
   // corner_refinement (unrefined_miss_rate). `lap(slot)` times each stage.
   template <class Lap>
-  void read_at(const Quad& q, int n, bool as_found, Reading& r, Lap&& lap) const;
+  void read_at(const Quad& q, int n, bool as_found, bool cut, Reading& r, Lap&& lap) const;
   void read_one(size_t k);
   void read_all(const std::vector<int>& which);
   // Reads the quads of `kept` and then those of quads_[from..] merged into one that is no marker.

@@ -65,8 +65,9 @@ const ParamInfo kTable[] = {
     ARWB_INT(min_border_distance_px, "quad_fit", "px", 3, 0, 100,
              "Quads with a corner closer than this to the image edge are dropped (they are usually cut off)."),
     ARWB_INT(cut_thin_lines, "quad_fit", "", 1, 0, 1,
-             "1: a polygon that is a quad with a line's stub (a thin line that crosses a marker's quiet zone "
-             "into its border joins the two in one shape) gives the quad, fitted without the stub. 0: off."),
+             "1: a shape that is a quad joined to thin lines (a line that crosses a marker's quiet zone into its "
+             "border joins the two, and whatever else the line touches, in one shape) gives the quad, its sides "
+             "fitted without the lines. 0: off."),
     ARWB_DBL(min_marker_distance_rate, "nested_filter", "rate", 0.05, 0, 1,
              "Two quads whose corners are closer than this fraction of the smaller perimeter are one candidate; "
              "the outer one is kept."),

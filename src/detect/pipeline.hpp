@@ -144,11 +144,11 @@ std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::
                                      bool explain = true, int factor = 1);
 
 // quad_fit: a convex quad, clockwise on screen, or the rejection (its message only when `explain` asks: most
-// contours of a frame stop here too). With cut_thin_lines, a polygon that is a quad with a thin line's stub (a line
-// that crosses a marker's quiet zone into its border joins the two in one shape) gives the quad, its sides fitted
-// without the stub's points.
+// contours of a frame stop here too). With cut_thin_lines, a shape that is a quad joined to thin lines (a line that
+// crosses a marker's quiet zone into its border joins the two, and whatever else it touches, in one shape) gives the
+// quad, its sides fitted without the lines' points, and `cut` (when given) true.
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
-                                  Quad* quad, int factor = 1, bool explain = true);
+                                  Quad* quad, int factor = 1, bool explain = true, bool* cut = nullptr);
 
 // fine_search's holes: the light insides of the dark regions of a decimated search's binary image (`origin`: where
 // it lies in the grey image) that are quads at most fine_max_side_px on their longer side, as boxes in the grey

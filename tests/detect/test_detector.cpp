@@ -651,3 +651,29 @@ TEST(Detector, HalfSizeSearchFindsASmallMarkerJoinedToAThinLine) {
   const std::vector<Marker> without = Detector({d}, uncut).detect(item.image);
   EXPECT_TRUE(std::none_of(without.begin(), without.end(), [](const Marker& k) { return k.id == 414; }));
 }
+
+// `arwb synth --set hard --dict ARUCO_ORIGINAL,APRILTAG_36h11`, image 13 (crossed): AprilTag 36h11 id 517, about
+// 200 px, with a thin line across its border that runs on to other dark shapes. Marker, line and shapes are one
+// region some three times the marker's width, whose polygon is no quad with one stub; quad_fit finds the marker's
+// sides among the region's straight runs (cut_thin_lines).
+TEST(Detector, AMarkerJoinedByALineToOtherShapesIsCutFromThem) {
+  const std::vector<Dictionary> dicts = {*dictionary_by_name("ARUCO_ORIGINAL"), *dictionary_by_name("APRILTAG_36h11")};
+  const SetItem item = make_set_item(dicts, hard_sizes(), 1, 13, SetKind::hard);
+  ASSERT_EQ(item.condition, "crossed");
+  const auto truth = with_id(item.truth, 517);
+  ASSERT_NE(truth, item.truth.end());
+  FrameTrace t;
+  const std::vector<Marker> found = Detector(dicts).detect(item.image, &t, TraceLevel::full);
+  const auto m = with_id(found, 517);
+  ASSERT_NE(m, found.end());
+  EXPECT_LT(mean_corner_error(*m, *truth), 1.0);
+  const cv::Rect marker_box = cv::boundingRect(std::vector<cv::Point2f>(truth->corners.begin(), truth->corners.end()));
+  bool merged = false;
+  for (const auto& c : t.candidates)
+    if (c.has_quad && (c.bbox & marker_box).area() > 0 && c.bbox.width > 2 * marker_box.width) merged = true;
+  EXPECT_TRUE(merged) << "the quad came from a region much wider than the marker";
+  DetectorParams uncut;
+  uncut.cut_thin_lines = 0;
+  const std::vector<Marker> without = Detector(dicts, uncut).detect(item.image);
+  EXPECT_EQ(with_id(without, 517), without.end());
+}

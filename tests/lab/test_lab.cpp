@@ -240,20 +240,42 @@ TEST(LabRun, DetectorsThatCannotRunAreNamed) {
   EXPECT_EQ(r.error(), "apriltag reads the AprilTag families, not ARUCO_ORIGINAL");
 }
 
+// The paper's plan's frame `frame` of cell `cell`, as the run renders it, or an empty image when that is not one
+// of the frames without a marker.
+cv::Mat paper_empty_frame(size_t cell, int frame) {
+  const LabPlan plan = paper_plan();
+  const LabOptions o;
+  LabCellSource src(plan, o, lab_marker_ids(plan, o.seed), cell, frame);
+  cv::Mat img;
+  src.next(0, img);
+  return src.frame().empty ? img : cv::Mat();
+}
+
 }  // namespace
 // The paper's plan, cell 25 (26 mm at 0.5 m, 850 lx), frame 438: an empty frame with a checkerboard patch whose
 // squares touch at their corners. With cut_thin_lines a 51x17 px sliver across one row of it was cut from them as
-// a quad with a stub and read as ARUCO_ORIGINAL 1023; a quad cut from a stub must not be that thin.
+// a quad with a line's stub and read as ARUCO_ORIGINAL 1023; a quad cut from thin lines must not be that thin.
 TEST(LabRun, ACheckerboardsRowIsNotAMarkerWithAStub) {
-  const LabPlan plan = paper_plan();
-  const LabOptions o;
-  LabCellSource src(plan, o, lab_marker_ids(plan, o.seed), 25, 438);
-  cv::Mat img;
-  src.next(0, img);
-  ASSERT_FALSE(img.empty());
-  ASSERT_TRUE(src.frame().empty) << "one of the cell's frames without a marker";
+  const cv::Mat img = paper_empty_frame(25, 438);
+  ASSERT_FALSE(img.empty()) << "one of the cell's frames without a marker";
   const std::vector<Marker> found = Detector({*dictionary_by_name("ARUCO_ORIGINAL")}).detect(img);
   EXPECT_TRUE(found.empty()) << found.size() << " markers, the first " << found[0].id;
+}
+
+// The paper's plan, cell 21 (26 mm at 1 m, 1000 lx), frame 432: an empty frame with a rectangle drawn in outline and
+// crossed by a thin line. Cut from the line, the outline's quad read as ARUCO_ORIGINAL 341 (the line darkens cells
+// inside it) with white border cells; a quad cut from thin lines is read only with a wholly black border.
+TEST(LabRun, AnOutlinedRectangleCrossedByALineIsNotAMarker) {
+  const cv::Mat img = paper_empty_frame(21, 432);
+  ASSERT_FALSE(img.empty()) << "one of the cell's frames without a marker";
+  FrameTrace t;
+  const std::vector<Marker> found = Detector({*dictionary_by_name("ARUCO_ORIGINAL")}).detect(img, &t);
+  EXPECT_TRUE(found.empty()) << found.size() << " markers, the first " << found[0].id;
+  bool refused = false;
+  for (const auto& c : t.candidates)
+    refused = refused ||
+              (c.fate.stage == Stage::border_check && c.fate.message.find("cut_thin_lines") != std::string::npos);
+  EXPECT_TRUE(refused) << "border_check turned the cut quad down";
 }
 
 }  // namespace arwb::lab
