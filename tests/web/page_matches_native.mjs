@@ -54,8 +54,9 @@ try {
   if (kept[0] !== 'verified' || kept[1] !== true)
     fail(`the bundle was ${kept[0]}, ${kept[1] ? '' : 'not '}kept for offline use: ${await text('bundle')}`);
   // The bundle's self-test, run again by the page's core before the camera starts, passes as it did at export and
-  // says so on the first screen.
-  const selfTest = await page.waitFor('arwbPlayer.selfTest', 20);
+  // says so on the first screen. It comes after the worker has fetched the scene's media through the service worker:
+  // 0.3 s alone, and more than 20 s once on CI beside two other Chromium tests; 60 s is a hang.
+  const selfTest = await page.waitFor('arwbPlayer.selfTest', 60);
   const rows = await page.evaluate('arwbPlayer.bundle.manifest.self_test.length');
   if (!selfTest.passed || selfTest.rows.length !== rows || !(await text('selftest')).includes(selfTest.text))
     fail(`the page's self-test: ${selfTest.text} (${selfTest.rows.length} rows, the manifest's ${rows}); the first ` +
