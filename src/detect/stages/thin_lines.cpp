@@ -234,8 +234,6 @@ bool cut_thin_lines(const std::vector<cv::Point>& contour, std::pair<int, int> f
     }
     if (pts.size() < 4) return false;
     sides[k] = fit_side(pts);
-    // fit_side's line may point either way; the side's is its runs'.
-    if (cv::Point2d(sides[k][1], -sides[k][0]).dot(lines[size_t(four[k])].way) < 0) sides[k] = -sides[k];
   }
   if (!meet_sides(sides, quad)) return false;
   for (auto& c : *quad) c += cv::Point2f(float(shift), float(shift));
