@@ -165,6 +165,7 @@ void DetectorRun::record_readings(const std::vector<size_t>& kept, const std::ve
     dst.border_cells = src.border_cells;
     dst.dict = std::move(src.dict);
     dst.read_as_found = src.read_as_found;
+    dst.local_thresholds = src.local_thresholds;
     dst.per_rotation = src.per_rotation;
     dst.fate = std::move(src.fate);
     if (readings_[k].reached == 5 && !dup_reason[k].empty())

@@ -47,24 +47,50 @@ void DetectorRun::read_at(const Quad& q, int n, bool as_found, bool cut, Reading
   cv::Mat bits = stages::sample_bits(warp, cells, o.threshold, p_);
   if (full_) r.record.bits = bits;
   lap(3);
+  judge(q, n, as_found, cut, bits, &o, r, lap);
+  // One threshold could not read it: read again with bit_grid's local thresholds, kept if that gets further.
+  if (r.reached < 3 || r.reached == 5 || !p_.local_thresholds) return;
+  stages::LocalRead local = stages::read_local(grey(), q, warp, cells, p_);
+  lap(3);
+  if (!local.ok || local.stripe) return;
+  Reading again;
+  again.record = r.record;
+  again.record.local_thresholds = true;
+  again.record.bits = full_ ? local.bits : cv::Mat();
+  again.reached = 2;
+  judge(q, n, as_found, cut, local.bits, nullptr, again, lap);
+  if (again.reached <= r.reached) return;
+  again.ms = r.ms;
+  r = std::move(again);
+}
+
+// border_check and identification of bits read from quad q at marker size n. `o`: the view's Otsu result for the
+// quiet zone check, or null when the bits' border ring already compared each cell with its quiet zone.
+template <class Lap>
+void DetectorRun::judge(const Quad& q, int n, bool as_found, bool cut, const cv::Mat& bits,
+                        const stages::OtsuResult* o, Reading& r, Lap&& lap) const {
+  const int cells = n + 2;
+  const char* found = as_found ? " (read as found, before corner_refinement)" : "";
+  const char* local = r.record.local_thresholds ? " (local_thresholds)" : "";
   r.record.border_errors = stages::border_errors(bits);
   r.record.border_cells = 4 * (cells - 1);
   // A quad cut from thin lines has its whole border black: the lines only darken, and the border is what says that
   // the region's edge there is a marker's (an outlined rectangle crossed by a line can read as a code inside).
   const int allowed = cut ? 0 : static_cast<int>(p_.border_max_error_rate * r.record.border_cells);
   // A black border inside a larger dark shape (a piece of some other pattern) has no light quiet zone.
-  const stages::QuietZone quiet = as_found || r.record.border_errors > allowed || p_.quiet_zone_max_dark_rate >= 1
+  const stages::QuietZone quiet = !o || as_found || r.record.border_errors > allowed || p_.quiet_zone_max_dark_rate >= 1
                                       ? stages::QuietZone{}
-                                      : stages::quiet_zone(grey(), q, cells, o);
+                                      : stages::quiet_zone(grey(), q, cells, *o);
   lap(4);
   if (r.record.border_errors > allowed) {
     r.reached = 3;
     r.record.fate = Rejection{Stage::border_check, "border_max_error_rate", double(r.record.border_errors),
                               double(allowed),
-                              cut ? fmt_msg("%.0f white border cells in a quad cut from thin lines (cut_thin_lines), "
-                                            "which must have none", r.record.border_errors, 0) + found
-                                  : fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
-                                            r.record.border_errors, r.record.border_cells, allowed) + found};
+                              (cut ? fmt_msg("%.0f white border cells in a quad cut from thin lines (cut_thin_lines), "
+                                             "which must have none", r.record.border_errors, 0)
+                                   : fmt_msg("%.0f white border cells > border_max_error_rate x %.0f = %.0f",
+                                             r.record.border_errors, r.record.border_cells, allowed)) +
+                                  local + found};
     return;
   }
   if (quiet.dark_share > p_.quiet_zone_max_dark_rate) {
@@ -109,12 +135,14 @@ void DetectorRun::read_at(const Quad& q, int n, bool as_found, bool cut, Reading
                              double(budget + slack),
                              fmt_msg("nearest id %.0f is %.0f bits away > budget %.0f", nearest.id, nearest.hamming,
                                      budget) +
-                                 fmt_msg(" + unrefined_miss_rate x %.0f bits = %.0f", n * n, budget + slack) + found}
+                                 fmt_msg(" + unrefined_miss_rate x %.0f bits = %.0f", n * n, budget + slack) + local +
+                                 found}
                  : Rejection{Stage::identification, "error_correction_rate", double(nearest.hamming),
                              double(budget),
                              fmt_msg("nearest id %.0f is %.0f bits away > budget %.0f (error_correction_rate"
                                      " x max_correction_bits)",
-                                     nearest.id, nearest.hamming, budget)};
+                                     nearest.id, nearest.hamming, budget) +
+                                 local};
   } else {
     r.reached = 5;
     r.dict_index = nearest_dict;

@@ -83,6 +83,9 @@ class DetectorRun {
   // corner_refinement (unrefined_miss_rate). `lap(slot)` times each stage.
   template <class Lap>
   void read_at(const Quad& q, int n, bool as_found, bool cut, Reading& r, Lap&& lap) const;
+  template <class Lap>
+  void judge(const Quad& q, int n, bool as_found, bool cut, const cv::Mat& bits, const stages::OtsuResult* o,
+             Reading& r, Lap&& lap) const;
   void read_one(size_t k);
   void read_all(const std::vector<int>& which);
   // Reads the quads of `kept` and then those of quads_[from..] merged into one that is no marker.

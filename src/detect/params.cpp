@@ -92,6 +92,10 @@ const ParamInfo kTable[] = {
              "Part of each cell's side ignored at its edges when sampling, so blur from neighbours does not count."),
     ARWB_DBL(otsu_min_stddev, "otsu", "grey", 5, 0, 128,
              "A frontal view whose grey levels vary less than this is uniform (all black or white), not a marker."),
+    ARWB_INT(local_thresholds, "bit_grid", "", 1, 0, 1,
+             "1: a quad that one threshold cannot read (its border or id fails) is read again with a threshold per "
+             "cell, spread in from the mid levels between each border cell and the quiet zone beside it, for a "
+             "shadow edge or a steep gradient across a marker. 0: off."),
     ARWB_DBL(border_max_error_rate, "border_check", "rate", 0.35, 0, 1,
              "Share of border cells allowed to be white. Higher tolerates occlusion and glare, and more clutter."),
     ARWB_DBL(quiet_zone_max_dark_rate, "border_check", "rate", 0.6, 0, 1,

@@ -46,6 +46,8 @@ struct DetectorParams {
   double warp_margin_rate = 0;
   // otsu
   double otsu_min_stddev = 0;
+  // bit_grid
+  int local_thresholds = 0;
   // border_check
   double border_max_error_rate = 0;
   double quiet_zone_max_dark_rate = 0;

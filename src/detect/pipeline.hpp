@@ -190,6 +190,25 @@ OtsuResult otsu(const cv::Mat& warp);
 // bit_grid: cells x cells bits (1 white), each the majority of its cell's centre (margins ignored).
 cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const DetectorParams& p);
 
+// bit_grid's local thresholds (local_thresholds): a threshold per cell, for a view that a shadow edge or a steep
+// gradient crosses, where no one threshold parts black from white. Light multiplies the print's black and white
+// alike, so the border is one share of the quiet zone beside it (half a cell outside) all round: at each border cell
+// the mid level is the quiet zone times the share half way from the median border share to 1, and the ring of mid
+// levels is spread inside by Coons' patch (exact for a gradient and for a shadow edge parallel to a side). Ring cells
+// are read against their mid level too, so border_check tests each border cell against the quiet zone beside it.
+// ok is false, and nothing read, when the quiet zone leaves the image, the median step from border to quiet zone is
+// under otsu_min_stddev, or the mid levels vary by less than half that step (light even enough for otsu's one
+// threshold).
+struct LocalRead {
+  bool ok = false;
+  cv::Mat bits;              // as sample_bits's
+  double median_step = 0;    // grey levels from border to quiet zone, the ring's median
+  double mid_spread = 0;     // the ring's highest mid level less its lowest
+  bool stripe = false;       // the inside is one row or one column repeated: what a ramp or edge the patch does not
+                             // follow reads as (ARUCO_ORIGINAL 0 and 1023), so no marker
+};
+LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp, int cells, const DetectorParams& p);
+
 // border_check: the number of white cells in the outer ring.
 int border_errors(const cv::Mat& bits);
 

@@ -93,6 +93,7 @@ struct CandidateRecord {
   int border_errors = -1;
   int border_cells = 0;
   std::string dict;            // the dictionary the grid was read for
+  bool local_thresholds = false;  // bits and fate are of bit_grid's second read, a threshold per cell
   bool read_as_found = false;  // stopped by its read before corner_refinement (unrefined_miss_rate): the frontal
                                // view, bits and fate are of the unrefined quad
   std::array<DictMatch, 4> per_rotation{};  // nearest id in each rotation (when identification ran)

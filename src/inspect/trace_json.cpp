@@ -74,6 +74,7 @@ std::string trace_to_json(const FrameTrace& t) {
                           {"border_cells", c.border_cells},
                           {"dict", c.dict},
                           {"read_as_found", c.read_as_found},
+                          {"local_thresholds", c.local_thresholds},
                           {"per_rotation", std::move(per_rotation)},
                           {"marker", c.marker},
                           {"warp", size_or_null(c.warp)},

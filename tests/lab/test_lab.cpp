@@ -278,4 +278,19 @@ TEST(LabRun, AnOutlinedRectangleCrossedByALineIsNotAMarker) {
   EXPECT_TRUE(refused) << "border_check turned the cut quad down";
 }
 
+// Empty frames that bit_grid's local thresholds once read as markers, from the paper's plan: cell 19 (26 mm at 2 m,
+// 850 lx) frame 420, a tall rectangle drawn in outline whose border cells along the short sides are dark only
+// along their outer edge (their mean against the quiet zone read them black: ARUCO_ORIGINAL 1023), and cell 7
+// (65 mm at 0.5 m, 850 lx) frame 444 and cell 23 (26 mm at 1 m, 500 lx) frame 471, a square outlined in white and a
+// light line across a gradient, whose quads the patch read as a stripe (ARUCO_ORIGINAL 0).
+TEST(LabRun, OutlinesAndLightLinesAreNotMarkersWithLocalThresholds) {
+  for (const auto& [cell, frame] : std::vector<std::pair<size_t, int>>{{19, 420}, {7, 444}, {23, 471}}) {
+    SCOPED_TRACE("cell " + std::to_string(cell) + ", frame " + std::to_string(frame));
+    const cv::Mat img = paper_empty_frame(cell, frame);
+    ASSERT_FALSE(img.empty()) << "one of the cell's frames without a marker";
+    const std::vector<Marker> found = Detector({*dictionary_by_name("ARUCO_ORIGINAL")}).detect(img);
+    EXPECT_TRUE(found.empty()) << found.size() << " markers, the first " << found[0].id;
+  }
+}
+
 }  // namespace arwb::lab

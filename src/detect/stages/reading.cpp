@@ -4,6 +4,9 @@
 
 #include "detect/stages/sampling.hpp"
 
+#include <algorithm>
+#include <vector>
+
 namespace arwb::stages {
 
 // [SECTION] border_check's quiet zone
@@ -103,12 +106,17 @@ OtsuResult otsu(const cv::Mat& warp) {
 
 // [SECTION] bit_grid: one bit per cell
 
-cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const DetectorParams& p) {
+namespace {
+
+// Each cell the majority of its centre's pixels (margins ignored) against threshold_at(row, col).
+template <class Threshold>
+cv::Mat majority_bits(const cv::Mat& warp, int cells, const DetectorParams& p, Threshold&& threshold_at) {
   const int cp = p.warp_cell_px;
   const int margin = std::min(static_cast<int>(p.warp_margin_rate * cp + 0.5), (cp - 1) / 2);
   cv::Mat bits(cells, cells, CV_8UC1);
   for (int r = 0; r < cells; ++r)
     for (int c = 0; c < cells; ++c) {
+      const double threshold = threshold_at(r, c);
       int white = 0, count = 0;
       for (int y = r * cp + margin; y < (r + 1) * cp - margin; ++y) {
         const uint8_t* row = warp.ptr<uint8_t>(y);
@@ -120,6 +128,103 @@ cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const Detecto
       bits.at<uint8_t>(r, c) = static_cast<uint8_t>(2 * white > count);
     }
   return bits;
+}
+
+}  // namespace
+
+cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const DetectorParams& p) {
+  return majority_bits(warp, cells, p, [threshold](int, int) { return threshold; });
+}
+
+// [SECTION] bit_grid's local thresholds (local_thresholds)
+
+LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp, int cells, const DetectorParams& p) {
+  LocalRead out;
+  const int last = cells - 1;
+  // The ring's cells: their means over the same centres the bits are read from, and the quiet zone beside each,
+  // half a cell outside, three samples along the side (a corner cell has both sides' beside it).
+  cv::Mat_<double> quiet(cells, cells, 0.0), seen(cells, cells, 0.0);
+  const int cp = p.warp_cell_px;
+  const int margin = std::min(static_cast<int>(p.warp_margin_rate * cp + 0.5), (cp - 1) / 2);
+  auto cell_mean = [&](int r, int c) {
+    double sum = 0;
+    int count = 0;
+    for (int y = r * cp + margin; y < (r + 1) * cp - margin; ++y)
+      for (int x = c * cp + margin; x < (c + 1) * cp - margin; ++x, ++count) sum += warp.at<uint8_t>(y, x);
+    return sum / count;
+  };
+  const cv::Matx33d H = square_to_quad(quad, cells);
+  for (int side = 0; side < 4; ++side)
+    for (int k = 0; k < cells; ++k) {
+      // Side k runs from corner k to corner k + 1: its k-th cell, and the point (u, v) at t along it, 0.5 outside.
+      const int r = side == 0 ? 0 : side == 1 ? k : side == 2 ? last : last - k;
+      const int c = side == 0 ? k : side == 1 ? last : side == 2 ? last - k : 0;
+      for (const double along : {0.3, 0.5, 0.7}) {
+        const double t = k + along;
+        const double u = side == 0 ? t : side == 1 ? cells + 0.5 : side == 2 ? cells - t : -0.5;
+        const double v = side == 0 ? -0.5 : side == 1 ? t : side == 2 ? cells + 0.5 : cells - t;
+        const cv::Vec3d px = H * cv::Vec3d(u, v, 1);
+        const double x = px[0] / px[2], y = px[1] / px[2];
+        if (!(x >= 0 && y >= 0 && x <= grey.cols - 1 && y <= grey.rows - 1)) return out;   // also NaN
+        quiet(r, c) += sample_bilinear(grey, x, y);
+        seen(r, c) += 1;
+      }
+    }
+  // Light multiplies the print's black and white alike (and a camera's gamma keeps that so): the border is the same
+  // share of its quiet zone all round. That share's median, and the steps' median.
+  std::vector<double> shares, steps;
+  shares.reserve(size_t(4 * last));
+  steps.reserve(size_t(4 * last));
+  for (int r = 0; r < cells; ++r)
+    for (int c = 0; c < cells; ++c) {
+      if (seen(r, c) == 0) continue;
+      quiet(r, c) /= seen(r, c);
+      const double border = cell_mean(r, c);
+      shares.push_back(border / std::max(quiet(r, c), 1.0));
+      steps.push_back(quiet(r, c) - border);
+    }
+  auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  out.median_step = median(steps);
+  const double mid_share = 0.5 * (1 + median(shares));
+  // The mid level at each ring cell is that share of its quiet zone, half way from the border's share to 1; a ring
+  // cell's bit is read against it, so that a cell only part dark (the corner of an outlined frame) reads white.
+  cv::Mat_<double> mid(cells, cells, 0.0);
+  double low = 255, high = 0;
+  for (int r = 0; r < cells; ++r)
+    for (int c = 0; c < cells; ++c)
+      if (seen(r, c) > 0) {
+        mid(r, c) = mid_share * quiet(r, c);
+        low = std::min(low, mid(r, c));
+        high = std::max(high, mid(r, c));
+      }
+  // Light even enough for one threshold (mid levels within half a step of each other) is otsu's to read.
+  out.mid_spread = high - low;
+  if (out.median_step < p.otsu_min_stddev || out.mid_spread < 0.5 * out.median_step) return out;
+  out.ok = true;
+  // Inside, the ring's mid levels spread by Coons' patch (the sum of the two ways' linear blends less the corners'
+  // bilinear one).
+  auto threshold_at = [&](int r, int c) {
+    if (seen(r, c) > 0) return mid(r, c);
+    const double u = double(c) / last, v = double(r) / last;
+    return (1 - v) * mid(0, c) + v * mid(last, c) + (1 - u) * mid(r, 0) + u * mid(r, last) -
+           ((1 - u) * (1 - v) * mid(0, 0) + u * (1 - v) * mid(0, last) + (1 - u) * v * mid(last, 0) +
+            u * v * mid(last, last));
+  };
+  out.bits = majority_bits(warp, cells, p, threshold_at);
+  // A ramp or edge the patch does not follow leaves a stripe of cells parallel to a side: an inside of one row or
+  // one column repeated (ARUCO_ORIGINAL 0 and 1023 on outlined frames and light lines in the lab's empty frames) is
+  // no reading.
+  const cv::Mat inner = out.bits(cv::Rect(1, 1, cells - 2, cells - 2));
+  bool rows_same = true, cols_same = true;
+  for (int k = 1; k < inner.rows; ++k) {
+    rows_same = rows_same && cv::countNonZero(inner.row(k) != inner.row(0)) == 0;
+    cols_same = cols_same && cv::countNonZero(inner.col(k) != inner.col(0)) == 0;
+  }
+  out.stripe = rows_same || cols_same;
+  return out;
 }
 
 // [SECTION] border_check: the outer ring of cells must be black (and its quiet zone light: quiet_zone above)

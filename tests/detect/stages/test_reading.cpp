@@ -65,3 +65,42 @@ TEST(Stages, QuietZoneIsLightAroundAMarkerAndDarkWhereAShapeGoesOn) {
   const Quad at_edge{cv::Point2f(0, 50), {105, 50}, {105, 155}, {0, 155}};
   EXPECT_EQ(stages::quiet_zone(edge, at_edge, 7, o).dark_share, 0.0);
 }
+
+// bit_grid's local thresholds: a grey-on-grey marker with a soft shadow edge across it (steeply, as Coons' patch
+// follows best), where the white cells in the shadow are darker than the black cells in the light. Otsu's one threshold misreads it; the thresholds spread
+// in from the border and its quiet zone read every cell.
+TEST(Stages, LocalThresholdsReadAMarkerAcrossAShadowEdge) {
+  const Dictionary d = make_aruco_original();
+  const cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
+  cv::Mat shaded(img.size(), CV_8UC1);
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x) {
+      // Grey on grey (60 to 160), then the shadow: 0.45 of the light left of the line x + 0.3 y = 125, over 6 px.
+      const double level = 60 + 100 * img.at<uint8_t>(y, x) / 255.0;
+      const double shade = 1 - 0.55 * std::clamp((125 - x - 0.3 * y) / 6.0 + 0.5, 0.0, 1.0);
+      shaded.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(level * shade);
+    }
+  const Quad q{cv::Point2f(40, 50), {145, 50}, {145, 155}, {40, 155}};
+  DetectorParams p;
+  const cv::Mat warp = stages::remove_perspective(shaded, q, 7, p);
+  const cv::Mat global = stages::sample_bits(warp, 7, stages::otsu(warp).threshold, p);
+  const int global_wrong = stages::border_errors(global) + cv::countNonZero(global(cv::Rect(1, 1, 5, 5)) != d.bits(321));
+  EXPECT_GT(global_wrong, 0) << "one threshold reads it: the test shows nothing";
+  const stages::LocalRead local = stages::read_local(shaded, q, warp, 7, p);
+  ASSERT_TRUE(local.ok);
+  EXPECT_EQ(stages::border_errors(local.bits), 0);
+  EXPECT_EQ(cv::countNonZero(local.bits(cv::Rect(1, 1, 5, 5)) != d.bits(321)), 0);
+  EXPECT_GT(local.median_step, 40);    // between the shaded step (45) and the lit one (100)
+  EXPECT_LT(local.median_step, 105);
+
+  // The same marker with no quiet zone (a dark page around it): its border is no darker than beside it.
+  cv::Mat dark = shaded.clone();
+  cv::Mat outside(dark.size(), CV_8UC1, cv::Scalar(255));
+  outside(cv::Rect(40, 50, 106, 106)).setTo(0);
+  dark.setTo(30, outside);
+  const stages::LocalRead none = stages::read_local(dark, q, stages::remove_perspective(dark, q, 7, p), 7, p);
+  EXPECT_TRUE(!none.ok || stages::border_errors(none.bits) > 12);
+  // A quiet zone off the image: nothing to compare the border with.
+  const Quad off{cv::Point2f(0, 50), {105, 50}, {105, 155}, {0, 155}};
+  EXPECT_FALSE(stages::read_local(shaded, off, stages::remove_perspective(shaded, off, 7, p), 7, p).ok);
+}

@@ -1,0 +1,131 @@
+// The detector on the bench's hard set (`arwb synth --set hard`), image by image: the conditions a stage or a
+// parameter was made for, each read with it and missed without it.
+#include "detect/detector.hpp"
+#include "detect/pipeline.hpp"
+#include "synth/synth_set.hpp"
+#include "synth/synth.hpp"
+#include "detector_test_util.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+
+using namespace arwb;
+using arwb::test::mean_corner_error;
+using arwb::test::with_id;
+
+TEST(Detector, TheCoarseSearchClosesALargeGreyOnGreyMarkerAndReadsNoQuadTwice) {
+  // Image 0 of the bench's hard 36h11 set (seed 1): a large marker printed grey on grey, a shadow's edge across it.
+  // On the first search the shadow's edge joins its outline; on the image shrunk coarse_factor times it closes.
+  const Dictionary d = *dictionary_by_name("APRILTAG_36h11");
+  const SetItem item = make_set_item({d}, hard_sizes(), 1, 0, SetKind::hard);
+  ASSERT_EQ(item.condition, "low_contrast");
+  DetectorParams off;
+  off.coarse_factor = 0;
+  EXPECT_TRUE(Detector({d}, off).detect(item.image).empty());
+  FrameTrace t;
+  const std::vector<Marker> found = Detector({d}).detect(item.image, &t, TraceLevel::full);
+  // The marker the coarse search closes; its other marker, half in the shadow, is bit_grid's local thresholds' to
+  // read.
+  DetectorParams one;
+  one.local_thresholds = 0;
+  const std::vector<Marker> closed = Detector({d}, one).detect(item.image);
+  ASSERT_EQ(closed.size(), 1u);
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_NE(with_id(found, closed[0].id), found.end());
+  for (const Marker& f : found) EXPECT_NE(with_id(item.truth, f.id), item.truth.end()) << f.id;
+  // The stage: its picture is the coarse binary image; its contours join the first search's regions.
+  const StageRecord* coarse = t.stage(Stage::coarse_search);
+  const StageRecord* contours = t.stage(Stage::contours);
+  ASSERT_TRUE(coarse && contours);
+  EXPECT_EQ(coarse->in, contours->out);
+  EXPECT_GT(coarse->out, coarse->in);
+  const int k = DetectorParams{}.coarse_factor;   // even: shrunk from the threshold's block means
+  ASSERT_EQ(k % 2, 0);
+  EXPECT_EQ(coarse->image.size(), cv::Size(item.image.cols / k, item.image.rows / k));
+  // An odd factor shrinks the first search's image itself, and closes it too.
+  DetectorParams odd;
+  odd.coarse_factor = 3;
+  FrameTrace t3;
+  const std::vector<Marker> found3 = Detector({d}, odd).detect(item.image, &t3, TraceLevel::full);
+  EXPECT_NE(with_id(found3, closed[0].id), found3.end());
+  ASSERT_TRUE(t3.stage(Stage::coarse_search));
+  EXPECT_EQ(t3.stage(Stage::coarse_search)->image.size(), cv::Size(item.image.cols / 3, item.image.rows / 3));
+  // Whatever both searches fitted is read once: the coarse twin stops at quad_fit naming the first search's
+  // contour, and that contour's candidate has its quad.
+  int twins = 0;
+  for (const auto& c : t.candidates) {
+    if (c.fate.param != "coarse_factor") continue;
+    ++twins;
+    EXPECT_EQ(c.fate.stage, Stage::quad_fit);
+    const size_t at = c.fate.message.find("contour ");
+    ASSERT_NE(at, std::string::npos) << c.fate.message;
+    const int twin = std::atoi(c.fate.message.c_str() + at + 8);
+    const auto first = std::find_if(t.candidates.begin(), t.candidates.end(),
+                                    [&](const CandidateRecord& o) { return o.contour == twin; });
+    ASSERT_NE(first, t.candidates.end());
+    EXPECT_TRUE(first->has_quad);
+    EXPECT_LT(first->contour, c.contour);  // the first search's contours come first
+  }
+  EXPECT_GT(twins, 0);
+}
+
+// `arwb synth --set hard --dict ARUCO_ORIGINAL,APRILTAG_36h11`, image 13 (crossed): AprilTag 36h11 id 517, about
+// 200 px, with a thin line across its border that runs on to other dark shapes. Marker, line and shapes are one
+// region some three times the marker's width, whose polygon is no quad with one stub; quad_fit finds the marker's
+// sides among the region's straight runs (cut_thin_lines).
+TEST(Detector, AMarkerJoinedByALineToOtherShapesIsCutFromThem) {
+  const std::vector<Dictionary> dicts = {*dictionary_by_name("ARUCO_ORIGINAL"), *dictionary_by_name("APRILTAG_36h11")};
+  const SetItem item = make_set_item(dicts, hard_sizes(), 1, 13, SetKind::hard);
+  ASSERT_EQ(item.condition, "crossed");
+  const auto truth = with_id(item.truth, 517);
+  ASSERT_NE(truth, item.truth.end());
+  FrameTrace t;
+  const std::vector<Marker> found = Detector(dicts).detect(item.image, &t, TraceLevel::full);
+  const auto m = with_id(found, 517);
+  ASSERT_NE(m, found.end());
+  EXPECT_LT(mean_corner_error(*m, *truth), 1.0);
+  const cv::Rect marker_box = cv::boundingRect(std::vector<cv::Point2f>(truth->corners.begin(), truth->corners.end()));
+  bool merged = false;
+  for (const auto& c : t.candidates)
+    if (c.has_quad && (c.bbox & marker_box).area() > 0 && c.bbox.width > 2 * marker_box.width) merged = true;
+  EXPECT_TRUE(merged) << "the quad came from a region much wider than the marker";
+  DetectorParams uncut;
+  uncut.cut_thin_lines = 0;
+  const std::vector<Marker> without = Detector(dicts, uncut).detect(item.image);
+  EXPECT_EQ(with_id(without, 517), without.end());
+}
+
+// `arwb synth --set hard --dict ARUCO_ORIGINAL,APRILTAG_36h11`, image 18 (low_contrast): ARUCO_ORIGINAL id 264,
+// about 250 px, grey on grey, its left half in a shadow whose white cells are darker than the lit black ones. Otsu's
+// one threshold reads 11 of its 24 border cells white; bit_grid's local thresholds read it.
+TEST(Detector, AGreyOnGreyMarkerHalfInShadowIsReadWithLocalThresholds) {
+  const std::vector<Dictionary> dicts = {*dictionary_by_name("ARUCO_ORIGINAL"), *dictionary_by_name("APRILTAG_36h11")};
+  const SetItem item = make_set_item(dicts, hard_sizes(), 1, 18, SetKind::hard);
+  ASSERT_EQ(item.condition, "low_contrast");
+  const auto truth = with_id(item.truth, 264);
+  ASSERT_NE(truth, item.truth.end());
+  FrameTrace t;
+  const std::vector<Marker> found = Detector(dicts).detect(item.image, &t, TraceLevel::full);
+  const auto m = with_id(found, 264);
+  ASSERT_NE(m, found.end());
+  EXPECT_LT(mean_corner_error(*m, *truth), 1.0);
+  const auto read = std::find_if(t.candidates.begin(), t.candidates.end(),
+                                 [](const CandidateRecord& c) { return c.marker >= 0; });
+  ASSERT_NE(read, t.candidates.end());
+  EXPECT_TRUE(read->local_thresholds);
+  EXPECT_EQ(read->border_errors, 0);
+  DetectorParams one;
+  one.local_thresholds = 0;
+  FrameTrace t0;
+  const std::vector<Marker> without = Detector(dicts, one).detect(item.image, &t0, TraceLevel::full);
+  EXPECT_EQ(with_id(without, 264), without.end());
+  // Without them its fate is otsu's threshold's: white border cells.
+  auto centre = [](const Quad& q) { return 0.25f * (q[0] + q[1] + q[2] + q[3]); };
+  bool border = false;
+  for (const CandidateRecord& c : t0.candidates)
+    if (c.has_quad && c.fate.stage == Stage::border_check && cv::norm(centre(c.quad) - centre(m->corners)) < 20)
+      border = true;
+  EXPECT_TRUE(border);
+}
