@@ -54,7 +54,8 @@ void DetectorRun::read_at(const Quad& q, int n, bool as_found, bool cut, Reading
   lap(3);
   if (!local.ok || local.stripe) return;
   Reading again;
-  again.record = r.record;
+  again.record = r.record;   // the view, its histogram and threshold; the fate is the new read's
+  again.record.fate = Rejection{};
   again.record.local_thresholds = true;
   again.record.bits = full_ ? local.bits : cv::Mat();
   again.reached = 2;

@@ -114,6 +114,7 @@ TEST(Detector, AGreyOnGreyMarkerHalfInShadowIsReadWithLocalThresholds) {
   const auto read = std::find_if(t.candidates.begin(), t.candidates.end(),
                                  [](const CandidateRecord& c) { return c.marker >= 0; });
   ASSERT_NE(read, t.candidates.end());
+  EXPECT_EQ(read->fate.stage, Stage::accepted) << read->fate.message;
   EXPECT_TRUE(read->local_thresholds);
   EXPECT_EQ(read->border_errors, 0);
   DetectorParams one;
