@@ -203,7 +203,6 @@ struct LocalRead {
   bool ok = false;
   cv::Mat bits;              // as sample_bits's
   double median_step = 0;    // grey levels from border to quiet zone, the ring's median
-  double mid_spread = 0;     // the ring's highest mid level less its lowest
   bool stripe = false;       // the inside is one row or one column repeated: what a ramp or edge the patch does not
                              // follow reads as (ARUCO_ORIGINAL 0 and 1023), so no marker
 };

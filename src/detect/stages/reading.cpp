@@ -8,6 +8,33 @@
 #include <vector>
 
 namespace arwb::stages {
+namespace {
+
+// The grey level at (u, v) of the view's cell grid (cells a side) of `quad`, or false off the image (or NaN).
+bool grey_at(const cv::Mat& grey, const cv::Matx33d& H, double u, double v, double* value) {
+  const cv::Vec3d px = H * cv::Vec3d(u, v, 1);
+  const double x = px[0] / px[2], y = px[1] / px[2];
+  if (!(x >= 0 && y >= 0 && x <= grey.cols - 1 && y <= grey.rows - 1)) return false;
+  *value = sample_bilinear(grey, x, y);
+  return true;
+}
+
+// The grid point at t along side `side` (from corner side to corner side + 1) and d outside it (negative: inside).
+cv::Point2d beside_side(int side, int cells, double t, double d) {
+  switch (side) {
+    case 0: return {t, -d};
+    case 1: return {cells + d, t};
+    case 2: return {cells - t, cells + d};
+    default: return {-d, cells - t};
+  }
+}
+
+// Pixels of the view's cell edges ignored when sampling its centre (warp_margin_rate).
+int centre_margin(const DetectorParams& p) {
+  return std::min(static_cast<int>(p.warp_margin_rate * p.warp_cell_px + 0.5), (p.warp_cell_px - 1) / 2);
+}
+
+}  // namespace
 
 // [SECTION] border_check's quiet zone
 
@@ -22,26 +49,14 @@ QuietZone quiet_zone(const cv::Mat& grey, const Quad& quad, int cells, const Ots
   }
   const double min_step = count > 0 ? 0.25 * (otsu.threshold - black / count) : 0;
   const cv::Matx33d H = square_to_quad(quad, cells);
-  auto at = [&](double u, double v, double* value) {
-    const cv::Vec3d px = H * cv::Vec3d(u, v, 1);
-    const double x = px[0] / px[2], y = px[1] / px[2];
-    if (!(x >= 0 && y >= 0 && x <= grey.cols - 1 && y <= grey.rows - 1)) return false;
-    *value = sample_bilinear(grey, x, y);
-    return true;
-  };
   QuietZone worst;
   for (int side = 0; side < 4; ++side) {
     int dark = 0, seen = 0;
     for (int k = 0; k < cells; ++k) {
       const double t = k + 0.5;
-      // (u, v) at depth d outside the side (negative: inside); side k runs from corner k to corner k + 1.
       auto cell = [&](double d, double* value) {
-        switch (side) {
-          case 0: return at(t, -d, value);
-          case 1: return at(cells + d, t, value);
-          case 2: return at(cells - t, cells + d, value);
-          default: return at(-d, cells - t, value);
-        }
+        const cv::Point2d uv = beside_side(side, cells, t, d);
+        return grey_at(grey, H, uv.x, uv.y, value);
       };
       double quiet = 0, border = 0;
       if (!cell(0.5, &quiet) || !cell(-0.5, &border)) continue;
@@ -111,8 +126,7 @@ namespace {
 // Each cell the majority of its centre's pixels (margins ignored) against threshold_at(row, col).
 template <class Threshold>
 cv::Mat majority_bits(const cv::Mat& warp, int cells, const DetectorParams& p, Threshold&& threshold_at) {
-  const int cp = p.warp_cell_px;
-  const int margin = std::min(static_cast<int>(p.warp_margin_rate * cp + 0.5), (cp - 1) / 2);
+  const int cp = p.warp_cell_px, margin = centre_margin(p);
   cv::Mat bits(cells, cells, CV_8UC1);
   for (int r = 0; r < cells; ++r)
     for (int c = 0; c < cells; ++c) {
@@ -144,8 +158,7 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
   // The ring's cells: their means over the same centres the bits are read from, and the quiet zone beside each,
   // half a cell outside, three samples along the side (a corner cell has both sides' beside it).
   cv::Mat_<double> quiet(cells, cells, 0.0), seen(cells, cells, 0.0);
-  const int cp = p.warp_cell_px;
-  const int margin = std::min(static_cast<int>(p.warp_margin_rate * cp + 0.5), (cp - 1) / 2);
+  const int cp = p.warp_cell_px, margin = centre_margin(p);
   auto cell_mean = [&](int r, int c) {
     double sum = 0;
     int count = 0;
@@ -160,13 +173,10 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
       const int r = side == 0 ? 0 : side == 1 ? k : side == 2 ? last : last - k;
       const int c = side == 0 ? k : side == 1 ? last : side == 2 ? last - k : 0;
       for (const double along : {0.3, 0.5, 0.7}) {
-        const double t = k + along;
-        const double u = side == 0 ? t : side == 1 ? cells + 0.5 : side == 2 ? cells - t : -0.5;
-        const double v = side == 0 ? -0.5 : side == 1 ? t : side == 2 ? cells + 0.5 : cells - t;
-        const cv::Vec3d px = H * cv::Vec3d(u, v, 1);
-        const double x = px[0] / px[2], y = px[1] / px[2];
-        if (!(x >= 0 && y >= 0 && x <= grey.cols - 1 && y <= grey.rows - 1)) return out;   // also NaN
-        quiet(r, c) += sample_bilinear(grey, x, y);
+        const cv::Point2d uv = beside_side(side, cells, k + along, 0.5);
+        double value = 0;
+        if (!grey_at(grey, H, uv.x, uv.y, &value)) return out;
+        quiet(r, c) += value;
         seen(r, c) += 1;
       }
     }
@@ -201,8 +211,7 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
         high = std::max(high, mid(r, c));
       }
   // Light even enough for one threshold (mid levels within half a step of each other) is otsu's to read.
-  out.mid_spread = high - low;
-  if (out.median_step < p.otsu_min_stddev || out.mid_spread < 0.5 * out.median_step) return out;
+  if (out.median_step < p.otsu_min_stddev || high - low < 0.5 * out.median_step) return out;
   out.ok = true;
   // Inside, the ring's mid levels spread by Coons' patch (the sum of the two ways' linear blends less the corners'
   // bilinear one).
