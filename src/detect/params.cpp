@@ -88,6 +88,10 @@ const ParamInfo kTable[] = {
              "found far off; 1 refines and reads every quad. No effect when corner_refinement is 0."),
     ARWB_INT(warp_cell_px, "perspective_removal", "px", 4, 1, 32,
              "Pixels per cell in the frontal view. More samples each cell better, costs time."),
+    ARWB_DBL(warp_max_step_px, "perspective_removal", "px", 3, 0, 64,
+             "The frontal view's samples lie at most this many image pixels apart: a quad whose cells are larger "
+             "than warp_cell_px x this is viewed at 2, 3 or 4 times warp_cell_px a cell (its cell centres the same), "
+             "so a thin line across a large cell is a minority of its samples. 0: always warp_cell_px."),
     ARWB_DBL(warp_margin_rate, "perspective_removal", "rate", 0.13, 0, 0.45,
              "Part of each cell's side ignored at its edges when sampling, so blur from neighbours does not count."),
     ARWB_DBL(otsu_min_stddev, "otsu", "grey", 5, 0, 128,

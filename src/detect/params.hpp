@@ -43,6 +43,7 @@ struct DetectorParams {
   double unrefined_miss_rate = 0;   // 1: refine every quad, no read as found first
   // perspective_removal
   int warp_cell_px = 0;
+  double warp_max_step_px = 0;    // 0: every view warp_cell_px a cell
   double warp_margin_rate = 0;
   // otsu
   double otsu_min_stddev = 0;

@@ -176,7 +176,12 @@ std::vector<cv::Rect> plan_fine_search(const std::vector<cv::Rect>& shapes, cv::
 std::vector<int> nested_filter(const std::vector<Quad>& quads, const DetectorParams& p,
                                const std::vector<int>* factors = nullptr);
 
-// perspective_removal: the quad seen from the front, `cells` cells of warp_cell_px pixels a side, bilinear.
+// perspective_removal: how many times warp_cell_px a cell the quad's frontal view has: 1, or for a quad whose
+// samples would lie more than warp_max_step_px image pixels apart, the least multiple that brings them within it
+// (at most 4, and 16 px a cell). The view's cell centres are the same; only their samples are denser.
+int view_scale(const Quad& quad, int cells, const DetectorParams& p);
+// perspective_removal: the quad seen from the front, `cells` cells of warp_cell_px x view_scale pixels a side,
+// bilinear.
 cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, const DetectorParams& p);
 
 // otsu: the threshold that best separates the frontal view's two grey populations; also its histogram and stddev.
@@ -197,8 +202,8 @@ cv::Mat sample_bits(const cv::Mat& warp, int cells, int threshold, const Detecto
 // levels is spread inside by Coons' patch (exact for a gradient and for a shadow edge parallel to a side). Ring cells
 // are read against their mid level too, so border_check tests each border cell against the quiet zone beside it.
 // ok is false, and nothing read, when the quiet zone leaves the image, the median step from border to quiet zone is
-// under otsu_min_stddev, or the mid levels vary by less than half that step (light even enough for otsu's one
-// threshold).
+// under otsu_min_stddev, or the mid levels vary by less than a quarter of that step (light even enough for otsu's
+// one threshold).
 struct LocalRead {
   bool ok = false;
   cv::Mat bits;              // as sample_bits's

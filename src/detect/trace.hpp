@@ -85,7 +85,7 @@ struct CandidateRecord {
   double perimeter = 0;        // contour length in px
   bool has_quad = false;
   Quad quad{};                 // fitted quad, clockwise on screen, working-image pixels
-  cv::Mat warp;                // full: the frontal view, (n+2)*warp_cell_px square, grey
+  cv::Mat warp;                // full: the frontal view, (n+2)*warp_cell_px*view_scale square, grey
   int otsu_threshold = -1;
   double stddev = 0;
   std::vector<int> histogram;  // full: 256 bins of the frontal view

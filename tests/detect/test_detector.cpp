@@ -385,7 +385,7 @@ TEST(Trace, RecordsEveryStageAndEachCandidatesFate) {
     if (c.fate.stage == Stage::accepted) {
       ++accepted;
       EXPECT_EQ(c.marker, 0);
-      EXPECT_EQ(c.warp.size(), cv::Size(28, 28));
+      EXPECT_EQ(c.warp.size(), cv::Size(56, 56));   // 14 px a cell: viewed at twice warp_cell_px
       EXPECT_EQ(c.bits.size(), cv::Size(7, 7));
       EXPECT_EQ(c.histogram.size(), 256u);
       EXPECT_EQ(c.border_errors, 0);

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <tuple>
 
 using namespace arwb;
 using arwb::test::mean_corner_error;
@@ -129,4 +130,38 @@ TEST(Detector, AGreyOnGreyMarkerHalfInShadowIsReadWithLocalThresholds) {
     if (c.has_quad && c.fate.stage == Stage::border_check && cv::norm(centre(c.quad) - centre(m->corners)) < 20)
       border = true;
   EXPECT_TRUE(border);
+}
+
+// The same set, images 30, 60 and 61 (crossed): ARUCO_ORIGINAL ids 86 and 89 and APRILTAG_36h11 id 31, 180-210 px,
+// a soft shadow band and a thin line across each. In 30 the line crosses a white cell where two of its four
+// warp_cell_px samples lie: the denser view of a large quad (warp_max_step_px) reads it. 61's band darkens half its
+// whites below the lit blacks' threshold, the border's mid levels by under half their step: bit_grid's local
+// thresholds read it. In 60 the band's edge splits a column of white cells, two samples and two: either reads it.
+TEST(Detector, LargeMarkersWithAShadowBandAndALineAcrossThemAreRead) {
+  const std::vector<Dictionary> dicts = {*dictionary_by_name("ARUCO_ORIGINAL"), *dictionary_by_name("APRILTAG_36h11")};
+  DetectorParams sparse;
+  sparse.warp_max_step_px = 0;
+  DetectorParams one;
+  one.local_thresholds = 0;
+  DetectorParams neither = sparse;
+  neither.local_thresholds = 0;
+  for (const auto& [index, id, needs] : {std::tuple{30, 86, &sparse}, {60, 89, &neither}, {61, 31, &one}}) {
+    const SetItem item = make_set_item(dicts, hard_sizes(), 1, index, SetKind::hard);
+    ASSERT_EQ(item.condition, "crossed");
+    const auto truth = with_id(item.truth, id);
+    ASSERT_NE(truth, item.truth.end());
+    const std::vector<Marker> found = Detector(dicts).detect(item.image);
+    const auto m = with_id(found, id);
+    ASSERT_NE(m, found.end()) << index;
+    EXPECT_EQ(m->dict, truth->dict);
+    EXPECT_LT(mean_corner_error(*m, *truth), 1.0) << index;
+    EXPECT_EQ(found.size(), item.truth.size()) << index;
+    const std::vector<Marker> without = Detector(dicts, *needs).detect(item.image);
+    EXPECT_EQ(with_id(without, id), without.end()) << index;
+    if (needs != &neither) continue;
+    for (const DetectorParams* either : {&sparse, &one}) {
+      const std::vector<Marker> with_one = Detector(dicts, *either).detect(item.image);
+      EXPECT_NE(with_id(with_one, id), with_one.end()) << index;
+    }
+  }
 }

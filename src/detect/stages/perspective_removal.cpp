@@ -1,13 +1,25 @@
-// perspective_removal: the quad seen from the front, cells of warp_cell_px pixels, bilinear.
+// perspective_removal: the quad seen from the front, cells of warp_cell_px pixels (a multiple for a large quad),
+// bilinear.
 #include "detect/pipeline.hpp"
 
 #include "detect/kernels/kernels.hpp"
 #include "detect/stages/sampling.hpp"
 
+#include <cmath>
+
 namespace arwb::stages {
 
+int view_scale(const Quad& quad, int cells, const DetectorParams& p) {
+  if (p.warp_max_step_px <= 0) return 1;
+  double longest = 0;
+  for (size_t k = 0; k < 4; ++k) longest = std::max(longest, double(cv::norm(quad[(k + 1) % 4] - quad[k])));
+  const double step = longest / (cells * p.warp_cell_px);
+  const int most = std::max(1, std::min(4, 16 / p.warp_cell_px));
+  return std::clamp(static_cast<int>(std::ceil(step / p.warp_max_step_px)), 1, most);
+}
+
 cv::Mat remove_perspective(const cv::Mat& grey, const Quad& quad, int cells, const DetectorParams& p) {
-  const int side = cells * p.warp_cell_px;
+  const int side = cells * p.warp_cell_px * view_scale(quad, cells, p);
   const cv::Matx33d H = square_to_quad(quad, side);
   cv::Mat warp(side, side, CV_8UC1);
   // A sample inside the image (nearly all) is interpolated by bilinear_q8, in integers; one outside it, or of a quad

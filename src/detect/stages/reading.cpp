@@ -29,9 +29,15 @@ cv::Point2d beside_side(int side, int cells, double t, double d) {
   }
 }
 
-// Pixels of the view's cell edges ignored when sampling its centre (warp_margin_rate).
-int centre_margin(const DetectorParams& p) {
-  return std::min(static_cast<int>(p.warp_margin_rate * p.warp_cell_px + 0.5), (p.warp_cell_px - 1) / 2);
+// A view's pixels a cell, and of each cell's edges those ignored when sampling its centre (warp_margin_rate): the
+// margin of a warp_cell_px cell, times the view's scale, so that a denser view samples the same centre.
+struct CellPixels {
+  int px, margin;
+};
+CellPixels cell_pixels(const cv::Mat& warp, int cells, const DetectorParams& p) {
+  const int px = warp.rows / cells, scale = std::max(1, px / p.warp_cell_px);
+  const int margin = std::min(static_cast<int>(p.warp_margin_rate * p.warp_cell_px + 0.5), (p.warp_cell_px - 1) / 2);
+  return {px, scale * margin};
 }
 
 }  // namespace
@@ -126,7 +132,7 @@ namespace {
 // Each cell the majority of its centre's pixels (margins ignored) against threshold_at(row, col).
 template <class Threshold>
 cv::Mat majority_bits(const cv::Mat& warp, int cells, const DetectorParams& p, Threshold&& threshold_at) {
-  const int cp = p.warp_cell_px, margin = centre_margin(p);
+  const auto [cp, margin] = cell_pixels(warp, cells, p);
   cv::Mat bits(cells, cells, CV_8UC1);
   for (int r = 0; r < cells; ++r)
     for (int c = 0; c < cells; ++c) {
@@ -158,7 +164,8 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
   // The ring's cells: their means over the same centres the bits are read from, and the quiet zone beside each,
   // half a cell outside, three samples along the side (a corner cell has both sides' beside it).
   cv::Mat_<double> quiet(cells, cells, 0.0), seen(cells, cells, 0.0);
-  const int cp = p.warp_cell_px, margin = centre_margin(p);
+  const CellPixels px = cell_pixels(warp, cells, p);
+  const int cp = px.px, margin = px.margin;
   auto cell_mean = [&](int r, int c) {
     double sum = 0;
     int count = 0;
@@ -210,8 +217,8 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
         low = std::min(low, mid(r, c));
         high = std::max(high, mid(r, c));
       }
-  // Light even enough for one threshold (mid levels within half a step of each other) is otsu's to read.
-  if (out.median_step < p.otsu_min_stddev || high - low < 0.5 * out.median_step) return out;
+  // Light even enough for one threshold (mid levels within a quarter of a step of each other) is otsu's to read.
+  if (out.median_step < p.otsu_min_stddev || high - low < 0.25 * out.median_step) return out;
   out.ok = true;
   // Inside, the ring's mid levels spread by Coons' patch (the sum of the two ways' linear blends less the corners'
   // bilinear one).

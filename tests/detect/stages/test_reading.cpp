@@ -22,14 +22,14 @@ TEST(Stages, PerspectiveOtsuBitsBorderAndIdentification) {
   DetectorParams p;
   const Quad q{cv::Point2f(40, 50), {145, 50}, {145, 155}, {40, 155}};
   const cv::Mat warp = stages::remove_perspective(img, q, 7, p);
-  EXPECT_EQ(warp.size(), cv::Size(28, 28));
+  EXPECT_EQ(warp.size(), cv::Size(56, 56));   // 15 px a cell: twice warp_cell_px (view_scale, below)
   const auto o = stages::otsu(warp);
   EXPECT_GT(o.threshold, 20);
   EXPECT_LT(o.threshold, 235);
   EXPECT_GT(o.stddev, 50);
   int total = 0;
   for (int v : o.histogram) total += v;
-  EXPECT_EQ(total, 28 * 28);
+  EXPECT_EQ(total, 56 * 56);
   const cv::Mat bits = stages::sample_bits(warp, 7, o.threshold, p);
   EXPECT_EQ(stages::border_errors(bits), 0);
   EXPECT_EQ(cv::countNonZero(bits(cv::Rect(1, 1, 5, 5)) != d.bits(321)), 0);
@@ -38,6 +38,55 @@ TEST(Stages, PerspectiveOtsuBitsBorderAndIdentification) {
   EXPECT_EQ(m.hamming, 0);
   EXPECT_EQ(stages::correction_budget(*dictionary_by_name("6X6_250"), p), 3);  // OpenCV's 5 bits x rate 0.6
   EXPECT_EQ(stages::correction_budget(d, p), 0);
+}
+
+// perspective_removal's view scale: a quad whose cells would put warp_cell_px samples more than warp_max_step_px
+// image pixels apart is viewed at the least multiple of warp_cell_px that brings them within it, at most 4 times
+// and 16 px a cell; its longest side counts.
+TEST(Stages, ALargeQuadIsViewedWithDenserSamples) {
+  DetectorParams p;   // warp_cell_px 4, warp_max_step_px 3: one more scale per 12 px of cell
+  auto square = [](float side) { return Quad{cv::Point2f(0, 0), {side, 0}, {side, side}, {0, side}}; };
+  EXPECT_EQ(stages::view_scale(square(84), 7, p), 1);   // 12 px a cell: samples 3 px apart
+  EXPECT_EQ(stages::view_scale(square(85), 7, p), 2);
+  EXPECT_EQ(stages::view_scale(square(252), 7, p), 3);
+  EXPECT_EQ(stages::view_scale(square(253), 8, p), 3);  // APRILTAG_36h11's 8 cells
+  EXPECT_EQ(stages::view_scale(square(2000), 7, p), 4);
+  EXPECT_EQ(stages::view_scale(Quad{cv::Point2f(0, 0), {200, 0}, {200, 40}, {0, 40}}, 7, p), 3);
+  EXPECT_EQ(stages::remove_perspective(cv::Mat(300, 300, CV_8UC1, cv::Scalar(0)), square(252), 7, p).size(),
+            cv::Size(84, 84));
+  p.warp_cell_px = 8;
+  EXPECT_EQ(stages::view_scale(square(2000), 7, p), 2);   // 16 px a cell
+  p.warp_max_step_px = 0;
+  EXPECT_EQ(stages::view_scale(square(2000), 7, p), 1);
+}
+
+// A thin dark line along a large white cell's diagonal: of the four samples warp_cell_px gives the cell's centre,
+// two lie on the line and the cell reads black; the denser view samples the same centre 36 times and the line is a
+// minority of them.
+TEST(Stages, AThinLineAcrossALargeCellIsAMinorityOfItsSamples) {
+  const Dictionary d = make_aruco_original();
+  const int id = 321;
+  cv::Mat img = canvas_with_marker(d, id, 20, 20, 210, {250, 250});   // 30 px a cell
+  const cv::Mat inner = d.bits(id);
+  cv::Point white(-1, -1);
+  for (int r = 0; r < 5 && white.x < 0; ++r)
+    for (int c = 0; c < 5 && white.x < 0; ++c)
+      if (inner.at<uint8_t>(r, c)) white = {c + 1, r + 1};
+  ASSERT_GE(white.x, 0);
+  const cv::Point corner(20 + 30 * white.x, 20 + 30 * white.y);
+  cv::line(img, corner, corner + cv::Point(30, 30), cv::Scalar(0), 3, cv::LINE_AA);
+  const Quad q{cv::Point2f(20, 20), {230, 20}, {230, 230}, {20, 230}};
+  auto read = [&](const DetectorParams& p) {
+    const cv::Mat warp = stages::remove_perspective(img, q, 7, p);
+    return stages::sample_bits(warp, 7, stages::otsu(warp).threshold, p);
+  };
+  DetectorParams sparse;
+  sparse.warp_max_step_px = 0;
+  const cv::Mat four = read(sparse);
+  EXPECT_EQ(four.at<uint8_t>(white.y, white.x), 0) << "the line does not flip the sparse read: the test shows nothing";
+  const cv::Mat dense = read(DetectorParams{});
+  EXPECT_EQ(stages::border_errors(dense), 0);
+  EXPECT_EQ(cv::countNonZero(dense(cv::Rect(1, 1, 5, 5)) != inner), 0);
 }
 
 // The warp against OpenCV's own: cv::getPerspectiveTransform and cv::warpPerspective (bilinear, pixel centres, the
@@ -92,6 +141,15 @@ TEST(Stages, LocalThresholdsReadAMarkerAcrossAShadowEdge) {
   EXPECT_EQ(cv::countNonZero(local.bits(cv::Rect(1, 1, 5, 5)) != d.bits(321)), 0);
   EXPECT_GT(local.median_step, 40);    // between the shaded step (45) and the lit one (100)
   EXPECT_LT(local.median_step, 105);
+
+  // Lit evenly, or with a shadow of under a quarter of the border's step to its quiet zone: otsu's to read.
+  EXPECT_FALSE(stages::read_local(img, q, stages::remove_perspective(img, q, 7, p), 7, p).ok);
+  cv::Mat faint = img.clone();
+  faint(cv::Rect(0, 100, 200, 100)) *= 0.8;
+  EXPECT_FALSE(stages::read_local(faint, q, stages::remove_perspective(faint, q, 7, p), 7, p).ok);
+  cv::Mat half = img.clone();
+  half(cv::Rect(0, 100, 200, 100)) *= 0.6;
+  EXPECT_TRUE(stages::read_local(half, q, stages::remove_perspective(half, q, 7, p), 7, p).ok);
 
   // The same marker with no quiet zone (a dark page around it): its border is no darker than beside it.
   cv::Mat dark = shaded.clone();
