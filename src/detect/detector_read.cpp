@@ -50,19 +50,27 @@ void DetectorRun::read_at(const Quad& q, int n, bool as_found, bool cut, Reading
   judge(q, n, as_found, cut, bits, &o, r, lap);
   // One threshold could not read it: read again with bit_grid's local thresholds, kept if that gets further.
   if (r.reached < 3 || r.reached == 5 || !p_.local_thresholds) return;
+  auto read_again = [&](const cv::Mat& again_bits, const stages::OtsuResult* quiet) {
+    Reading again;
+    again.record = r.record;   // the view, its histogram and threshold; the fate is the new read's
+    again.record.fate = Rejection{};
+    again.record.local_thresholds = true;
+    again.record.bits = full_ ? again_bits : cv::Mat();
+    again.reached = 2;
+    judge(q, n, as_found, cut, again_bits, quiet, again, lap);
+    if (again.reached <= r.reached) return;
+    again.ms = r.ms;
+    r = std::move(again);
+  };
   stages::LocalRead local = stages::read_local(grey(), q, warp, cells, p_);
   lap(3);
-  if (!local.ok || local.stripe) return;
-  Reading again;
-  again.record = r.record;   // the view, its histogram and threshold; the fate is the new read's
-  again.record.fate = Rejection{};
-  again.record.local_thresholds = true;
-  again.record.bits = full_ ? local.bits : cv::Mat();
-  again.reached = 2;
-  judge(q, n, as_found, cut, local.bits, nullptr, again, lap);
-  if (again.reached <= r.reached) return;
-  again.ms = r.ms;
-  r = std::move(again);
+  if (local.ok && !local.stripe) read_again(local.bits, nullptr);
+  // Planes through the cells' levels, for a view still missing its id, when it is viewed densely (view_scale > 1):
+  // a small view's cell means blur into their neighbours', and planes through them read tiny markers as other ids.
+  if (r.reached != 4 || warp.rows == cells * p_.warp_cell_px) return;
+  const cv::Mat shaded = stages::read_shaded(warp, cells, bits, p_);
+  lap(3);
+  if (!shaded.empty()) read_again(shaded, &o);
 }
 
 // border_check and identification of bits read from quad q at marker size n. `o`: the view's Otsu result for the

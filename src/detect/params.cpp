@@ -99,7 +99,9 @@ const ParamInfo kTable[] = {
     ARWB_INT(local_thresholds, "bit_grid", "", 1, 0, 1,
              "1: a quad that one threshold cannot read (its border or id fails) is read again with a threshold per "
              "cell, spread in from the mid levels between each border cell and the quiet zone beside it, for a "
-             "shadow edge or a steep gradient across a marker. 0: off."),
+             "shadow edge or a steep gradient across a marker; a large one (viewed at more than warp_cell_px) whose "
+             "id still fails, against the level half way between planes through its black and its white cells. "
+             "0: off."),
     ARWB_DBL(border_max_error_rate, "border_check", "rate", 0.35, 0, 1,
              "Share of border cells allowed to be white. Higher tolerates occlusion and glare, and more clutter."),
     ARWB_DBL(quiet_zone_max_dark_rate, "border_check", "rate", 0.6, 0, 1,

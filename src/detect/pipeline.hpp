@@ -213,6 +213,12 @@ struct LocalRead {
 };
 LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp, int cells, const DetectorParams& p);
 
+// bit_grid's shading planes (local_thresholds): for a view whose bits reach identification and miss, under light
+// that varies smoothly. Least-squares planes through the black cells' means (the ring always among them) and the
+// white ones', a cell read against the level half way between them; classes and planes again until they agree (at
+// most 3 rounds). Empty when the white cells fix no plane or the planes come within otsu_min_stddev of each other.
+cv::Mat read_shaded(const cv::Mat& warp, int cells, const cv::Mat& bits, const DetectorParams& p);
+
 // border_check: the number of white cells in the outer ring.
 int border_errors(const cv::Mat& bits);
 

@@ -165,3 +165,31 @@ TEST(Detector, LargeMarkersWithAShadowBandAndALineAcrossThemAreRead) {
     }
   }
 }
+
+// The same set, images 0 and 82 (low_contrast): ARUCO_ORIGINAL ids 986 and 841, 221 and 412 px, grey on grey under
+// a gradient with a shadow's edge across. Otsu's threshold, set by the lit side, reads one white cell in the shade
+// black, and the ring's mid levels do not show the edge where it crosses the inside: planes through the black and
+// the white cells read them (local_thresholds).
+TEST(Detector, GreyOnGreyMarkersUnderAGradientAreReadWithShadingPlanes) {
+  const std::vector<Dictionary> dicts = {*dictionary_by_name("ARUCO_ORIGINAL"), *dictionary_by_name("APRILTAG_36h11")};
+  DetectorParams one;
+  one.local_thresholds = 0;
+  for (const auto& [index, id] : {std::pair{0, 986}, {82, 841}}) {
+    const SetItem item = make_set_item(dicts, hard_sizes(), 1, index, SetKind::hard);
+    ASSERT_EQ(item.condition, "low_contrast");
+    const auto truth = with_id(item.truth, id);
+    ASSERT_NE(truth, item.truth.end());
+    FrameTrace t;
+    const std::vector<Marker> found = Detector(dicts).detect(item.image, &t, TraceLevel::full);
+    const auto m = with_id(found, id);
+    ASSERT_NE(m, found.end()) << index;
+    EXPECT_LT(mean_corner_error(*m, *truth), 1.0) << index;
+    for (const Marker& f : found) EXPECT_NE(with_id(item.truth, f.id), item.truth.end()) << index << ": " << f.id;
+    const auto read = std::find_if(t.candidates.begin(), t.candidates.end(),
+                                   [&](const CandidateRecord& c) { return c.marker == int(m - found.begin()); });
+    ASSERT_NE(read, t.candidates.end());
+    EXPECT_TRUE(read->local_thresholds) << index;
+    const std::vector<Marker> without = Detector(dicts, one).detect(item.image);
+    EXPECT_EQ(with_id(without, id), without.end()) << index;
+  }
+}

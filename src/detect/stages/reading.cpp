@@ -243,6 +243,45 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
   return out;
 }
 
+// [SECTION] bit_grid's shading planes (local_thresholds)
+
+cv::Mat read_shaded(const cv::Mat& warp, int cells, const cv::Mat& bits, const DetectorParams& p) {
+  const CellPixels px = cell_pixels(warp, cells, p);
+  cv::Mat_<double> mean(cells, cells);
+  for (int r = 0; r < cells; ++r)
+    for (int c = 0; c < cells; ++c)
+      mean(r, c) = cv::mean(warp(cv::Rect(c * px.px + px.margin, r * px.px + px.margin, px.px - 2 * px.margin,
+                                          px.px - 2 * px.margin)))[0];
+  auto ring = [cells](int r, int c) { return r == 0 || c == 0 || r == cells - 1 || c == cells - 1; };
+  cv::Mat cls = bits.clone();
+  cv::Matx31d black, white;
+  for (int round = 0; round < 3; ++round) {
+    // Least squares planes a + b c + d r through the black cells (the ring always among them) and the white ones.
+    cv::Matx33d nb = cv::Matx33d::zeros(), nw = cv::Matx33d::zeros();
+    cv::Matx31d rb = cv::Matx31d::zeros(), rw = cv::Matx31d::zeros();
+    for (int r = 0; r < cells; ++r)
+      for (int c = 0; c < cells; ++c) {
+        const cv::Matx31d x(1, c, r);
+        const bool is_white = !ring(r, c) && cls.at<uint8_t>(r, c);
+        (is_white ? nw : nb) += x * x.t();
+        (is_white ? rw : rb) += x * mean(r, c);
+      }
+    if (!cv::solve(nb, rb, black, cv::DECOMP_LU) || !cv::solve(nw, rw, white, cv::DECOMP_LU)) return {};
+    bool apart = true;
+    auto level = [](const cv::Matx31d& f, int r, int c) { return f(0) + f(1) * c + f(2) * r; };
+    for (int r = 0; r < cells && apart; ++r)
+      for (int c = 0; c < cells && apart; ++c) apart = level(white, r, c) - level(black, r, c) >= p.otsu_min_stddev;
+    if (!apart) return {};
+    cv::Mat next = majority_bits(warp, cells, p, [&](int r, int c) {
+      return 0.5 * (level(black, r, c) + level(white, r, c));
+    });
+    const bool same = cv::countNonZero(next != cls) == 0;
+    cls = next;
+    if (same) break;
+  }
+  return cls;
+}
+
 // [SECTION] border_check: the outer ring of cells must be black (and its quiet zone light: quiet_zone above)
 
 int border_errors(const cv::Mat& bits) {

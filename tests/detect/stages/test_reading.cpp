@@ -162,3 +162,30 @@ TEST(Stages, LocalThresholdsReadAMarkerAcrossAShadowEdge) {
   const Quad off{cv::Point2f(0, 50), {105, 50}, {105, 155}, {0, 155}};
   EXPECT_FALSE(stages::read_local(shaded, off, stages::remove_perspective(shaded, off, 7, p), 7, p).ok);
 }
+
+// bit_grid's shading planes: a grey-on-grey marker (40 and 100) under a steep gradient (light 0.1 to 1 across it),
+// where the white cells at its dark side are darker than the black ones at its light side. Otsu's one threshold
+// misreads it; planes through the black and the white cells' levels read every cell.
+TEST(Stages, ShadingPlanesReadAMarkerUnderAGradient) {
+  const Dictionary d = make_aruco_original();
+  const cv::Mat img = canvas_with_marker(d, 321, 40, 50, 105);
+  cv::Mat lit(img.size(), CV_8UC1);
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x)
+      lit.at<uint8_t>(y, x) =
+          cv::saturate_cast<uint8_t>((40 + 60 * img.at<uint8_t>(y, x) / 255.0) * std::max(0.05, 0.1 + 0.9 * (x - 40) / 105.0));
+  const Quad q{cv::Point2f(40, 50), {145, 50}, {145, 155}, {40, 155}};
+  DetectorParams p;
+  const cv::Mat warp = stages::remove_perspective(lit, q, 7, p);
+  const cv::Mat global = stages::sample_bits(warp, 7, stages::otsu(warp).threshold, p);
+  ASSERT_GT(cv::countNonZero(global(cv::Rect(1, 1, 5, 5)) != d.bits(321)), 0) << "one threshold reads it";
+  const cv::Mat planes = stages::read_shaded(warp, 7, global, p);
+  ASSERT_FALSE(planes.empty());
+  EXPECT_EQ(stages::border_errors(planes), 0);
+  EXPECT_EQ(cv::countNonZero(planes(cv::Rect(1, 1, 5, 5)) != d.bits(321)), 0);
+  // No white cell inside to lay a plane through, or the planes within otsu_min_stddev: no reading.
+  const cv::Mat black(7, 7, CV_8UC1, cv::Scalar(0));
+  EXPECT_TRUE(stages::read_shaded(warp, 7, black, p).empty());
+  const cv::Mat flat(warp.size(), CV_8UC1, cv::Scalar(120));
+  EXPECT_TRUE(stages::read_shaded(flat, 7, global, p).empty());
+}
