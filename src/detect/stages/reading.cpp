@@ -40,6 +40,12 @@ CellPixels cell_pixels(const cv::Mat& warp, int cells, const DetectorParams& p) 
   return {px, scale * margin};
 }
 
+// The mean grey level of cell (r, c)'s centre, the pixels its bit is read from.
+double cell_mean(const cv::Mat& warp, const CellPixels& px, int r, int c) {
+  const int side = px.px - 2 * px.margin;
+  return cv::mean(warp(cv::Rect(c * px.px + px.margin, r * px.px + px.margin, side, side)))[0];
+}
+
 }  // namespace
 
 // [SECTION] border_check's quiet zone
@@ -165,14 +171,6 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
   // half a cell outside, three samples along the side (a corner cell has both sides' beside it).
   cv::Mat_<double> quiet(cells, cells, 0.0), seen(cells, cells, 0.0);
   const CellPixels px = cell_pixels(warp, cells, p);
-  const int cp = px.px, margin = px.margin;
-  auto cell_mean = [&](int r, int c) {
-    double sum = 0;
-    int count = 0;
-    for (int y = r * cp + margin; y < (r + 1) * cp - margin; ++y)
-      for (int x = c * cp + margin; x < (c + 1) * cp - margin; ++x, ++count) sum += warp.at<uint8_t>(y, x);
-    return sum / count;
-  };
   const cv::Matx33d H = square_to_quad(quad, cells);
   for (int side = 0; side < 4; ++side)
     for (int k = 0; k < cells; ++k) {
@@ -196,7 +194,7 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
     for (int c = 0; c < cells; ++c) {
       if (seen(r, c) == 0) continue;
       quiet(r, c) /= seen(r, c);
-      const double border = cell_mean(r, c);
+      const double border = cell_mean(warp, px, r, c);
       shares.push_back(border / std::max(quiet(r, c), 1.0));
       steps.push_back(quiet(r, c) - border);
     }
@@ -249,9 +247,7 @@ cv::Mat read_shaded(const cv::Mat& warp, int cells, const cv::Mat& bits, const D
   const CellPixels px = cell_pixels(warp, cells, p);
   cv::Mat_<double> mean(cells, cells);
   for (int r = 0; r < cells; ++r)
-    for (int c = 0; c < cells; ++c)
-      mean(r, c) = cv::mean(warp(cv::Rect(c * px.px + px.margin, r * px.px + px.margin, px.px - 2 * px.margin,
-                                          px.px - 2 * px.margin)))[0];
+    for (int c = 0; c < cells; ++c) mean(r, c) = cell_mean(warp, px, r, c);
   auto ring = [cells](int r, int c) { return r == 0 || c == 0 || r == cells - 1 || c == cells - 1; };
   cv::Mat cls = bits.clone();
   cv::Matx31d black, white;
