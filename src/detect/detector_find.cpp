@@ -163,18 +163,21 @@ int DetectorRun::found_before(const Quad& q) const {
   return -1;
 }
 
-void DetectorRun::fit(int i) {
+void DetectorRun::fit(int i, bool may_split) {
   Quad q;
   bool cut = false;
   auto why = stages::fit_quad(contours_[size_t(i)], grey().size(), p_, &q, contour_factor_[size_t(i)], timed_, &cut);
-  if (why) fine_shape(i);
+  // A part of a split shape is not searched again finer: its shape is, when it is small enough.
+  if (why && may_split) fine_shape(i);
+  const bool split = may_split && why && why->param == "polygon_epsilon_rate" && p_.split_thin_lines_px > 0;
   // A quad of the coarse search that the first search found too is not read twice.
   if (!why && coarse_ > 0 && contour_factor_[size_t(i)] == coarse_)
     if (const int twin = found_before(q); twin >= 0)
       why = Rejection{Stage::quad_fit, "coarse_factor", 0, double(p_.coarse_factor),
                       "the same quad as contour " + std::to_string(twin) + ", found by the first search"};
   if (why) {
-    if (timed_) add_record(i, std::move(why));
+    const int rec = timed_ ? add_record(i, std::move(why)) : -1;
+    if (split) to_split_.emplace_back(i, rec);
     return;
   }
   const int rec = timed_ ? add_record(i, std::nullopt) : -1;
@@ -182,12 +185,37 @@ void DetectorRun::fit(int i) {
     t_.candidates[size_t(rec)].has_quad = true;
     t_.candidates[size_t(rec)].quad = q;
   }
-  quads_.push_back({rec, i, q, cut});
+  quads_.push_back({rec, i, q, cut, !may_split});
+}
+
+int DetectorRun::fit_parts() {
+  const std::vector<std::pair<int, int>> shapes = std::move(to_split_);
+  to_split_.clear();
+  int parts = 0;
+  for (const auto& [i, rec] : shapes) {
+    const int f = contour_factor_[size_t(i)];
+    std::vector<std::vector<cv::Point>> found = stages::split_thin_lines(contours_[size_t(i)], f, p_);
+    if (rec >= 0 && !found.empty())
+      t_.candidates[size_t(rec)].fate.message +=
+          fmt_msg("; split at lines up to %g px wide (split_thin_lines_px): %.0f parts fitted again",
+                  p_.split_thin_lines_px, double(found.size()));
+    // A part too short or too long for size_filter is dropped untraced: a line's end, or the rest of the shape.
+    for (auto& c : found)
+      if (!stages::size_filter(c, grey().size(), p_, false, f)) {
+        contours_.push_back(std::move(c));
+        contour_factor_.push_back(f);
+        cut_.push_back(cut_[size_t(i)]);
+        ++parts;
+        fit(int(contours_.size()) - 1, false);
+      }
+  }
+  return parts;
 }
 
 void DetectorRun::fit_quads() {
   for (int i : size_passed_) fit(i);
-  clock_.close(Stage::quad_fit, int(size_passed_.size()), int(quads_.size()));
+  const int parts = fit_parts();
+  clock_.close(Stage::quad_fit, int(size_passed_.size()) + parts, int(quads_.size()));
 }
 
 std::vector<int> DetectorRun::nest(size_t from) {

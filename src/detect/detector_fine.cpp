@@ -15,7 +15,8 @@ void DetectorRun::fine_search() {
   if (!fine_on_) return;
   const auto start = StageClock::Clock::now();
   for (int k : read_)
-    if (readings_[size_t(k)].reached != 5 && contour_factor_[size_t(quads_[size_t(k)].contour)] == factor_) {
+    if (readings_[size_t(k)].reached != 5 && !quads_[size_t(k)].part &&
+        contour_factor_[size_t(quads_[size_t(k)].contour)] == factor_) {
       const Quad& q = quads_[size_t(k)].quad;
       fine_shapes_.push_back(cv::boundingRect(std::vector<cv::Point2f>(q.begin(), q.end())));
     }
@@ -60,6 +61,7 @@ void DetectorRun::fine_search() {
     }
     if (full_) binary.copyTo(fine_record_.image(r));
   }
+  fine_record_.in += fit_parts();
   const std::vector<int> fine_live = nest(quads_before);
   for (size_t k = records_before; k < t_.candidates.size(); ++k) {
     Rejection& f = t_.candidates[k].fate;

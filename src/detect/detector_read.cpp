@@ -5,19 +5,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include <atomic>
-#include <cstdio>
 #include <thread>
 
 namespace arwb {
-namespace {
-
-std::string fmt_msg(const char* f, double a, double b, double c = 0) {
-  char buf[200];
-  std::snprintf(buf, sizeof buf, f, a, b, c);
-  return buf;
-}
-
-}  // namespace
 
 // As found (the quad's corners unrefined, read before corner_refinement to decide whether to refine it): no quiet
 // zone, and the nearest id may miss by unrefined_miss_rate x the code's bits more than the budget.

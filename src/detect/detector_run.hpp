@@ -8,11 +8,19 @@
 #include "detect/stage_clock.hpp"
 
 #include <array>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace arwb {
+
+// A trace message with up to three numbers.
+inline std::string fmt_msg(const char* f, double a, double b, double c = 0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
 
 // The per-candidate stages in the order a quad is read, whose times are summed over candidates.
 inline constexpr Stage kReadingStages[] = {Stage::corner_refinement, Stage::perspective_removal, Stage::otsu,
@@ -56,6 +64,7 @@ class DetectorRun {
     int contour;
     Quad quad;
     bool cut = false;   // quad_fit cut it from thin lines (cut_thin_lines)
+    bool part = false;  // of a shape split at thin lines (split_thin_lines): not searched again finer
   };
   // A region the first search searched, for fine_search's holes: its binary image and its contours' indices.
   struct Searched {
@@ -71,8 +80,11 @@ class DetectorRun {
   int add_record(int i, std::optional<Rejection> fate);
   // size_filter for contour i: true when it goes on to quad_fit.
   bool size_ok(int i);
-  // quad_fit for contour i: its quad joins quads_, or its fate is recorded.
-  void fit(int i);
+  // quad_fit for contour i: its quad joins quads_, or its fate is recorded. A shape refused for its corners is
+  // queued for split_thin_lines, unless it is a part of one (`may_split` false), and is one of fine_search's shapes.
+  void fit(int i, bool may_split = true);
+  // quad_fit's split_thin_lines: the parts of the shapes fit() queued, fitted in turn; their number.
+  int fit_parts();
   // fine_search's shapes: a contour of the first search that did not close.
   void fine_shape(int i);
   // The contour of an earlier quad of the first search with these corners (to two coarse pixels), or -1.
@@ -119,6 +131,7 @@ class DetectorRun {
   std::vector<cv::Rect> fine_shapes_;
 
   std::vector<int> size_passed_;
+  std::vector<std::pair<int, int>> to_split_;   // fit()'s queue for split_thin_lines: contour, record (or -1)
   std::vector<QuadCandidate> quads_;
   std::vector<int> replaced_by_;
   std::vector<int> live_;

@@ -68,6 +68,10 @@ const ParamInfo kTable[] = {
              "1: a shape that is a quad joined to thin lines (a line that crosses a marker's quiet zone into its "
              "border joins the two, and whatever else the line touches, in one shape) gives the quad, its sides "
              "fitted without the lines. 0: off."),
+    ARWB_DBL(split_thin_lines_px, "quad_fit", "px", 5, 0, 40,
+             "A shape whose polygon is no quad, and whose outline is long for its area, is split where the outline "
+             "runs along both sides of a line at most this wide (beyond what the search's decimation thins away), "
+             "and each part is fitted again: a marker that lines join to other shapes stands alone. 0: off."),
     ARWB_DBL(min_marker_distance_rate, "nested_filter", "rate", 0.05, 0, 1,
              "Two quads whose corners are closer than this fraction of the smaller perimeter are one candidate; "
              "the outer one is kept."),

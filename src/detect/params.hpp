@@ -33,6 +33,7 @@ struct DetectorParams {
   double min_side_rate = 0;
   int min_border_distance_px = 0;
   int cut_thin_lines = 0;
+  double split_thin_lines_px = 0;
   // nested_filter
   double min_marker_distance_rate = 0;
   // corner_refinement

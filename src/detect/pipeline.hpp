@@ -149,6 +149,17 @@ std::optional<Rejection> size_filter(const std::vector<cv::Point>& contour, cv::
 // quad, its sides fitted without the lines' points, and `cut` (when given) true.
 std::optional<Rejection> fit_quad(const std::vector<cv::Point>& contour, cv::Size image, const DetectorParams& p,
                                   Quad* quad, int factor = 1, bool explain = true, bool* cut = nullptr);
+// quad_fit's split_thin_lines, for a contour (found at `factor`) that fit_quad refused for its corners: the shape
+// split where its outline runs along both sides of a line at most split_thin_lines_px wide. A marker that lines
+// join to other shapes, which cut_thin_lines finds no four sides in (they are lost among the outline's many
+// corners), comes out as its own outline, with a gap a line's width where each line met it. The outline's points
+// within that width of a point many steps away along it, for 3 widths or more (shorter: a pinch where two shapes
+// touch at a corner), are the lines'; the arcs between them are chained, each to the one that starts nearest where
+// it ends, and each closed chain is a part, in the grey image's pixels as the contour's. None when the shape has no
+// line, or is not a square with lines (its perimeter under 6 roots of its area; a square's is 4), or is mostly
+// lines (twice its area over its perimeter under 1.6 split_thin_lines_px).
+std::vector<std::vector<cv::Point>> split_thin_lines(const std::vector<cv::Point>& contour, int factor,
+                                                     const DetectorParams& p);
 
 // fine_search's holes: the light insides of the dark regions of a decimated search's binary image (`origin`: where
 // it lies in the grey image) that are quads at most fine_max_side_px on their longer side, as boxes in the grey

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace arwb::stages {
 namespace {
@@ -178,14 +179,19 @@ int join_runs(std::array<Run, kMaxRunVertices>& runs, int count, double eps, std
   return line_count;
 }
 
+// A convex quad's perimeter is at most 4.6 times the root of its area unless it is longer than 3:1; a line adds
+// length and next to no area.
+bool long_for_its_area(const std::vector<cv::Point>& contour, double area, int factor) {
+  const double perimeter = contour_length(contour, factor);
+  return perimeter * perimeter >= 4.6 * 4.6 * area;
+}
+
 }  // namespace
 
 bool cut_thin_lines(const std::vector<cv::Point>& contour, std::pair<int, int> farthest, const DetectorParams& p,
                     int factor, double shift, Quad* quad) {
-  // A convex quad's perimeter is at most 4.6 times the root of its area unless it is longer than 3:1; a line adds
-  // length and next to no area.
-  const double area = cv::contourArea(contour), perimeter = contour_length(contour, factor);
-  if (perimeter * perimeter < 4.6 * 4.6 * area) return false;
+  const double area = cv::contourArea(contour);
+  if (!long_for_its_area(contour, area, factor)) return false;
   const double eps = 1.5 * factor;
   std::array<int, kMaxRunVertices + 1> at{};
   const int n = approx_polygon(contour, eps, &at, &farthest);
@@ -238,6 +244,131 @@ bool cut_thin_lines(const std::vector<cv::Point>& contour, std::pair<int, int> f
   if (!meet_sides(sides, quad)) return false;
   for (auto& c : *quad) c += cv::Point2f(float(shift), float(shift));
   return true;
+}
+
+std::vector<std::vector<cv::Point>> split_thin_lines(const std::vector<cv::Point>& contour, int factor,
+                                                     const DetectorParams& p) {
+  std::vector<std::vector<cv::Point>> parts;
+  factor = std::max(factor, 1);
+  const double w = p.split_thin_lines_px;
+  const int n = int(contour.size());
+  // Along the outline, a line's two sides are apart by the rest of the shape, a corner's two sides by a few steps.
+  const int apart = int(std::ceil(3 * w / factor)) + 2;
+  if (w <= 0 || n < 4 * apart) return parts;
+  // Worth splitting: a marker's square with lines at least as long as its perimeter in all (a perimeter of 6 roots
+  // of the area or more; a square alone has 4), and not mostly lines (twice the area over the perimeter, a line's
+  // width or a square's half side, at least 1.6 w). Most of a cluttered frame's shapes that no quad fits are one or
+  // the other; the split costs a grid of the outline's points.
+  const double area = cv::contourArea(contour), perimeter = contour_length(contour, factor);
+  if (perimeter * perimeter < 36 * area || 2 * area < 1.6 * w * perimeter) return parts;
+  // The points in cells w wide, hashed into buckets (twice as many as points; a bucket may hold several cells'),
+  // each bucket's points in `order` from start[bucket] on.
+  const int c = std::max(1, int(std::ceil(w)));
+  const uint32_t mask = std::bit_ceil(uint32_t(2 * n)) - 1;
+  auto bucket = [&](int cx, int cy) { return (uint32_t(cx) * 73856093u ^ uint32_t(cy) * 19349663u) & mask; };
+  auto cell_of = [&](cv::Point q) { return cv::Point(q.x >= 0 ? q.x / c : -1, q.y >= 0 ? q.y / c : -1); };
+  std::vector<int> start(size_t(mask) + 2, 0), order(contour.size());
+  for (const cv::Point& q : contour) ++start[bucket(cell_of(q).x, cell_of(q).y) + 1];
+  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int i = 0; i < n; ++i) {
+      const cv::Point at = cell_of(contour[size_t(i)]);
+      order[size_t(fill[bucket(at.x, at.y)]++)] = i;
+    }
+  }
+  // Thin: a point within w of another that is `apart` steps away or more, both ways round. A bucket's points are in
+  // the outline's order (the counting sort keeps it): one whose first and last are within `apart` of i, without
+  // wrapping past the outline's start, holds no partner of i.
+  const int w2 = int(std::floor(w * w));
+  auto is_thin = [&](int i) {
+    const cv::Point q = contour[size_t(i)], at = cell_of(q);
+    for (int y = at.y - 1; y <= at.y + 1; ++y)
+      for (int x = at.x - 1; x <= at.x + 1; ++x) {
+        const uint32_t b = bucket(x, y);
+        const int from = start[b], to = start[b + 1];
+        if (from == to || (order[size_t(from)] > i - apart && order[size_t(to - 1)] < i + apart)) continue;
+        for (int k = from; k < to; ++k) {
+          const int j = order[size_t(k)], d = std::abs(i - j);
+          const cv::Point e = contour[size_t(j)] - q;
+          if (std::min(d, n - d) >= apart && e.dot(e) <= w2) return true;
+        }
+      }
+    return false;
+  };
+  // Every `every`-th point first, then those between two that differ: a line's sides are thin for far longer.
+  std::vector<char> thin(size_t(n), 0);
+  const int every = std::max(1, apart / 2);
+  for (int i = 0; i < n; i += every) thin[size_t(i)] = is_thin(i);
+  bool any = false;
+  for (int i = 0; i < n; i += every) {
+    const int next = i + every < n ? i + every : 0;
+    for (int k = i + 1; k < std::min(i + every, n); ++k)
+      thin[size_t(k)] = thin[size_t(i)] == thin[size_t(next)] ? thin[size_t(i)] : is_thin(k);
+    any = any || thin[size_t(i)];
+  }
+  if (!any) return parts;
+  // Where two shapes touch at a corner (a checkerboard's squares) the outline is thin for about 2 w on each side of
+  // the pinch; a line's side is thin along its length and w beyond each end. A thin run under 3 w is a pinch, kept:
+  // a square split from its checkerboard neighbours had read as a marker.
+  const int min_run = int(std::ceil(3 * w / factor));
+  {
+    int t = 0;
+    while (t < n && thin[size_t(t)]) ++t;
+    if (t == n) return parts;
+    for (int k = 1; k <= n; ++k) {
+      const int i = (t + k) % n;
+      if (!thin[size_t(i)] || thin[size_t((i + n - 1) % n)]) continue;
+      int len = 0;
+      while (len < n && thin[size_t((i + len) % n)]) ++len;
+      if (len < min_run)
+        for (int m = 0; m < len; ++m) thin[size_t((i + m) % n)] = 0;
+    }
+  }
+  if (std::find(thin.begin(), thin.end(), 1) == thin.end()) return parts;
+  // The outline without its thin points: arcs, each from the point after a thin one to the point before the next.
+  struct Arc {
+    int first, last;   // indices, last after first modulo n
+  };
+  std::vector<Arc> arcs;
+  int t0 = 0;
+  while (!thin[size_t(t0)]) ++t0;
+  for (int k = 1; k <= n; ++k) {
+    const int i = (t0 + k) % n;
+    if (thin[size_t(i)]) continue;
+    if (thin[size_t((i + n - 1) % n)]) arcs.push_back({t0 + k, t0 + k});
+    arcs.back().last = t0 + k;
+  }
+  // Across a line that met the shape its sides are a line's width apart, and the few points beside the line within
+  // w of its far side: each arc goes on at the arc whose start is nearest its end, within 3 w and two steps.
+  constexpr size_t kMaxArcs = 256;   // clutter
+  if (arcs.empty() || arcs.size() > kMaxArcs) return parts;
+  const double gap = 3 * w + 2 * factor;
+  std::vector<int> next(arcs.size(), -1);
+  for (size_t a = 0; a < arcs.size(); ++a) {
+    double best = gap * gap;
+    for (size_t b = 0; b < arcs.size(); ++b) {
+      const cv::Point e = contour[size_t(arcs[b].first % n)] - contour[size_t(arcs[a].last % n)];
+      if (double(e.dot(e)) <= best) best = e.dot(e), next[a] = int(b);
+    }
+  }
+  // Each cycle of arcs is a part: their points in turn.
+  std::vector<char> used(arcs.size(), 0);
+  for (size_t a = 0; a < arcs.size(); ++a) {
+    if (used[a]) continue;
+    int b = int(a), steps = 0;
+    while (next[size_t(b)] >= 0 && next[size_t(b)] != int(a) && !used[size_t(next[size_t(b)])] &&
+           ++steps < int(arcs.size()))
+      b = next[size_t(b)];
+    if (next[size_t(b)] != int(a)) continue;
+    std::vector<cv::Point>& part = parts.emplace_back();
+    for (b = int(a);; b = next[size_t(b)]) {
+      used[size_t(b)] = 1;
+      for (int i = arcs[size_t(b)].first; i <= arcs[size_t(b)].last; ++i) part.push_back(contour[size_t(i % n)]);
+      if (next[size_t(b)] == int(a)) break;
+    }
+  }
+  return parts;
 }
 
 }  // namespace arwb::stages

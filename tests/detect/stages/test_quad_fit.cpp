@@ -197,3 +197,72 @@ TEST(Stages, QuadFitCutsAThinLinesStubFromAQuad) {
   cv::line(notch, cv::Point(140, 120), cv::Point(220, 90), cv::Scalar(255), 2);
   EXPECT_FALSE(fits(notch));
 }
+
+// A square that lines join to a large round shape and to each other: one outline of more corners than
+// cut_thin_lines follows, split at the lines into the square's own outline, which fits the square.
+TEST(Stages, SplitThinLinesFreesASquareThatLinesJoinToOtherShapes) {
+  for (const int factor : {1, 2}) {
+    SCOPED_TRACE(factor);
+    DetectorParams p;
+    const int f = factor;
+    cv::Mat bin(480 / f, 640 / f, CV_8UC1, cv::Scalar(0));
+    cv::rectangle(bin, cv::Rect(100 / f, 100 / f, 80 / f, 80 / f), cv::Scalar(255), -1);
+    cv::circle(bin, cv::Point(450 / f, 300 / f), 90 / f, cv::Scalar(255), -1);
+    cv::line(bin, cv::Point(180 / f, 140 / f), cv::Point(400 / f, 260 / f), cv::Scalar(255), 2);   // into the disc
+    cv::line(bin, cv::Point(140 / f, 180 / f), cv::Point(90 / f, 420 / f), cv::Scalar(255), 2);    // to nothing
+    cv::line(bin, cv::Point(60 / f, 420 / f), cv::Point(420 / f, 440 / f), cv::Scalar(255), 2);    // and on
+    const auto contours = stages::find_contours(bin, p.min_perimeter_px, nullptr, nullptr, f);
+    ASSERT_EQ(contours.size(), 1u);
+    Quad q;
+    const auto why = stages::fit_quad(contours[0], cv::Size(640, 480), p, &q, f);
+    ASSERT_TRUE(why);
+    EXPECT_EQ(why->param, "polygon_epsilon_rate");
+    const auto parts = stages::split_thin_lines(contours[0], f, p);
+    ASSERT_GE(parts.size(), 2u);   // the square, the disc, and lines' ends
+    int squares = 0;
+    for (const auto& part : parts) {
+      if (stages::fit_quad(part, cv::Size(640, 480), p, &q, f)) continue;
+      ++squares;
+      // The outer pixels' centres: 100 .. 179 (at factor 2 the blocks' centres 100 .. 178).
+      const float far = f == 1 ? 179.f : 178.f;
+      for (const cv::Point2f& w : {cv::Point2f(100, 100), {far, 100}, {far, far}, {100, far}}) {
+        double nearest = 1e9;
+        for (const cv::Point2f& c : q) nearest = std::min(nearest, double(cv::norm(c - w)));
+        EXPECT_LT(nearest, 1.5) << w;
+      }
+    }
+    EXPECT_EQ(squares, 1);
+    DetectorParams off = p;
+    off.split_thin_lines_px = 0;
+    EXPECT_TRUE(stages::split_thin_lines(contours[0], f, off).empty());
+    // Lines wider than split_thin_lines_px are no lines: a 9 px one keeps the shape whole.
+    cv::Mat thick = bin.clone();
+    cv::line(thick, cv::Point(180 / f, 140 / f), cv::Point(400 / f, 260 / f), cv::Scalar(255), 18 / f);
+    cv::line(thick, cv::Point(140 / f, 180 / f), cv::Point(90 / f, 420 / f), cv::Scalar(255), 18 / f);
+    cv::line(thick, cv::Point(60 / f, 420 / f), cv::Point(420 / f, 440 / f), cv::Scalar(255), 18 / f);
+    const auto thick_contours = stages::find_contours(thick, p.min_perimeter_px, nullptr, nullptr, f);
+    ASSERT_EQ(thick_contours.size(), 1u);
+    EXPECT_TRUE(stages::split_thin_lines(thick_contours[0], f, p).empty());
+  }
+  DetectorParams p;
+  auto split = [&](const cv::Mat& bin) {
+    const auto contours = stages::find_contours(bin, p.min_perimeter_px);
+    return contours.size() == 1 ? stages::split_thin_lines(contours[0], 1, p).size() : size_t(99);
+  };
+  // A square alone has no line; a comb of lines is mostly lines, no marker's shape.
+  cv::Mat square(300, 300, CV_8UC1, cv::Scalar(0));
+  cv::rectangle(square, cv::Rect(100, 100, 80, 80), cv::Scalar(255), -1);
+  EXPECT_EQ(split(square), 0u);
+  cv::Mat comb(300, 300, CV_8UC1, cv::Scalar(0));
+  cv::line(comb, cv::Point(20, 40), cv::Point(280, 40), cv::Scalar(255), 2);
+  for (int k = 40; k <= 260; k += 40) cv::line(comb, cv::Point(k, 40), cv::Point(k + 10, 200), cv::Scalar(255), 2);
+  EXPECT_EQ(split(comb), 0u);
+  // A checkerboard's squares touch at their corners, where the outline is thin for a moment: pinches, no lines.
+  for (const int overlap : {0, 1, 2}) {
+    cv::Mat board(300, 300, CV_8UC1, cv::Scalar(0));
+    for (int r = 0; r < 6; ++r)
+      for (int c = r % 2; c < 6; c += 2)
+        cv::rectangle(board, cv::Rect(30 + 40 * c, 30 + 40 * r, 40 + overlap, 40 + overlap), cv::Scalar(255), -1);
+    EXPECT_EQ(split(board), 0u) << overlap;
+  }
+}
