@@ -211,6 +211,12 @@ Result<Request> marker_size(Arg, Arg arg) {
   return Request(SetMarkerSize{v});
 }
 
+Result<Request> speed(Arg, Arg arg) {
+  const double v = std::atof(arg.c_str());
+  if (!(v >= 0.1 && v <= 8)) return fail("--actions speed: 0.1 to 8 times the source's pace, not '" + arg + "'");
+  return Request(SetSpeed{v});
+}
+
 Result<Request> lab_frames(Arg, Arg arg) {
   const int n = std::atoi(arg.c_str());
   if (n < 1 || n > 10000) return fail("--actions lab_frames: 1 to 10000 frames per cell, not '" + arg + "'");
@@ -307,6 +313,7 @@ const Verb kVerbs[] = {
     {"freeze", [](Arg, Arg) -> Result<Request> { return Request(Freeze{true}); }},
     {"unfreeze", [](Arg, Arg) -> Result<Request> { return Request(Freeze{false}); }},
     {"next", [](Arg, Arg) -> Result<Request> { return Request(NextFrame{true}); }},
+    {"speed", speed},
     {"snapshot", [](Arg, Arg) -> Result<Request> { return Request(Snapshot{}); }},
     {"stage", stage},
     {"select", [](Arg, Arg a) -> Result<Request> {   // select=N, or marker: the frame's first marker's candidate

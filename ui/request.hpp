@@ -91,6 +91,9 @@ struct StepFrames {   // a video's frames or a folder's images
 struct Seek {
   int position = 0;
 };
+struct SetSpeed {   // a video's or folder's playback speed (a folder plays one image a second at 1)
+  double speed = 1;
+};
 struct NextFrame {     // frozen: one new frame from the source
   bool wait = false;   // a script's: a video or folder steps past the frame shown, and the window waits to show it
 };
@@ -309,7 +312,7 @@ using Request = std::variant<
     SetPanelOpen, SwitchWorkspace, SaveWorkspace, MovePanel, SetSplitter, TogglePresentation, SetFullscreen, ShowHelp,
     StartTour,
     ShowStage, SelectCandidate, SetRegion, ShowMedia, SetLabels, SetPoseDrawing, ClickLiveView,
-    OpenSource, StepFrames, Seek, NextFrame, Freeze, Snapshot, Drop, OpenRecent, OpenUrl,
+    OpenSource, StepFrames, Seek, SetSpeed, NextFrame, Freeze, Snapshot, Drop, OpenRecent, OpenUrl,
     LoadPreset, SavePreset, ListPresets, LoadScene, ListExamples, SaveScript, WatchFile, Browse, ListDir, OpenFile,
     ToggleFavourite,
     SetParam, AddDictionary, ComputeDictionaryStats, EnablePeers, Undo, Redo, Sweep,

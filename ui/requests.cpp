@@ -102,6 +102,7 @@ void App::carry_out(const ui::Request& request) {
             engine->step(r.by);
           },
           [&](const Seek& r) { engine->seek(r.position); },
+          [&](const SetSpeed& r) { settings.playback.speed = r.speed; },
           [&](const NextFrame& r) { r.wait ? next_frame_shown() : void(engine->next_frame()); },
           [&](const Freeze& r) { settings.frozen = r.on; },
           [&](const Snapshot&) { snapshot(); },

@@ -17,7 +17,8 @@ int cmd_workbench(int argc, char** argv, int (*run)(const WorkbenchOptions&)) {
                  "reloads it whenever the file changes.",
                  "--actions runs steps at UI frame N, for demos and tests: open=PANEL|all, close=PANEL|all, "
                  "source=SPEC, source_wait[=S] (waits, 30 s unless given, until the worker has taken it), freeze, unfreeze, next (the next frame; of a video or folder the one after the "
-                 "frame shown; waits up to 2 s until it is shown), snapshot, "
+                 "frame shown; waits up to 2 s until it is shown), speed=X (a video's or folder's pace, 0.1 to 8; a folder "
+                 "plays one image a second at 1), snapshot, "
                  "stage=NAME, select=INDEX|marker, region=X,Y,W,H, "
                  "sweep, tour[=STEP] (a step's name, such as adaptive_threshold, or its number from 0), presentation, "
                  "fullscreen=on|off, preset=FILE, peers, scene=FILE, media=on|off, click=X,Y (image "

@@ -34,7 +34,7 @@ std::string refusal(const std::string& verb, const std::string& arg) {
 TEST(Actions, EveryVerbTheHelpListsMakesARequest) {
   // One argument each verb takes: every verb in the table parses into some request.
   const std::vector<std::pair<std::string, std::string>> samples = {
-      {"open", "timings"}, {"close", "all"}, {"source", "synthetic"}, {"freeze", ""}, {"unfreeze", ""}, {"next", ""},
+      {"open", "timings"}, {"close", "all"}, {"source", "synthetic"}, {"freeze", ""}, {"unfreeze", ""}, {"next", ""}, {"speed", "8"},
       {"snapshot", ""}, {"stage", "otsu"}, {"select", "marker"}, {"region", "1,2,3,4"}, {"sweep", ""},
       {"tour", "2"}, {"presentation", ""}, {"fullscreen", "on"}, {"preset", "fast"}, {"peers", ""}, {"scene", "a.lua"},
       {"click", "1,2"}, {"media", "off"}, {"labels", "ids"}, {"add_dictionary", "ARUCO_ORIGINAL"},
@@ -61,6 +61,7 @@ TEST(Actions, EveryVerbTheHelpListsMakesARequest) {
 TEST(Actions, ArgumentsLandInNamedFields) {
   EXPECT_EQ(request_of<SetPanelOpen>("open", "timings").panel, Panel::timings);
   EXPECT_TRUE(request_of<SetPanelOpen>("open", "timings").open);
+  EXPECT_DOUBLE_EQ(request_of<SetSpeed>("speed", "0.5").speed, 0.5);
   EXPECT_FALSE(request_of<SetPanelOpen>("close", "all").panel.has_value());
   EXPECT_FALSE(request_of<SetPanelOpen>("close", "all").open);
   EXPECT_EQ(request_of<OpenSource>("source", "camera:0").spec, "camera:0");
@@ -137,6 +138,7 @@ TEST(Actions, ArgumentsLandInNamedFields) {
 TEST(Actions, ABadArgumentIsRefusedNamingTheVerbAndTheArgument) {
   EXPECT_EQ(refusal("open", "nowhere"), "--actions: no panel 'nowhere'");
   EXPECT_EQ(refusal("stage", "blur"), "--actions: no stage 'blur'");
+  EXPECT_EQ(refusal("speed", "20"), "--actions speed: 0.1 to 8 times the source's pace, not '20'");
   EXPECT_EQ(refusal("region", "1,2,0,4"), "--actions: region wants X,Y,W,H, not '1,2,0,4'");
   EXPECT_EQ(refusal("move", "log"), "--actions: move wants PANEL>PANEL_IN_THE_TARGET_REGION, not 'log'");
   EXPECT_EQ(refusal("splitter", "0,2"), "--actions: splitter wants I,RATIO (RATIO in 0.05..0.95), not '0,2'");
