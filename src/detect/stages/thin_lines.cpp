@@ -1,5 +1,5 @@
-// quad_fit's cut_thin_lines: the quad of a marker that thin lines join to other shapes, from the straight runs of
-// the shape's outline.
+// quad_fit's two ways to a marker that thin lines join to other shapes: cut_thin_lines, its quad from the straight
+// runs of the shape's outline, and split_thin_lines, the shape split where its outline runs along both sides of a line.
 #include "detect/stages/thin_lines.hpp"
 
 #include "detect/stages/polygon.hpp"
@@ -186,6 +186,26 @@ bool long_for_its_area(const std::vector<cv::Point>& contour, double area, int f
   return perimeter * perimeter >= 4.6 * 4.6 * area;
 }
 
+// The stretches of a closed outline's mask that hold `value`, in order, each from its first point (an index that
+// may run past the mask's end: take it modulo the size) for `length` points; none when the whole mask holds it or
+// none of it does.
+struct Stretch {
+  int first, length;
+};
+std::vector<Stretch> stretches(const std::vector<char>& mask, char value) {
+  const int n = int(mask.size());
+  std::vector<Stretch> out;
+  int t = 0;
+  while (t < n && mask[size_t(t)] == value) ++t;   // from a point without it, so that no stretch wraps past the start
+  if (t == n) return out;
+  for (int i = t + 1; i <= t + n; ++i) {
+    if (mask[size_t(i % n)] != value) continue;
+    if (mask[size_t((i - 1) % n)] != value) out.push_back({i, 0});
+    ++out.back().length;
+  }
+  return out;
+}
+
 }  // namespace
 
 bool cut_thin_lines(const std::vector<cv::Point>& contour, std::pair<int, int> farthest, const DetectorParams& p,
@@ -300,45 +320,20 @@ std::vector<std::vector<cv::Point>> split_thin_lines(const std::vector<cv::Point
   std::vector<char> thin(size_t(n), 0);
   const int every = std::max(1, apart / 2);
   for (int i = 0; i < n; i += every) thin[size_t(i)] = is_thin(i);
-  bool any = false;
   for (int i = 0; i < n; i += every) {
     const int next = i + every < n ? i + every : 0;
     for (int k = i + 1; k < std::min(i + every, n); ++k)
       thin[size_t(k)] = thin[size_t(i)] == thin[size_t(next)] ? thin[size_t(i)] : is_thin(k);
-    any = any || thin[size_t(i)];
   }
-  if (!any) return parts;
   // Where two shapes touch at a corner (a checkerboard's squares) the outline is thin for about 2 w on each side of
   // the pinch; a line's side is thin along its length and w beyond each end. A thin run under 3 w is a pinch, kept:
   // a square split from its checkerboard neighbours had read as a marker.
   const int min_run = int(std::ceil(3 * w / factor));
-  {
-    int t = 0;
-    while (t < n && thin[size_t(t)]) ++t;
-    if (t == n) return parts;
-    for (int k = 1; k <= n; ++k) {
-      const int i = (t + k) % n;
-      if (!thin[size_t(i)] || thin[size_t((i + n - 1) % n)]) continue;
-      int len = 0;
-      while (len < n && thin[size_t((i + len) % n)]) ++len;
-      if (len < min_run)
-        for (int m = 0; m < len; ++m) thin[size_t((i + m) % n)] = 0;
-    }
-  }
-  if (std::find(thin.begin(), thin.end(), 1) == thin.end()) return parts;
+  for (const Stretch& r : stretches(thin, 1))
+    if (r.length < min_run)
+      for (int m = 0; m < r.length; ++m) thin[size_t((r.first + m) % n)] = 0;
   // The outline without its thin points: arcs, each from the point after a thin one to the point before the next.
-  struct Arc {
-    int first, last;   // indices, last after first modulo n
-  };
-  std::vector<Arc> arcs;
-  int t0 = 0;
-  while (!thin[size_t(t0)]) ++t0;
-  for (int k = 1; k <= n; ++k) {
-    const int i = (t0 + k) % n;
-    if (thin[size_t(i)]) continue;
-    if (thin[size_t((i + n - 1) % n)]) arcs.push_back({t0 + k, t0 + k});
-    arcs.back().last = t0 + k;
-  }
+  const std::vector<Stretch> arcs = stretches(thin, 0);
   // Across a line that met the shape its sides are a line's width apart, and the few points beside the line within
   // w of its far side: each arc goes on at the arc whose start is nearest its end, within 3 w and two steps.
   constexpr size_t kMaxArcs = 256;   // clutter
@@ -347,8 +342,9 @@ std::vector<std::vector<cv::Point>> split_thin_lines(const std::vector<cv::Point
   std::vector<int> next(arcs.size(), -1);
   for (size_t a = 0; a < arcs.size(); ++a) {
     double best = gap * gap;
+    const cv::Point end = contour[size_t((arcs[a].first + arcs[a].length - 1) % n)];
     for (size_t b = 0; b < arcs.size(); ++b) {
-      const cv::Point e = contour[size_t(arcs[b].first % n)] - contour[size_t(arcs[a].last % n)];
+      const cv::Point e = contour[size_t(arcs[b].first % n)] - end;
       if (double(e.dot(e)) <= best) best = e.dot(e), next[a] = int(b);
     }
   }
@@ -364,7 +360,8 @@ std::vector<std::vector<cv::Point>> split_thin_lines(const std::vector<cv::Point
     std::vector<cv::Point>& part = parts.emplace_back();
     for (b = int(a);; b = next[size_t(b)]) {
       used[size_t(b)] = 1;
-      for (int i = arcs[size_t(b)].first; i <= arcs[size_t(b)].last; ++i) part.push_back(contour[size_t(i % n)]);
+      const Stretch& arc = arcs[size_t(b)];
+      for (int i = arc.first; i < arc.first + arc.length; ++i) part.push_back(contour[size_t(i % n)]);
       if (next[size_t(b)] == int(a)) break;
     }
   }
