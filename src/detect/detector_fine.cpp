@@ -36,9 +36,11 @@ void DetectorRun::fine_search() {
   if (full_ && !fine.empty()) fine_record_.image = cv::Mat::zeros(grey().size(), CV_8UC1);
   const size_t quads_before = quads_.size(), records_before = t_.candidates.size();
   double converting = 0;
+  DetectorParams threshold = p_;
+  threshold.threshold_offset = p_.fine_threshold_offset;
   for (const cv::Rect& r : fine) {
     converting += need(r);
-    const cv::Mat binary = stages::adaptive_threshold(grey()(r), p_);
+    const cv::Mat binary = stages::adaptive_threshold(grey()(r), threshold);
     // A shape cut by the region's edge is dropped as it is found (size_filter's first test): untraced, and
     // counted, unless the full trace shows it.
     int untraced = 0;

@@ -63,6 +63,20 @@ void DetectorRun::read_at(const Quad& q, int n, bool as_found, bool cut, Reading
   if (!shaded.empty()) read_again(shaded, &o);
 }
 
+// How many times as long as it is wide quad q is along the stripes its bits' inside reads as, when that is at least
+// bar_min_aspect_rate (a bar's inside); 0 otherwise. The view's columns run from q[0] to q[1], its rows from q[0]
+// to q[3] (square_to_quad). Judged on refined corners only: an unrefined small quad's sides are a pixel or two
+// off, which moves its aspect by a third at 10 px.
+double DetectorRun::bar_aspect(const Quad& q, const cv::Mat& bits) const {
+  if (p_.bar_min_aspect_rate <= 0) return 0;
+  const stages::Stripes s = stages::inner_stripes(bits);
+  if (s == stages::Stripes::none) return 0;
+  auto side = [&](int j) { return double(cv::norm(q[size_t((j + 1) % 4)] - q[size_t(j)])); };
+  const double across = side(0) + side(2), down = side(1) + side(3);
+  const double aspect = s == stages::Stripes::rows ? down / std::max(across, 1e-9) : across / std::max(down, 1e-9);
+  return aspect >= p_.bar_min_aspect_rate ? aspect : 0;
+}
+
 // border_check and identification of bits read from quad q at marker size n. `o`: the view's Otsu result for the
 // quiet zone check, or null when the bits' border ring already compared each cell with its quiet zone.
 template <class Lap>
@@ -142,6 +156,12 @@ void DetectorRun::judge(const Quad& q, int n, bool as_found, bool cut, const cv:
                                      " x max_correction_bits)",
                                      nearest.id, nearest.hamming, budget) +
                                  local};
+  } else if (const double along = as_found ? 0 : bar_aspect(q, bits); along > 0) {
+    r.record.fate = Rejection{Stage::identification, "bar_min_aspect_rate", along, p_.bar_min_aspect_rate,
+                              fmt_msg("id %.0f reads as stripes along a quad %.1f times as long as it is wide "
+                                      "(bar_min_aspect_rate): a bar's inside, not a marker",
+                                      nearest.id, along) +
+                                  local};
   } else {
     r.reached = 5;
     r.dict_index = nearest_dict;

@@ -95,6 +95,7 @@ class DetectorRun {
   // corner_refinement (unrefined_miss_rate). `lap(slot)` times each stage.
   template <class Lap>
   void read_at(const Quad& q, int n, bool as_found, bool cut, Reading& r, Lap&& lap) const;
+  double bar_aspect(const Quad& q, const cv::Mat& bits) const;
   template <class Lap>
   void judge(const Quad& q, int n, bool as_found, bool cut, const cv::Mat& bits, const stages::OtsuResult* o,
              Reading& r, Lap&& lap) const;

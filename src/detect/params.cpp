@@ -112,11 +112,21 @@ const ParamInfo kTable[] = {
              "Share of a side's quiet zone (half a cell outside the border) allowed to be dark. 1 turns it off."),
     ARWB_DBL(error_correction_rate, "identification", "rate", 0.6, 0, 1,
              "Share of the dictionary's correction budget used: bits that may be wrong = rate x max correction."),
+    ARWB_DBL(bar_min_aspect_rate, "identification", "rate", 2, 0, 10,
+             "A quad at least this many times as long as it is wide whose inside reads as stripes along its length "
+             "(one row or column repeated) is a bar or an outlined rectangle, not a marker: their insides read so "
+             "(ARUCO_ORIGINAL 0 and 1023). Lower drops more of them, and markers with such ids seen at a steeper "
+             "angle; 0 turns it off."),
     ARWB_DBL(fine_max_side_px, "fine_search", "px", 80, 0, 400,
              "A decimated search's shapes up to this size (the longer side of their box) that it could not close "
              "into a quad or read, and its quad-shaped holes up to this size that are inside no marker it read, are "
              "searched again at full resolution, where a small marker's border and cells are sharp. Higher rescues "
              "larger blurred markers, costs time; 0 turns it off. It runs only when the search is decimated."),
+    ARWB_DBL(fine_threshold_offset, "fine_search", "grey", 3, 0, 100,
+             "threshold_offset for fine_search's regions. Each holds a shape the first search could not close or "
+             "read, so it may look harder there than the whole frame can afford: lower than threshold_offset "
+             "keeps a small marker's border whole where sensor noise in dim light or a faint print broke it; "
+             "higher than it, fewer specks."),
     ARWB_INT(tracking_smoothing, kTrackingStage, "", 1, 0, 1,
              "1 smooths each tracked marker's corners over time (One Euro filter); 0 shows them as detected."),
     ARWB_DBL(tracking_min_cutoff_hz, kTrackingStage, "Hz", 1, 0.05, 30,

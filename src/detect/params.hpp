@@ -55,8 +55,10 @@ struct DetectorParams {
   double quiet_zone_max_dark_rate = 0;
   // identification
   double error_correction_rate = 0;
+  double bar_min_aspect_rate = 0;
   // fine_search
   double fine_max_side_px = 0;
+  double fine_threshold_offset = 0;
   // tracking (after detection: the tracker's One Euro filter on each track's corners, track/tracker.hpp)
   int tracking_smoothing = 0;        // 0 off, 1 on
   double tracking_min_cutoff_hz = 0;

@@ -233,6 +233,12 @@ cv::Mat read_shaded(const cv::Mat& warp, int cells, const cv::Mat& bits, const D
 // border_check: the number of white cells in the outer ring.
 int border_errors(const cv::Mat& bits);
 
+// A bits grid's inside as stripes: rows when every inner row is the same (bands running down the view, from its
+// first side to its third), columns when every inner column is (bands across), none otherwise. A bar's or an
+// outlined rectangle's inside, uniform along its length, reads so (ARUCO_ORIGINAL 0 and 1023).
+enum class Stripes { none, rows, columns };
+Stripes inner_stripes(const cv::Mat& bits);
+
 // border_check: a marker's black border has a light quiet zone around it. Along each side, one pair per cell: half
 // a cell outside the border and half a cell inside it (pairs off the image do not count). A pair is dark when the
 // quiet zone is less than an eighth of the frontal view's black-to-white gap lighter than the border. The darkest

@@ -231,14 +231,18 @@ LocalRead read_local(const cv::Mat& grey, const Quad& quad, const cv::Mat& warp,
   // A ramp or edge the patch does not follow leaves a stripe of cells parallel to a side: an inside of one row or
   // one column repeated (ARUCO_ORIGINAL 0 and 1023 on outlined frames and light lines in the lab's empty frames) is
   // no reading.
-  const cv::Mat inner = out.bits(cv::Rect(1, 1, cells - 2, cells - 2));
+  out.stripe = inner_stripes(out.bits) != Stripes::none;
+  return out;
+}
+
+Stripes inner_stripes(const cv::Mat& bits) {
+  const cv::Mat inner = bits(cv::Rect(1, 1, bits.cols - 2, bits.rows - 2));
   bool rows_same = true, cols_same = true;
   for (int k = 1; k < inner.rows; ++k) {
     rows_same = rows_same && cv::countNonZero(inner.row(k) != inner.row(0)) == 0;
     cols_same = cols_same && cv::countNonZero(inner.col(k) != inner.col(0)) == 0;
   }
-  out.stripe = rows_same || cols_same;
-  return out;
+  return rows_same ? Stripes::rows : cols_same ? Stripes::columns : Stripes::none;
 }
 
 // [SECTION] bit_grid's shading planes (local_thresholds)

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
@@ -188,4 +189,42 @@ TEST(Stages, ShadingPlanesReadAMarkerUnderAGradient) {
   EXPECT_TRUE(stages::read_shaded(warp, 7, black, p).empty());
   const cv::Mat flat(warp.size(), CV_8UC1, cv::Scalar(120));
   EXPECT_TRUE(stages::read_shaded(flat, 7, global, p).empty());
+}
+
+// identification's bar check (bar_min_aspect_rate): ARUCO_ORIGINAL 1023's inside is one row repeated, bands running
+// down the marker, as a bar's or an outlined rectangle's inside reads. On a quad 2.5 times as tall as wide the bands
+// run along its length: no marker. Turned a quarter (bands across), or another id, the same quad is read.
+TEST(Stages, AQuadReadAsStripesAlongItsLengthIsABarNotAMarker) {
+  const Dictionary d = make_aruco_original();
+  cv::Mat grid(7, 7, CV_8U, cv::Scalar(0));
+  d.bits(1023).copyTo(grid(cv::Rect(1, 1, 5, 5)));
+  ASSERT_EQ(stages::inner_stripes(grid), stages::Stripes::rows);
+  cv::Mat rotated;
+  cv::rotate(grid, rotated, cv::ROTATE_90_CLOCKWISE);
+  EXPECT_EQ(stages::inner_stripes(rotated), stages::Stripes::columns);
+  d.bits(321).copyTo(grid(cv::Rect(1, 1, 5, 5)));
+  EXPECT_EQ(stages::inner_stripes(grid), stages::Stripes::none);
+
+  const Quad tall{cv::Point2f(80, 30), {120, 30}, {120, 130}, {80, 130}};
+  const Quad wide{cv::Point2f(30, 80), {130, 80}, {130, 120}, {30, 120}};
+  auto detect = [&](int id, const Quad& q, const DetectorParams& p, FrameTrace* t = nullptr) {
+    cv::Mat img(200, 200, CV_8UC1, cv::Scalar(255));
+    draw_marker(img, d, id, q);
+    return Detector({d}, p).detect(img, t, TraceLevel::full);
+  };
+  DetectorParams p;
+  FrameTrace t;
+  EXPECT_TRUE(detect(1023, tall, p, &t).empty());
+  EXPECT_TRUE(std::any_of(t.candidates.begin(), t.candidates.end(), [](const CandidateRecord& c) {
+    return c.fate.stage == Stage::identification && c.fate.param == "bar_min_aspect_rate" &&
+           std::abs(c.fate.value - 2.5) < 0.1 && c.fate.message.find("id 1023 reads as stripes") == 0;
+  }));
+  EXPECT_EQ(detect(1023, wide, p).size(), 1u);
+  EXPECT_EQ(detect(321, tall, p).size(), 1u);
+  DetectorParams off;
+  off.bar_min_aspect_rate = 0;
+  EXPECT_EQ(detect(1023, tall, off).size(), 1u);
+  DetectorParams steeper;
+  steeper.bar_min_aspect_rate = 3;
+  EXPECT_EQ(detect(1023, tall, steeper).size(), 1u);
 }
